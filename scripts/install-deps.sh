@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Installs every Debian package geartopo needs to build, test and render (Debian 12 "bookworm").
+# Idempotent: packages already installed are skipped, so a second run costs a few dpkg queries.
+# Needs root (or sudo) only when something is missing.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libeigen3-dev          # dense linear algebra, transforms
+  libcgal-dev            # AABB trees for point-cloud distances
+  libopenmesh-dev        # triangle meshes (PLY/OBJ/STL/OFF)
+  libvtk9-dev libegl-dev # off-screen rendering (surfaceless EGL + VTK)
+  libyaml-cpp-dev        # scene files, with line/column marks for error messages
+  libcli11-dev           # command-line parsing
+  libfmt-dev             # formatting
+  nlohmann-json3-dev     # JSON output
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+sudo_cmd=()
+[ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -qq
+"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps: done"

@@ -1,0 +1,18 @@
+// geartopo — the subcommands of the geartopo CLI. Each registers itself on the CLI11 app and returns an action
+// that runs after parsing. Exit codes: 0 success, 1 bad input (clear message on stderr), 2 bad usage.
+#pragma once
+
+#include <functional>
+
+namespace CLI {
+class App;
+}
+
+namespace geartopo::app {
+
+using Action = std::function<int()>;
+
+/// `geartopo gear SCENE [--json] [--mesh FILE]`
+void register_gear_command(CLI::App& app, Action& action);
+
+} // namespace geartopo::app

@@ -1,0 +1,48 @@
+#include "app/commands.hpp"
+#include "app/gear_report.hpp"
+
+#include "scene/scene.hpp"
+#include "surfaces/gear_mesh.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <iostream>
+#include <memory>
+
+namespace geartopo::app {
+
+void register_gear_command(CLI::App& app, Action& action) {
+  struct Options {
+    std::string scene, mesh;
+    bool json = false;
+  };
+  auto opt = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("gear", "Gear geometry (ISO 21771) of a scene's gear; optionally its mesh");
+  cmd->add_option("SCENE", opt->scene, "Scene file (YAML; units named in its keys)")->required();
+  cmd->add_flag("--json", opt->json, "Print one JSON object (lengths mm, angles deg) instead of a table");
+  cmd->add_option("--mesh", opt->mesh, "Write all teeth, flanks, tip, root and end faces as a triangle mesh "
+                                       "(.ply, .obj, .stl or .off; mm)");
+  cmd->callback([&action, opt] {
+    action = [opt] {
+      if (!opt->mesh.empty() && !surfaces::is_mesh_extension(opt->mesh))
+        throw CLI::ValidationError("--mesh", opt->mesh + ": use a .ply, .obj, .stl or .off file name");
+      const scene::Scene sc = scene::load_scene(opt->scene);
+      const gears::GearGeometry g(sc.gear);
+      if (opt->json)
+        std::cout << gear_json(sc, g).dump(2) << "\n";
+      else
+        std::cout << gear_table(sc, g);
+      for (const auto& w : g.warnings()) std::cerr << "geartopo: warning: " << w << "\n";
+      if (!opt->mesh.empty()) {
+        const surfaces::TriangleMesh mesh = surfaces::gear_mesh(g);
+        surfaces::write_mesh(mesh, opt->mesh);
+        std::cerr << fmt::format("geartopo: wrote {} ({} vertices, {} triangles, mm)\n", opt->mesh,
+                                 mesh.vertices.cols(), mesh.faces.cols());
+      }
+      return 0;
+    };
+  });
+}
+
+} // namespace geartopo::app

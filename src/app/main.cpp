@@ -1,0 +1,36 @@
+// geartopo — command-line entry. Exit codes: 0 success, 1 bad input, 2 bad usage.
+#include "app/commands.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+int main(int argc, char** argv) {
+  CLI::App app{"geartopo — tooth-flank topology of profile-ground helical gears (units: mm, µm, deg)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "geartopo 0.1.0");
+  geartopo::app::Action action;
+  geartopo::app::register_gear_command(app, action);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e); // prints the message and the usage hint
+    return 2;
+  }
+  try {
+    return action ? action() : 2;
+  } catch (const CLI::ValidationError& e) {
+    std::cerr << "geartopo: usage: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "geartopo: error: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,185 @@
+#include "scene/yaml_reader.hpp"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+
+namespace geartopo::scene {
+namespace {
+
+std::string scalar_of(const YAML::Node& n) { return n.IsScalar() ? n.Scalar() : std::string(); }
+
+// YAML's own spellings of non-finite numbers are refused here: a scene value is always a finite number.
+std::optional<double> parse_double(const std::string& s) {
+  double v = 0.0;
+  const char* b = s.data();
+  const char* e = s.data() + s.size();
+  if (b != e && *b == '+') ++b;
+  const auto [ptr, ec] = std::from_chars(b, e, v);
+  if (ec != std::errc() || ptr != e) return std::nullopt;
+  return v;
+}
+
+std::optional<long long> parse_integer(const std::string& s) {
+  long long v = 0;
+  const char* b = s.data();
+  const char* e = s.data() + s.size();
+  if (b != e && *b == '+') ++b;
+  const auto [ptr, ec] = std::from_chars(b, e, v);
+  if (ec != std::errc() || ptr != e) return std::nullopt;
+  return v;
+}
+
+std::string kind_of(const YAML::Node& n) {
+  switch (n.Type()) {
+  case YAML::NodeType::Map: return "a map";
+  case YAML::NodeType::Sequence: return "a list";
+  case YAML::NodeType::Null: return "empty";
+  case YAML::NodeType::Scalar: return fmt::format("'{}'", n.Scalar());
+  default: return "undefined";
+  }
+}
+
+} // namespace
+
+bool Range::contains(double v) const {
+  const bool above = lo_open ? v > lo : v >= lo;
+  const bool below = hi_open ? v < hi : v <= hi;
+  return above && below;
+}
+
+std::string Range::str() const {
+  return fmt::format("{}{}, {}{}", lo_open ? '(' : '[', lo, hi, hi_open ? ')' : ']');
+}
+
+void ReadContext::fail(const YAML::Mark& mark, const std::string& field, const std::string& message) const {
+  const int line = mark.is_null() ? 0 : mark.line + 1;
+  const int column = mark.is_null() ? 0 : mark.column + 1;
+  throw SceneError(source, line, column, field, message);
+}
+
+void ReadContext::fail_field(const std::string& field, const std::string& message) const {
+  for (std::string p = field;; ) {
+    if (auto it = marks.find(p); it != marks.end()) fail(it->second, field, message);
+    const auto dot = p.rfind('.');
+    if (dot == std::string::npos) break;
+    p.resize(dot);
+  }
+  fail(YAML::Mark::null_mark(), field, message);
+}
+
+MapReader::MapReader(const YAML::Node& node, std::string path, ReadContext& ctx)
+    : node_(node), path_(std::move(path)), ctx_(ctx), mark_(node.Mark()) {
+  if (!node.IsMap())
+    ctx_.fail(mark_, path_.empty() ? "scene" : path_, fmt::format("expected a map of keys, found {}", kind_of(node)));
+  std::set<std::string> seen;
+  for (const auto& kv : node_) {
+    const std::string key = scalar_of(kv.first);
+    if (!seen.insert(key).second) ctx_.fail(kv.first.Mark(), field(key), "duplicate key");
+  }
+  if (!path_.empty()) ctx_.marks.emplace(path_, mark_);
+}
+
+bool MapReader::has(const std::string& key) const {
+  for (const auto& kv : node_)
+    if (scalar_of(kv.first) == key) return true;
+  return false;
+}
+
+YAML::Node MapReader::value(const std::string& key) {
+  known_.insert(key);
+  for (const auto& kv : node_) {
+    if (scalar_of(kv.first) == key) {
+      ctx_.marks[field(key)] = kv.second.IsNull() ? kv.first.Mark() : kv.second.Mark();
+      return kv.second;
+    }
+  }
+  return YAML::Node(YAML::NodeType::Undefined);
+}
+
+void MapReader::missing(const std::string& key, const std::string& what) const {
+  ctx_.fail(mark_, field(key), "missing (" + what + ")");
+}
+
+std::optional<double> MapReader::optional_number(const std::string& key, const Range& range) {
+  const YAML::Node n = value(key);
+  if (!n.IsDefined()) return std::nullopt;
+  const auto& mark = ctx_.marks[field(key)];
+  const auto v = n.IsScalar() ? parse_double(n.Scalar()) : std::nullopt;
+  if (!v) ctx_.fail(mark, field(key), fmt::format("{} is not a number", kind_of(n)));
+  if (!std::isfinite(*v)) ctx_.fail(mark, field(key), fmt::format("{} is not finite", n.Scalar()));
+  if (!range.contains(*v)) ctx_.fail(mark, field(key), fmt::format("{} is outside {}", n.Scalar(), range.str()));
+  return v;
+}
+
+double MapReader::number(const std::string& key, const Range& range) {
+  if (auto v = optional_number(key, range)) return *v;
+  missing(key, "a number in " + range.str());
+}
+
+long long MapReader::integer(const std::string& key, long long lo, long long hi) {
+  const YAML::Node n = value(key);
+  if (!n.IsDefined()) missing(key, fmt::format("a whole number in [{}, {}]", lo, hi));
+  const auto& mark = ctx_.marks[field(key)];
+  const auto v = n.IsScalar() ? parse_integer(n.Scalar()) : std::nullopt;
+  if (!v) ctx_.fail(mark, field(key), fmt::format("{} is not a whole number", kind_of(n)));
+  if (*v < lo || *v > hi) ctx_.fail(mark, field(key), fmt::format("{} is outside [{}, {}]", *v, lo, hi));
+  return *v;
+}
+
+std::optional<std::string> MapReader::optional_text(const std::string& key) {
+  const YAML::Node n = value(key);
+  if (!n.IsDefined()) return std::nullopt;
+  if (!n.IsScalar()) ctx_.fail(ctx_.marks[field(key)], field(key), fmt::format("expected text, found {}", kind_of(n)));
+  return n.Scalar();
+}
+
+std::string MapReader::text(const std::string& key) {
+  if (auto v = optional_text(key)) return *v;
+  missing(key, "text");
+}
+
+std::optional<std::string> MapReader::optional_choice(const std::string& key, const std::vector<std::string>& choices) {
+  auto v = optional_text(key);
+  if (!v) return v;
+  for (const auto& c : choices)
+    if (*v == c) return v;
+  ctx_.fail(ctx_.marks[field(key)], field(key), fmt::format("'{}' is not one of: {}", *v, fmt::join(choices, ", ")));
+}
+
+std::vector<std::string> MapReader::optional_text_list(const std::string& key) {
+  const YAML::Node n = value(key);
+  std::vector<std::string> out;
+  if (!n.IsDefined()) return out;
+  if (!n.IsSequence()) ctx_.fail(ctx_.marks[field(key)], field(key), fmt::format("expected a list, found {}", kind_of(n)));
+  for (const auto& item : n) {
+    if (!item.IsScalar()) ctx_.fail(item.Mark(), field(key), fmt::format("list item {} is not text", kind_of(item)));
+    out.push_back(item.Scalar());
+  }
+  return out;
+}
+
+MapReader MapReader::map(const std::string& key) {
+  const YAML::Node n = value(key);
+  if (!n.IsDefined()) missing(key, "a map");
+  return MapReader(n, field(key), ctx_);
+}
+
+std::optional<MapReader> MapReader::optional_map(const std::string& key) {
+  const YAML::Node n = value(key);
+  if (!n.IsDefined()) return std::nullopt;
+  return MapReader(n, field(key), ctx_);
+}
+
+void MapReader::finish() {
+  for (const auto& kv : node_) {
+    const std::string key = scalar_of(kv.first);
+    if (!known_.count(key)) {
+      ctx_.fail(kv.first.Mark(), field(key),
+                fmt::format("unknown key (known here: {})", fmt::join(known_, ", ")));
+    }
+  }
+}
+
+} // namespace geartopo::scene

@@ -1,0 +1,70 @@
+// geartopo — strict reading of YAML maps: every value typed and range-checked, every unknown or duplicate key an
+// error, every error located at file:line:column with its dotted field path. Internal to the scene library
+// (yaml-cpp stays out of public headers).
+#pragma once
+
+#include "scene/scene.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace geartopo::scene {
+
+/// An interval for a number: closed or open at each end; printed as "[lo, hi]", "(lo, hi]", …
+struct Range {
+  double lo, hi;
+  bool lo_open = false, hi_open = false;
+  bool contains(double v) const;
+  std::string str() const;
+};
+
+/// Shared by all readers of one file: its name and where each field was found.
+struct ReadContext {
+  std::string source;
+  std::map<std::string, YAML::Mark> marks; ///< dotted field path → position of its value (or key)
+
+  [[noreturn]] void fail(const YAML::Mark& mark, const std::string& field, const std::string& message) const;
+  /// Fails at the mark recorded for `field`, or at its longest recorded prefix.
+  [[noreturn]] void fail_field(const std::string& field, const std::string& message) const;
+};
+
+class MapReader {
+public:
+  /// `node` must be a map; `path` is its dotted path ("" for the document root).
+  MapReader(const YAML::Node& node, std::string path, ReadContext& ctx);
+
+  double number(const std::string& key, const Range& range);
+  std::optional<double> optional_number(const std::string& key, const Range& range);
+  long long integer(const std::string& key, long long lo, long long hi);
+  std::string text(const std::string& key);
+  std::optional<std::string> optional_text(const std::string& key);
+  std::optional<std::string> optional_choice(const std::string& key, const std::vector<std::string>& choices);
+  std::vector<std::string> optional_text_list(const std::string& key);
+  MapReader map(const std::string& key);
+  std::optional<MapReader> optional_map(const std::string& key);
+  bool has(const std::string& key) const;
+
+  /// Fails on the first key that no reader asked for.
+  void finish();
+
+  std::string field(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  const YAML::Mark& mark() const { return mark_; }
+  ReadContext& context() { return ctx_; }
+
+private:
+  YAML::Node value(const std::string& key); // marks the key as known and records its position
+  [[noreturn]] void missing(const std::string& key, const std::string& what) const;
+
+  YAML::Node node_;
+  std::string path_;
+  ReadContext& ctx_;
+  YAML::Mark mark_;
+  std::set<std::string> known_;
+};
+
+} // namespace geartopo::scene
