@@ -1,0 +1,139 @@
+// Scene files: the default scene, and every kind of bad input located at file:line:column with its field.
+#include "scene/scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+using namespace geartopo;
+
+namespace {
+
+const std::string kGood = R"(name: test
+gear:
+  normal_module_mm: 14
+  teeth: 35
+  normal_pressure_angle_deg: 20
+  helix_angle_deg: 30
+  hand: right
+  profile_shift: 0.274
+  face_width_mm: 150
+)";
+
+// Replaces the first line containing `key:` by `replacement` (or deletes it when empty).
+std::string with_line(const std::string& text, const std::string& key, const std::string& replacement) {
+  const auto pos = text.find(key + ":");
+  EXPECT_NE(pos, std::string::npos) << key;
+  const auto start = text.rfind('\n', pos) + 1;
+  const auto end = text.find('\n', pos);
+  return text.substr(0, start) + replacement + (replacement.empty() ? "" : "\n") + text.substr(end + 1);
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    scene::parse_scene(text, "scenes/x.yaml");
+  } catch (const scene::SceneError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+} // namespace
+
+TEST(Scene, DefaultSceneLoads) {
+  const auto sc = scene::load_scene(std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35.yaml");
+  EXPECT_EQ(sc.gear.teeth, 35);
+  EXPECT_DOUBLE_EQ(sc.gear.normal_module_mm, 14.0);
+  EXPECT_NEAR(sc.gear.helix_angle_rad, 30.0 * std::numbers::pi / 180, 1e-15);
+  EXPECT_EQ(sc.gear.hand(), gears::Hand::Right);
+  EXPECT_DOUBLE_EQ(sc.gear.profile_shift, 0.274);
+  EXPECT_DOUBLE_EQ(sc.gear.face_width_mm, 150.0);
+  // The assumed tip and root follow the conventional formulas to the 0.1 µm written in the file.
+  EXPECT_NEAR(sc.gear.tip_diameter_mm, gears::conventional_tip_diameter(sc.gear), 1e-4);
+  EXPECT_NEAR(sc.gear.root_diameter_mm, gears::conventional_root_diameter(sc.gear), 1e-4);
+  EXPECT_EQ(sc.assumed, (std::vector<std::string>{"face_width_mm", "tip_diameter_mm", "root_diameter_mm"}));
+}
+
+TEST(Scene, AbsentTipAndRootTakeConventionalValues) {
+  const auto sc = scene::parse_scene(kGood, "mem");
+  EXPECT_DOUBLE_EQ(sc.gear.tip_diameter_mm, gears::conventional_tip_diameter(sc.gear));
+  EXPECT_EQ(sc.defaulted, (std::vector<std::string>{"tip_diameter_mm", "root_diameter_mm"}));
+}
+
+TEST(Scene, OutOfRangeValueIsLocated) {
+  // helix_angle_deg is on line 6, its value at column 20.
+  EXPECT_EQ(error_of(with_line(kGood, "helix_angle_deg", "  helix_angle_deg: 95")),
+            "scenes/x.yaml:6:20: gear.helix_angle_deg: 95 is outside [-45, 45]");
+}
+
+TEST(Scene, UnknownKeyIsLocatedAtTheKey) {
+  const auto msg = error_of(kGood + "  helix_angel_deg: 3\n");
+  EXPECT_EQ(msg.rfind("scenes/x.yaml:10:3: gear.helix_angel_deg: unknown key", 0), 0u) << msg;
+  EXPECT_NE(error_of(kGood + "machnie: {}\n").find("scenes/x.yaml:10:1: machnie: unknown key"), std::string::npos);
+}
+
+TEST(Scene, MissingFieldIsLocatedAtItsSection) {
+  EXPECT_EQ(error_of(with_line(kGood, "teeth", "")),
+            "scenes/x.yaml:3:3: gear.teeth: missing (a whole number in [5, 10000])");
+  EXPECT_EQ(error_of("name: x\n"), "scenes/x.yaml:1:1: gear: missing (a map)");
+}
+
+TEST(Scene, WrongTypesAreNamed) {
+  EXPECT_EQ(error_of(with_line(kGood, "teeth", "  teeth: 35.5")), "scenes/x.yaml:4:10: gear.teeth: '35.5' is not a whole number");
+  EXPECT_EQ(error_of(with_line(kGood, "teeth", "  teeth: many")), "scenes/x.yaml:4:10: gear.teeth: 'many' is not a whole number");
+  EXPECT_EQ(error_of(with_line(kGood, "profile_shift", "  profile_shift: [1, 2]")),
+            "scenes/x.yaml:8:18: gear.profile_shift: a list is not a number");
+  EXPECT_EQ(error_of(with_line(kGood, "profile_shift", "  profile_shift: .nan")),
+            "scenes/x.yaml:8:18: gear.profile_shift: '.nan' is not a number");
+  EXPECT_EQ(error_of(with_line(kGood, "hand", "  hand: sinister")),
+            "scenes/x.yaml:7:9: gear.hand: 'sinister' is not one of: right, left, spur");
+  EXPECT_EQ(error_of("gear: 3\n"), "scenes/x.yaml:1:7: gear: expected a map of keys, found '3'");
+}
+
+TEST(Scene, DegenerateGearsAreLocatedAtTheirField) {
+  EXPECT_EQ(error_of(with_line(kGood, "normal_module_mm", "  normal_module_mm: 0")),
+            "scenes/x.yaml:3:21: gear.normal_module_mm: 0 is outside (0, 100]");
+  EXPECT_EQ(error_of(with_line(kGood, "teeth", "  teeth: 4")), "scenes/x.yaml:4:10: gear.teeth: 4 is outside [5, 10000]");
+  const auto at45 = error_of(with_line(kGood, "helix_angle_deg", "  helix_angle_deg: 45"));
+  EXPECT_EQ(at45.rfind("scenes/x.yaml:6:20: gear.helix_angle_deg: ", 0), 0u) << at45;
+  // Undercut: a spur pinion with 8 teeth and no shift.
+  std::string undercut = with_line(kGood, "teeth", "  teeth: 8");
+  undercut = with_line(undercut, "helix_angle_deg", "  helix_angle_deg: 0");
+  undercut = with_line(undercut, "hand", "  hand: spur");
+  undercut = with_line(undercut, "profile_shift", "  profile_shift: 0");
+  const auto uc = error_of(undercut);
+  EXPECT_EQ(uc.rfind("scenes/x.yaml:8:18: gear.profile_shift: x = 0 is below x_min", 0), 0u) << uc;
+  EXPECT_NE(uc.find("undercut"), std::string::npos);
+  // Pointed tip: a tip diameter far above the conventional 601 mm.
+  const auto pt = error_of(kGood + "  tip_diameter_mm: 640\n");
+  EXPECT_EQ(pt.rfind("scenes/x.yaml:10:20: gear.tip_diameter_mm: ", 0), 0u) << pt;
+  EXPECT_NE(pt.find("pointed-tip"), std::string::npos);
+}
+
+TEST(Scene, HandMustAgreeWithTheSignOfTheHelixAngle) {
+  const auto msg = error_of(with_line(kGood, "hand", "  hand: left"));
+  EXPECT_EQ(msg.rfind("scenes/x.yaml:7:9: gear.hand: 'left' contradicts helix_angle_deg = 30", 0), 0u) << msg;
+  const auto sc = scene::parse_scene(with_line(with_line(kGood, "hand", "  hand: left"), "helix_angle_deg",
+                                               "  helix_angle_deg: -30"), "mem");
+  EXPECT_EQ(sc.gear.hand(), gears::Hand::Left);
+}
+
+TEST(Scene, SyntaxDuplicatesAndEmptyFiles) {
+  const auto syn = error_of("gear: [1, 2\n");
+  EXPECT_EQ(syn.rfind("scenes/x.yaml:", 0), 0u);
+  EXPECT_NE(syn.find("YAML syntax error"), std::string::npos) << syn;
+  EXPECT_EQ(error_of(kGood + "  teeth: 36\n"), "scenes/x.yaml:10:3: gear.teeth: duplicate key");
+  EXPECT_EQ(error_of(""), "scenes/x.yaml: empty scene (a 'gear' map is needed)");
+  EXPECT_EQ(error_of(kGood + "  assumed: [tip_diameter_mm]\n"),
+            "scenes/x.yaml:10:12: gear.assumed: 'tip_diameter_mm' is not a key given in this gear section");
+}
+
+TEST(Scene, MissingFileNamesTheFile) {
+  try {
+    scene::load_scene("/nonexistent/scene.yaml");
+    FAIL();
+  } catch (const scene::SceneError& e) {
+    EXPECT_EQ(std::string(e.what()), "/nonexistent/scene.yaml: cannot open the scene file");
+  }
+}
