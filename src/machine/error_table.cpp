@@ -1,0 +1,260 @@
+// geartopo — CSV error-table reader with located messages. Units: file units in, mm and rad out.
+#include "machine/error_table.hpp"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+namespace geartopo::machine {
+
+namespace {
+
+std::string located(const std::string& file, int line, int column, const std::string& field, const std::string& msg) {
+  std::string where = file;
+  if (line > 0) where += fmt::format(":{}", line);
+  if (line > 0 && column > 0) where += fmt::format(":{}", column);
+  return field.empty() ? fmt::format("{}: {}", where, msg) : fmt::format("{}: {}: {}", where, field, msg);
+}
+
+struct Field {
+  std::string_view text; // trimmed
+  int column;            // 1-based character column of the trimmed text
+};
+
+std::vector<Field> split_fields(std::string_view line) {
+  std::vector<Field> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    const std::size_t end = comma == std::string_view::npos ? line.size() : comma;
+    std::size_t b = start, e = end;
+    while (b < e && (line[b] == ' ' || line[b] == '\t')) ++b;
+    while (e > b && (line[e - 1] == ' ' || line[e - 1] == '\t')) --e;
+    out.push_back({line.substr(b, e - b), static_cast<int>(b) + 1});
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+struct Column {
+  ComponentId id;
+  std::string field;
+  double scale; // file unit → internal
+  std::vector<double> values;
+};
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+std::string_view axis_letter(Axis axis) {
+  constexpr std::array<std::string_view, kAxisCount> letters = {"x", "y", "z", "a", "c"};
+  return letters[static_cast<std::size_t>(axis)];
+}
+
+} // namespace
+
+TableError::TableError(const std::string& file, int line, int column, const std::string& field,
+                       const std::string& message)
+    : std::runtime_error(located(file, line, column, field, message)), file_(file), field_(field), line_(line),
+      column_(column) {}
+
+std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::string& source) {
+  auto fail = [&](int line, int column, const std::string& field, const std::string& msg) -> TableError {
+    return TableError(source, line, column, field, msg);
+  };
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3); // UTF-8 byte-order mark
+
+  int line_no = 0, header_line = 0;
+  Axis axis = Axis::X;
+  double position_scale = 1.0;
+  std::string position_field, position_unit;
+  std::vector<Column> columns;
+  std::vector<double> positions;
+  std::vector<int> row_lines;
+  std::vector<int> last_row_columns; // character column of every field of the last data row
+
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    std::size_t nl = text.find('\n', pos);
+    if (nl == std::string_view::npos) nl = text.size();
+    std::string_view line = text.substr(pos, nl - pos);
+    pos = nl + 1;
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    const std::size_t first = line.find_first_not_of(" \t");
+    if (first == std::string_view::npos || line[first] == '#') {
+      if (nl == text.size()) break;
+      continue;
+    }
+    const std::vector<Field> fields = split_fields(line);
+
+    if (header_line == 0) { // ---- header
+      header_line = line_no;
+      if (fields.size() < 2)
+        throw fail(line_no, 1, "", "the header needs a position column and at least one error column, e.g. 'x_mm,delta_xx_um'");
+      const Field& p = fields[0];
+      position_field = std::string(p.text);
+      const std::size_t us = p.text.find('_');
+      const std::string_view letter = p.text.substr(0, us);
+      const std::string_view unit = us == std::string_view::npos ? std::string_view{} : p.text.substr(us + 1);
+      if (letter == "x") axis = Axis::X;
+      else if (letter == "y") axis = Axis::Y;
+      else if (letter == "z") axis = Axis::Z;
+      else if (letter == "a") axis = Axis::A;
+      else if (letter == "c") axis = Axis::C;
+      else
+        throw fail(line_no, p.column, position_field,
+                   "the first column must be the axis position '<axis>_<unit>' with axis x, y, z, a or c");
+      const auto ps = position_unit_scale(axis, unit);
+      if (!ps) {
+        if (unit.empty()) throw fail(line_no, p.column, position_field, "the position column has no unit");
+        if (!is_known_unit(unit)) throw fail(line_no, p.column, position_field, fmt::format("unknown unit '{}'", unit));
+        throw fail(line_no, p.column, position_field,
+                   fmt::format("'{}' is not a position unit of axis {} (use {})", unit, axis_name(axis),
+                               is_rotary(axis) ? "deg or rad" : "mm"));
+      }
+      position_scale = *ps;
+      position_unit = std::string(unit);
+      for (std::size_t k = 1; k < fields.size(); ++k) {
+        const Field& f = fields[k];
+        const std::string name(f.text);
+        const std::size_t us2 = f.text.rfind('_');
+        if (us2 == std::string_view::npos || us2 == 0)
+          throw fail(line_no, f.column, name, "an error column must be '<component>_<unit>', e.g. 'delta_xx_um'");
+        const std::string_view stem = f.text.substr(0, us2), vunit = f.text.substr(us2 + 1);
+        const auto id = component_from_name(stem);
+        if (!id) {
+          // "delta_xx" without a unit splits as stem "delta", unit "xx": say what is missing.
+          if (component_from_name(f.text))
+            throw fail(line_no, f.column, name, "the error column has no unit (e.g. '_um' or '_urad')");
+          throw fail(line_no, f.column, name, fmt::format("unknown error component '{}'", stem));
+        }
+        const ComponentInfo& c = info(*id);
+        if (!c.position_dependent)
+          throw fail(line_no, f.column, name, fmt::format("{} is position independent: give it as a constant, not a table", c.name));
+        if (c.axis != axis)
+          throw fail(line_no, f.column, name,
+                     fmt::format("{} is a function of the {} position but the position column is '{}'", c.name,
+                                 axis_name(c.axis), position_field));
+        const auto vs = value_unit_scale(c.quantity, vunit);
+        if (!vs) {
+          if (!is_known_unit(vunit)) throw fail(line_no, f.column, name, fmt::format("unknown unit '{}'", vunit));
+          throw fail(line_no, f.column, name,
+                     fmt::format("unit '{}' does not fit {}, which is {} (use {})", vunit, c.name,
+                                 c.quantity == Quantity::Length ? "a length" : "an angle", file_unit(c.quantity)));
+        }
+        for (const Column& other : columns)
+          if (other.id == *id) throw fail(line_no, f.column, name, fmt::format("second column for {}", c.name));
+        columns.push_back({*id, name, *vs, {}});
+      }
+      if (nl == text.size()) break;
+      continue;
+    }
+
+    // ---- data row
+    if (fields.size() != columns.size() + 1) {
+      const int col = fields.size() > columns.size() + 1 ? fields[columns.size() + 1].column
+                                                         : static_cast<int>(line.size()) + 1;
+      throw fail(line_no, col, "",
+                 fmt::format("the row has {} fields, the header has {}", fields.size(), columns.size() + 1));
+    }
+    last_row_columns.clear();
+    for (std::size_t k = 0; k < fields.size(); ++k) {
+      const Field& f = fields[k];
+      last_row_columns.push_back(f.column);
+      const std::string& fname = k == 0 ? position_field : columns[k - 1].field;
+      std::string_view t = f.text;
+      if (t.empty()) throw fail(line_no, f.column, fname, "empty field");
+      if (t.front() == '+') t.remove_prefix(1);
+      double v = 0.0;
+      const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+      if (ec != std::errc() || end != t.data() + t.size())
+        throw fail(line_no, f.column, fname, fmt::format("'{}' is not a number", f.text));
+      if (!std::isfinite(v)) throw fail(line_no, f.column, fname, fmt::format("'{}' is not a finite number", f.text));
+      if (k == 0) {
+        if (!positions.empty() && !(v > positions.back()))
+          throw fail(line_no, f.column, fname,
+                     fmt::format("position {} is not greater than the previous one ({} on line {}): positions must "
+                                 "be strictly increasing",
+                                 f.text, positions.back(), row_lines.back()));
+        positions.push_back(v);
+        row_lines.push_back(line_no);
+      } else {
+        columns[k - 1].values.push_back(v);
+      }
+    }
+    if (nl == text.size()) break;
+  }
+
+  if (header_line == 0) throw fail(0, 0, "", "no header line (e.g. 'x_mm,delta_xx_um')");
+  if (positions.size() < 2)
+    throw fail(row_lines.empty() ? header_line : row_lines.back(), 1, "",
+               fmt::format("{} data row{}: a table needs at least 2", positions.size(), positions.size() == 1 ? "" : "s"));
+
+  const int first = row_lines.front(), last = row_lines.back();
+  const bool periodic = axis == Axis::C;
+  std::vector<double> x(positions.size());
+  for (std::size_t i = 0; i < positions.size(); ++i) x[i] = positions[i] * position_scale;
+  if (periodic) {
+    // One full turn, closed: [0, 360] deg. Accept rounding of 2π written in rad.
+    if (std::abs(x.front()) > 1e-9)
+      throw fail(first, 1, position_field,
+                 fmt::format("a C table is periodic and must start at 0 (covering [0, 360] deg), not at {} {}",
+                             positions.front(), position_unit));
+    if (std::abs(x.back() - kTwoPi) > 1e-9)
+      throw fail(last, 1, position_field,
+                 fmt::format("a C table is periodic and must end at 360 deg (2π rad, repeating the 0 row), not at {} {}",
+                             positions.back(), position_unit));
+    x.front() = 0.0;
+    x.back() = kTwoPi;
+  }
+
+  std::vector<ErrorSource> out;
+  out.reserve(columns.size());
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    Column& col = columns[k];
+    if (periodic) {
+      const double a = col.values.front(), b = col.values.back();
+      if (std::abs(b - a) > 1e-9 * std::max(1.0, std::abs(a))) {
+        throw fail(last, last_row_columns[k + 1], col.field,
+                   fmt::format("a periodic C table must repeat the 0 deg value at 360 deg: {} differs from {} on line {}",
+                               b, a, first));
+      }
+      col.values.back() = a;
+    }
+    std::vector<double> y(col.values.size());
+    for (std::size_t i = 0; i < y.size(); ++i) y[i] = col.values[i] * col.scale;
+    TableOrigin origin{source, header_line, first, last, static_cast<int>(k) + 2, col.field, position_field,
+                       position_unit, position_scale};
+    out.push_back(ErrorSource::table(
+        col.id, CubicSpline(x, std::move(y), periodic ? CubicSpline::Ends::Periodic : CubicSpline::Ends::NotAKnot),
+        std::move(origin)));
+  }
+  return out;
+}
+
+std::vector<ErrorSource> load_error_tables(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw TableError(path.string(), 0, 0, "", "cannot open the error table");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_error_tables(ss.str(), path.string());
+}
+
+ErrorSource load_error_table(const std::filesystem::path& path, ComponentId expected) {
+  std::vector<ErrorSource> all = load_error_tables(path);
+  for (ErrorSource& s : all)
+    if (s.id() == expected) return std::move(s);
+  const ComponentInfo& c = info(expected);
+  const TableOrigin* o = all.front().origin();
+  throw TableError(path.string(), o->header_line, 1, "",
+                   fmt::format("no column for {} (expected a header field like '{}_{}' against '{}_{}')", c.name, c.name,
+                               file_unit(c.quantity), axis_letter(c.axis),
+                               is_rotary(c.axis) ? "deg" : "mm"));
+}
+
+} // namespace geartopo::machine

@@ -1,0 +1,102 @@
+// geartopo — MachineModel: validation of strokes and sources, evaluation of the error vector. Units: mm, rad.
+#include "machine/machine_model.hpp"
+
+#include "machine/error_table.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace geartopo::machine {
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+void check_interval(const Interval& i, std::string_view what) {
+  if (!std::isfinite(i.min) || !std::isfinite(i.max) || !(i.max > i.min))
+    throw std::invalid_argument(fmt::format("stroke {}: [{}, {}] is not a finite, non-empty interval", what, i.min, i.max));
+}
+
+/// Stroke of a linear or the A axis in internal units (mm or rad).
+Interval internal_stroke(const Strokes& s, Axis axis) {
+  switch (axis) {
+  case Axis::X: return s.x_mm;
+  case Axis::Y: return s.y_mm;
+  case Axis::Z: return s.z_mm;
+  case Axis::A: return {s.a_deg.min * kDeg, s.a_deg.max * kDeg};
+  case Axis::C: break;
+  }
+  return {0.0, 2.0 * std::numbers::pi};
+}
+
+} // namespace
+
+MachineModel::MachineModel(const Strokes& strokes) : MachineModel(strokes, {}) {}
+
+MachineModel::MachineModel(const Strokes& strokes, std::vector<ErrorSource> sources) : strokes_(strokes) {
+  check_interval(strokes.x_mm, "X (mm)");
+  check_interval(strokes.y_mm, "Y (mm)");
+  check_interval(strokes.z_mm, "Z (mm)");
+  check_interval(strokes.a_deg, "A (deg)");
+  sources_.reserve(kComponentCount);
+  for (int i = 0; i < kComponentCount; ++i) sources_.push_back(ErrorSource::zero(component_at(i)));
+  std::vector<bool> given(kComponentCount, false);
+  for (ErrorSource& s : sources) {
+    const auto k = static_cast<std::size_t>(index(s.id()));
+    if (given[k])
+      throw std::invalid_argument(fmt::format("{} is given twice: {} and {}", info(s.id()).name,
+                                              sources_[k].describe(), s.describe()));
+    given[k] = true;
+    check_coverage(s);
+    sources_[k] = std::move(s);
+  }
+}
+
+void MachineModel::check_coverage(const ErrorSource& s) const {
+  const TableOrigin* o = s.origin();
+  if (!o) return;
+  const Axis axis = info(s.id()).axis;
+  if (axis == Axis::C) return; // periodic over [0, 360] deg, checked by the reader
+  const Interval st = internal_stroke(strokes_, axis);
+  const CubicSpline& sp = *s.spline();
+  const double tol = 1e-9 * std::max(1.0, std::abs(st.max - st.min));
+  const double k = 1.0 / o->position_scale; // internal → file unit
+  const auto stroke_text = [&] {
+    return fmt::format("the {} stroke [{:g}, {:g}] {}", axis_name(axis), st.min * k, st.max * k, o->position_unit);
+  };
+  if (sp.front() > st.min + tol)
+    throw TableError(o->file, o->first_line, 1, o->position_field,
+                     fmt::format("column {} '{}' starts at {:g} {}, inside {}: the table must cover the stroke",
+                                 o->column, o->field, sp.front() * k, o->position_unit, stroke_text()));
+  if (sp.back() < st.max - tol)
+    throw TableError(o->file, o->last_line, 1, o->position_field,
+                     fmt::format("column {} '{}' ends at {:g} {}, inside {}: the table must cover the stroke",
+                                 o->column, o->field, sp.back() * k, o->position_unit, stroke_text()));
+}
+
+bool MachineModel::within_strokes(const AxisPose& q) const {
+  for (Axis axis : {Axis::X, Axis::Y, Axis::Z, Axis::A}) {
+    const Interval st = internal_stroke(strokes_, axis);
+    if (!(q[axis] >= st.min && q[axis] <= st.max)) return false;
+  }
+  return true;
+}
+
+void MachineModel::errors_at(const AxisPose& q, ErrorVector& e) const noexcept {
+  for (int i = 0; i < kComponentCount; ++i) {
+    const ErrorSource& s = sources_[static_cast<std::size_t>(i)];
+    e(i) = s.value(q[info(s.id()).axis]);
+  }
+}
+
+void MachineModel::error_rates_at(const AxisPose& q, ErrorVector& de) const noexcept {
+  for (int i = 0; i < kComponentCount; ++i) {
+    const ErrorSource& s = sources_[static_cast<std::size_t>(i)];
+    de(i) = s.rate(q[info(s.id()).axis]);
+  }
+}
+
+} // namespace geartopo::machine
