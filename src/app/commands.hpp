@@ -14,5 +14,11 @@ using Action = std::function<int()>;
 
 /// `geartopo gear SCENE [--json] [--mesh FILE]`
 void register_gear_command(CLI::App& app, Action& action);
+/// `geartopo machine SCENE --pose X,Y,Z,A_deg,C_deg [--json]`
+void register_machine_command(CLI::App& app, Action& action);
+/// `geartopo simulate SCENE --out DIR [--method exact|linear] [--teeth 1,18|all] [--dense NxM]`
+void register_simulate_command(CLI::App& app, Action& action);
+/// `geartopo evaluate SCENE --out DIR [--method exact|linear] [--traces FILE]`
+void register_evaluate_command(CLI::App& app, Action& action);
 
 } // namespace geartopo::app

@@ -11,6 +11,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "geartopo 0.1.0");
   geartopo::app::Action action;
   geartopo::app::register_gear_command(app, action);
+  geartopo::app::register_machine_command(app, action);
+  geartopo::app::register_simulate_command(app, action);
+  geartopo::app::register_evaluate_command(app, action);
 
   try {
     app.parse(argc, argv);

@@ -3,10 +3,12 @@
 #include "gears/field_error.hpp"
 #include "gears/gear_geometry.hpp"
 #include "scene/yaml_reader.hpp"
+#include "machine/error_table.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <charconv>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -63,12 +65,192 @@ gears::GearSpec read_gear(MapReader& g, Scene& scene) {
   return s;
 }
 
+machine::Interval read_interval(MapReader& m, const std::string& key, machine::Interval fallback) {
+  if (!m.has(key)) return fallback;
+  const auto items = m.optional_text_list(key);
+  machine::Interval iv{};
+  bool ok = items.size() == 2;
+  if (ok) {
+    const auto [p1, e1] = std::from_chars(items[0].data(), items[0].data() + items[0].size(), iv.min);
+    const auto [p2, e2] = std::from_chars(items[1].data(), items[1].data() + items[1].size(), iv.max);
+    ok = e1 == std::errc() && e2 == std::errc() && p1 == items[0].data() + items[0].size() &&
+         p2 == items[1].data() + items[1].size() && std::isfinite(iv.min) && std::isfinite(iv.max) && iv.min < iv.max;
+  }
+  if (!ok) m.context().fail_field(m.field(key), "expected [min, max] with min < max, two finite numbers");
+  return iv;
+}
+
+// "<component>_<unit>" → (component, unit), split at the last underscore ("delta_xc_um" → delta_xc, um).
+std::pair<std::string, std::string> split_unit(const std::string& key) {
+  const auto us = key.rfind('_');
+  if (us == std::string::npos) return {key, ""};
+  return {key.substr(0, us), key.substr(us + 1)};
+}
+
+// Without a given set-up the face width sits in the middle of the Z stroke.
+double centred_datum_z(const machine::Strokes& st, double face_width) {
+  return 0.5 * (st.z_mm.min + st.z_mm.max) - 0.5 * face_width;
+}
+
+MachineSection read_machine(MapReader& m, const std::filesystem::path& base, double face_width) {
+  MachineSection s;
+  s.name = m.optional_text("name").value_or("");
+  const auto datum = m.optional_number("datum_face_z_mm", {-1e4, 1e4});
+  if (auto st = m.optional_map("strokes")) {
+    s.strokes.x_mm = read_interval(*st, "x_mm", s.strokes.x_mm);
+    s.strokes.y_mm = read_interval(*st, "y_mm", s.strokes.y_mm);
+    s.strokes.z_mm = read_interval(*st, "z_mm", s.strokes.z_mm);
+    s.strokes.a_deg = read_interval(*st, "a_deg", s.strokes.a_deg);
+    st->finish();
+  }
+  s.datum_face_z_mm = datum ? *datum : centred_datum_z(s.strokes, face_width);
+  auto& ctx = m.context();
+  for (const auto& file : m.optional_text_list("tables")) {
+    const auto path = (base / file).lexically_normal();
+    try {
+      for (auto& src : machine::load_error_tables(path)) s.sources.push_back(std::move(src));
+    } catch (const machine::TableError& e) {
+      throw SceneError(SceneError::Located{}, e.what(), e.file(), e.line(), e.column(), e.field());
+    }
+    s.table_files.push_back(path.string());
+  }
+  if (auto c = m.optional_map("constants")) {
+    for (const auto& key : c->keys()) {
+      const auto [name, unit] = split_unit(key);
+      const auto id = machine::component_from_name(name);
+      if (!id) ctx.fail_field(c->field(key), fmt::format("'{}' is not an error component (docs/error-components.md)", name));
+      const double value = c->number(key, {-1e6, 1e6});
+      try {
+        s.sources.push_back(machine::ErrorSource::constant(*id, value, unit));
+      } catch (const std::invalid_argument& e) {
+        ctx.fail_field(c->field(key), e.what());
+      }
+    }
+    c->finish();
+  }
+  if (auto p = m.optional_map("polynomials")) {
+    for (const auto& key : p->keys()) {
+      const auto id = machine::component_from_name(key);
+      if (!id) ctx.fail_field(p->field(key), fmt::format("'{}' is not an error component (docs/error-components.md)", key));
+      MapReader poly = p->map(key);
+      const std::string unit = poly.text("unit"), pos_unit = poly.text("position_unit");
+      std::vector<double> coef;
+      for (const auto& t : poly.optional_text_list("coefficients")) {
+        double v = 0.0;
+        const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+        if (ec != std::errc() || ptr != t.data() + t.size() || !std::isfinite(v))
+          ctx.fail_field(poly.field("coefficients"), fmt::format("'{}' is not a finite number", t));
+        coef.push_back(v);
+      }
+      if (coef.empty()) ctx.fail_field(poly.field("coefficients"), "missing (a list of numbers, ascending powers)");
+      poly.finish();
+      try {
+        s.sources.push_back(machine::ErrorSource::polynomial(*id, coef, unit, pos_unit));
+      } catch (const std::invalid_argument& e) {
+        ctx.fail_field(p->field(key), e.what());
+      }
+    }
+    p->finish();
+  }
+  m.finish();
+  try {
+    (void)s.model(); // strokes, duplicates and table coverage
+  } catch (const machine::TableError& e) {
+    throw SceneError(SceneError::Located{}, e.what(), e.file(), e.line(), e.column(), e.field());
+  } catch (const std::invalid_argument& e) {
+    ctx.fail_field(m.field("tables"), e.what());
+  }
+  return s;
+}
+
+grinding::WheelSpec read_wheel(MapReader& w) {
+  grinding::WheelSpec s;
+  s.outer_diameter_mm = w.number("outer_diameter_mm", {10.0, 2000.0});
+  if (auto y = w.optional_number("axial_position_mm", {-1000.0, 1000.0})) s.axial_position_mm = *y;
+  w.finish();
+  return s;
+}
+
+grinding::ProcessSpec read_process(MapReader& p) {
+  grinding::ProcessSpec s;
+  if (auto v = p.optional_number("feed_mm_per_min", {0.0, 1e5, true, false})) s.feed_mm_per_min = *v;
+  if (auto v = p.optional_number("overtravel_mm", {0.0, 500.0})) s.overtravel_mm = *v;
+  if (auto v = p.optional_number("indexing_time_s", {0.0, 3600.0})) s.indexing_time_s = *v;
+  if (p.has("index_step")) s.index_step = static_cast<int>(p.integer("index_step", 1, 10000));
+  if (p.has("first_space")) s.first_space = static_cast<int>(p.integer("first_space", 1, 10000));
+  if (auto d = p.optional_choice("stroke", {"up", "down", "alternate"}))
+    s.direction = *d == "up" ? grinding::StrokeDirection::Up
+                  : *d == "down" ? grinding::StrokeDirection::Down
+                                 : grinding::StrokeDirection::Alternate;
+  p.finish();
+  return s;
+}
+
+MeasurementGrid read_grid(MapReader& m, int teeth) {
+  MeasurementGrid g;
+  if (m.has("rows")) g.rows = static_cast<int>(m.integer("rows", 2, 1000));
+  if (m.has("cols")) g.cols = static_cast<int>(m.integer("cols", 2, 1000));
+  if (m.has("profile_points")) g.profile_points = static_cast<int>(m.integer("profile_points", 2, 100000));
+  if (m.has("helix_points")) g.helix_points = static_cast<int>(m.integer("helix_points", 2, 100000));
+  if (m.has("dense_rows")) g.dense_rows = static_cast<int>(m.integer("dense_rows", 2, 10000));
+  if (m.has("dense_cols")) g.dense_cols = static_cast<int>(m.integer("dense_cols", 2, 10000));
+  if ((g.dense_rows > 0) != (g.dense_cols > 0))
+    m.context().fail_field(m.field(g.dense_rows > 0 ? "dense_cols" : "dense_rows"),
+                           "missing: give both dense_rows and dense_cols");
+  for (const auto& t : m.optional_text_list("teeth")) {
+    int v = 0;
+    const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (ec != std::errc() || ptr != t.data() + t.size() || v < 1 || v > teeth)
+      m.context().fail_field(m.field("teeth"), fmt::format("'{}' is not a tooth number of 1..{}", t, teeth));
+    g.teeth.push_back(v);
+  }
+  m.finish();
+  return g;
+}
+
+// The wheel must be synthesizable and the whole path must stay within the machine's strokes.
+void check_grinding(const Scene& scene, ReadContext& ctx) {
+  try {
+    const grinding::GrindingSetup setup(scene.gear, scene.wheel, scene.process);
+    const auto& st = scene.machine.strokes;
+    const auto& set = setup.setting();
+    auto outside = [](double v, const machine::Interval& iv) { return v < iv.min - 1e-9 || v > iv.max + 1e-9; };
+    if (outside(set.centre_distance_mm, st.x_mm))
+      ctx.fail_field("wheel.outer_diameter_mm",
+                     fmt::format("puts X at the centre distance {:.3f} mm, outside the X stroke [{}, {}] mm",
+                                 set.centre_distance_mm, st.x_mm.min, st.x_mm.max));
+    if (outside(set.axial_position_mm, st.y_mm))
+      ctx.fail_field("wheel.axial_position_mm", fmt::format("{} mm is outside the Y stroke [{}, {}] mm",
+                                                            set.axial_position_mm, st.y_mm.min, st.y_mm.max));
+    if (outside(set.tilt_rad / kDeg, st.a_deg))
+      ctx.fail_field("gear.helix_angle_deg", fmt::format("needs A = {:.3f}°, outside the A stroke [{}, {}]°",
+                                                         set.tilt_rad / kDeg, st.a_deg.min, st.a_deg.max));
+    for (const auto& stroke : setup.path().strokes()) {
+      const double lo = std::min(stroke.z_begin_mm, stroke.z_end_mm) + scene.machine.datum_face_z_mm;
+      const double hi = std::max(stroke.z_begin_mm, stroke.z_end_mm) + scene.machine.datum_face_z_mm;
+      if (outside(lo, st.z_mm) || outside(hi, st.z_mm))
+        ctx.fail_field("machine.datum_face_z_mm",
+                       fmt::format("the strokes run from Z = {:.3f} to {:.3f} mm, outside the Z stroke [{}, {}] mm",
+                                   lo, hi, st.z_mm.min, st.z_mm.max));
+    }
+  } catch (const FieldError& e) {
+    ctx.fail_field(e.field(), e.what());
+  } catch (const std::runtime_error& e) {
+    if (dynamic_cast<const SceneError*>(&e)) throw;
+    ctx.fail_field("wheel", e.what());
+  }
+}
+
 } // namespace
 
 SceneError::SceneError(const std::string& file, int line, int column, const std::string& field,
                        const std::string& message)
     : std::runtime_error(located(file, line, column, field, message)), file_(file), field_(field), line_(line),
       column_(column) {}
+
+SceneError::SceneError(Located, const std::string& what, const std::string& file, int line, int column,
+                       const std::string& field)
+    : std::runtime_error(what), file_(file), field_(field), line_(line), column_(column) {}
 
 Scene parse_scene(const std::string& text, const std::string& source) {
   ReadContext ctx{source, {}};
@@ -87,6 +269,13 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   scene.description = top.optional_text("description").value_or("");
   MapReader gear = top.map("gear");
   scene.gear = read_gear(gear, scene);
+  if (auto mm = top.optional_map("machine"))
+    scene.machine = read_machine(*mm, std::filesystem::path(source).parent_path(), scene.gear.face_width_mm);
+  else
+    scene.machine.datum_face_z_mm = centred_datum_z(scene.machine.strokes, scene.gear.face_width_mm);
+  if (auto w = top.optional_map("wheel")) scene.wheel = read_wheel(*w);
+  if (auto p = top.optional_map("process")) scene.process = read_process(*p);
+  if (auto m = top.optional_map("measurement")) scene.grid = read_grid(*m, scene.gear.teeth);
   top.finish();
 
   // Domain rules that involve several fields (undercut, pointed tip, form diameter) live in GearGeometry; locate
@@ -96,6 +285,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   } catch (const FieldError& e) {
     ctx.fail_field(e.field(), e.what());
   }
+  check_grinding(scene, ctx);
   return scene;
 }
 

@@ -3,6 +3,10 @@
 #pragma once
 
 #include "gears/gear_spec.hpp"
+#include "grinding/grinding_setup.hpp"
+#include "grinding/wheel_path.hpp"
+#include "machine/error_source.hpp"
+#include "machine/machine_model.hpp"
 
 #include <filesystem>
 #include <stdexcept>
@@ -10,6 +14,24 @@
 #include <vector>
 
 namespace geartopo::scene {
+
+/// Where and how densely flanks are evaluated (and, by a CMM, measured).
+struct MeasurementGrid {
+  int rows = 7, cols = 9;                    ///< topological grid: alignment curves × profile curves
+  int profile_points = 100, helix_points = 150; ///< dense traces
+  int dense_rows = 0, dense_cols = 0;        ///< optional dense grid (0: none)
+  std::vector<int> teeth;                    ///< empty: all teeth
+};
+
+/// The machine: strokes, where the gear sits, and its geometric error components (all others zero).
+struct MachineSection {
+  std::string name;
+  machine::Strokes strokes = machine::Strokes::skmc_1200w();
+  double datum_face_z_mm = 0.0; ///< machine Z of the gear's datum face; default: face width centred in the Z stroke
+  std::vector<machine::ErrorSource> sources;   ///< from tables, constants and polynomials
+  std::vector<std::string> table_files;        ///< resolved paths, for reports
+  machine::MachineModel model() const { return machine::MachineModel(strokes, sources); }
+};
 
 struct Scene {
   std::string source;      ///< file the scene was read from (as given), for messages
@@ -20,12 +42,19 @@ struct Scene {
   std::vector<std::string> assumed;
   /// Gear keys that were absent and took their conventional value (tip/root diameter).
   std::vector<std::string> defaulted;
+  MachineSection machine;
+  grinding::WheelSpec wheel;
+  grinding::ProcessSpec process;
+  MeasurementGrid grid;
 };
 
 /// An input error located in a scene file: what() is "file:line:column: field: message".
 class SceneError : public std::runtime_error {
 public:
   SceneError(const std::string& file, int line, int column, const std::string& field, const std::string& message);
+  /// An error already located in another file (e.g. an error table the scene refers to).
+  struct Located {};
+  SceneError(Located, const std::string& what, const std::string& file, int line, int column, const std::string& field);
   const std::string& file() const { return file_; }
   int line() const { return line_; }     ///< 1-based, 0 when unknown
   int column() const { return column_; } ///< 1-based, 0 when unknown

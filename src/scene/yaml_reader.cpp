@@ -87,6 +87,12 @@ bool MapReader::has(const std::string& key) const {
   return false;
 }
 
+std::vector<std::string> MapReader::keys() const {
+  std::vector<std::string> out;
+  for (const auto& kv : node_) out.push_back(scalar_of(kv.first));
+  return out;
+}
+
 YAML::Node MapReader::value(const std::string& key) {
   known_.insert(key);
   for (const auto& kv : node_) {

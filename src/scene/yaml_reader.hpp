@@ -48,6 +48,8 @@ public:
   MapReader map(const std::string& key);
   std::optional<MapReader> optional_map(const std::string& key);
   bool has(const std::string& key) const;
+  /// Keys in file order (readers of open-ended maps, e.g. error constants, iterate over them).
+  std::vector<std::string> keys() const;
 
   /// Fails on the first key that no reader asked for.
   void finish();

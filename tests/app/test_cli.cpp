@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -86,6 +87,7 @@ TEST(Cli, BadInputExitsOneWithALocatedMessage) {
   EXPECT_NE(r.err.find(bad.string() + ":5:20: gear.helix_angle_deg: 95 is outside [-45, 45]"), std::string::npos)
       << r.err;
   EXPECT_EQ(run("gear /nonexistent.yaml").code, 1);
+  std::filesystem::remove(bad);
 }
 
 TEST(Cli, BadUsageExitsTwo) {
@@ -103,4 +105,82 @@ TEST(Cli, HelpExitsZeroForEverySubcommand) {
   const CliResult gear = run("gear --help");
   EXPECT_EQ(gear.code, 0);
   EXPECT_NE(gear.out.find("--mesh"), std::string::npos);
+}
+
+TEST(Cli, SimulateWritesTopologyTracesAndMeshes) {
+  const auto out = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_sim");
+  const CliResult r = run("simulate " + kScene + " --out " + out.string() + " --teeth 1,18 --method linear --dense 5x6");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream topo(out / "topology.csv");
+  std::string header;
+  std::getline(topo, header);
+  EXPECT_EQ(header, "tooth,flank,row,col,diameter_mm,z_mm,deviation_um");
+  int lines = 0;
+  for (std::string l; std::getline(topo, l);) ++lines;
+  EXPECT_EQ(lines, 4 * 63);
+  EXPECT_TRUE(std::filesystem::exists(out / "traces.csv"));
+  EXPECT_TRUE(std::filesystem::exists(out / "dense.csv"));
+  EXPECT_TRUE(std::filesystem::exists(out / "meshes" / "tooth18_right.ply"));
+  EXPECT_NE(r.out.find("all flanks:"), std::string::npos);
+  std::filesystem::remove_all(out);
+  EXPECT_EQ(run("simulate " + kScene + " --out " + out.string() + " --teeth 0").code, 2);
+  EXPECT_EQ(run("simulate " + kScene + " --out " + out.string() + " --dense 5").code, 2);
+  EXPECT_EQ(run("simulate " + kScene + " --out " + out.string() + " --method fast").code, 2);
+  std::filesystem::remove_all(out);
+}
+
+TEST(Cli, MachineReportsPoseTwistsAndJacobian) {
+  const CliResult r = run("machine " + kScene + " --pose 444,0,350,-30,90 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["ideal"].size(), 4u);
+  EXPECT_EQ(j["ideal"][0].size(), 4u);
+  EXPECT_EQ(j["twist_exact"].size(), 6u);
+  EXPECT_EQ(j["twist_linear"].size(), 6u);
+  EXPECT_EQ(j["jacobian"].size(), 6u);
+  EXPECT_EQ(j["jacobian"][0].size(), 5u);
+  // Eq. 11 at γ = 90°: the first row is (cos γ, cos α sin γ, −sin α sin γ, y cos α sin γ + x cos γ).
+  EXPECT_NEAR(j["ideal"][0][1].get<double>(), std::cos(-30 * M_PI / 180), 1e-12);
+  EXPECT_NEAR(j["ideal"][0][3].get<double>(), 0.0, 1e-9);
+  // Exact and first-order twists agree to a small fraction of their size for µm-size errors.
+  for (int i = 0; i < 6; ++i)
+    EXPECT_NEAR(j["twist_exact"][i].get<double>(), j["twist_linear"][i].get<double>(), 0.01);
+  EXPECT_EQ(run("machine " + kScene + " --pose 1,2,3").code, 2);
+}
+
+TEST(Cli, EvaluateWritesIsoJsonAndMeasuredTracesGiveTheSameAnswer) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_eval");
+  const CliResult sim = run("evaluate " + kScene + " --out " + (dir / "sim").string() + " --method linear");
+  ASSERT_EQ(sim.code, 0) << sim.err;
+  std::ifstream in(dir / "sim" / "iso1328.json");
+  const auto j = nlohmann::json::parse(in)["before"];
+  ASSERT_EQ(j["flanks"].size(), 70u);
+  for (const char* key : {"F_alpha_um", "f_falpha_um", "f_Halpha_um", "F_beta_um", "f_fbeta_um", "f_Hbeta_um", "f_p_um",
+                          "F_p_um", "F_r_um", "classes"})
+    EXPECT_TRUE(j["flanks"][0].contains(key)) << key;
+  // Class-5 tolerances of the default gear (d = 565.80, m_n = 14, b = 150), from the ISO formulas by hand:
+  // f_pT = 0.001 d + 0.4 m_n + 5 = 11.17 → 11; F_pT = 0.002 d + 0.55 √d + 0.7 m_n + 12 = 1.13 + 13.08 + 9.8 + 12
+  // = 36.01 → 36.
+  EXPECT_DOUBLE_EQ(j["tolerances_class5_um"]["f_pT_um"].get<double>(), 11.0);
+  EXPECT_DOUBLE_EQ(j["tolerances_class5_um"]["F_pT_um"].get<double>(), 36.0);
+  EXPECT_FALSE(j["classification"]["overall"].is_null());
+
+  // Evaluate the simulation's own traces as if measured: the same numbers come back.
+  ASSERT_EQ(run("simulate " + kScene + " --out " + (dir / "s").string() + " --method linear").code, 0);
+  const CliResult meas = run("evaluate " + kScene + " --out " + (dir / "m").string() + " --traces " + (dir / "s" / "traces.csv").string());
+  ASSERT_EQ(meas.code, 0) << meas.err;
+  std::ifstream in2(dir / "m" / "iso1328.json");
+  const auto jm = nlohmann::json::parse(in2)["before"];
+  ASSERT_EQ(jm["flanks"].size(), 70u);
+  for (size_t i = 0; i < 70; ++i)
+    for (const char* key : {"F_alpha_um", "f_Hbeta_um", "f_p_um"})
+      EXPECT_NEAR(jm["flanks"][i][key].get<double>(), j["flanks"][i][key].get<double>(), 1e-3) << i << key;
+  EXPECT_NEAR(jm["gear"]["F_r_um"].get<double>(), j["gear"]["F_r_um"].get<double>(), 1e-3);
+
+  // A broken traces file: exit 1, located message.
+  std::ofstream(dir / "bad.csv") << "tooth,flank,trace,roll_length_mm,diameter_mm,z_mm,deviation_um\n1,left,helix,90,550,1,inf\n";
+  const CliResult bad = run("evaluate " + kScene + " --out " + (dir / "b").string() + " --traces " + (dir / "bad.csv").string());
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.err.find("bad.csv:2:23: deviation_um: 'inf' is not finite"), std::string::npos) << bad.err;
+  std::filesystem::remove_all(dir);
 }

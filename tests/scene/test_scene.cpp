@@ -4,7 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
+#include <sstream>
+#include <unistd.h>
 
 using namespace geartopo;
 
@@ -136,4 +140,96 @@ TEST(Scene, MissingFileNamesTheFile) {
   } catch (const scene::SceneError& e) {
     EXPECT_EQ(std::string(e.what()), "/nonexistent/scene.yaml: cannot open the scene file");
   }
+}
+
+// ---- machine, wheel, process and measurement sections ----
+
+namespace {
+const std::string kDefault = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35.yaml";
+
+std::string default_text() {
+  std::ifstream in(kDefault);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Parses text as if it were the default scene (relative table paths resolve against scenes/).
+std::string error_as_default(const std::string& text) {
+  try {
+    scene::parse_scene(text, kDefault);
+  } catch (const scene::SceneError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  return text.replace(pos, from.size(), to);
+}
+} // namespace
+
+TEST(SceneMachine, DefaultMachineHasEveryTableAndConstant) {
+  const auto sc = scene::load_scene(kDefault);
+  EXPECT_EQ(sc.machine.table_files.size(), 5u);
+  EXPECT_EQ(sc.machine.sources.size(), 30u + 8u); // 30 motion components from tables + 8 constants
+  EXPECT_DOUBLE_EQ(sc.machine.datum_face_z_mm, 300.0);
+  EXPECT_DOUBLE_EQ(sc.wheel.outer_diameter_mm, 350.0);
+  EXPECT_EQ(sc.grid.rows, 7);
+  EXPECT_EQ(sc.grid.cols, 9);
+  EXPECT_NO_THROW(static_cast<void>(sc.machine.model()));
+}
+
+TEST(SceneMachine, BadMachineDataIsLocated) {
+  const std::string text = default_text();
+  const auto unknown = error_as_default(replace(text, "S_xy_urad: 25", "S_xx_urad: 25"));
+  EXPECT_NE(unknown.find("machine.constants.S_xx_urad: 'S_xx' is not an error component"), std::string::npos) << unknown;
+  const auto unit = error_as_default(replace(text, "S_xy_urad: 25", "S_xy_um: 25"));
+  EXPECT_NE(unit.find("machine.constants.S_xy_um: "), std::string::npos) << unit;
+  const auto dup = error_as_default(replace(text, "S_xy_urad: 25", "S_xy_urad: 25\n    delta_xx_um: 2"));
+  EXPECT_NE(dup.find("delta_xx"), std::string::npos) << dup;
+  const auto missing = error_as_default(replace(text, "machine/z_axis.csv", "machine/none.csv"));
+  EXPECT_NE(missing.find("none.csv"), std::string::npos) << missing;
+  const auto stroke = error_as_default(replace(text, "datum_face_z_mm: 300", "datum_face_z_mm: 700"));
+  EXPECT_NE(stroke.find(":31:20: machine.datum_face_z_mm: the strokes run from Z = "), std::string::npos) << stroke;
+}
+
+TEST(SceneMachine, BadErrorTableIsLocatedInTheTableFile) {
+  const auto dir = std::filesystem::temp_directory_path() / ("geartopo_scene_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir / "machine");
+  std::ofstream(dir / "machine" / "x.csv") << "x_mm,delta_xx_um\n0,1\n100,nan\n900,2\n";
+  std::string text = default_text();
+  text = replace(text, "tables: [machine/x_axis.csv,", "tables: [machine/x.csv,");
+  const auto scene_file = dir / "s.yaml";
+  std::ofstream(scene_file) << text;
+  try {
+    scene::load_scene(scene_file);
+    FAIL() << "accepted a NaN in an error table";
+  } catch (const scene::SceneError& e) {
+    EXPECT_EQ(e.file(), (dir / "machine" / "x.csv").string());
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find(":3:"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(SceneSections, WheelProcessAndMeasurementAreChecked) {
+  const std::string text = default_text();
+  EXPECT_NE(error_as_default(replace(text, "outer_diameter_mm: 350", "outer_diameter_mm: 60"))
+                .find("wheel.outer_diameter_mm: 60 mm is too small"),
+            std::string::npos);
+  EXPECT_NE(error_as_default(replace(text, "index_step: 1 ", "index_step: 7 ")).find("process.index_step: 7 does not visit every space"),
+            std::string::npos);
+  EXPECT_NE(error_as_default(replace(text, "stroke: up", "stroke: sideways")).find("process.stroke: 'sideways' is not one of"),
+            std::string::npos);
+  EXPECT_NE(error_as_default(replace(text, "helix_points: 150", "helix_points: 150\n  teeth: [1, 36]"))
+                .find("measurement.teeth: '36' is not a tooth number of 1..35"),
+            std::string::npos);
+  EXPECT_NE(error_as_default(replace(text, "helix_points: 150", "helix_points: 150\n  dense_rows: 50"))
+                .find("measurement.dense_cols: missing"),
+            std::string::npos);
+  EXPECT_NE(error_as_default(replace(text, "feed_mm_per_min: 1200", "feed_mm_per_min: 0")).find("process.feed_mm_per_min: 0 is outside (0, 100000]"),
+            std::string::npos);
 }

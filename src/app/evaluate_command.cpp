@@ -1,0 +1,60 @@
+#include "app/commands.hpp"
+#include "app/iso_report.hpp"
+#include "app/workbench.hpp"
+
+#include "grinding/topology_csv.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+namespace geartopo::app {
+
+void register_evaluate_command(CLI::App& app, Action& action) {
+  struct Options {
+    std::string scene, out, method = "exact", traces;
+  };
+  auto opt = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("evaluate", "ISO 1328-1:2013 deviations (µm) and flank tolerance classes of the "
+                                                 "simulated gear, or of measured traces");
+  cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
+  cmd->add_option("--out", opt->out, "Output directory (created): iso1328.json")->required();
+  cmd->add_option("--method", opt->method, "exact or linear simulation")->check(CLI::IsMember({"exact", "linear"}));
+  cmd->add_option("--traces", opt->traces, "Evaluate measured traces instead (traces CSV: docs/grinding.md)");
+  cmd->callback([&action, opt] {
+    action = [opt] {
+      const Workbench wb(opt->scene);
+      const auto& g = wb.setup.geometry();
+      std::vector<grinding::FlankTopology> topo;
+      std::string source;
+      if (!opt->traces.empty()) {
+        topo = grinding::read_traces_csv(opt->traces, g.teeth());
+        source = "measured traces " + opt->traces;
+      } else {
+        grinding::SimulationOptions so;
+        so.method = opt->method == "linear" ? grinding::Method::Linear : grinding::Method::Exact;
+        so.profile_points = wb.scene.grid.profile_points;
+        so.helix_points = wb.scene.grid.helix_points;
+        topo = grinding::simulate_topology(wb.setup, wb.process, so); // pitch and runout need every tooth
+        source = "simulation (" + opt->method + ")";
+      }
+      const IsoResult iso = evaluate_iso(g, wb.setup.ranges(), topo);
+      nlohmann::json j;
+      j["scene"] = wb.scene.name;
+      j["source"] = source;
+      j["units"] = "µm; deviations along the flank normal, plus material positive";
+      j["before"] = iso_json(iso);
+      const std::filesystem::path out(opt->out);
+      std::filesystem::create_directories(out);
+      std::ofstream(out / "iso1328.json") << j.dump(2) << "\n";
+      std::cout << "Source: " << source << "\n" << iso_table(iso) << "wrote " << (out / "iso1328.json").string() << "\n";
+      return 0;
+    };
+  });
+}
+
+} // namespace geartopo::app

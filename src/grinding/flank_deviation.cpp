@@ -1,0 +1,111 @@
+#include "grinding/flank_deviation.hpp"
+
+#include "machine/chain.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace geartopo::grinding {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Brent's minimisation of f on [a, b] (parabolic steps with golden-section safeguard), to |Δx| ≤ tol.
+template <class F>
+std::pair<double, double> brent_minimize(F&& f, double a, double b, double tol) {
+  constexpr double kGold = 0.3819660112501051;
+  double x = a + kGold * (b - a), w = x, v = x;
+  double fx = f(x), fw = fx, fv = fx;
+  double d = 0.0, e = 0.0;
+  for (int it = 0; it < 100; ++it) {
+    const double m = 0.5 * (a + b);
+    const double tol1 = tol + 1e-12 * std::abs(x), tol2 = 2.0 * tol1;
+    if (std::abs(x - m) <= tol2 - 0.5 * (b - a)) break;
+    bool golden = true;
+    if (std::abs(e) > tol1) {
+      double r = (x - w) * (fx - fv), q = (x - v) * (fx - fw), p = (x - v) * q - (x - w) * r;
+      q = 2.0 * (q - r);
+      if (q > 0.0) p = -p;
+      q = std::abs(q);
+      const double e_old = e;
+      e = d;
+      if (std::abs(p) < std::abs(0.5 * q * e_old) && p > q * (a - x) && p < q * (b - x)) {
+        d = p / q;
+        const double u = x + d;
+        if (u - a < tol2 || b - u < tol2) d = (m >= x) ? tol1 : -tol1;
+        golden = false;
+      }
+    }
+    if (golden) {
+      e = (x >= m) ? a - x : b - x;
+      d = kGold * e;
+    }
+    const double u = (std::abs(d) >= tol1) ? x + d : x + (d > 0 ? tol1 : -tol1);
+    const double fu = f(u);
+    if (fu <= fx) {
+      if (u >= x) a = x; else b = x;
+      v = w, fv = fw, w = x, fw = fx, x = u, fx = fu;
+    } else {
+      if (u < x) a = u; else b = u;
+      if (fu <= fw || w == x) {
+        v = w, fv = fw, w = u, fw = fu;
+      } else if (fu <= fv || v == x || v == w) {
+        v = u, fv = fu;
+      }
+    }
+  }
+  return {x, fx};
+}
+
+} // namespace
+
+int space_of(int tooth, gears::Flank flank, int teeth) {
+  if (flank == gears::Flank::Right) return tooth;
+  return tooth == 1 ? teeth : tooth - 1;
+}
+
+double FlankDeviation::entry_depth(const gears::FlankPoint& fp, const machine::Pose& wMg, const PathPoint& pp) const {
+  // The normal line in the wheel frame: q(t) = q0 + t m. Solve ρ(q) − R(v(q)) = 0 by Newton from t = 0;
+  // entering the wheel means ρ − R goes from + (outside the wheel) to − (inside).
+  const machine::Pose gMw = wMg.inverse();
+  const Eigen::Vector3d q0 = gMw * fp.p;
+  const Eigen::Vector3d m = gMw.linear() * fp.n;
+  double t = 0.0;
+  for (int it = 0; it < 30; ++it) {
+    const Eigen::Vector3d q = q0 + t * m;
+    const double rho = std::hypot(q.x(), q.z());
+    const double r = wheel_.radius(q.y());
+    if (!std::isfinite(r) || rho == 0.0) return kInf;
+    const double f = rho - r - process_.wheel_radius_error_mm(q.y(), pp);
+    const double df = (q.x() * m.x() + q.z() * m.z()) / rho - wheel_.slope(q.y()) * m.y();
+    if (!(df < 0.0)) return kInf; // the line does not run into the wheel here
+    const double step = f / df;
+    t -= step;
+    if (std::abs(step) < 1e-12) return t;
+  }
+  return t;
+}
+
+DeviationResult FlankDeviation::at(int tooth, gears::Flank flank, double xi, double z, Method method) const {
+  const int space = space_of(tooth, flank, flanks_.geometry().teeth());
+  const gears::FlankPoint fp = flanks_.at(tooth, flank, xi, z);
+  const double z0 = z - wheel_.contact_offset_mm(flank, xi); // nominal generating stroke position
+
+  if (method == Method::Linear) {
+    const PathPoint pp = path_.point(space, z0);
+    const machine::Vector6d e = process_.error_twist_w(pp);
+    const Eigen::Vector3d shift = e.head<3>() + e.tail<3>().cross(fp.p);
+    const double v = (machine::ideal_wMg(pp.q).inverse() * fp.p).y(); // wheel coordinate of the contact point
+    return {fp.n.dot(shift) - process_.wheel_radius_error_mm(v, pp), z0};
+  }
+
+  auto depth_at = [&](double zs) {
+    const PathPoint pp = path_.point(space, zs);
+    return entry_depth(fp, process_.actual_wMg(pp), pp);
+  };
+  // The deepest cut lies within a fraction of a millimetre of Z₀ for any realistic error gradient; ±2 mm is ample.
+  const auto [z_best, t_best] = brent_minimize(depth_at, z0 - 2.0, z0 + 2.0, 1e-5);
+  return {t_best, z_best};
+}
+
+} // namespace geartopo::grinding

@@ -1,0 +1,47 @@
+// geartopo — the deviation the wheel leaves at one point of a nominal flank (docs/grinding.md).
+//
+// exact:  the ground flank is the envelope of the wheel at its actual poses. Along the flank's normal line
+//         P + t n (n out of the material), the wheel at stroke position Z first enters at t_in(Z); the material left is
+//         t < min_Z t_in(Z). The deviation (plus material positive) is that minimum. Z is searched continuously
+//         (Brent's method) around the nominal generating position Z₀ = z − z_c(ξ): no scallops from a pose step.
+// linear: the first-order deviation n·(δp + δθ × P) − δR(v) of the pose error twist and wheel-radius error at the
+//         generating pose (envelope theorem: moving the contact along the stroke changes it only to second order).
+// Units: mm in, mm out (callers convert to µm).
+#pragma once
+
+#include "gears/involute_helicoid.hpp"
+#include "grinding/form_wheel.hpp"
+#include "grinding/grinding_process.hpp"
+#include "grinding/wheel_path.hpp"
+
+namespace geartopo::grinding {
+
+enum class Method { Exact, Linear };
+
+/// The space whose grinding makes the given flank: right flank of tooth j → space j; left flank → space j − 1.
+int space_of(int tooth, gears::Flank flank, int teeth);
+
+struct DeviationResult {
+  double deviation_mm = 0.0;
+  double z_stroke_mm = 0.0; ///< stroke position Z of the deepest cut (exact) or of the generating pose (linear)
+};
+
+class FlankDeviation {
+public:
+  FlankDeviation(const gears::InvoluteHelicoid& flanks, const FormWheel& wheel, const WheelPath& path,
+                 const GrindingProcess& process)
+      : flanks_(flanks), wheel_(wheel), path_(path), process_(process) {}
+
+  DeviationResult at(int tooth, gears::Flank flank, double roll_length_mm, double z_mm, Method method) const;
+
+  /// Where the wheel at pose wMg first enters along P + t n (t in mm); +∞ if it misses near the flank.
+  double entry_depth(const gears::FlankPoint& fp, const machine::Pose& wMg, const PathPoint& pp) const;
+
+private:
+  const gears::InvoluteHelicoid& flanks_;
+  const FormWheel& wheel_;
+  const WheelPath& path_;
+  const GrindingProcess& process_;
+};
+
+} // namespace geartopo::grinding

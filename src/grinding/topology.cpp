@@ -1,0 +1,76 @@
+#include "grinding/topology.hpp"
+
+#include "grinding/parallel.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace geartopo::grinding {
+namespace {
+
+std::vector<double> evenly(double a, double b, int n) {
+  std::vector<double> out(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) out[static_cast<size_t>(i)] = n == 1 ? 0.5 * (a + b) : a + (b - a) * i / (n - 1);
+  return out;
+}
+
+std::vector<GridPoint> grid(const FlankDeviation& dev, const gears::GearGeometry& g, int tooth, gears::Flank flank,
+                            const std::vector<double>& xis, const std::vector<double>& zs, Method m) {
+  std::vector<GridPoint> out;
+  out.reserve(xis.size() * zs.size());
+  for (size_t r = 0; r < xis.size(); ++r)
+    for (size_t c = 0; c < zs.size(); ++c)
+      out.push_back({static_cast<int>(r + 1), static_cast<int>(c + 1), xis[r], g.diameter_at_roll_length(xis[r]), zs[c],
+                     1e3 * dev.at(tooth, flank, xis[r], zs[c], m).deviation_mm});
+  return out;
+}
+
+} // namespace
+
+std::vector<double> grid_roll_lengths(const gears::EvaluationRanges& r, int rows) {
+  return evenly(r.xi_eval_start, r.xi_eval_end, rows);
+}
+
+std::vector<double> grid_axial_positions(const gears::EvaluationRanges& r, int cols) {
+  return evenly(r.z_eval_start, r.z_eval_end, cols);
+}
+
+std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const GrindingProcess& process,
+                                             const SimulationOptions& o) {
+  const auto& g = setup.geometry();
+  std::vector<int> teeth = o.teeth;
+  if (teeth.empty())
+    for (int t = 1; t <= g.teeth(); ++t) teeth.push_back(t);
+  for (int t : teeth)
+    if (t < 1 || t > g.teeth()) throw std::invalid_argument(fmt::format("tooth {} is not one of 1..{}", t, g.teeth()));
+  if (o.rows < 2 || o.cols < 2 || o.profile_points < 2 || o.helix_points < 2)
+    throw std::invalid_argument("grid and traces need at least 2 points each way");
+
+  const auto& r = setup.ranges();
+  const auto rows = grid_roll_lengths(r, o.rows), cols = grid_axial_positions(r, o.cols);
+  const auto prof_xi = evenly(r.xi_active_start, r.xi_active_end, o.profile_points);
+  const auto helix_z = evenly(0.0, g.spec().face_width_mm, o.helix_points);
+  const double prof_z = 0.5 * g.spec().face_width_mm, helix_xi = 0.5 * (r.xi_eval_start + r.xi_eval_end);
+  const FlankDeviation dev(setup.flanks(), setup.wheel(), setup.path(), process);
+
+  std::vector<FlankTopology> out(2 * teeth.size());
+  parallel_for(static_cast<int>(out.size()), o.threads, [&](int i) {
+    FlankTopology& ft = out[static_cast<size_t>(i)];
+    ft.tooth = teeth[static_cast<size_t>(i / 2)];
+    ft.flank = i % 2 == 0 ? gears::Flank::Left : gears::Flank::Right;
+    ft.grid = grid(dev, g, ft.tooth, ft.flank, rows, cols, o.method);
+    for (double xi : prof_xi)
+      ft.profile.push_back({xi, g.diameter_at_roll_length(xi), prof_z,
+                            1e3 * dev.at(ft.tooth, ft.flank, xi, prof_z, o.method).deviation_mm});
+    for (double z : helix_z)
+      ft.helix.push_back({helix_xi, g.diameter_at_roll_length(helix_xi), z,
+                          1e3 * dev.at(ft.tooth, ft.flank, helix_xi, z, o.method).deviation_mm});
+    if (o.dense_rows > 0 && o.dense_cols > 0)
+      ft.dense = grid(dev, g, ft.tooth, ft.flank, grid_roll_lengths(r, o.dense_rows),
+                      grid_axial_positions(r, o.dense_cols), o.method);
+  });
+  return out;
+}
+
+} // namespace geartopo::grinding

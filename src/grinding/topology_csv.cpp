@@ -1,0 +1,221 @@
+#include "grinding/topology_csv.hpp"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <tuple>
+
+namespace geartopo::grinding {
+namespace {
+
+std::string strip_cr(std::string s) {
+  if (!s.empty() && s.back() == '\r') s.pop_back();
+  return s;
+}
+
+struct Field {
+  std::string text;
+  int column; // 1-based character column of the field's start
+};
+
+std::vector<Field> split(const std::string& line) {
+  std::vector<Field> out;
+  size_t start = 0;
+  for (;;) {
+    const size_t comma = line.find(',', start);
+    std::string f = line.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    // Trim blanks around the field, keeping its column for messages.
+    size_t a = f.find_first_not_of(" \t"), b = f.find_last_not_of(" \t");
+    const int col = static_cast<int>(start + (a == std::string::npos ? 0 : a)) + 1;
+    out.push_back({a == std::string::npos ? std::string() : f.substr(a, b - a + 1), col});
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+[[noreturn]] void fail(const std::string& src, int line, int col, const std::string& field, const std::string& msg) {
+  throw std::runtime_error(fmt::format("{}:{}:{}: {}: {}", src, line, col, field, msg));
+}
+
+double number(const Field& f, const std::string& src, int line, const char* name) {
+  double v = 0.0;
+  const char* b = f.text.data();
+  const char* e = b + f.text.size();
+  if (b != e && *b == '+') ++b;
+  const auto [ptr, ec] = std::from_chars(b, e, v);
+  if (f.text.empty() || ec != std::errc() || ptr != e) fail(src, line, f.column, name, fmt::format("'{}' is not a number", f.text));
+  if (!std::isfinite(v)) fail(src, line, f.column, name, fmt::format("'{}' is not finite", f.text));
+  return v;
+}
+
+int whole(const Field& f, const std::string& src, int line, const char* name) {
+  int v = 0;
+  const auto [ptr, ec] = std::from_chars(f.text.data(), f.text.data() + f.text.size(), v);
+  if (f.text.empty() || ec != std::errc() || ptr != f.text.data() + f.text.size())
+    fail(src, line, f.column, name, fmt::format("'{}' is not a whole number", f.text));
+  return v;
+}
+
+} // namespace
+
+std::vector<TopologyRow> topology_rows(const std::vector<FlankTopology>& topo, GridKind kind) {
+  std::vector<TopologyRow> rows;
+  for (const auto& ft : topo)
+    for (const auto& p : kind == GridKind::Topology ? ft.grid : ft.dense)
+      rows.push_back({ft.tooth, ft.flank, p.row, p.col, p.diameter_mm, p.z_mm, p.deviation_um, 0});
+  return rows;
+}
+
+void write_topology_csv(std::ostream& out, const std::vector<FlankTopology>& topo, GridKind kind) {
+  out << kTopologyHeader << "\n";
+  for (const auto& r : topology_rows(topo, kind))
+    out << fmt::format("{},{},{},{},{:.6f},{:.6f},{:.4f}\n", r.tooth, gears::to_string(r.flank), r.row, r.col,
+                       r.diameter_mm, r.z_mm, r.deviation_um);
+}
+
+void write_traces_csv(std::ostream& out, const std::vector<FlankTopology>& topo) {
+  out << kTracesHeader << "\n";
+  for (const auto& ft : topo) {
+    for (const auto& p : ft.profile)
+      out << fmt::format("{},{},profile,{:.6f},{:.6f},{:.6f},{:.4f}\n", ft.tooth, gears::to_string(ft.flank),
+                         p.roll_length_mm, p.diameter_mm, p.z_mm, p.deviation_um);
+    for (const auto& p : ft.helix)
+      out << fmt::format("{},{},helix,{:.6f},{:.6f},{:.6f},{:.4f}\n", ft.tooth, gears::to_string(ft.flank),
+                         p.roll_length_mm, p.diameter_mm, p.z_mm, p.deviation_um);
+  }
+}
+
+void write_topology_csv(const std::filesystem::path& file, const std::vector<FlankTopology>& topo, GridKind kind) {
+  std::ofstream out(file);
+  if (!out) throw std::runtime_error(file.string() + ": cannot write");
+  write_topology_csv(out, topo, kind);
+}
+
+void write_traces_csv(const std::filesystem::path& file, const std::vector<FlankTopology>& topo) {
+  std::ofstream out(file);
+  if (!out) throw std::runtime_error(file.string() + ": cannot write");
+  write_traces_csv(out, topo);
+}
+
+std::vector<TopologyRow> read_topology_csv(std::istream& in, const std::string& src, int teeth) {
+  static const char* names[] = {"tooth", "flank", "row", "col", "diameter_mm", "z_mm", "deviation_um"};
+  std::vector<TopologyRow> rows;
+  std::set<std::tuple<int, int, int, int>> seen;
+  std::string line;
+  int lineno = 0;
+  bool header = false;
+  while (std::getline(in, line)) {
+    ++lineno;
+    line = strip_cr(line);
+    if (line.empty() || line[0] == '#') continue;
+    const auto f = split(line);
+    if (!header) {
+      for (size_t i = 0; i < 7; ++i)
+        if (i >= f.size() || f[i].text != names[i])
+          fail(src, lineno, i < f.size() ? f[i].column : static_cast<int>(line.size()) + 1, "header",
+               fmt::format("expected the columns {} (column {} should be '{}')", kTopologyHeader, i + 1, names[i]));
+      if (f.size() != 7) fail(src, lineno, f[7].column, "header", fmt::format("unexpected column '{}'", f[7].text));
+      header = true;
+      continue;
+    }
+    if (f.size() != 7)
+      fail(src, lineno, f.size() > 7 ? f[7].column : static_cast<int>(line.size()) + 1, "row",
+           fmt::format("{} fields, expected 7", f.size()));
+    TopologyRow r;
+    r.line = lineno;
+    r.tooth = whole(f[0], src, lineno, "tooth");
+    if (r.tooth < 1 || r.tooth > teeth) fail(src, lineno, f[0].column, "tooth", fmt::format("{} is not one of 1..{}", r.tooth, teeth));
+    const auto flank = gears::parse_flank(f[1].text);
+    if (!flank) fail(src, lineno, f[1].column, "flank", fmt::format("'{}' is neither left nor right", f[1].text));
+    r.flank = *flank;
+    r.row = whole(f[2], src, lineno, "row");
+    if (r.row < 1) fail(src, lineno, f[2].column, "row", fmt::format("{} must be >= 1", r.row));
+    r.col = whole(f[3], src, lineno, "col");
+    if (r.col < 1) fail(src, lineno, f[3].column, "col", fmt::format("{} must be >= 1", r.col));
+    r.diameter_mm = number(f[4], src, lineno, "diameter_mm");
+    if (!(r.diameter_mm > 0.0)) fail(src, lineno, f[4].column, "diameter_mm", fmt::format("{} must be > 0", f[4].text));
+    r.z_mm = number(f[5], src, lineno, "z_mm");
+    r.deviation_um = number(f[6], src, lineno, "deviation_um");
+    if (!seen.insert({r.tooth, static_cast<int>(r.flank), r.row, r.col}).second)
+      fail(src, lineno, f[0].column, "row", fmt::format("duplicate point: tooth {} {} row {} col {}", r.tooth,
+                                                         gears::to_string(r.flank), r.row, r.col));
+    rows.push_back(r);
+  }
+  if (!header) fail(src, std::max(lineno, 1), 1, "header", fmt::format("missing header {}", kTopologyHeader));
+  if (rows.empty()) fail(src, lineno, 1, "rows", "no data rows");
+  return rows;
+}
+
+std::vector<FlankTopology> read_traces_csv(std::istream& in, const std::string& src, int teeth) {
+  static const char* names[] = {"tooth", "flank", "trace", "roll_length_mm", "diameter_mm", "z_mm", "deviation_um"};
+  std::map<std::pair<int, int>, FlankTopology> flanks;
+  std::string line;
+  int lineno = 0;
+  bool header = false;
+  while (std::getline(in, line)) {
+    ++lineno;
+    line = strip_cr(line);
+    if (line.empty() || line[0] == '#') continue;
+    const auto f = split(line);
+    if (!header) {
+      for (size_t i = 0; i < 7; ++i)
+        if (i >= f.size() || f[i].text != names[i])
+          fail(src, lineno, i < f.size() ? f[i].column : static_cast<int>(line.size()) + 1, "header",
+               fmt::format("expected the columns {} (column {} should be '{}')", kTracesHeader, i + 1, names[i]));
+      if (f.size() != 7) fail(src, lineno, f[7].column, "header", fmt::format("unexpected column '{}'", f[7].text));
+      header = true;
+      continue;
+    }
+    if (f.size() != 7)
+      fail(src, lineno, f.size() > 7 ? f[7].column : static_cast<int>(line.size()) + 1, "row",
+           fmt::format("{} fields, expected 7", f.size()));
+    const int tooth = whole(f[0], src, lineno, "tooth");
+    if (tooth < 1 || tooth > teeth) fail(src, lineno, f[0].column, "tooth", fmt::format("{} is not one of 1..{}", tooth, teeth));
+    const auto flank = gears::parse_flank(f[1].text);
+    if (!flank) fail(src, lineno, f[1].column, "flank", fmt::format("'{}' is neither left nor right", f[1].text));
+    const bool profile = f[2].text == "profile";
+    if (!profile && f[2].text != "helix") fail(src, lineno, f[2].column, "trace", fmt::format("'{}' is neither profile nor helix", f[2].text));
+    TracePoint p{number(f[3], src, lineno, "roll_length_mm"), number(f[4], src, lineno, "diameter_mm"),
+                 number(f[5], src, lineno, "z_mm"), number(f[6], src, lineno, "deviation_um")};
+    if (!(p.diameter_mm > 0.0)) fail(src, lineno, f[4].column, "diameter_mm", fmt::format("{} must be > 0", f[4].text));
+    if (!(p.roll_length_mm >= 0.0)) fail(src, lineno, f[3].column, "roll_length_mm", fmt::format("{} must be >= 0", f[3].text));
+    FlankTopology& ft = flanks[{tooth, static_cast<int>(*flank)}];
+    ft.tooth = tooth;
+    ft.flank = *flank;
+    auto& trace = profile ? ft.profile : ft.helix;
+    if (!trace.empty()) {
+      const double prev = profile ? trace.back().roll_length_mm : trace.back().z_mm;
+      const double cur = profile ? p.roll_length_mm : p.z_mm;
+      if (!(cur > prev))
+        fail(src, lineno, profile ? f[3].column : f[5].column, profile ? "roll_length_mm" : "z_mm",
+             fmt::format("{} does not increase along the {} trace of tooth {} {} (previous {})", cur, f[2].text, tooth,
+                         f[1].text, prev));
+    }
+    trace.push_back(p);
+  }
+  if (!header) fail(src, std::max(lineno, 1), 1, "header", fmt::format("missing header {}", kTracesHeader));
+  if (flanks.empty()) fail(src, lineno, 1, "rows", "no data rows");
+  std::vector<FlankTopology> out;
+  for (auto& [key, ft] : flanks) out.push_back(std::move(ft));
+  return out;
+}
+
+std::vector<FlankTopology> read_traces_csv(const std::filesystem::path& file, int teeth) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + ": cannot open");
+  return read_traces_csv(in, file.string(), teeth);
+}
+
+std::vector<TopologyRow> read_topology_csv(const std::filesystem::path& file, int teeth) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + ": cannot open");
+  return read_topology_csv(in, file.string(), teeth);
+}
+
+} // namespace geartopo::grinding

@@ -1,0 +1,23 @@
+#include "grinding/wheel_setting.hpp"
+
+#include "gears/field_error.hpp"
+
+#include <fmt/format.h>
+
+namespace geartopo::grinding {
+
+WheelSetting make_wheel_setting(const gears::GearGeometry& g, double outer_diameter_mm, double axial_position_mm) {
+  const double depth = 0.5 * (g.tip_diameter_mm() - g.root_diameter_mm());
+  if (!(outer_diameter_mm > 4.0 * depth))
+    throw FieldError("wheel.outer_diameter_mm",
+                     fmt::format("{} mm is too small: the wheel must be much larger than the tooth depth {:.3f} mm",
+                                 outer_diameter_mm, depth));
+  WheelSetting s;
+  s.outer_diameter_mm = outer_diameter_mm;
+  s.centre_distance_mm = 0.5 * (g.root_diameter_mm() + outer_diameter_mm);
+  s.tilt_rad = -g.spec().helix_angle_rad;
+  s.axial_position_mm = axial_position_mm;
+  return s;
+}
+
+} // namespace geartopo::grinding
