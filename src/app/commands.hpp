@@ -20,5 +20,7 @@ void register_machine_command(CLI::App& app, Action& action);
 void register_simulate_command(CLI::App& app, Action& action);
 /// `geartopo evaluate SCENE --out DIR [--method exact|linear] [--traces FILE]`
 void register_evaluate_command(CLI::App& app, Action& action);
+/// `geartopo compensate SCENE --out DIR [--method paper|flank] [--step MM]`
+void register_compensate_command(CLI::App& app, Action& action);
 
 } // namespace geartopo::app

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   geartopo::app::register_machine_command(app, action);
   geartopo::app::register_simulate_command(app, action);
   geartopo::app::register_evaluate_command(app, action);
+  geartopo::app::register_compensate_command(app, action);
 
   try {
     app.parse(argc, argv);

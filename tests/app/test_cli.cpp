@@ -184,3 +184,23 @@ TEST(Cli, EvaluateWritesIsoJsonAndMeasuredTracesGiveTheSameAnswer) {
   EXPECT_NE(bad.err.find("bad.csv:2:23: deviation_um: 'inf' is not finite"), std::string::npos) << bad.err;
   std::filesystem::remove_all(dir);
 }
+
+TEST(Cli, CompensateWritesCorrectionsAndBeforeAfter) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_comp");
+  const CliResult r = run("compensate " + kScene + " --out " + dir.string() + " --method flank --step 5");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* f : {"corrections.csv", "topology_before.csv", "topology_after.csv", "iso1328.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  std::ifstream in(dir / "iso1328.json");
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_TRUE(j.contains("before"));
+  EXPECT_TRUE(j.contains("after"));
+  EXPECT_EQ(j["after"]["flanks"].size(), 70u);
+  const auto& largest = j["improvement"]["largest_abs_deviation_um"];
+  EXPECT_LT(largest["after"].get<double>(), 0.05 * largest["before"].get<double>());
+  EXPECT_EQ(j["compensation"]["rows_outside_strokes"].get<int>(), 0);
+  EXPECT_NE(r.out.find("largest |deviation|"), std::string::npos);
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(run("compensate " + kScene + " --out " + dir.string() + " --method magic").code, 2);
+  EXPECT_EQ(run("compensate " + kScene + " --out " + dir.string() + " --step 0").code, 2);
+}

@@ -1,0 +1,129 @@
+#include "app/commands.hpp"
+#include "app/iso_report.hpp"
+#include "app/workbench.hpp"
+
+#include "compensation/compensator.hpp"
+#include "grinding/topology_csv.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+namespace geartopo::app {
+namespace {
+
+double largest_abs(const std::vector<grinding::FlankTopology>& topo) {
+  double m = 0.0;
+  for (const auto& ft : topo)
+    for (const auto& p : ft.grid) m = std::max(m, std::abs(p.deviation_um));
+  return m;
+}
+
+std::pair<double, double> range_of(const std::vector<grinding::FlankTopology>& topo) {
+  double lo = 1e300, hi = -1e300;
+  for (const auto& ft : topo)
+    for (const auto& p : ft.grid) lo = std::min(lo, p.deviation_um), hi = std::max(hi, p.deviation_um);
+  return {lo, hi};
+}
+
+double improvement(double before, double after) {
+  return std::abs(before) > 0.0 ? 100.0 * (std::abs(before) - std::abs(after)) / std::abs(before) : 0.0;
+}
+
+} // namespace
+
+void register_compensate_command(CLI::App& app, Action& action) {
+  struct Options {
+    std::string scene, out, method = "flank";
+    double step = 2.0;
+  };
+  auto opt = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("compensate", "Axis corrections along the wheel path (paper: Jacobian pseudo-inverse; "
+                                                   "flank: minimise flank deviations) and the gear before/after");
+  cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
+  cmd->add_option("--out", opt->out, "Output directory (created): corrections.csv, topology_before/after.csv, iso1328.json")
+      ->required();
+  cmd->add_option("--method", opt->method, "paper or flank (default)")->check(CLI::IsMember({"paper", "flank"}));
+  cmd->add_option("--step", opt->step, "Correction table spacing along each stroke, mm (default 2)")
+      ->check(CLI::Range(0.05, 50.0));
+  cmd->callback([&action, opt] {
+    action = [opt] {
+      const Workbench wb(opt->scene);
+      const auto& g = wb.setup.geometry();
+      grinding::SimulationOptions so;
+      so.profile_points = wb.scene.grid.profile_points;
+      so.helix_points = wb.scene.grid.helix_points;
+      so.rows = wb.scene.grid.rows;
+      so.cols = wb.scene.grid.cols;
+
+      compensation::CompensationOptions co;
+      co.method = opt->method == "paper" ? compensation::Method::Paper : compensation::Method::Flank;
+      co.step_mm = opt->step;
+      const auto before = grinding::simulate_topology(wb.setup, wb.process, so);
+      const auto table = compensation::compute_corrections(wb.setup, wb.process, {wb.machine, wb.scene.machine.datum_face_z_mm}, co);
+      const compensation::CompensatedProcess corrected(wb.process, table);
+      const auto after = grinding::simulate_topology(wb.setup, corrected, so);
+
+      const std::filesystem::path out(opt->out);
+      std::filesystem::create_directories(out);
+      table.write_csv(out / "corrections.csv");
+      grinding::write_topology_csv(out / "topology_before.csv", before);
+      grinding::write_topology_csv(out / "topology_after.csv", after);
+      grinding::write_traces_csv(out / "traces_before.csv", before);
+      grinding::write_traces_csv(out / "traces_after.csv", after);
+
+      const IsoResult iso_b = evaluate_iso(g, wb.setup.ranges(), before), iso_a = evaluate_iso(g, wb.setup.ranges(), after);
+      const double max_b = largest_abs(before), max_a = largest_abs(after);
+      nlohmann::json j;
+      j["scene"] = wb.scene.name;
+      j["units"] = "µm; deviations along the flank normal, plus material positive";
+      j["before"] = iso_json(iso_b);
+      j["after"] = iso_json(iso_a);
+      const auto cmax = table.max_abs();
+      j["compensation"] = {{"method", opt->method},
+                           {"rows", table.rows().size()},
+                           {"rows_outside_strokes", table.rows_outside_strokes()},
+                           {"max_correction", {{"dX_um", 1e3 * cmax(0)}, {"dY_um", 1e3 * cmax(1)}, {"dZ_um", 1e3 * cmax(2)},
+                                               {"dA_urad", 1e6 * cmax(3)}, {"dC_urad", 1e6 * cmax(4)}}}};
+      nlohmann::json imp;
+      imp["largest_abs_deviation_um"] = {{"before", max_b}, {"after", max_a}, {"improvement_percent", improvement(max_b, max_a)}};
+      const auto& qb = iso_b.evaluation.classification.quantities;
+      const auto& qa = iso_a.evaluation.classification.quantities;
+      for (size_t i = 0; i < qb.size() && i < qa.size(); ++i)
+        imp[std::string(evaluation::symbol(qb[i].quantity))] = {{"before", qb[i].worst_value_um},
+                                                               {"after", qa[i].worst_value_um},
+                                                               {"improvement_percent", improvement(qb[i].worst_value_um, qa[i].worst_value_um)}};
+      j["improvement"] = imp;
+      std::ofstream(out / "iso1328.json") << j.dump(2) << "\n";
+
+      const auto [lb, hb] = range_of(before);
+      const auto [la, ha] = range_of(after);
+      std::cout << fmt::format("Compensation ({} method), {} path samples every {} mm, {} outside the strokes\n", opt->method,
+                               table.rows().size(), opt->step, table.rows_outside_strokes());
+      std::cout << fmt::format("  largest corrections: X {:.2f} µm, Y {:.2f} µm, Z {:.2f} µm, A {:.2f} µrad, C {:.2f} µrad\n",
+                               1e3 * cmax(0), 1e3 * cmax(1), 1e3 * cmax(2), 1e6 * cmax(3), 1e6 * cmax(4));
+      std::cout << fmt::format("  topology (all teeth, 7×9 grid): before {:.2f} … {:.2f} µm, after {:.2f} … {:.2f} µm\n", lb, hb, la, ha);
+      std::cout << fmt::format("  largest |deviation|: {:.2f} → {:.2f} µm ({:.1f} % better)\n", max_b, max_a, improvement(max_b, max_a));
+      std::cout << fmt::format("  {:<6} {:>10} {:>10} {:>9}  {:>6} {:>6}\n", "ISO", "before", "after", "better", "class", "");
+      for (size_t i = 0; i < qb.size() && i < qa.size(); ++i)
+        std::cout << fmt::format("  {:<6} {:>10.2f} {:>10.2f} {:>8.1f}%  {:>6} → {}\n", evaluation::symbol(qb[i].quantity),
+                                 qb[i].worst_value_um, qa[i].worst_value_um, improvement(qb[i].worst_value_um, qa[i].worst_value_um),
+                                 qb[i].flank_class ? evaluation::class_label(*qb[i].flank_class) : "-",
+                                 qa[i].flank_class ? evaluation::class_label(*qa[i].flank_class) : "-");
+      const auto& cb = iso_b.evaluation.classification;
+      const auto& ca = iso_a.evaluation.classification;
+      if (cb.overall && ca.overall)
+        std::cout << fmt::format("  overall flank tolerance class: {} → {}\n", evaluation::class_label(*cb.overall),
+                                 evaluation::class_label(*ca.overall));
+      std::cout << "wrote " << out.string() << "/corrections.csv, topology_before.csv, topology_after.csv, iso1328.json\n";
+      return 0;
+    };
+  });
+}
+
+} // namespace geartopo::app

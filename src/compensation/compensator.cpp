@@ -1,0 +1,164 @@
+#include "compensation/compensator.hpp"
+
+#include "grinding/flank_deviation.hpp"
+#include "grinding/parallel.hpp"
+#include "machine/chain.hpp"
+#include "machine/jacobian.hpp"
+#include "machine/twist.hpp"
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <vector>
+
+namespace geartopo::compensation {
+namespace {
+
+using machine::Pose;
+using machine::Vector5d;
+using machine::Vector6d;
+
+grinding::PathPoint with_correction(grinding::PathPoint pp, const Vector5d& dq) {
+  pp.q = machine::AxisPose::from_vector(pp.q.vector() + dq);
+  return pp;
+}
+
+// Exact pose error of the actual wheel against the ideal pose at the nominal command: (translation; rotation vector),
+// in w (left: actual = E·ideal) or in g (right: actual = ideal·E).
+Vector6d error_w(const Pose& actual, const Pose& ideal) { return machine::pose_error_twist(actual * ideal.inverse()); }
+Vector6d error_g(const Pose& actual, const Pose& ideal) { return machine::pose_error_twist(ideal.inverse() * actual); }
+
+struct PoseResult {
+  Vector5d dq = Vector5d::Zero();
+  double residual_um = 0.0;
+};
+
+PoseResult paper_at(const grinding::GrindingProcess& process, const grinding::PathPoint& pp, int iterations) {
+  const Pose ideal = machine::ideal_wMg(pp.q);
+  PoseResult r;
+  Vector6d e = Vector6d::Zero();
+  for (int it = 0; it < iterations; ++it) {
+    const grinding::PathPoint c = with_correction(pp, r.dq);
+    e = error_g(process.actual_wMg(c), ideal);
+    const machine::Matrix65 J = machine::J_twistg_q(c.q);
+    // Eq. 29: pinv(J) = (JᵀJ)⁻¹Jᵀ for a full-column-rank J, here through an orthogonal decomposition.
+    const Vector5d step = J.completeOrthogonalDecomposition().solve(e);
+    r.dq -= step;
+    if (step.head<3>().norm() < 1e-9 && step.tail<2>().norm() < 1e-12) break;
+  }
+  e = error_g(process.actual_wMg(with_correction(pp, r.dq)), ideal);
+  r.residual_um = 1e3 * e.head<3>().norm();
+  return r;
+}
+
+struct ContactPoint {
+  Eigen::Matrix<double, 1, 6> a; // d(normal deviation)/d(twist in w): [nᵀ, (P × n)ᵀ]
+  Eigen::Vector3d p;
+};
+
+// Nominal contact points of both flanks of space s with the wheel at stroke position Z.
+std::vector<ContactPoint> contact_points(const grinding::GrindingSetup& setup, int space, double z, int n) {
+  const auto& g = setup.geometry();
+  const auto& r = setup.ranges();
+  std::vector<ContactPoint> pts;
+  const int next = space % g.teeth() + 1;
+  for (auto [tooth, flank] : {std::pair{space, gears::Flank::Right}, std::pair{next, gears::Flank::Left}})
+    for (int i = 0; i < n; ++i) {
+      const double xi = r.xi_active_start + (r.xi_active_end - r.xi_active_start) * i / (n - 1);
+      const auto fp = setup.flanks().at(tooth, flank, xi, z + setup.wheel().contact_offset_mm(flank, xi));
+      ContactPoint c;
+      c.a << fp.n.transpose(), fp.p.cross(fp.n).transpose();
+      c.p = fp.p;
+      pts.push_back(c);
+    }
+  return pts;
+}
+
+PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
+                    const grinding::PathPoint& pp, const CompensationOptions& o) {
+  const auto pts = contact_points(setup, pp.space, pp.z_stroke_mm, o.contact_points);
+  const long m = static_cast<long>(pts.size());
+  Eigen::Matrix<double, Eigen::Dynamic, 6> A(m, 6);
+  for (long i = 0; i < m; ++i) A.row(i) = pts[static_cast<size_t>(i)].a;
+  const Pose ideal = machine::ideal_wMg(pp.q);
+  const Pose gMw = ideal.inverse();
+  // Rotary corrections weigh like a displacement at the reference radius.
+  const double L = 0.5 * setup.geometry().reference_diameter_mm();
+  const Vector5d D = (Vector5d() << 1.0, 1.0, 1.0, L, L).finished();
+
+  auto deviations = [&](const Vector5d& dq) {
+    const grinding::PathPoint c = with_correction(pp, dq);
+    const Vector6d t = error_w(process.actual_wMg(c), ideal);
+    Eigen::VectorXd d = A * t;
+    for (long i = 0; i < m; ++i) d(i) -= process.wheel_radius_error_mm((gMw * pts[static_cast<size_t>(i)].p).y(), c);
+    return d;
+  };
+  // Gauss–Newton in the scaled variables u = D·Δq with the ideal Jacobians (the errors are small), in two levels:
+  // (1) the step removes the predicted flank deviations (least squares over both contact lines);
+  // (2) the freedom that leaves the flanks unchanged (null space of level 1: the screw, and whatever else does not
+  //     touch the contact lines) is spent on the wheel's pose error without its spin about the wheel axis, which no
+  //     axis can correct and which does not change the surface — so a pure C offset gets a pure C correction;
+  // (3) what is still free is resolved by minimum norm.
+  const Eigen::MatrixXd M = A * machine::J_twistw_q(pp.q) * D.cwiseInverse().asDiagonal();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd sv = svd.singularValues();
+  int rank = 0;
+  while (rank < sv.size() && sv(rank) > 1e-9 * sv(0)) ++rank;
+  const Eigen::MatrixXd V = svd.matrixV();
+  const Eigen::MatrixXd N = V.rightCols(5 - rank); // 5×(5−rank): directions that leave every contact point in place
+  // Wheel-frame pose error weights: translations 1, rotations L, spin about the wheel axis (g's y) 0.
+  const Vector6d S = (Vector6d() << 1.0, 1.0, 1.0, L, 0.0, L).finished();
+  const Eigen::MatrixXd G = S.asDiagonal() * machine::J_twistg_q(pp.q) * D.cwiseInverse().asDiagonal(); // 6×5
+
+  PoseResult r;
+  Eigen::VectorXd d = deviations(r.dq);
+  for (int it = 0; it < o.max_iterations; ++it) {
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(5);
+    for (int k = 0; k < rank; ++k) u += V.col(k) * (svd.matrixU().col(k).dot(d) / sv(k));
+    if (N.cols() > 0) {
+      const Vector6d e = S.cwiseProduct(error_g(process.actual_wMg(with_correction(pp, r.dq)), ideal));
+      const Eigen::MatrixXd GN = G * N;
+      u += N * GN.completeOrthogonalDecomposition().solve(e - G * u);
+    }
+    const Vector5d step = D.cwiseInverse().cwiseProduct(Vector5d(u));
+    r.dq -= step;
+    d = deviations(r.dq);
+    if (step.head<3>().norm() < 1e-9 && step.tail<2>().norm() < 1e-12) break;
+  }
+  r.residual_um = 1e3 * std::sqrt(d.squaredNorm() / static_cast<double>(m));
+  return r;
+}
+
+} // namespace
+
+CorrectionTable compute_corrections(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
+                                    const StrokeCheck& strokes, const CompensationOptions& o) {
+  const std::vector<grinding::PathPoint> samples = setup.path().sample(o.step_mm);
+  std::vector<CorrectionRow> rows(samples.size());
+  grinding::parallel_for(static_cast<int>(samples.size()), 0, [&](int i) {
+    const auto& pp = samples[static_cast<size_t>(i)];
+    const PoseResult r = o.method == Method::Paper ? paper_at(process, pp, o.max_iterations) : flank_at(setup, process, pp, o);
+    CorrectionRow& row = rows[static_cast<size_t>(i)];
+    row.space = pp.space;
+    row.z_stroke_mm = pp.z_stroke_mm;
+    row.time_s = pp.time_s;
+    row.machine_axes = pp.q;
+    row.machine_axes.z += strokes.datum_face_z_mm;
+    row.correction = r.dq;
+    row.residual_um = r.residual_um;
+    row.within_strokes = strokes.model.within_strokes(machine::AxisPose::from_vector(row.machine_axes.vector() + r.dq));
+  });
+  return CorrectionTable(std::move(rows));
+}
+
+grinding::PathPoint CompensatedProcess::corrected(const grinding::PathPoint& pp) const {
+  return with_correction(pp, table_.at(pp.space, pp.z_stroke_mm));
+}
+
+machine::Vector6d CompensatedProcess::error_twist_w(const grinding::PathPoint& pp) const {
+  const Vector5d dq = table_.at(pp.space, pp.z_stroke_mm);
+  const grinding::PathPoint c = with_correction(pp, dq);
+  return inner_.error_twist_w(c) + machine::J_twistw_q(pp.q) * dq;
+}
+
+} // namespace geartopo::compensation

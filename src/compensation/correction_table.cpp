@@ -1,0 +1,64 @@
+#include "compensation/correction_table.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <stdexcept>
+
+namespace geartopo::compensation {
+
+CorrectionTable::CorrectionTable(std::vector<CorrectionRow> rows) : rows_(std::move(rows)) {
+  std::stable_sort(rows_.begin(), rows_.end(), [](const CorrectionRow& a, const CorrectionRow& b) {
+    return a.space != b.space ? a.space < b.space : a.z_stroke_mm < b.z_stroke_mm;
+  });
+  for (size_t i = 0; i < rows_.size(); ++i) {
+    auto [it, inserted] = span_.try_emplace(rows_[i].space, i, i + 1);
+    if (!inserted) it->second.second = i + 1;
+  }
+}
+
+machine::Vector5d CorrectionTable::at(int space, double z) const {
+  const auto it = span_.find(space);
+  if (it == span_.end()) return machine::Vector5d::Zero();
+  const auto first = rows_.begin() + static_cast<long>(it->second.first);
+  const auto last = rows_.begin() + static_cast<long>(it->second.second);
+  const auto hi = std::lower_bound(first, last, z, [](const CorrectionRow& r, double v) { return r.z_stroke_mm < v; });
+  if (hi == first) return first->correction;
+  if (hi == last) return (last - 1)->correction;
+  const auto lo = hi - 1;
+  const double t = (z - lo->z_stroke_mm) / (hi->z_stroke_mm - lo->z_stroke_mm);
+  return (1.0 - t) * lo->correction + t * hi->correction;
+}
+
+int CorrectionTable::rows_outside_strokes() const {
+  return static_cast<int>(std::count_if(rows_.begin(), rows_.end(), [](const CorrectionRow& r) { return !r.within_strokes; }));
+}
+
+machine::Vector5d CorrectionTable::max_abs() const {
+  machine::Vector5d m = machine::Vector5d::Zero();
+  for (const auto& r : rows_) m = m.cwiseMax(r.correction.cwiseAbs());
+  return m;
+}
+
+void CorrectionTable::write_csv(std::ostream& out) const {
+  constexpr double kDeg = 180.0 / std::numbers::pi;
+  out << "space,z_stroke_mm,time_s,X_mm,Y_mm,Z_mm,A_deg,C_deg,dX_um,dY_um,dZ_um,dA_urad,dC_urad,within_strokes\n";
+  for (const auto& r : rows_) {
+    const auto& q = r.machine_axes;
+    const auto& c = r.correction;
+    out << fmt::format("{},{:.4f},{:.3f},{:.5f},{:.5f},{:.5f},{:.7f},{:.7f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{}\n", r.space,
+                       r.z_stroke_mm, r.time_s, q.x, q.y, q.z, q.a * kDeg, q.c * kDeg, 1e3 * c(0), 1e3 * c(1), 1e3 * c(2),
+                       1e6 * c(3), 1e6 * c(4), r.within_strokes ? "yes" : "no");
+  }
+}
+
+void CorrectionTable::write_csv(const std::filesystem::path& file) const {
+  std::ofstream out(file);
+  if (!out) throw std::runtime_error(file.string() + ": cannot write");
+  write_csv(out);
+}
+
+} // namespace geartopo::compensation

@@ -1,0 +1,171 @@
+// Off-screen OpenGL without a display: a Mesa EGL context on the surfaceless platform, handed to a
+// vtkGenericOpenGLRenderWindow (docs/rendering.md, "How off-screen rendering works").
+
+#include "render/detail/offscreen.hpp"
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkSmartPointer.h>
+#include <vtkWindowToImageFilter.h>
+
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace geartopo::render::detail {
+
+std::mutex& render_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+namespace {
+
+std::string egl_error_text(EGLint code) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "0x%04X", static_cast<unsigned>(code));
+  return buffer;
+}
+
+/// The surfaceless EGL display, initialised once per process (never terminated: other threads may hold contexts).
+struct Display {
+  EGLDisplay display = EGL_NO_DISPLAY;
+  EGLConfig config = nullptr;
+  bool no_config = false; // EGL_KHR_no_config_context used instead of a config
+  std::string error;
+};
+
+Display open_display() {
+  Display d;
+  const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+  if (client == nullptr || std::strstr(client, "EGL_MESA_platform_surfaceless") == nullptr) {
+    d.error = "the EGL library does not offer the surfaceless platform (EGL_MESA_platform_surfaceless); "
+              "install Mesa's EGL (libegl1, libegl-mesa0)";
+    return d;
+  }
+  const auto get_platform_display =
+      reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
+  if (get_platform_display == nullptr) {
+    d.error = "eglGetPlatformDisplayEXT is not available";
+    return d;
+  }
+  d.display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+  EGLint major = 0;
+  EGLint minor = 0;
+  if (d.display == EGL_NO_DISPLAY || eglInitialize(d.display, &major, &minor) != EGL_TRUE) {
+    d.error = "eglInitialize failed on the surfaceless platform (EGL error " + egl_error_text(eglGetError()) + ")";
+    d.display = EGL_NO_DISPLAY;
+    return d;
+  }
+  if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE) {
+    d.error = "eglBindAPI(EGL_OPENGL_API) failed: desktop OpenGL is not available through EGL";
+    return d;
+  }
+  const EGLint attributes[] = {EGL_SURFACE_TYPE,    EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
+                               EGL_RED_SIZE,        8,               EGL_GREEN_SIZE,      8,
+                               EGL_BLUE_SIZE,       8,               EGL_DEPTH_SIZE,      24,
+                               EGL_NONE};
+  EGLint count = 0;
+  if (eglChooseConfig(d.display, attributes, &d.config, 1, &count) != EGL_TRUE || count < 1) {
+    const char* display_ext = eglQueryString(d.display, EGL_EXTENSIONS);
+    if (display_ext != nullptr && std::strstr(display_ext, "EGL_KHR_no_config_context") != nullptr) {
+      d.no_config = true;
+    } else {
+      d.error = "no suitable EGL config for desktop OpenGL";
+      return d;
+    }
+  }
+  return d;
+}
+
+const Display& display() {
+  static const Display d = open_display();
+  return d;
+}
+
+} // namespace
+
+struct Offscreen::Impl {
+  std::unique_lock<std::mutex> lock{render_mutex()};
+  EGLDisplay display = EGL_NO_DISPLAY;
+  EGLContext context = EGL_NO_CONTEXT;
+  vtkSmartPointer<vtkGenericOpenGLRenderWindow> window;
+
+  Impl(int width, int height) {
+    link_glew_init_wrapper();
+    if (width < 16 || height < 16 || width > 16384 || height > 16384)
+      throw std::invalid_argument("render: image size " + std::to_string(width) + " x " + std::to_string(height) +
+                                  " px is out of range (16 … 16384)");
+    const Display& d = display();
+    if (!d.error.empty()) throw std::runtime_error("render: no off-screen OpenGL: " + d.error);
+    display = d.display;
+    const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                         3,
+                                         EGL_CONTEXT_MINOR_VERSION,
+                                         2,
+                                         EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                         EGL_NONE};
+    context = eglCreateContext(display, d.no_config ? EGL_NO_CONFIG_KHR : d.config, EGL_NO_CONTEXT,
+                               context_attributes);
+    if (context == EGL_NO_CONTEXT)
+      throw std::runtime_error("render: eglCreateContext (OpenGL 3.2 core) failed, EGL error " +
+                               egl_error_text(eglGetError()));
+    if (eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context) != EGL_TRUE) {
+      const EGLint code = eglGetError();
+      eglDestroyContext(display, context);
+      throw std::runtime_error("render: eglMakeCurrent without a surface failed, EGL error " + egl_error_text(code));
+    }
+    window = vtkSmartPointer<vtkGenericOpenGLRenderWindow>::New();
+    window->SetSize(width, height);
+    window->SetOffScreenRendering(1);
+    window->SetOwnContext(false);
+    window->SetIsDirect(true);
+    window->SetSupportsOpenGL(true);
+    window->SetIsCurrent(true);
+    window->SetReadyForRendering(true);
+    window->SetMapped(1);
+    window->SetMultiSamples(8);
+    if (!window->InitializeFromCurrentContext()) {
+      release();
+      throw std::runtime_error("render: VTK could not use the EGL OpenGL context (OpenGL 3.2 needed)");
+    }
+  }
+
+  void release() {
+    if (window) {
+      window->Finalize();
+      window = nullptr;
+    }
+    eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext(display, context);
+    context = EGL_NO_CONTEXT;
+  }
+
+  ~Impl() {
+    if (context != EGL_NO_CONTEXT) release();
+  }
+};
+
+Offscreen::Offscreen(int width, int height) : impl_(std::make_unique<Impl>(width, height)) {}
+Offscreen::~Offscreen() = default;
+
+vtkGenericOpenGLRenderWindow* Offscreen::window() const { return impl_->window; }
+
+void Offscreen::save_png(const std::filesystem::path& png) {
+  impl_->window->Render();
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(impl_->window);
+  grab->SetInputBufferTypeToRGB();
+  grab->ReadFrontBufferOff();
+  grab->ShouldRerenderOff();
+  grab->Update();
+  write_vtk_png(grab->GetOutput(), png);
+}
+
+} // namespace geartopo::render::detail
