@@ -22,5 +22,9 @@ void register_simulate_command(CLI::App& app, Action& action);
 void register_evaluate_command(CLI::App& app, Action& action);
 /// `geartopo compensate SCENE --out DIR [--method paper|flank] [--step MM]`
 void register_compensate_command(CLI::App& app, Action& action);
+/// `geartopo synth TRUTH_SCENE --out FILE [--teeth 1,18] [--noise-um S] [--seed N]`
+void register_synth_command(CLI::App& app, Action& action);
+/// `geartopo diagnose SCENE --measured FILE --out DIR [--noise-um S] [--candidates a,b]`
+void register_diagnose_command(CLI::App& app, Action& action);
 
 } // namespace geartopo::app

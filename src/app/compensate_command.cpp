@@ -64,9 +64,9 @@ void register_compensate_command(CLI::App& app, Action& action) {
       compensation::CompensationOptions co;
       co.method = opt->method == "paper" ? compensation::Method::Paper : compensation::Method::Flank;
       co.step_mm = opt->step;
-      const auto before = grinding::simulate_topology(wb.setup, wb.process, so);
-      const auto table = compensation::compute_corrections(wb.setup, wb.process, {wb.machine, wb.scene.machine.datum_face_z_mm}, co);
-      const compensation::CompensatedProcess corrected(wb.process, table);
+      const auto before = grinding::simulate_topology(wb.setup, wb.process(), so);
+      const auto table = compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm}, co);
+      const compensation::CompensatedProcess corrected(wb.process(), table);
       const auto after = grinding::simulate_topology(wb.setup, corrected, so);
 
       const std::filesystem::path out(opt->out);

@@ -39,7 +39,7 @@ void register_evaluate_command(CLI::App& app, Action& action) {
         so.method = opt->method == "linear" ? grinding::Method::Linear : grinding::Method::Exact;
         so.profile_points = wb.scene.grid.profile_points;
         so.helix_points = wb.scene.grid.helix_points;
-        topo = grinding::simulate_topology(wb.setup, wb.process, so); // pitch and runout need every tooth
+        topo = grinding::simulate_topology(wb.setup, wb.process(), so); // pitch and runout need every tooth
         source = "simulation (" + opt->method + ")";
       }
       const IsoResult iso = evaluate_iso(g, wb.setup.ranges(), topo);

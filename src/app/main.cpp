@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
   geartopo::app::register_simulate_command(app, action);
   geartopo::app::register_evaluate_command(app, action);
   geartopo::app::register_compensate_command(app, action);
+  geartopo::app::register_synth_command(app, action);
+  geartopo::app::register_diagnose_command(app, action);
 
   try {
     app.parse(argc, argv);

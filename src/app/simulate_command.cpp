@@ -43,7 +43,7 @@ void register_simulate_command(CLI::App& app, Action& action) {
       so.dense_cols = wb.scene.grid.dense_cols;
       if (!opt->dense.empty()) std::tie(so.dense_rows, so.dense_cols) = parse_grid_size(opt->dense);
 
-      const auto topo = grinding::simulate_topology(wb.setup, wb.process, so);
+      const auto topo = grinding::simulate_topology(wb.setup, wb.process(), so);
       const std::filesystem::path out(opt->out);
       std::filesystem::create_directories(out / "meshes");
       grinding::write_topology_csv(out / "topology.csv", topo);

@@ -3,13 +3,33 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "effects/registry.hpp"
+
 #include <charconv>
 
 namespace geartopo::app {
 
 Workbench::Workbench(const std::string& scene_file)
     : scene(scene::load_scene(scene_file)), setup(scene.gear, scene.wheel, scene.process), machine(scene.machine.model()),
-      process(machine, scene.machine.datum_face_z_mm) {}
+      machine_process(machine, scene.machine.datum_face_z_mm), effects(make_effects(scene.effects, setup)) {
+  if (!effects.empty()) {
+    std::vector<const effects::Effect*> list;
+    for (const auto& e : effects) list.push_back(e.get());
+    effects_process = std::make_unique<effects::EffectsProcess>(machine_process, list);
+  }
+}
+
+std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<scene::EffectSpec>& specs,
+                                                           const grinding::GrindingSetup& setup) {
+  std::vector<std::unique_ptr<effects::Effect>> out;
+  for (const auto& s : specs) {
+    auto e = effects::make_effect(s.type);
+    e->set_values(s.values);
+    e->bind(setup);
+    out.push_back(std::move(e));
+  }
+  return out;
+}
 
 namespace {
 bool parse_int(const std::string& s, int& v) {

@@ -2,6 +2,8 @@
 // path), the machine model and the grinding process it drives. Not copyable: the process refers to the machine.
 #pragma once
 
+#include "effects/effect.hpp"
+#include "effects/effects_process.hpp"
 #include "grinding/grinding_setup.hpp"
 #include "grinding/machine_process.hpp"
 #include "machine/machine_model.hpp"
@@ -20,8 +22,19 @@ struct Workbench {
   scene::Scene scene;
   grinding::GrindingSetup setup;
   machine::MachineModel machine;
-  grinding::MachineProcess process;
+  grinding::MachineProcess machine_process; ///< geometric errors only
+  std::vector<std::unique_ptr<effects::Effect>> effects; ///< the scene's effects, bound to setup
+  std::unique_ptr<effects::EffectsProcess> effects_process;
+
+  /// What the machine does: geometric errors plus the scene's effects.
+  const grinding::GrindingProcess& process() const {
+    return effects_process ? static_cast<const grinding::GrindingProcess&>(*effects_process) : machine_process;
+  }
 };
+
+/// Instances of a scene's effects, bound to a set-up.
+std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<scene::EffectSpec>& specs,
+                                                           const grinding::GrindingSetup& setup);
 
 /// "all" → {} (every tooth); "1,18" → {1, 18}. Throws CLI::ValidationError naming the option.
 std::vector<int> parse_teeth(const std::string& text, int teeth);

@@ -90,7 +90,10 @@ PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::Grindi
     const grinding::PathPoint c = with_correction(pp, dq);
     const Vector6d t = error_w(process.actual_wMg(c), ideal);
     Eigen::VectorXd d = A * t;
-    for (long i = 0; i < m; ++i) d(i) -= process.wheel_radius_error_mm((gMw * pts[static_cast<size_t>(i)].p).y(), c);
+    for (long i = 0; i < m; ++i) {
+      const double v = (gMw * pts[static_cast<size_t>(i)].p).y();
+      d(i) -= process.wheel_radius_error_mm(v, c) * setup.wheel().normal_per_radial(v);
+    }
     return d;
   };
   // Gauss–Newton in the scaled variables u = D·Δq with the ideal Jacobians (the errors are small), in two levels:

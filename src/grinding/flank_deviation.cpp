@@ -96,7 +96,8 @@ DeviationResult FlankDeviation::at(int tooth, gears::Flank flank, double xi, dou
     const machine::Vector6d e = process_.error_twist_w(pp);
     const Eigen::Vector3d shift = e.head<3>() + e.tail<3>().cross(fp.p);
     const double v = (machine::ideal_wMg(pp.q).inverse() * fp.p).y(); // wheel coordinate of the contact point
-    return {fp.n.dot(shift) - process_.wheel_radius_error_mm(v, pp), z0};
+    // A radial change of the wheel moves its surface along the normal by δR/√(1 + R′²) (form_wheel.hpp).
+    return {fp.n.dot(shift) - process_.wheel_radius_error_mm(v, pp) * wheel_.normal_per_radial(v), z0};
   }
 
   auto depth_at = [&](double zs) {

@@ -4,8 +4,8 @@
 //         P + t n (n out of the material), the wheel at stroke position Z first enters at t_in(Z); the material left is
 //         t < min_Z t_in(Z). The deviation (plus material positive) is that minimum. Z is searched continuously
 //         (Brent's method) around the nominal generating position Z₀ = z − z_c(ξ): no scallops from a pose step.
-// linear: the first-order deviation n·(δp + δθ × P) − δR(v) of the pose error twist and wheel-radius error at the
-//         generating pose (envelope theorem: moving the contact along the stroke changes it only to second order).
+// linear: the first-order deviation n·(δp + δθ × P) − δR(v)/√(1 + R′(v)²) of the pose error twist and the radial
+//         wheel-radius error (moved onto the wheel's normal) at the generating pose (envelope theorem: moving the contact along the stroke changes it only to second order).
 // Units: mm in, mm out (callers convert to µm).
 #pragma once
 

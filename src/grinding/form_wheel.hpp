@@ -18,6 +18,7 @@
 #include "machine/cubic_spline.hpp"
 #include "machine/twist.hpp"
 
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -34,6 +35,12 @@ public:
   }
   /// dR/dv inside the width.
   double slope(double v) const { return profile_.derivative(v); }
+  /// How far the surface moves along its normal when the radius grows by one unit at v: 1/√(1 + R′(v)²). A radial
+  /// change δR of the wheel moves its surface by δR/√(1 + R′²) along the normal — much less on the steep flanks.
+  double normal_per_radial(double v) const {
+    const double s = profile_.derivative(v);
+    return 1.0 / std::sqrt(1.0 + s * s);
+  }
   double v_min() const { return v_min_; }
   double v_max() const { return v_max_; }
 

@@ -21,7 +21,8 @@ public:
   /// wMg_actual ≈ (I + [δθ]× | δp) · wMg_ideal.  // 6×1, mm and rad
   virtual machine::Vector6d error_twist_w(const PathPoint& pp) const = 0;
 
-  /// Change of the wheel radius at axial coordinate v (mm; positive: the wheel is bigger and cuts deeper).
+  /// Change of the wheel radius at axial coordinate v (mm, radial; positive: the wheel is bigger and cuts deeper).
+  /// The surface then moves along its normal by δR/√(1 + R′²) (FormWheel::normal_per_radial).
   virtual double wheel_radius_error_mm(double /*v*/, const PathPoint& /*pp*/) const { return 0.0; }
 };
 

@@ -49,6 +49,16 @@ double WheelPath::time_at(int space, double z) const {
   return s.t_begin_s + std::abs(z - s.z_begin_mm) / (process_.feed_mm_per_min / 60.0);
 }
 
+double WheelPath::stroke_progress(int space, double z) const {
+  const Stroke& s = strokes_[static_cast<size_t>(stroke_index(space))];
+  return (z - s.z_begin_mm) / (s.z_end_mm - s.z_begin_mm);
+}
+
+int WheelPath::stroke_direction(int space) const {
+  const Stroke& s = strokes_[static_cast<size_t>(stroke_index(space))];
+  return s.z_end_mm > s.z_begin_mm ? 1 : -1;
+}
+
 PathPoint WheelPath::point(int space, double z) const { return {space, z, time_at(space, z), commanded(space, z)}; }
 
 std::vector<PathPoint> WheelPath::sample(double step_mm) const {

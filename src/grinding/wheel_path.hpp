@@ -55,6 +55,12 @@ public:
   PathPoint point(int space, double z_stroke_mm) const;
 
   const std::vector<Stroke>& strokes() const { return strokes_; } ///< in grinding order
+  /// Position of space s in the grinding order (0 for the first stroke).
+  int stroke_index(int space) const { return order_of_space_[static_cast<size_t>(space - 1)]; }
+  /// Fraction of its stroke the wheel has travelled at Z (0 at the start, 1 at the end, in travel order).
+  double stroke_progress(int space, double z_stroke_mm) const;
+  /// Direction of travel of space s's stroke: +1 towards z = b, −1 towards the datum face.
+  int stroke_direction(int space) const;
   /// Samples every stroke at `step_mm` (ends included), in grinding order: the correction table's rows.
   std::vector<PathPoint> sample(double step_mm) const;
 

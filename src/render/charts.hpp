@@ -14,7 +14,8 @@ enum class Orientation {
   horizontal, ///< a band or line at constant y, across the whole x range
   vertical,   ///< a band or line at constant x, across the whole y range
 };
-enum class LegendPlace { none, top_left, top_right, bottom_left, bottom_right };
+/// Legend position: inside a corner of the plot area, or `above` it (one row, right-aligned, never covers data).
+enum class LegendPlace { none, top_left, top_right, bottom_left, bottom_right, above };
 
 /// One polyline. NaN in x or y breaks the line. Unset colour → series_colour(index).
 struct Series {
@@ -70,8 +71,8 @@ struct LineChart {
   AxisSpec x;
   AxisSpec y;
   std::vector<Series> series;
-  std::vector<Band> bands;     ///< drawn under the series
-  std::vector<RefLine> lines;  ///< drawn over the series
+  std::vector<Band> bands;    ///< drawn under the series
+  std::vector<RefLine> lines; ///< drawn over the series
   std::vector<Annotation> annotations;
   TextBlock text;
   LegendPlace legend = LegendPlace::top_right;

@@ -22,17 +22,17 @@ struct GridTopology {
   Eigen::MatrixXd u;
   Eigen::MatrixXd v;
   Eigen::MatrixXd deviation;
-  AxisSpec u_axis{"face width", "mm", {}, {}};  ///< only title/unit are used
+  AxisSpec u_axis{"face width", "mm", {}, {}}; ///< only title/unit are used
   AxisSpec v_axis{"roll length", "mm", {}, {}};
   GridOffset offset = GridOffset::height;
   /// Shown offset (mm) = deviation (µm) × 1e-3 × magnification. 0 = automatic (a round number such that the
-  /// largest |deviation| is about 30 % of the grid's size in 3D, or 80 % of a row spacing in plane).
+  /// largest |deviation| is about 15 % of the grid's size in 3D, or 80 % of a row spacing in plane).
   double magnification = 0.0;
   bool show_values = true; ///< deviation written at every node
   int value_decimals = 1;
-  bool fill = true; ///< colour the actual grid's surface with the colour map (the nodes are coloured anyway)
-  double azimuth_deg = -35.0;  ///< 3D view: rotation of the view about the deviation axis
-  double elevation_deg = 32.0; ///< 3D view: angle of the view above the (u, v) plane
+  bool fill = true;            ///< colour the actual grid's surface with the colour map (the nodes are coloured anyway)
+  double azimuth_deg = -30.0;  ///< 3D view: rotation of the view about the deviation axis (0: looking along +v)
+  double elevation_deg = 40.0; ///< 3D view: angle of the view above the (u, v) plane
   ColourScale scale;
   ImageSize size;
   int font_px = 0;

@@ -7,8 +7,6 @@
 #include <vtkNew.h>
 #include <vtkPNGReader.h>
 #include <vtkPNGWriter.h>
-#include <vtkUnsignedCharArray.h>
-#include <vtkPointData.h>
 
 #include <cmath>
 #include <cstdlib>

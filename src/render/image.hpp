@@ -25,7 +25,7 @@ void write_png(const Image& image, const std::filesystem::path& png);
 struct ImageStats {
   int width = 0;
   int height = 0;
-  double variance = 0.0;            ///< of the grey level 0…255 over all pixels
+  double variance = 0.0;             ///< of the grey level 0…255 over all pixels
   double non_background_share = 0.0; ///< share of pixels differing from the background by more than tolerance
 };
 

@@ -34,7 +34,7 @@ Range nice_range(double lo, double hi, double pad) {
   }
   lo -= pad * span;
   hi += pad * span;
-  const double step = nice_step(hi - lo, 6);
+  const double step = nice_step(hi - lo, 12); // round the ends finely: the ticks use a coarser step
   return {std::floor(lo / step + 1e-9) * step, std::ceil(hi / step - 1e-9) * step};
 }
 
@@ -86,7 +86,7 @@ double text_width_estimate(const std::string& text, int px) {
   std::size_t chars = 0;
   for (unsigned char c : text)
     if ((c & 0xC0) != 0x80) ++chars; // count UTF-8 code points
-  return 0.6 * px * static_cast<double>(chars);
+  return 0.64 * px * static_cast<double>(chars);
 }
 
 void require(bool ok, const std::string& what) {

@@ -62,14 +62,13 @@ Display open_display() {
     d.display = EGL_NO_DISPLAY;
     return d;
   }
-  if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE) {
-    d.error = "eglBindAPI(EGL_OPENGL_API) failed: desktop OpenGL is not available through EGL";
-    return d;
-  }
-  const EGLint attributes[] = {EGL_SURFACE_TYPE,    EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
-                               EGL_RED_SIZE,        8,               EGL_GREEN_SIZE,      8,
-                               EGL_BLUE_SIZE,       8,               EGL_DEPTH_SIZE,      24,
+  // clang-format off
+  const EGLint attributes[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT,
+                               EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
+                               EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8,
+                               EGL_DEPTH_SIZE, 24,
                                EGL_NONE};
+  // clang-format on
   EGLint count = 0;
   if (eglChooseConfig(d.display, attributes, &d.config, 1, &count) != EGL_TRUE || count < 1) {
     const char* display_ext = eglQueryString(d.display, EGL_EXTENSIONS);
@@ -83,7 +82,7 @@ Display open_display() {
   return d;
 }
 
-const Display& display() {
+const Display& surfaceless_display() {
   static const Display d = open_display();
   return d;
 }
@@ -101,18 +100,20 @@ struct Offscreen::Impl {
     if (width < 16 || height < 16 || width > 16384 || height > 16384)
       throw std::invalid_argument("render: image size " + std::to_string(width) + " x " + std::to_string(height) +
                                   " px is out of range (16 … 16384)");
-    const Display& d = display();
+    const Display& d = surfaceless_display();
     if (!d.error.empty()) throw std::runtime_error("render: no off-screen OpenGL: " + d.error);
     display = d.display;
-    const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
-                                         3,
-                                         EGL_CONTEXT_MINOR_VERSION,
-                                         2,
-                                         EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+    // The bound API is per thread (the default is OpenGL ES): bind desktop OpenGL on the calling thread.
+    if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE)
+      throw std::runtime_error(
+          "render: eglBindAPI(EGL_OPENGL_API) failed: desktop OpenGL is not available through EGL");
+    // clang-format off
+    const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3,
+                                         EGL_CONTEXT_MINOR_VERSION, 2,
+                                         EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                                          EGL_NONE};
-    context = eglCreateContext(display, d.no_config ? EGL_NO_CONFIG_KHR : d.config, EGL_NO_CONTEXT,
-                               context_attributes);
+    // clang-format on
+    context = eglCreateContext(display, d.no_config ? EGL_NO_CONFIG_KHR : d.config, EGL_NO_CONTEXT, context_attributes);
     if (context == EGL_NO_CONTEXT)
       throw std::runtime_error("render: eglCreateContext (OpenGL 3.2 core) failed, EGL error " +
                                egl_error_text(eglGetError()));

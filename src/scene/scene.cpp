@@ -4,6 +4,7 @@
 #include "gears/gear_geometry.hpp"
 #include "scene/yaml_reader.hpp"
 #include "machine/error_table.hpp"
+#include "effects/registry.hpp"
 
 #include <fmt/format.h>
 
@@ -186,7 +187,31 @@ grinding::ProcessSpec read_process(MapReader& p) {
   return s;
 }
 
-MeasurementGrid read_grid(MapReader& m, int teeth) {
+std::vector<EffectSpec> read_effects(MapReader& top, ReadContext& ctx) {
+  std::vector<EffectSpec> out;
+  const YAML::Node list = top.raw("effects");
+  if (!list.IsDefined()) return out;
+  if (!list.IsSequence()) ctx.fail(list.Mark(), "effects", "expected a list of effects (- type: …)");
+  for (size_t i = 0; i < list.size(); ++i) {
+    MapReader m(list[i], fmt::format("effects[{}]", i), ctx);
+    const std::string type = m.text("type");
+    const auto effect = effects::make_effect(type);
+    if (!effect)
+      ctx.fail_field(m.field("type"), fmt::format("'{}' is not an effect of the library ({})", type,
+                                                  fmt::join(effects::effect_types(), ", ")));
+    for (const auto& other : out)
+      if (other.type == type) ctx.fail_field(m.field("type"), fmt::format("'{}' is listed twice", type));
+    EffectSpec spec{type, effect->values()};
+    const auto& params = effect->parameters();
+    for (size_t k = 0; k < params.size(); ++k)
+      if (auto v = m.optional_number(params[k].key, {params[k].lo, params[k].hi})) spec.values[k] = *v;
+    m.finish();
+    out.push_back(std::move(spec));
+  }
+  return out;
+}
+
+MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& base) {
   MeasurementGrid g;
   if (m.has("rows")) g.rows = static_cast<int>(m.integer("rows", 2, 1000));
   if (m.has("cols")) g.cols = static_cast<int>(m.integer("cols", 2, 1000));
@@ -204,6 +229,7 @@ MeasurementGrid read_grid(MapReader& m, int teeth) {
       m.context().fail_field(m.field("teeth"), fmt::format("'{}' is not a tooth number of 1..{}", t, teeth));
     g.teeth.push_back(v);
   }
+  if (auto f = m.optional_text("measured")) g.measured_file = (base / *f).lexically_normal().string();
   m.finish();
   return g;
 }
@@ -275,7 +301,9 @@ Scene parse_scene(const std::string& text, const std::string& source) {
     scene.machine.datum_face_z_mm = centred_datum_z(scene.machine.strokes, scene.gear.face_width_mm);
   if (auto w = top.optional_map("wheel")) scene.wheel = read_wheel(*w);
   if (auto p = top.optional_map("process")) scene.process = read_process(*p);
-  if (auto m = top.optional_map("measurement")) scene.grid = read_grid(*m, scene.gear.teeth);
+  if (auto m = top.optional_map("measurement"))
+    scene.grid = read_grid(*m, scene.gear.teeth, std::filesystem::path(source).parent_path());
+  scene.effects = read_effects(top, ctx);
   top.finish();
 
   // Domain rules that involve several fields (undercut, pointed tip, form diameter) live in GearGeometry; locate

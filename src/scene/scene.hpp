@@ -21,6 +21,14 @@ struct MeasurementGrid {
   int profile_points = 100, helix_points = 150; ///< dense traces
   int dense_rows = 0, dense_cols = 0;        ///< optional dense grid (0: none)
   std::vector<int> teeth;                    ///< empty: all teeth
+  std::string measured_file;                 ///< optional measurement (topology CSV), resolved against the scene file
+};
+
+/// A physical effect the scene models: its type and its parameter values in file units, in the order of the
+/// effect's parameters() (defaults filled in).
+struct EffectSpec {
+  std::string type;
+  std::vector<double> values;
 };
 
 /// The machine: strokes, where the gear sits, and its geometric error components (all others zero).
@@ -46,6 +54,7 @@ struct Scene {
   grinding::WheelSpec wheel;
   grinding::ProcessSpec process;
   MeasurementGrid grid;
+  std::vector<EffectSpec> effects;
 };
 
 /// An input error located in a scene file: what() is "file:line:column: field: message".

@@ -48,6 +48,8 @@ public:
   MapReader map(const std::string& key);
   std::optional<MapReader> optional_map(const std::string& key);
   bool has(const std::string& key) const;
+  /// The raw node of a key (marked known), for lists of maps; undefined when absent.
+  YAML::Node raw(const std::string& key) { return value(key); }
   /// Keys in file order (readers of open-ended maps, e.g. error constants, iterate over them).
   std::vector<std::string> keys() const;
 

@@ -1,0 +1,174 @@
+// geartopo synth / diagnose: synthetic measurements with hidden effects, and finding what a model is missing.
+#include "app/commands.hpp"
+#include "app/workbench.hpp"
+
+#include "diagnosis/diagnose.hpp"
+#include "diagnosis/scene_writer.hpp"
+#include "diagnosis/synth.hpp"
+#include "effects/registry.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+namespace geartopo::app {
+namespace {
+
+std::vector<std::string> effect_types_of(const scene::Scene& s) {
+  std::vector<std::string> t;
+  for (const auto& e : s.effects) t.push_back(e.type);
+  return t;
+}
+
+nlohmann::json candidate_json(const diagnosis::Candidate& c) {
+  nlohmann::json j;
+  j["effect"] = c.name();
+  nlohmann::json params = nlohmann::json::object();
+  for (size_t e = 0; e < c.effects.size(); ++e)
+    for (const auto& p : c.parameters[e]) {
+      const auto us = p.key.rfind('_');
+      const std::string key = c.effects.size() > 1 ? c.effects[e].type + "." + p.key : p.key;
+      params[key] = {{"value", p.value},
+                     {"uncertainty", p.fitted ? nlohmann::json(p.uncertainty) : nlohmann::json(nullptr)},
+                     {"unit", us == std::string::npos ? "" : p.key.substr(us + 1)},
+                     {"fitted", p.fitted}};
+    }
+  j["parameters"] = params;
+  j["explained_fraction"] = c.explained_fraction;
+  j["rms_before_um"] = c.rms_before_um;
+  j["rms_after_um"] = c.rms_after_um;
+  j["delta_bic"] = c.delta_bic;
+  j["significant"] = c.significant;
+  j["explanation"] = c.explanations;
+  return j;
+}
+
+} // namespace
+
+void register_synth_command(CLI::App& app, Action& action) {
+  struct Options {
+    std::string scene, out, teeth = "1,18";
+    double noise = 0.5;
+    std::uint64_t seed = 1;
+  };
+  auto opt = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("synth", "Synthetic CMM measurement (topology CSV, µm) of a truth scene, with "
+                                              "Gaussian probe noise");
+  cmd->add_option("TRUTH_SCENE", opt->scene, "Truth scene (YAML), possibly with effects the model scene lacks")->required();
+  cmd->add_option("--out", opt->out, "Topology CSV to write")->required();
+  cmd->add_option("--teeth", opt->teeth, "Measured teeth, e.g. 1,18 (default) or all");
+  cmd->add_option("--noise-um", opt->noise, "Standard deviation of the probe noise, µm (default 0.5)")->check(CLI::Range(0.0, 1000.0));
+  cmd->add_option("--seed", opt->seed, "Random seed (default 1)");
+  cmd->callback([&action, opt] {
+    action = [opt] {
+      const Workbench wb(opt->scene);
+      diagnosis::SynthOptions so;
+      so.teeth = parse_teeth(opt->teeth, wb.setup.geometry().teeth());
+      so.rows = wb.scene.grid.rows;
+      so.cols = wb.scene.grid.cols;
+      so.noise_um = opt->noise;
+      so.seed = opt->seed;
+      const auto rows = diagnosis::synthesize(wb.setup, wb.process(), so);
+      const auto parent = std::filesystem::path(opt->out).parent_path();
+      if (!parent.empty()) std::filesystem::create_directories(parent);
+      std::ofstream out(opt->out);
+      if (!out) throw std::runtime_error(opt->out + ": cannot write");
+      out << grinding::kTopologyHeader << "\n";
+      for (const auto& r : rows)
+        out << fmt::format("{},{},{},{},{:.6f},{:.6f},{:.4f}\n", r.tooth, gears::to_string(r.flank), r.row, r.col,
+                           r.diameter_mm, r.z_mm, r.deviation_um);
+      std::cout << fmt::format("wrote {} ({} points, noise {} µm, seed {})\n", opt->out, rows.size(), opt->noise, opt->seed);
+      return 0;
+    };
+  });
+}
+
+void register_diagnose_command(CLI::App& app, Action& action) {
+  struct Options {
+    std::string scene, measured, out;
+    double noise = 0.0;
+    std::vector<std::string> candidates;
+  };
+  auto opt = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("diagnose", "Which physical effect is the model missing? Fits every library effect "
+                                                 "to the residual and writes the scene with the best one added");
+  cmd->add_option("SCENE", opt->scene, "Model scene (YAML)")->required();
+  cmd->add_option("--measured", opt->measured, "Measured topology CSV (µm)")->required();
+  cmd->add_option("--out", opt->out, "Output directory: diagnosis.json, scene_with_effect.yaml")->required();
+  cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated from the residual)")
+      ->check(CLI::Range(0.0, 1000.0));
+  cmd->add_option("--candidates", opt->candidates, "Effect types to try (default: every library effect not in the scene)")
+      ->delimiter(',');
+  cmd->callback([&action, opt] {
+    action = [opt] {
+      const Workbench wb(opt->scene);
+      for (const auto& c : opt->candidates)
+        if (!effects::make_effect(c))
+          throw CLI::ValidationError("--candidates", fmt::format("'{}' is not an effect of the library ({})", c,
+                                                                 fmt::join(effects::effect_types(), ", ")));
+      const auto pts = diagnosis::read_measurement(opt->measured, wb.setup.geometry());
+      diagnosis::DiagnoseOptions o;
+      o.noise_um = opt->noise;
+      o.candidates = opt->candidates;
+      const auto d = diagnosis::diagnose(wb.setup, wb.process(), pts, effect_types_of(wb.scene), o);
+
+      nlohmann::json j;
+      j["scene"] = opt->scene;
+      j["measured"] = opt->measured;
+      j["points"] = d.points;
+      j["noise_um"] = d.noise_um;
+      j["noise_estimated"] = d.noise_estimated;
+      j["rms_before_um"] = d.rms_before_um;
+      nlohmann::json cands = nlohmann::json::array();
+      for (const auto& c : d.ranked) cands.push_back(candidate_json(c));
+      j["candidates"] = cands;
+      j["combination"] = d.combination ? candidate_json(*d.combination) : nlohmann::json(nullptr);
+      j["chosen"] = d.chosen ? candidate_json(*d.chosen) : nlohmann::json(nullptr);
+      j["verdict"] = d.verdict;
+
+      const std::filesystem::path out(opt->out);
+      std::filesystem::create_directories(out);
+      std::ofstream(out / "diagnosis.json") << j.dump(2) << "\n";
+      std::cout << fmt::format("{} measured points; residual {:.2f} µm RMS; noise {:.2f} µm{}\n", d.points, d.rms_before_um,
+                               d.noise_um, d.noise_estimated ? " (estimated)" : "");
+      std::cout << fmt::format("  {:<4} {:<16} {:>9} {:>10} {:>10}  {}\n", "rank", "effect", "ΔBIC", "explained", "RMS after",
+                               "parameters (± 1σ)");
+      int rank = 1;
+      for (const auto& c : d.ranked) {
+        std::string params;
+        for (const auto& p : c.parameters.front())
+          if (p.fitted) params += fmt::format("{} {:.4g} ± {:.2g}  ", p.key, p.value, p.uncertainty);
+        std::cout << fmt::format("  {:<4} {:<16} {:>9.1f} {:>9.1f}% {:>7.2f} µm  {}{}\n", rank++, c.name(), c.delta_bic,
+                                 100.0 * c.explained_fraction, c.rms_after_um, params, c.significant ? "" : "(not significant)");
+      }
+      if (d.combination)
+        std::cout << fmt::format("  combination: {} (ΔBIC {:.1f}, RMS after {:.2f} µm)\n", d.combination->name(),
+                                 d.combination->delta_bic, d.combination->rms_after_um);
+      std::cout << d.verdict << "\n";
+      if (d.chosen) {
+        std::ifstream in(opt->scene);
+        std::stringstream text;
+        text << in.rdbuf();
+        std::vector<std::string> comments;
+        for (const auto& e : d.chosen->effects)
+          comments.push_back(fmt::format("{}: identified by geartopo diagnose from {} (ΔBIC {:.1f})", e.type,
+                                         opt->measured, d.chosen->delta_bic));
+        const auto path = out / "scene_with_effect.yaml";
+        const std::string completed = diagnosis::scene_with_effects(text.str(), d.chosen->effects, comments);
+        std::ofstream(path) << diagnosis::rebase_scene_paths(completed, std::filesystem::path(opt->scene).parent_path(), out);
+        std::cout << "wrote " << (out / "diagnosis.json").string() << " and " << path.string() << "\n";
+      } else {
+        std::cout << "wrote " << (out / "diagnosis.json").string() << "\n";
+      }
+      return 0;
+    };
+  });
+}
+
+} // namespace geartopo::app

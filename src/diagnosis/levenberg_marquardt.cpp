@@ -1,0 +1,67 @@
+#include "diagnosis/levenberg_marquardt.hpp"
+
+#include <Eigen/Dense>
+
+#include <cmath>
+
+namespace geartopo::diagnosis {
+namespace {
+
+Eigen::MatrixXd jacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f, const Eigen::VectorXd& x,
+                         const Eigen::VectorXd& r0, const Eigen::VectorXd& hi) {
+  Eigen::MatrixXd J(r0.size(), x.size());
+  for (Eigen::Index j = 0; j < x.size(); ++j) {
+    double h = 1e-4 * std::max(1.0, std::abs(x(j)));
+    Eigen::VectorXd xp = x;
+    if (xp(j) + h > hi(j)) h = -h; // stay inside the box
+    xp(j) += h;
+    J.col(j) = (f(xp) - r0) / h;
+  }
+  return J;
+}
+
+} // namespace
+
+LmResult levenberg_marquardt(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f, const Eigen::VectorXd& x0,
+                             const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, int max_iterations) {
+  LmResult res;
+  res.x = x0.cwiseMax(lo).cwiseMin(hi);
+  Eigen::VectorXd r = f(res.x);
+  res.rss = r.squaredNorm();
+  double lambda = 1e-3;
+  Eigen::MatrixXd J = jacobian(f, res.x, r, hi);
+  for (int it = 0; it < max_iterations; ++it) {
+    res.iterations = it + 1;
+    const Eigen::MatrixXd A = J.transpose() * J;
+    const Eigen::VectorXd g = J.transpose() * r;
+    bool improved = false;
+    for (int tries = 0; tries < 12 && !improved; ++tries) {
+      Eigen::MatrixXd M = A;
+      M.diagonal() += lambda * (A.diagonal().array() + 1e-12).matrix();
+      const Eigen::VectorXd step = M.ldlt().solve(-g);
+      const Eigen::VectorXd x_new = (res.x + step).cwiseMax(lo).cwiseMin(hi);
+      const Eigen::VectorXd r_new = f(x_new);
+      const double rss_new = r_new.squaredNorm();
+      if (std::isfinite(rss_new) && rss_new < res.rss) {
+        const bool converged = (res.rss - rss_new) < 1e-10 * (1.0 + res.rss) || (x_new - res.x).norm() < 1e-9;
+        res.x = x_new;
+        r = r_new;
+        res.rss = rss_new;
+        lambda = std::max(lambda * 0.3, 1e-9);
+        improved = true;
+        J = jacobian(f, res.x, r, hi);
+        if (converged) {
+          res.JtJ = J.transpose() * J;
+          return res;
+        }
+      } else {
+        lambda *= 10.0;
+      }
+    }
+    if (!improved) break;
+  }
+  res.JtJ = J.transpose() * J;
+  return res;
+}
+
+} // namespace geartopo::diagnosis

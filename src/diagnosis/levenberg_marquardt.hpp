@@ -1,0 +1,23 @@
+// geartopo — Levenberg–Marquardt for small nonlinear least-squares problems (a handful of parameters, hundreds of
+// residuals), with box bounds and finite-difference Jacobians. Variables should be scaled to order one.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <functional>
+
+namespace geartopo::diagnosis {
+
+struct LmResult {
+  Eigen::VectorXd x;   ///< solution
+  double rss = 0.0;    ///< Σ r² at the solution
+  Eigen::MatrixXd JtJ; ///< JᵀJ at the solution (p×p), for covariances
+  int iterations = 0;
+};
+
+/// Minimises Σ r(x)² within lo ≤ x ≤ hi (clamped), from x0.
+LmResult levenberg_marquardt(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& residual,
+                             const Eigen::VectorXd& x0, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+                             int max_iterations = 60);
+
+} // namespace geartopo::diagnosis

@@ -1,0 +1,42 @@
+#include "diagnosis/measured_points.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace geartopo::diagnosis {
+
+std::vector<MeasuredPoint> measured_points(const std::vector<grinding::TopologyRow>& rows, const gears::GearGeometry& g,
+                                           const std::string& source) {
+  const double slack = 1e-3;
+  const double d_lo = g.root_form_diameter_mm() - slack, d_hi = g.tip_diameter_mm() + slack;
+  const double b = g.spec().face_width_mm;
+  std::vector<MeasuredPoint> out;
+  out.reserve(rows.size());
+  for (const auto& r : rows) {
+    if (r.diameter_mm < d_lo || r.diameter_mm > d_hi)
+      throw std::runtime_error(fmt::format("{}:{}: diameter_mm: {:.4f} mm is off the flank (active profile {:.4f} … {:.4f} mm)",
+                                           source, r.line, r.diameter_mm, g.root_form_diameter_mm(), g.tip_diameter_mm()));
+    if (r.z_mm < -slack || r.z_mm > b + slack)
+      throw std::runtime_error(fmt::format("{}:{}: z_mm: {:.4f} mm is off the flank (face width 0 … {} mm)", source, r.line,
+                                           r.z_mm, b));
+    MeasuredPoint p;
+    p.tooth = r.tooth;
+    p.flank = r.flank;
+    p.row = r.row;
+    p.col = r.col;
+    p.diameter_mm = std::clamp(r.diameter_mm, g.root_form_diameter_mm(), g.tip_diameter_mm());
+    p.roll_length_mm = g.roll_length_at(p.diameter_mm);
+    p.z_mm = std::clamp(r.z_mm, 0.0, b);
+    p.deviation_um = r.deviation_um;
+    p.line = r.line;
+    out.push_back(p);
+  }
+  return out;
+}
+
+std::vector<MeasuredPoint> read_measurement(const std::string& file, const gears::GearGeometry& g) {
+  return measured_points(grinding::read_topology_csv(std::filesystem::path(file), g.teeth()), g, file);
+}
+
+} // namespace geartopo::diagnosis

@@ -1,0 +1,115 @@
+#include "diagnosis/scene_writer.hpp"
+
+#include "effects/registry.hpp"
+
+#include <fmt/format.h>
+
+#include <sstream>
+#include <stdexcept>
+
+namespace geartopo::diagnosis {
+
+std::string effects_yaml_items(const std::vector<scene::EffectSpec>& effects, const std::vector<std::string>& comments) {
+  std::string out;
+  for (size_t i = 0; i < effects.size(); ++i) {
+    const auto e = effects::make_effect(effects[i].type);
+    if (i < comments.size() && !comments[i].empty()) out += "  # " + comments[i] + "\n";
+    out += "  - type: " + effects[i].type + "\n";
+    for (size_t k = 0; k < e->parameters().size(); ++k)
+      out += fmt::format("    {}: {:.6g}\n", e->parameters()[k].key, effects[i].values[k]);
+  }
+  return out;
+}
+
+std::string scene_with_effects(const std::string& text, const std::vector<scene::EffectSpec>& effects,
+                               const std::vector<std::string>& comments) {
+  const std::string items = effects_yaml_items(effects, comments);
+  // Find a top-level "effects:" line; its block ends at the next top-level key (a line starting with a letter).
+  std::istringstream in(text);
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  size_t start = lines.size();
+  for (size_t i = 0; i < lines.size(); ++i)
+    if (lines[i].rfind("effects:", 0) == 0) start = i;
+  std::string out;
+  if (start == lines.size()) {
+    out = text;
+    if (!out.empty() && out.back() != '\n') out += "\n";
+    return out + "\neffects:\n" + items;
+  }
+  size_t end = start + 1;
+  while (end < lines.size() && (lines[end].empty() || lines[end][0] == ' ' || lines[end][0] == '#' || lines[end][0] == '-'))
+    ++end;
+  // Keep trailing blank or comment lines of the block after the insertion.
+  size_t insert = end;
+  while (insert > start + 1 && (lines[insert - 1].empty() || lines[insert - 1][0] == '#')) --insert;
+  for (size_t i = 0; i < insert; ++i) out += lines[i] + "\n";
+  if (lines[start].find('[') != std::string::npos || lines[start].find('{') != std::string::npos) {
+    // Flow style: only an empty list can be rewritten as a block without losing anything.
+    if (lines[start].find("[]") == std::string::npos)
+      throw std::runtime_error("the scene's effects list is in flow style ([...]): write it as a block list to add to it");
+    out.erase(out.size() - lines[start].size() - 1);
+    out += "effects:\n";
+  }
+  out += items;
+  for (size_t i = insert; i < lines.size(); ++i) out += lines[i] + "\n";
+  return out;
+}
+
+} // namespace geartopo::diagnosis
+
+namespace geartopo::diagnosis {
+namespace {
+
+std::string rebase(const std::string& item, const std::filesystem::path& from, const std::filesystem::path& to) {
+  std::filesystem::path p(item);
+  if (p.is_absolute() || item.empty()) return item;
+  const auto abs = std::filesystem::weakly_canonical(std::filesystem::absolute(from / p));
+  return std::filesystem::relative(abs, std::filesystem::weakly_canonical(std::filesystem::absolute(to))).generic_string();
+}
+
+std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t"), b = s.find_last_not_of(" \t");
+  return a == std::string::npos ? "" : s.substr(a, b - a + 1);
+}
+
+} // namespace
+
+std::string rebase_scene_paths(const std::string& text, const std::filesystem::path& from, const std::filesystem::path& to) {
+  std::istringstream in(text);
+  std::string out;
+  bool in_tables_block = false;
+  for (std::string line; std::getline(in, line);) {
+    const std::string t = trim(line);
+    const auto indent = line.substr(0, line.find_first_not_of(' '));
+    if (t.rfind("tables:", 0) == 0) {
+      in_tables_block = false;
+      const auto open = line.find('['), close = line.rfind(']');
+      if (open != std::string::npos && close != std::string::npos && close > open) {
+        std::string items = line.substr(open + 1, close - open - 1), rebuilt;
+        std::istringstream list(items);
+        for (std::string item; std::getline(list, item, ',');)
+          rebuilt += (rebuilt.empty() ? "" : ", ") + rebase(trim(item), from, to);
+        line = line.substr(0, open + 1) + rebuilt + line.substr(close);
+      } else {
+        in_tables_block = true; // block list follows
+      }
+    } else if (in_tables_block && t.rfind("- ", 0) == 0) {
+      line = indent + "- " + rebase(trim(t.substr(2)), from, to);
+    } else if (in_tables_block && !t.empty() && t[0] != '#') {
+      in_tables_block = false;
+    }
+    if (t.rfind("measured:", 0) == 0) {
+      const auto colon = line.find(':');
+      std::string value = trim(line.substr(colon + 1));
+      const auto hash = value.find(" #");
+      const std::string comment = hash == std::string::npos ? "" : value.substr(hash);
+      if (hash != std::string::npos) value = trim(value.substr(0, hash));
+      line = line.substr(0, colon + 1) + " " + rebase(value, from, to) + (comment.empty() ? "" : " " + comment);
+    }
+    out += line + "\n";
+  }
+  return out;
+}
+
+} // namespace geartopo::diagnosis

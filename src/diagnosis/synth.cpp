@@ -1,0 +1,22 @@
+#include "diagnosis/synth.hpp"
+
+#include <random>
+
+namespace geartopo::diagnosis {
+
+std::vector<grinding::TopologyRow> synthesize(const grinding::GrindingSetup& truth, const grinding::GrindingProcess& process,
+                                              const SynthOptions& o) {
+  grinding::SimulationOptions so;
+  so.teeth = o.teeth;
+  so.rows = o.rows;
+  so.cols = o.cols;
+  so.profile_points = so.helix_points = 2; // traces are not measured here
+  auto rows = grinding::topology_rows(grinding::simulate_topology(truth, process, so));
+  // One engine drawn in file order: the same seed gives the same file whatever the thread count.
+  std::mt19937_64 rng(o.seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  for (auto& r : rows) r.deviation_um += o.noise_um * noise(rng);
+  return rows;
+}
+
+} // namespace geartopo::diagnosis

@@ -1,0 +1,31 @@
+// geartopo — a grinding process with physical effects on top of another process (usually the machine's geometric
+// error model). Commands get the effects' offsets before the machine sees them; the gear frame gets the effects'
+// mounting errors; the wheel gets their radius changes. Units: mm, rad.
+#pragma once
+
+#include "effects/effect.hpp"
+#include "grinding/grinding_process.hpp"
+
+#include <vector>
+
+namespace geartopo::effects {
+
+class EffectsProcess final : public grinding::GrindingProcess {
+public:
+  /// `effects` must be bound to the same set-up and outlive the process.
+  EffectsProcess(const grinding::GrindingProcess& inner, std::vector<const Effect*> effects)
+      : inner_(inner), effects_(std::move(effects)) {}
+
+  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override;
+  /// The pose error of actual_wMg against the ideal pose, as (translation; rotation vector): first-order exact.
+  machine::Vector6d error_twist_w(const grinding::PathPoint& pp) const override;
+  double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override;
+
+private:
+  grinding::PathPoint commanded(const grinding::PathPoint& pp) const;
+
+  const grinding::GrindingProcess& inner_;
+  std::vector<const Effect*> effects_;
+};
+
+} // namespace geartopo::effects

@@ -1,0 +1,39 @@
+#include "effects/registry.hpp"
+
+#include "effects/effect_list.hpp"
+
+namespace geartopo::effects {
+
+#define GEARTOPO_DECLARE(name) std::unique_ptr<Effect> make_##name();
+GEARTOPO_EFFECT_LIST(GEARTOPO_DECLARE)
+#undef GEARTOPO_DECLARE
+
+namespace {
+struct Entry {
+  std::string type;
+  std::unique_ptr<Effect> (*make)();
+};
+const std::vector<Entry>& entries() {
+#define GEARTOPO_ENTRY(name) Entry{#name, &make_##name},
+  static const std::vector<Entry> e{GEARTOPO_EFFECT_LIST(GEARTOPO_ENTRY)};
+#undef GEARTOPO_ENTRY
+  return e;
+}
+} // namespace
+
+const std::vector<std::string>& effect_types() {
+  static const std::vector<std::string> types = [] {
+    std::vector<std::string> t;
+    for (const auto& e : entries()) t.push_back(e.type);
+    return t;
+  }();
+  return types;
+}
+
+std::unique_ptr<Effect> make_effect(std::string_view type) {
+  for (const auto& e : entries())
+    if (e.type == type) return e.make();
+  return nullptr;
+}
+
+} // namespace geartopo::effects

@@ -1,0 +1,17 @@
+// geartopo — the effect registry: names of every effect in the library and a factory.
+#pragma once
+
+#include "effects/effect.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace geartopo::effects {
+
+/// Every registered effect type, in library order.
+const std::vector<std::string>& effect_types();
+/// A new effect of this type with default parameters; nullptr if the type is unknown.
+std::unique_ptr<Effect> make_effect(std::string_view type);
+
+} // namespace geartopo::effects

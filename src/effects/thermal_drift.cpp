@@ -1,0 +1,40 @@
+// Thermal drift of the X and Z axes with grinding time: the machine warms up after the start and its axes grow
+// towards a steady state with a first-order time constant, δ(t) = δ_∞ (1 − e^(−t/τ)). Positive X growth leaves the
+// wheel further out than commanded (more material); positive Z growth shifts it along the gear axis.
+#include "effects/effect.hpp"
+
+#include <cmath>
+
+namespace geartopo::effects {
+namespace {
+
+class ThermalDrift final : public Effect {
+public:
+  ThermalDrift() { init_defaults(); }
+  std::string_view type() const override { return "thermal_drift"; }
+  std::string_view explanation() const override {
+    return "the machine warms up while grinding: X and Z grow towards a steady state, so teeth ground later come out "
+           "thicker or thinner";
+  }
+  const std::vector<ParameterSpec>& parameters() const override {
+    static const std::vector<ParameterSpec> p{
+        {"x_growth_um", "steady-state growth of X (wheel further out: +)", 0.0, -500.0, 500.0, 5.0, true},
+        {"z_growth_um", "steady-state growth of Z (along the gear axis)", 0.0, -500.0, 500.0, 5.0, true},
+        {"time_constant_s", "thermal time constant", 1800.0, 10.0, 1e6, 1000.0, true, {300.0, 1000.0, 3000.0, 10000.0}}};
+    return p;
+  }
+  std::unique_ptr<Effect> clone() const override { return std::make_unique<ThermalDrift>(*this); }
+  machine::Vector5d command_offset(const grinding::PathPoint& pp) const override {
+    const double f = 1.0 - std::exp(-pp.time_s / value(2));
+    machine::Vector5d o = machine::Vector5d::Zero();
+    o(0) = 1e-3 * value(0) * f;
+    o(2) = 1e-3 * value(1) * f;
+    return o;
+  }
+};
+
+} // namespace
+
+std::unique_ptr<Effect> make_thermal_drift() { return std::make_unique<ThermalDrift>(); }
+
+} // namespace geartopo::effects

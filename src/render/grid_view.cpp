@@ -1,0 +1,243 @@
+// Topology grid view: nominal grid (black), actual grid with the magnified deviation (blue), values at the nodes.
+// Geometry and labels are built here; drawing in scene3d.cpp.
+
+#include "render/grid_view.hpp"
+#include "render/colour_map.hpp"
+#include "render/detail/layout.hpp"
+#include "render/detail/scene3d.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace geartopo::render {
+
+namespace {
+
+using detail::require;
+
+/// The largest 1-2-5 number not above x (> 0).
+double nice_floor(double x) {
+  const double p = std::pow(10.0, std::floor(std::log10(x)));
+  const double r = x / p;
+  return (r >= 5.0 ? 5.0 : r >= 2.0 ? 2.0 : 1.0) * p;
+}
+
+void check(const GridTopology& g) {
+  const Eigen::Index rows = g.deviation.rows();
+  const Eigen::Index cols = g.deviation.cols();
+  require(rows > 0 && cols > 0, "grid topology '" + g.title + "': no data point (empty grid)");
+  require(rows >= 2 && cols >= 2,
+          "grid topology: at least 2 x 2 nodes are needed, got " + std::to_string(rows) + " x " + std::to_string(cols));
+  require(g.u.rows() == rows && g.u.cols() == cols && g.v.rows() == rows && g.v.cols() == cols,
+          "grid topology: u, v and deviation must have the same size (" + std::to_string(rows) + " x " +
+              std::to_string(cols) + ")");
+  require(g.u.allFinite() && g.v.allFinite() && g.deviation.allFinite(), "grid topology: non-finite u, v or deviation");
+  require(g.magnification >= 0.0 && std::isfinite(g.magnification), "grid topology: magnification must be >= 0");
+}
+
+} // namespace
+
+double grid_magnification(const GridTopology& g) {
+  check(g);
+  if (g.magnification > 0.0) return g.magnification;
+  const double max_dev = g.deviation.cwiseAbs().maxCoeff(); // µm
+  if (max_dev <= 0.0) return 1000.0;
+  double target = 0.0; // mm shown for max_dev
+  if (g.offset == GridOffset::height) {
+    target = 0.15 * std::max(g.u.maxCoeff() - g.u.minCoeff(), g.v.maxCoeff() - g.v.minCoeff());
+  } else {
+    std::vector<double> spacing;
+    for (Eigen::Index i = 0; i + 1 < g.v.rows(); ++i)
+      for (Eigen::Index j = 0; j < g.v.cols(); ++j) spacing.push_back(std::abs(g.v(i + 1, j) - g.v(i, j)));
+    std::nth_element(spacing.begin(), spacing.begin() + static_cast<std::ptrdiff_t>(spacing.size() / 2), spacing.end());
+    target = 0.8 * spacing[spacing.size() / 2];
+  }
+  if (!(target > 0.0)) return 1000.0;
+  return nice_floor(target / (max_dev * 1e-3));
+}
+
+RenderResult render_grid_topology(const GridTopology& g, const std::filesystem::path& png) {
+  const double mag = grid_magnification(g);
+  const Eigen::Index rows = g.deviation.rows();
+  const Eigen::Index cols = g.deviation.cols();
+  const Range colour = colour_range(g.deviation.minCoeff(), g.deviation.maxCoeff(), g.scale);
+  const bool height = g.offset == GridOffset::height;
+  const int px = detail::font_px(g.size, g.font_px);
+
+  const double u0 = g.u.minCoeff(), u1 = g.u.maxCoeff(), v0 = g.v.minCoeff(), v1 = g.v.maxCoeff();
+  const double extent = std::max({u1 - u0, v1 - v0, 1e-9});
+  const double eps = 1e-3 * extent; // layering of coincident lines in the top view
+  const auto nominal = [&](Eigen::Index i, Eigen::Index j) {
+    return Eigen::Vector3d(g.u(i, j), g.v(i, j), height ? 0.0 : eps);
+  };
+  const auto actual = [&](Eigen::Index i, Eigen::Index j) {
+    const double offset = g.deviation(i, j) * 1e-3 * mag;
+    return height ? Eigen::Vector3d(g.u(i, j), g.v(i, j), offset)
+                  : Eigen::Vector3d(g.u(i, j), g.v(i, j) + offset, 2 * eps);
+  };
+  const auto grid_lines = [&](const auto& node) {
+    std::vector<detail::Polyline> lines;
+    for (Eigen::Index i = 0; i < rows; ++i) {
+      detail::Polyline l;
+      for (Eigen::Index j = 0; j < cols; ++j) l.push_back(node(i, j));
+      lines.push_back(l);
+    }
+    for (Eigen::Index j = 0; j < cols; ++j) {
+      detail::Polyline l;
+      for (Eigen::Index i = 0; i < rows; ++i) l.push_back(node(i, j));
+      lines.push_back(l);
+    }
+    return lines;
+  };
+
+  detail::Scene3D scene(g.size, px);
+  // View: in 3D from the v_min side, turned by the azimuth about the deviation axis and raised by the elevation.
+  const double az = g.azimuth_deg * std::numbers::pi / 180.0;
+  const double el = g.elevation_deg * std::numbers::pi / 180.0;
+  const Eigen::Vector3d direction =
+      height ? Eigen::Vector3d(-std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), -std::sin(el))
+             : Eigen::Vector3d(0.0, 0.0, -1.0);
+  const Eigen::Vector3d up = height ? Eigen::Vector3d(0.0, 0.0, 1.0) : Eigen::Vector3d(0.0, 1.0, 0.0);
+  scene.set_auto_camera(direction, up, true, 1.12);
+
+  if (g.fill) {
+    Eigen::Matrix3Xd vertices(3, rows * cols);
+    std::vector<Rgb> node_colours;
+    for (Eigen::Index i = 0; i < rows; ++i)
+      for (Eigen::Index j = 0; j < cols; ++j) {
+        Eigen::Vector3d p = actual(i, j);
+        if (!height) p.z() = 0.0;
+        // Slightly away from the camera: the grid lines on the surface then always stay in front of it (parallel
+        // projection, so nothing moves on screen).
+        vertices.col(i * cols + j) = p + 0.004 * extent * direction;
+        node_colours.push_back(colour_for(g.deviation(i, j), colour));
+      }
+    Eigen::Matrix3Xi faces(3, 2 * (rows - 1) * (cols - 1));
+    Eigen::Index f = 0;
+    for (Eigen::Index i = 0; i + 1 < rows; ++i)
+      for (Eigen::Index j = 0; j + 1 < cols; ++j) {
+        const int a = static_cast<int>(i * cols + j), b = a + 1, c = a + static_cast<int>(cols), d = c + 1;
+        faces.col(f++) = Eigen::Vector3i(a, b, d);
+        faces.col(f++) = Eigen::Vector3i(a, d, c);
+      }
+    // Translucent in 3D so that the nominal grid stays visible under raised regions.
+    scene.add_mesh(vertices, faces, node_colours, colours::white, height ? 0.7 : 1.0, false, false);
+  }
+  scene.add_lines(grid_lines(nominal), colours::nominal, std::max(1.2, 0.08 * px));
+  scene.add_lines(grid_lines(actual), colours::actual, std::max(2.0, 0.13 * px));
+  std::vector<Eigen::Vector3d> nodes;
+  std::vector<Rgb> node_colours;
+  for (Eigen::Index i = 0; i < rows; ++i)
+    for (Eigen::Index j = 0; j < cols; ++j) {
+      Eigen::Vector3d p = actual(i, j);
+      if (!height) p.z() = 3 * eps;
+      nodes.push_back(p);
+      node_colours.push_back(colour_for(g.deviation(i, j), colour));
+    }
+  scene.add_points(nodes, node_colours, std::max(6.0, 0.55 * px));
+
+  const int small = static_cast<int>(std::lround(0.72 * px));
+  if (g.show_values)
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      detail::OverlayText t;
+      t.y = 0.45F * static_cast<float>(px);
+      t.text = detail::format_value(
+          g.deviation(static_cast<Eigen::Index>(k) / cols, static_cast<Eigen::Index>(k) % cols), g.value_decimals);
+      t.px = small;
+      t.h = HAlign::centre;
+      t.halo = true;
+      t.colour = colours::black;
+      scene.add_label(nodes[k], t);
+    }
+
+  // Axes: u along the front edge, v along the edge seen on the left, on a floor below everything (3D) or just
+  // outside the drawn grid (top view), with ticks, labels and titles.
+  const double max_dev = g.deviation.cwiseAbs().maxCoeff();
+  const double shown = max_dev > 0.0 ? nice_floor(max_dev) : 1.0; // µm, for the scale and the caption
+  const int label_px = static_cast<int>(std::lround(0.85 * px));
+  const bool left_is_u0 = height ? std::cos(az) >= 0.0 : true;
+  const double side = left_is_u0 ? -1.0 : 1.0;
+  const double tick = 0.025 * extent;
+  double v_axis = v0;                   // v of the u axis
+  double u_axis = left_is_u0 ? u0 : u1; // u of the v axis
+  double z_axis = eps;
+  if (height) {
+    z_axis = std::min(0.0, g.deviation.minCoeff() * 1e-3 * mag) - 0.05 * extent;
+  } else {
+    for (Eigen::Index j = 0; j < cols; ++j) v_axis = std::min(v_axis, actual(0, j).y());
+    v_axis -= 0.03 * extent;
+    u_axis += side * 0.03 * extent;
+  }
+  std::vector<detail::Polyline> axis_lines{{{u0, v_axis, z_axis}, {u1, v_axis, z_axis}},
+                                           {{u_axis, v0, z_axis}, {u_axis, v1, z_axis}}};
+  const auto u_ticks = detail::nice_ticks({u0, u1}, 5);
+  const int u_dec = detail::decimals_for_step(detail::nice_step(u1 - u0, 5));
+  for (double u : u_ticks) {
+    axis_lines.push_back({{u, v_axis, z_axis}, {u, v_axis - tick, z_axis}});
+    detail::OverlayText t;
+    t.y = -0.3F * static_cast<float>(px);
+    t.text = detail::format_value(u, u_dec);
+    t.px = label_px;
+    t.h = HAlign::centre;
+    t.v = detail::VAlign::top;
+    scene.add_label({u, v_axis - tick, z_axis}, t);
+  }
+  const auto v_ticks = detail::nice_ticks({v0, v1}, 5);
+  const int v_dec = detail::decimals_for_step(detail::nice_step(v1 - v0, 5));
+  double v_label_w = 0.0;
+  for (double v : v_ticks) {
+    axis_lines.push_back({{u_axis, v, z_axis}, {u_axis + side * tick, v, z_axis}});
+    detail::OverlayText t;
+    t.x = -0.3F * static_cast<float>(px);
+    t.text = detail::format_value(v, v_dec);
+    t.px = label_px;
+    t.h = HAlign::right;
+    t.v = detail::VAlign::centre;
+    v_label_w = std::max(v_label_w, detail::text_width_estimate(t.text, label_px));
+    scene.add_label({u_axis + side * tick, v, z_axis}, t);
+  }
+  scene.add_lines(axis_lines, colours::text, 1.2);
+  {
+    // Titles parallel to their axes, beyond the tick labels.
+    const Eigen::Vector3d centre(0.5 * (u0 + u1), 0.5 * (v0 + v1), z_axis);
+    detail::OverlayText t;
+    t.px = px;
+    t.text = detail::axis_label(g.u_axis.title, g.u_axis.unit);
+    const Eigen::Vector3d ua(u0, v_axis - tick, z_axis), ub(u1, v_axis - tick, z_axis);
+    scene.add_axis_title(ua, ub, centre, t, static_cast<float>(0.3 * px + 1.3 * label_px + 0.4 * px));
+    t.text = detail::axis_label(g.v_axis.title, g.v_axis.unit);
+    const Eigen::Vector3d va(u_axis + side * tick, v0, z_axis), vb(u_axis + side * tick, v1, z_axis);
+    scene.add_axis_title(va, vb, centre, t, static_cast<float>(0.3 * px + v_label_w + 0.5 * px));
+  }
+  scene.set_insets(static_cast<float>(v_label_w + 2.4 * px), static_cast<float>(2.6 * px));
+
+  if (height) {
+    // A vertical scale beside the front corner on the floor: `shown` µm at the magnification.
+    const Eigen::Vector3d base(left_is_u0 ? u1 + 0.05 * extent : u0 - 0.05 * extent, v_axis, z_axis);
+    const Eigen::Vector3d top = base + Eigen::Vector3d(0.0, 0.0, shown * 1e-3 * mag);
+    scene.add_lines({{base, top}, {top - Eigen::Vector3d(0.5 * tick, 0, 0), top + Eigen::Vector3d(0.5 * tick, 0, 0)}},
+                    colours::actual, 2.0);
+    detail::OverlayText t;
+    t.x = (left_is_u0 ? 0.4F : -0.4F) * static_cast<float>(px);
+    t.text = detail::format_value(shown, shown < 1.0 ? 1 : 0) + " µm";
+    t.px = label_px;
+    t.colour = colours::actual;
+    t.h = left_is_u0 ? HAlign::left : HAlign::right;
+    t.v = detail::VAlign::centre;
+    scene.add_label(top, t);
+  }
+  scene.set_title(g.title);
+  scene.set_caption(
+      fmt::format("nominal grid black, actual grid blue; deviation {} magnified {}× ({} µm drawn as {} mm)",
+                  height ? "(height)" : "(along v)", detail::format_value(mag, mag < 10 ? 1 : 0),
+                  detail::format_value(shown, shown < 1.0 ? 1 : 0),
+                  detail::format_value(shown * 1e-3 * mag, shown * 1e-3 * mag < 10 ? 1 : 0)));
+  scene.set_colour_bar(colour, detail::axis_label(g.scale.title, g.scale.unit));
+  scene.render(png);
+  return {colour, std::nullopt, std::nullopt};
+}
+
+} // namespace geartopo::render

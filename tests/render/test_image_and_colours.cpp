@@ -1,0 +1,97 @@
+// Image helpers and the colour map: no OpenGL needed.
+
+#include "render/colour_map.hpp"
+#include "render/image.hpp"
+#include "render_test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace geartopo::render {
+namespace {
+
+Image uniform(int w, int h, Rgb c) {
+  Image img;
+  img.width = w;
+  img.height = h;
+  img.pixels.assign(static_cast<std::size_t>(w) * h, c);
+  return img;
+}
+
+TEST(ImageStats, BlankImageHasNoVarianceAndNoForeground) {
+  const ImageStats s = image_stats(uniform(40, 30, colours::white));
+  EXPECT_EQ(s.width, 40);
+  EXPECT_EQ(s.height, 30);
+  EXPECT_DOUBLE_EQ(s.variance, 0.0);
+  EXPECT_DOUBLE_EQ(s.non_background_share, 0.0);
+}
+
+TEST(ImageStats, HalfBlackImage) {
+  Image img = uniform(10, 10, colours::white);
+  for (int i = 0; i < 50; ++i) img.pixels[static_cast<std::size_t>(i)] = colours::black;
+  const ImageStats s = image_stats(img);
+  EXPECT_NEAR(s.variance, 127.5 * 127.5, 1e-6); // grey levels 0 and 255 in equal shares
+  EXPECT_DOUBLE_EQ(s.non_background_share, 0.5);
+  EXPECT_EQ(count_colour(img, colours::black), 50U);
+  EXPECT_TRUE(contains_colour(img, {3, 3, 3}, 6, 50));
+  EXPECT_FALSE(contains_colour(img, {200, 0, 0}));
+}
+
+TEST(ImagePng, WriteThenReadKeepsPixelsAndOrientation) {
+  Image img = uniform(7, 5, colours::white);
+  img.pixels[0] = {255, 0, 0};                     // top left
+  img.pixels[img.pixels.size() - 1] = {0, 0, 255}; // bottom right
+  const auto path = test::output("roundtrip.png");
+  write_png(img, path);
+  const Image back = read_png(path);
+  ASSERT_EQ(back.width, 7);
+  ASSERT_EQ(back.height, 5);
+  EXPECT_EQ(back.at(0, 0), (Rgb{255, 0, 0}));
+  EXPECT_EQ(back.at(6, 4), (Rgb{0, 0, 255}));
+  EXPECT_EQ(back.at(3, 2), colours::white);
+}
+
+TEST(ColourMap, DivergingBlueWhiteRed) {
+  const Rgb neg = diverging_colour(-1.0);
+  const Rgb zero = diverging_colour(0.0);
+  const Rgb pos = diverging_colour(1.0);
+  EXPECT_GT(neg.b, neg.r);
+  EXPECT_GT(pos.r, pos.b);
+  EXPECT_GE(std::min({zero.r, zero.g, zero.b}), 240); // near white
+  EXPECT_EQ(diverging_colour(-5.0), neg);             // clamped
+  // Lightness falls steadily away from zero on both sides.
+  const auto grey = [](Rgb c) { return 0.299 * c.r + 0.587 * c.g + 0.114 * c.b; };
+  for (double t = 0.0; t < 1.0; t += 0.125) {
+    EXPECT_GT(grey(diverging_colour(t)), grey(diverging_colour(t + 0.125))) << t;
+    EXPECT_GT(grey(diverging_colour(-t)), grey(diverging_colour(-t - 0.125))) << t;
+  }
+}
+
+TEST(ColourMap, RangeModes) {
+  EXPECT_EQ(colour_range(-7.0, 12.0, {}), (Range{-12.0, 12.0})); // default: symmetric max-abs
+  ColourScale data;
+  data.mode = RangeMode::data;
+  EXPECT_EQ(colour_range(-7.0, 12.0, data), (Range{-7.0, 12.0}));
+  EXPECT_EQ(colour_range(2.0, 9.0, data), (Range{0.0, 9.0})); // widened to contain zero
+  ColourScale fixed;
+  fixed.mode = RangeMode::fixed;
+  fixed.fixed = {-5.0, 5.0};
+  EXPECT_EQ(colour_range(-7.0, 12.0, fixed), (Range{-5.0, 5.0}));
+  EXPECT_EQ(colour_range(0.0, 0.0, {}), (Range{-1.0, 1.0}));
+  fixed.fixed = {3.0, 3.0};
+  EXPECT_THROW(colour_range(0.0, 1.0, fixed), std::invalid_argument);
+}
+
+TEST(ColourMap, ZeroIsWhiteAndEndsAreTheMapEnds) {
+  const Range r{-7.0, 12.0};
+  EXPECT_EQ(colour_for(0.0, r), diverging_colour(0.0));
+  EXPECT_EQ(colour_for(-7.0, r), diverging_colour(-1.0));
+  EXPECT_EQ(colour_for(12.0, r), diverging_colour(1.0));
+  EXPECT_EQ(colour_for(6.0, r), diverging_colour(0.5));
+  EXPECT_EQ(colour_for(-3.5, r), diverging_colour(-0.5));
+  EXPECT_EQ(colour_for(40.0, r), diverging_colour(1.0)); // outside: nearer end
+}
+
+} // namespace
+} // namespace geartopo::render
