@@ -2,6 +2,7 @@
 #include "app/commands.hpp"
 #include "app/workbench.hpp"
 
+#include "diagnosis/compare.hpp"
 #include "diagnosis/diagnose.hpp"
 #include "diagnosis/scene_writer.hpp"
 #include "diagnosis/synth.hpp"
@@ -112,7 +113,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
         if (!effects::make_effect(c))
           throw CLI::ValidationError("--candidates", fmt::format("'{}' is not an effect of the library ({})", c,
                                                                  fmt::join(effects::effect_types(), ", ")));
-      const auto pts = diagnosis::read_measurement(opt->measured, wb.setup.geometry());
+      const auto pts = diagnosis::read_any_measurement(opt->measured, wb.setup);
       diagnosis::DiagnoseOptions o;
       o.noise_um = opt->noise;
       o.candidates = opt->candidates;

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   geartopo::app::register_evaluate_command(app, action);
   geartopo::app::register_compensate_command(app, action);
   geartopo::app::register_synth_command(app, action);
+  geartopo::app::register_compare_command(app, action);
   geartopo::app::register_diagnose_command(app, action);
 
   try {

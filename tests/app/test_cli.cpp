@@ -204,3 +204,42 @@ TEST(Cli, CompensateWritesCorrectionsAndBeforeAfter) {
   EXPECT_EQ(run("compensate " + kScene + " --out " + dir.string() + " --method magic").code, 2);
   EXPECT_EQ(run("compensate " + kScene + " --out " + dir.string() + " --step 0").code, 2);
 }
+
+// The story users care about: measure a truth scene with a hidden effect, compare, diagnose, add it, compare again.
+TEST(Cli, SynthCompareDiagnoseAndTheErrorFalls) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_story");
+  std::filesystem::create_directories(dir);
+  const std::string truth = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/truth-skmc1200w-mn14-z35.yaml";
+  const std::string measured = (dir / "m.csv").string();
+  ASSERT_EQ(run("synth " + truth + " --out " + measured + " --teeth 1,18 --noise-um 0.5 --seed 3").code, 0);
+
+  const CliResult before = run("compare " + kScene + " --measured " + measured + " --out " + (dir / "c1").string() + " --noise-um 0.5");
+  ASSERT_EQ(before.code, 0) << before.err;
+  std::ifstream c1(dir / "c1" / "compare.json");
+  const double rms_before = nlohmann::json::parse(c1)["overall"]["rms_um"].get<double>();
+
+  const CliResult diag = run("diagnose " + kScene + " --measured " + measured + " --out " + (dir / "d").string() + " --noise-um 0.5");
+  ASSERT_EQ(diag.code, 0) << diag.err;
+  std::ifstream dj(dir / "d" / "diagnosis.json");
+  const auto d = nlohmann::json::parse(dj);
+  ASSERT_FALSE(d["candidates"].empty());
+  EXPECT_EQ(d["candidates"][0]["effect"], "thermal_drift");
+  for (const char* key : {"effect", "parameters", "explained_fraction", "rms_before_um", "rms_after_um"})
+    EXPECT_TRUE(d["candidates"][0].contains(key)) << key;
+  EXPECT_EQ(d["candidates"][0]["parameters"]["x_growth_um"]["unit"], "um");
+
+  const CliResult after = run("compare " + (dir / "d" / "scene_with_effect.yaml").string() + " --measured " + measured +
+                              " --out " + (dir / "c2").string() + " --noise-um 0.5");
+  ASSERT_EQ(after.code, 0) << after.err;
+  std::ifstream c2(dir / "c2" / "compare.json");
+  const double rms_after = nlohmann::json::parse(c2)["overall"]["rms_um"].get<double>();
+  EXPECT_GT(rms_before, 1.5 * 0.5);
+  EXPECT_LE(rms_after, 1.5 * 0.5);
+
+  // Bad measurement files: exit 1 with the line.
+  std::ofstream(dir / "bad.csv") << "tooth,flank,row,col,diameter_mm,z_mm,deviation_um\n1,left,1,1,700,10,0.1\n";
+  const CliResult bad = run("compare " + kScene + " --measured " + (dir / "bad.csv").string() + " --out " + (dir / "b").string());
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.err.find("bad.csv:2: diameter_mm"), std::string::npos) << bad.err;
+  std::filesystem::remove_all(dir);
+}

@@ -1,0 +1,109 @@
+#include "diagnosis/compare.hpp"
+
+#include "diagnosis/diagnose.hpp"
+#include "diagnosis/prediction.hpp"
+#include "surfaces/point_cloud.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+
+namespace geartopo::diagnosis {
+namespace {
+
+evaluation::Side side_of(gears::Flank f) { return f == gears::Flank::Right ? evaluation::Side::Right : evaluation::Side::Left; }
+
+} // namespace
+
+Comparison compare(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
+                   const std::vector<MeasuredPoint>& pts, double noise_um) {
+  if (pts.empty()) throw std::invalid_argument("compare: no measured points");
+  Comparison c;
+  c.model_um = predict(setup, model, pts, grinding::Method::Exact);
+  c.residual_um.resize(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i) c.residual_um[i] = pts[i].deviation_um - c.model_um[i];
+  c.noise_estimated = noise_um <= 0.0;
+  c.noise_um = c.noise_estimated ? estimate_noise_um(pts, c.residual_um) : noise_um;
+  if (!(c.noise_um > 0.0)) c.noise_um = 0.1; // too few points per flank to estimate: a conservative probe figure
+
+  std::map<std::pair<int, int>, size_t> index;
+  const auto& r = setup.ranges();
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const auto key = std::make_pair(pts[i].tooth, static_cast<int>(pts[i].flank));
+    auto [it, fresh] = index.try_emplace(key, c.flanks.size());
+    if (fresh) {
+      evaluation::FlankResiduals f;
+      f.tooth = pts[i].tooth;
+      f.side = side_of(pts[i].flank);
+      f.xi_start_mm = r.xi_eval_start, f.xi_end_mm = r.xi_eval_end, f.z_start_mm = r.z_eval_start, f.z_end_mm = r.z_eval_end;
+      c.flanks.push_back(f);
+      c.flank_point_index.emplace_back();
+    }
+    c.flanks[it->second].points.push_back({pts[i].roll_length_mm, pts[i].z_mm, c.residual_um[i]});
+    c.flank_point_index[it->second].push_back(i);
+  }
+  // Order flanks by tooth, then left before right (the map's order).
+  {
+    std::vector<evaluation::FlankResiduals> ordered;
+    std::vector<std::vector<size_t>> ordered_index;
+    for (const auto& [key, k] : index) ordered.push_back(c.flanks[k]), ordered_index.push_back(c.flank_point_index[k]);
+    c.flanks = std::move(ordered);
+    c.flank_point_index = std::move(ordered_index);
+  }
+
+  evaluation::PatternOptions po;
+  po.noise_um = c.noise_um;
+  evaluation::RegionOptions ro;
+  ro.noise_um = c.noise_um;
+  std::map<int, std::vector<evaluation::FlankPatterns>> by_side;
+  for (const auto& f : c.flanks) {
+    try {
+      c.patterns.push_back(evaluation::fit_flank_patterns(f, po));
+      c.has_patterns.push_back(true);
+      by_side[static_cast<int>(f.side)].push_back(c.patterns.back());
+    } catch (const std::invalid_argument&) { // too few distinct positions on this flank for the six patterns
+      c.patterns.emplace_back();
+      c.has_patterns.push_back(false);
+    }
+    for (auto& reg : evaluation::find_failing_regions(f, ro)) c.regions.push_back(std::move(reg));
+  }
+  for (const auto& [side, list] : by_side)
+    if (list.size() >= 2) c.trends.push_back(evaluation::fit_tooth_trends(list, setup.geometry().teeth()));
+  c.summary = evaluation::summarize_residuals(c.flanks);
+  return c;
+}
+
+std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file, const gears::InvoluteHelicoid& flanks,
+                                                        double max_offset_mm) {
+  const auto cloud = surfaces::read_point_cloud(std::filesystem::path(file));
+  const auto samples = surfaces::assign_to_flanks(cloud, flanks, max_offset_mm, file);
+  std::vector<MeasuredPoint> out;
+  out.reserve(samples.size());
+  for (const auto& s : samples) {
+    MeasuredPoint p;
+    p.tooth = s.tooth;
+    p.flank = s.flank;
+    p.roll_length_mm = s.roll_length_mm;
+    p.diameter_mm = s.diameter_mm;
+    p.z_mm = s.z_mm;
+    p.deviation_um = 1e3 * s.normal_distance_mm;
+    p.line = static_cast<int>(s.line);
+    out.push_back(p);
+  }
+  return out;
+}
+
+std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file + ": cannot open");
+  std::string line;
+  while (std::getline(in, line) && (line.empty() || line[0] == '#')) {
+  }
+  if (line.rfind("x_mm,y_mm,z_mm", 0) == 0 || line.rfind("\xEF\xBB\xBFx_mm", 0) == 0)
+    return read_point_cloud_measurement(file, setup.flanks());
+  return read_measurement(file, setup.geometry());
+}
+
+} // namespace geartopo::diagnosis
