@@ -28,5 +28,9 @@ void register_synth_command(CLI::App& app, Action& action);
 void register_diagnose_command(CLI::App& app, Action& action);
 /// `geartopo compare SCENE --measured FILE --out DIR [--noise-um S]`
 void register_compare_command(CLI::App& app, Action& action);
+/// `geartopo report SCENE [--measured FILE] --out DIR`
+void register_report_command(CLI::App& app, Action& action);
+/// `geartopo run SCENE --out DIR` — the main job
+void register_run_command(CLI::App& app, Action& action);
 
 } // namespace geartopo::app

@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "geartopo 0.1.0");
   geartopo::app::Action action;
+  geartopo::app::register_run_command(app, action);
   geartopo::app::register_gear_command(app, action);
   geartopo::app::register_machine_command(app, action);
   geartopo::app::register_simulate_command(app, action);
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
   geartopo::app::register_synth_command(app, action);
   geartopo::app::register_compare_command(app, action);
   geartopo::app::register_diagnose_command(app, action);
+  geartopo::app::register_report_command(app, action);
 
   try {
     app.parse(argc, argv);

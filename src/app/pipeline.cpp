@@ -1,0 +1,79 @@
+#include "app/pipeline.hpp"
+
+#include "compensation/compensator.hpp"
+#include "diagnosis/scene_writer.hpp"
+#include "effects/effects_process.hpp"
+#include "effects/registry.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace geartopo::app {
+namespace {
+
+double largest_abs(const std::vector<grinding::FlankTopology>& topo) {
+  double m = 0.0;
+  for (const auto& ft : topo)
+    for (const auto& p : ft.grid) m = std::max(m, std::abs(p.deviation_um));
+  return m;
+}
+
+} // namespace
+
+PipelineResult run_pipeline(const Workbench& wb, const std::string& measured_file, const std::string& scene_file) {
+  PipelineResult r;
+  grinding::SimulationOptions so;
+  so.rows = wb.scene.grid.rows;
+  so.cols = wb.scene.grid.cols;
+  so.profile_points = wb.scene.grid.profile_points;
+  so.helix_points = wb.scene.grid.helix_points;
+  const auto& g = wb.setup.geometry();
+
+  r.before = grinding::simulate_topology(wb.setup, wb.process(), so);
+  r.iso_before = evaluate_iso(g, wb.setup.ranges(), r.before);
+  compensation::CompensationOptions co;
+  co.method = compensation::Method::Flank;
+  r.corrections = std::make_unique<compensation::CorrectionTable>(
+      compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm}, co));
+  const compensation::CompensatedProcess corrected(wb.process(), *r.corrections);
+  r.after = grinding::simulate_topology(wb.setup, corrected, so);
+  r.iso_after = evaluate_iso(g, wb.setup.ranges(), r.after);
+  r.largest_before_um = largest_abs(r.before);
+  r.largest_after_um = largest_abs(r.after);
+
+  if (!measured_file.empty()) {
+    MeasurementResult m;
+    m.file = measured_file;
+    m.points = diagnosis::read_any_measurement(measured_file, wb.setup);
+    m.before = diagnosis::compare(wb.setup, wb.process(), m.points, 0.0);
+    std::vector<std::string> in_scene;
+    for (const auto& e : wb.scene.effects) in_scene.push_back(e.type);
+    diagnosis::DiagnoseOptions d;
+    d.noise_um = m.before.noise_um;
+    m.diagnosis = diagnosis::diagnose(wb.setup, wb.process(), m.points, in_scene, d);
+    if (m.diagnosis.chosen) {
+      std::vector<std::unique_ptr<effects::Effect>> effs;
+      std::vector<const effects::Effect*> list;
+      for (const auto& spec : m.diagnosis.chosen->effects) {
+        effs.push_back(effects::make_effect(spec.type));
+        effs.back()->set_values(spec.values);
+        effs.back()->bind(wb.setup);
+        list.push_back(effs.back().get());
+      }
+      const effects::EffectsProcess with(wb.process(), list);
+      m.after = diagnosis::compare(wb.setup, with, m.points, m.before.noise_um);
+      std::ifstream in(scene_file);
+      std::stringstream text;
+      text << in.rdbuf();
+      std::vector<std::string> comments;
+      for (const auto& e : m.diagnosis.chosen->effects)
+        comments.push_back(e.type + ": identified by geartopo from " + measured_file);
+      m.completed_scene_text = diagnosis::scene_with_effects(text.str(), m.diagnosis.chosen->effects, comments);
+    }
+    r.measurement = std::move(m);
+  }
+  return r;
+}
+
+} // namespace geartopo::app

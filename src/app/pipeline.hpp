@@ -1,0 +1,40 @@
+// geartopo — the main job's computations, once: simulate the gear, evaluate it (ISO 1328-1), compensate it, and,
+// when there is a measurement, compare and diagnose. Figures, the HTML report and the data files are written from
+// the result. Units: µm, mm.
+#pragma once
+
+#include "app/iso_report.hpp"
+#include "app/workbench.hpp"
+#include "compensation/correction_table.hpp"
+#include "diagnosis/compare.hpp"
+#include "diagnosis/diagnose.hpp"
+#include "grinding/topology.hpp"
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace geartopo::app {
+
+struct MeasurementResult {
+  std::string file;
+  std::vector<diagnosis::MeasuredPoint> points;
+  diagnosis::Comparison before;             ///< against the scene's model
+  diagnosis::Diagnosis diagnosis;
+  std::optional<diagnosis::Comparison> after; ///< against the model with the chosen effect(s) added
+  std::string completed_scene_text;           ///< the scene with the chosen effect(s), if any
+};
+
+struct PipelineResult {
+  std::vector<grinding::FlankTopology> before, after; ///< all teeth, grid + traces (exact)
+  IsoResult iso_before, iso_after;
+  std::unique_ptr<compensation::CorrectionTable> corrections;
+  std::string compensation_method = "flank";
+  double largest_before_um = 0.0, largest_after_um = 0.0;
+  std::optional<MeasurementResult> measurement;
+};
+
+PipelineResult run_pipeline(const Workbench& wb, const std::string& measured_file, const std::string& scene_file);
+
+} // namespace geartopo::app

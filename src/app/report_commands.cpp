@@ -1,0 +1,114 @@
+// geartopo report / run: the report, and the main job (everything, with a short summary).
+#include "app/commands.hpp"
+#include "app/html_report.hpp"
+#include "app/pipeline.hpp"
+#include "app/workbench.hpp"
+
+#include "diagnosis/scene_writer.hpp"
+#include "grinding/topology_csv.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+namespace geartopo::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string measured_of(const Workbench& wb, const std::string& option) {
+  return option.empty() ? wb.scene.grid.measured_file : option;
+}
+
+std::string cls(const std::optional<int>& c) { return c ? evaluation::class_label(*c) : "–"; }
+
+void write_data_files(const fs::path& dir, const std::string& scene_file, const Workbench& wb, const PipelineResult& r) {
+  grinding::write_topology_csv(dir / "topology_before.csv", r.before);
+  grinding::write_topology_csv(dir / "topology_after.csv", r.after);
+  grinding::write_traces_csv(dir / "traces_before.csv", r.before);
+  grinding::write_traces_csv(dir / "traces_after.csv", r.after);
+  r.corrections->write_csv(dir / "corrections.csv");
+  nlohmann::json iso;
+  iso["scene"] = wb.scene.name;
+  iso["units"] = "µm; deviations along the flank normal, plus material positive";
+  iso["before"] = iso_json(r.iso_before);
+  iso["after"] = iso_json(r.iso_after);
+  std::ofstream(dir / "iso1328.json") << iso.dump(2) << "\n";
+  if (r.measurement && !r.measurement->completed_scene_text.empty())
+    std::ofstream(dir / "scene_with_effect.yaml")
+        << diagnosis::rebase_scene_paths(r.measurement->completed_scene_text, fs::path(scene_file).parent_path(), dir);
+}
+
+void print_summary(const fs::path& dir, const PipelineResult& r) {
+  const auto& cb = r.iso_before.evaluation.classification;
+  const auto& ca = r.iso_after.evaluation.classification;
+  std::cout << fmt::format("Largest |deviation| (7×9 grids, all teeth): {:.2f} µm before, {:.2f} µm after compensation\n",
+                           r.largest_before_um, r.largest_after_um);
+  std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before, {} after{}\n", cls(cb.overall), cls(ca.overall),
+                           cb.governing ? fmt::format(" (before: set by {})", evaluation::symbol(*cb.governing)) : "");
+  if (r.measurement) {
+    const auto& m = *r.measurement;
+    std::cout << fmt::format("Measurement {}: residual {:.2f} µm RMS against the model\n", m.file, m.before.summary.overall.rms_um);
+    if (!m.diagnosis.ranked.empty())
+      std::cout << fmt::format("Top diagnosis: {} (ΔBIC {:.1f}, explains {:.0f} %)\n", m.diagnosis.ranked.front().name(),
+                               m.diagnosis.ranked.front().delta_bic, 100 * m.diagnosis.ranked.front().explained_fraction);
+    std::cout << m.diagnosis.verdict << "\n";
+  }
+  std::cout << "Report: " << (dir / "index.html").string() << "\n";
+}
+
+} // namespace
+
+void register_report_command(CLI::App& app, Action& action) {
+  struct Options {
+    std::string scene, measured, out;
+  };
+  auto opt = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("report", "Figures (PNG, rendered off-screen) and an offline index.html: topology, "
+                                               "traces, pitch, machine errors, before/after, measured vs model, diagnosis");
+  cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
+  cmd->add_option("--measured", opt->measured, "Measurement (topology CSV or point cloud); default: the scene's measurement.measured");
+  cmd->add_option("--out", opt->out, "Output directory")->required();
+  cmd->callback([&action, opt] {
+    action = [opt] {
+      const Workbench wb(opt->scene);
+      const fs::path dir(opt->out);
+      fs::create_directories(dir);
+      const auto r = run_pipeline(wb, measured_of(wb, opt->measured), opt->scene);
+      const auto figs = write_report(dir, wb, r);
+      std::cout << fmt::format("wrote {} figures and {}\n", figs.size(), (dir / "index.html").string());
+      return 0;
+    };
+  });
+}
+
+void register_run_command(CLI::App& app, Action& action) {
+  struct Options {
+    std::string scene, out;
+  };
+  auto opt = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("run", "The main job: simulate, evaluate (ISO 1328-1), compensate, compare and diagnose "
+                                            "when the scene names a measurement, and write the report");
+  cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
+  cmd->add_option("--out", opt->out, "Output directory")->required();
+  cmd->callback([&action, opt] {
+    action = [opt] {
+      const Workbench wb(opt->scene);
+      const fs::path dir(opt->out);
+      fs::create_directories(dir);
+      std::cout << "geartopo run: " << (wb.scene.name.empty() ? opt->scene : wb.scene.name) << "\n";
+      const auto r = run_pipeline(wb, wb.scene.grid.measured_file, opt->scene);
+      write_data_files(dir, opt->scene, wb, r);
+      write_report(dir, wb, r);
+      print_summary(dir, r);
+      return 0;
+    };
+  });
+}
+
+} // namespace geartopo::app

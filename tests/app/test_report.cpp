@@ -1,0 +1,104 @@
+// The report as a user opens it: every figure rendered without a display, of its size, not blank, its colour scale
+// spanning its data; index.html referring only to files that exist. Runs `geartopo report` once for all tests.
+#include "render/image.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <unistd.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+class ReportTest : public ::testing::Test {
+protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(fs::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_report"));
+    const std::string scene = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35.yaml";
+    // No display: unset DISPLAY for the child, as on a headless server.
+    const std::string cmd = "env -u DISPLAY " + std::string(GEARTOPO_BINARY) + " report " + scene + " --out " + dir_->string() +
+                            " > " + (dir_->string() + ".log") + " 2>&1";
+    code_ = std::system(cmd.c_str());
+    std::ifstream man(*dir_ / "figures.json");
+    if (man) manifest_ = new nlohmann::json(nlohmann::json::parse(man));
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*dir_);
+    fs::remove(dir_->string() + ".log");
+    delete manifest_;
+    delete dir_;
+  }
+  static inline fs::path* dir_ = nullptr;
+  static inline nlohmann::json* manifest_ = nullptr;
+  static inline int code_ = -1;
+};
+
+} // namespace
+
+TEST_F(ReportTest, RendersEveryFigureWithoutADisplay) {
+  ASSERT_EQ(code_, 0);
+  ASSERT_NE(manifest_, nullptr);
+  std::set<std::string> files;
+  for (const auto& f : *manifest_) files.insert(f["file"].get<std::string>());
+  for (const char* expected : {"topology_before.png", "topology_after.png", "traces_tooth01.png", "traces_tooth18.png", "pitch.png",
+                               "machine_errors.png", "alignment_curve.png", "measured_vs_model.png", "diagnosis.png", "gear_3d.png"})
+    EXPECT_TRUE(files.count(expected)) << expected;
+}
+
+TEST_F(ReportTest, FiguresHaveTheirSizeAndAreNotBlank) {
+  ASSERT_NE(manifest_, nullptr);
+  for (const auto& f : *manifest_) {
+    const auto path = *dir_ / f["file"].get<std::string>();
+    ASSERT_TRUE(fs::exists(path)) << path;
+    const auto s = geartopo::render::image_stats(path);
+    EXPECT_EQ(s.width, f["width"].get<int>()) << path;
+    EXPECT_EQ(s.height, f["height"].get<int>()) << path;
+    EXPECT_GT(s.variance, 100.0) << path;             // grey-level variance: not a flat image
+    EXPECT_GT(s.non_background_share, 0.02) << path;  // something drawn on the white background
+  }
+}
+
+TEST_F(ReportTest, ColourScalesSpanTheData) {
+  ASSERT_NE(manifest_, nullptr);
+  int checked = 0;
+  for (const auto& f : *manifest_) {
+    if (f["data_range_um"].is_null()) continue;
+    ASSERT_FALSE(f["colour_range_um"].is_null()) << f["file"];
+    const double dlo = f["data_range_um"][0], dhi = f["data_range_um"][1];
+    const double clo = f["colour_range_um"][0], chi = f["colour_range_um"][1];
+    EXPECT_LE(clo, dlo + 1e-9) << f["file"];
+    EXPECT_GE(chi, dhi - 1e-9) << f["file"];
+    if (!f["shared_scale"].get<bool>()) { // a before/after pair shares the before scale on purpose
+      EXPECT_LT(chi - clo, 4.0 * std::max({std::abs(dlo), std::abs(dhi), 1e-3})) << f["file"]; // not absurdly wider
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 3); // topology before/after, measured vs model, the 3D gear
+}
+
+TEST_F(ReportTest, HtmlRefersOnlyToFilesThatExistAndIsOffline) {
+  std::ifstream in(*dir_ / "index.html");
+  ASSERT_TRUE(in);
+  std::stringstream s;
+  s << in.rdbuf();
+  const std::string html = s.str();
+  const std::regex ref(R"((?:src|href)=\"([^\"]+)\")");
+  int refs = 0;
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), ref); it != std::sregex_iterator(); ++it) {
+    const std::string target = (*it)[1];
+    EXPECT_EQ(target.find("://"), std::string::npos) << "not offline: " << target;
+    EXPECT_TRUE(fs::exists(*dir_ / target)) << target;
+    ++refs;
+  }
+  EXPECT_GE(refs, 10);
+  EXPECT_NE(html.find("ISO 1328-1"), std::string::npos);
+  EXPECT_NE(html.find("Verdict"), std::string::npos);
+  EXPECT_NE(html.find("thermal_drift"), std::string::npos); // the demo's hidden effect is found and named
+}
