@@ -17,13 +17,6 @@
 namespace geartopo::app {
 namespace {
 
-double largest_abs(const std::vector<grinding::FlankTopology>& topo) {
-  double m = 0.0;
-  for (const auto& ft : topo)
-    for (const auto& p : ft.grid) m = std::max(m, std::abs(p.deviation_um));
-  return m;
-}
-
 std::pair<double, double> range_of(const std::vector<grinding::FlankTopology>& topo) {
   double lo = 1e300, hi = -1e300;
   for (const auto& ft : topo)
@@ -78,7 +71,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
       grinding::write_traces_csv(out / "traces_after.csv", after);
 
       const IsoResult iso_b = evaluate_iso(g, wb.setup.ranges(), before), iso_a = evaluate_iso(g, wb.setup.ranges(), after);
-      const double max_b = largest_abs(before), max_a = largest_abs(after);
+      const double max_b = grinding::largest_abs_deviation_um(before), max_a = grinding::largest_abs_deviation_um(after);
       nlohmann::json j;
       j["scene"] = wb.scene.name;
       j["units"] = "µm; deviations along the flank normal, plus material positive";

@@ -3,23 +3,11 @@
 #include "compensation/compensator.hpp"
 #include "diagnosis/scene_writer.hpp"
 #include "effects/effects_process.hpp"
-#include "effects/registry.hpp"
 
-#include <cmath>
 #include <fstream>
 #include <sstream>
 
 namespace geartopo::app {
-namespace {
-
-double largest_abs(const std::vector<grinding::FlankTopology>& topo) {
-  double m = 0.0;
-  for (const auto& ft : topo)
-    for (const auto& p : ft.grid) m = std::max(m, std::abs(p.deviation_um));
-  return m;
-}
-
-} // namespace
 
 PipelineResult run_pipeline(const Workbench& wb, const std::string& measured_file, const std::string& scene_file) {
   PipelineResult r;
@@ -39,8 +27,8 @@ PipelineResult run_pipeline(const Workbench& wb, const std::string& measured_fil
   const compensation::CompensatedProcess corrected(wb.process(), *r.corrections);
   r.after = grinding::simulate_topology(wb.setup, corrected, so);
   r.iso_after = evaluate_iso(g, wb.setup.ranges(), r.after);
-  r.largest_before_um = largest_abs(r.before);
-  r.largest_after_um = largest_abs(r.after);
+  r.largest_before_um = grinding::largest_abs_deviation_um(r.before);
+  r.largest_after_um = grinding::largest_abs_deviation_um(r.after);
 
   if (!measured_file.empty()) {
     MeasurementResult m;
@@ -53,14 +41,9 @@ PipelineResult run_pipeline(const Workbench& wb, const std::string& measured_fil
     d.noise_um = m.before.noise_um;
     m.diagnosis = diagnosis::diagnose(wb.setup, wb.process(), m.points, in_scene, d);
     if (m.diagnosis.chosen) {
-      std::vector<std::unique_ptr<effects::Effect>> effs;
+      const auto effs = make_effects(m.diagnosis.chosen->effects, wb.setup);
       std::vector<const effects::Effect*> list;
-      for (const auto& spec : m.diagnosis.chosen->effects) {
-        effs.push_back(effects::make_effect(spec.type));
-        effs.back()->set_values(spec.values);
-        effs.back()->bind(wb.setup);
-        list.push_back(effs.back().get());
-      }
+      for (const auto& e : effs) list.push_back(e.get());
       const effects::EffectsProcess with(wb.process(), list);
       m.after = diagnosis::compare(wb.setup, with, m.points, m.before.noise_um);
       std::ifstream in(scene_file);

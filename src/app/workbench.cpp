@@ -22,12 +22,7 @@ Workbench::Workbench(const std::string& scene_file)
 std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<scene::EffectSpec>& specs,
                                                            const grinding::GrindingSetup& setup) {
   std::vector<std::unique_ptr<effects::Effect>> out;
-  for (const auto& s : specs) {
-    auto e = effects::make_effect(s.type);
-    e->set_values(s.values);
-    e->bind(setup);
-    out.push_back(std::move(e));
-  }
+  for (const auto& s : specs) out.push_back(effects::make_effect(s.type, s.values, setup));
   return out;
 }
 

@@ -277,12 +277,10 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   // The residual with the chosen effects, by the exact simulation.
   d.residual_after_um = d.residual_before_um;
   if (d.chosen) {
-    auto effs = std::vector<std::unique_ptr<effects::Effect>>();
+    std::vector<std::unique_ptr<effects::Effect>> effs;
     std::vector<const effects::Effect*> list;
     for (const auto& spec : d.chosen->effects) {
-      effs.push_back(effects::make_effect(spec.type));
-      effs.back()->set_values(spec.values);
-      effs.back()->bind(setup);
+      effs.push_back(effects::make_effect(spec.type, spec.values, setup));
       list.push_back(effs.back().get());
     }
     const effects::EffectsProcess with(model, list);

@@ -2,6 +2,8 @@
 
 #include "effects/effect_list.hpp"
 
+#include <stdexcept>
+
 namespace geartopo::effects {
 
 #define GEARTOPO_DECLARE(name) std::unique_ptr<Effect> make_##name();
@@ -34,6 +36,14 @@ std::unique_ptr<Effect> make_effect(std::string_view type) {
   for (const auto& e : entries())
     if (e.type == type) return e.make();
   return nullptr;
+}
+
+std::unique_ptr<Effect> make_effect(std::string_view type, std::vector<double> values, const grinding::GrindingSetup& setup) {
+  auto e = make_effect(type);
+  if (!e) throw std::invalid_argument("unknown effect type '" + std::string(type) + "'");
+  e->set_values(std::move(values));
+  e->bind(setup);
+  return e;
 }
 
 } // namespace geartopo::effects

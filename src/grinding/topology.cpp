@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <stdexcept>
 
 namespace geartopo::grinding {
@@ -27,6 +28,13 @@ std::vector<GridPoint> grid(const FlankDeviation& dev, const gears::GearGeometry
 }
 
 } // namespace
+
+double largest_abs_deviation_um(const std::vector<FlankTopology>& topo) {
+  double m = 0.0;
+  for (const auto& ft : topo)
+    for (const auto& p : ft.grid) m = std::max(m, std::abs(p.deviation_um));
+  return m;
+}
 
 std::vector<double> grid_roll_lengths(const gears::EvaluationRanges& r, int rows) {
   return evenly(r.xi_eval_start, r.xi_eval_end, rows);

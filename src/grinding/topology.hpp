@@ -47,6 +47,9 @@ struct SimulationOptions {
 std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const GrindingProcess& process,
                                              const SimulationOptions& options);
 
+/// Largest |deviation| (µm) over the grids of all flanks.
+double largest_abs_deviation_um(const std::vector<FlankTopology>& topo);
+
 /// Roll lengths of the grid rows / axial positions of the grid columns (evenly spaced, ends included).
 std::vector<double> grid_roll_lengths(const gears::EvaluationRanges& r, int rows);
 std::vector<double> grid_axial_positions(const gears::EvaluationRanges& r, int cols);

@@ -62,6 +62,16 @@ int whole(const Field& f, const std::string& src, int line, const char* name) {
   return v;
 }
 
+// The header line must hold exactly these columns, in this order.
+void check_header(const std::vector<Field>& f, const std::string& line, const char* const* names, const char* header,
+                  const std::string& src, int lineno) {
+  for (size_t i = 0; i < 7; ++i)
+    if (i >= f.size() || f[i].text != names[i])
+      fail(src, lineno, i < f.size() ? f[i].column : static_cast<int>(line.size()) + 1, "header",
+           fmt::format("expected the columns {} (column {} should be '{}')", header, i + 1, names[i]));
+  if (f.size() != 7) fail(src, lineno, f[7].column, "header", fmt::format("unexpected column '{}'", f[7].text));
+}
+
 } // namespace
 
 std::vector<TopologyRow> topology_rows(const std::vector<FlankTopology>& topo, GridKind kind) {
@@ -116,11 +126,7 @@ std::vector<TopologyRow> read_topology_csv(std::istream& in, const std::string& 
     if (line.empty() || line[0] == '#') continue;
     const auto f = split(line);
     if (!header) {
-      for (size_t i = 0; i < 7; ++i)
-        if (i >= f.size() || f[i].text != names[i])
-          fail(src, lineno, i < f.size() ? f[i].column : static_cast<int>(line.size()) + 1, "header",
-               fmt::format("expected the columns {} (column {} should be '{}')", kTopologyHeader, i + 1, names[i]));
-      if (f.size() != 7) fail(src, lineno, f[7].column, "header", fmt::format("unexpected column '{}'", f[7].text));
+      check_header(f, line, names, kTopologyHeader, src, lineno);
       header = true;
       continue;
     }
@@ -164,11 +170,7 @@ std::vector<FlankTopology> read_traces_csv(std::istream& in, const std::string& 
     if (line.empty() || line[0] == '#') continue;
     const auto f = split(line);
     if (!header) {
-      for (size_t i = 0; i < 7; ++i)
-        if (i >= f.size() || f[i].text != names[i])
-          fail(src, lineno, i < f.size() ? f[i].column : static_cast<int>(line.size()) + 1, "header",
-               fmt::format("expected the columns {} (column {} should be '{}')", kTracesHeader, i + 1, names[i]));
-      if (f.size() != 7) fail(src, lineno, f[7].column, "header", fmt::format("unexpected column '{}'", f[7].text));
+      check_header(f, line, names, kTracesHeader, src, lineno);
       header = true;
       continue;
     }
