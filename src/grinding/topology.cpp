@@ -54,6 +54,12 @@ std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const G
     if (t < 1 || t > g.teeth()) throw std::invalid_argument(fmt::format("tooth {} is not one of 1..{}", t, g.teeth()));
   if (o.rows < 2 || o.cols < 2 || o.profile_points < 2 || o.helix_points < 2)
     throw std::invalid_argument("grid and traces need at least 2 points each way");
+  const long long per_flank = static_cast<long long>(o.rows) * o.cols + static_cast<long long>(o.dense_rows) * o.dense_cols +
+                              o.profile_points + o.helix_points;
+  if (per_flank > kMaxPointsPerFlank || per_flank * 2 * static_cast<long long>(teeth.size()) > kMaxPointsPerSimulation)
+    throw std::invalid_argument(fmt::format("{} points per flank on {} flanks is more than a simulation may hold ({} per "
+                                            "flank, {} in all): choose a coarser grid",
+                                            per_flank, 2 * teeth.size(), kMaxPointsPerFlank, kMaxPointsPerSimulation));
 
   const auto& r = setup.ranges();
   const auto rows = grid_roll_lengths(r, o.rows), cols = grid_axial_positions(r, o.cols);

@@ -34,6 +34,11 @@ struct FlankTopology {
   std::vector<GridPoint> dense; ///< empty unless requested
 };
 
+/// Largest grid (7×9 + dense) a flank may have: 4·10⁶ points, about 100 MB per flank of results.
+inline constexpr long long kMaxPointsPerFlank = 4'000'000;
+/// Largest number of points one simulation may compute over all flanks (memory stays under a few GB).
+inline constexpr long long kMaxPointsPerSimulation = 100'000'000;
+
 struct SimulationOptions {
   Method method = Method::Exact;
   std::vector<int> teeth;        ///< empty: all teeth
@@ -43,7 +48,8 @@ struct SimulationOptions {
   int threads = 0;               ///< 0: all hardware threads
 };
 
-/// One entry per requested tooth and flank, ordered by tooth then left, right.
+/// One entry per requested tooth and flank, ordered by tooth then left, right. Throws std::invalid_argument for a
+/// tooth outside 1..z, grids below 2×2, or more points than kMaxPointsPerFlank / kMaxPointsPerSimulation.
 std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const GrindingProcess& process,
                                              const SimulationOptions& options);
 

@@ -3,6 +3,7 @@
 #include "gears/field_error.hpp"
 #include "gears/gear_geometry.hpp"
 #include "scene/yaml_reader.hpp"
+#include "grinding/topology.hpp"
 #include "machine/error_table.hpp"
 #include "effects/registry.hpp"
 
@@ -222,6 +223,12 @@ MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& 
   if ((g.dense_rows > 0) != (g.dense_cols > 0))
     m.context().fail_field(m.field(g.dense_rows > 0 ? "dense_cols" : "dense_rows"),
                            "missing: give both dense_rows and dense_cols");
+  // Refuse grids that could not be held in memory before anything is allocated (per flank; all teeth × 2 flanks).
+  const long long per_flank = static_cast<long long>(g.rows) * g.cols + static_cast<long long>(g.dense_rows) * g.dense_cols;
+  if (per_flank > grinding::kMaxPointsPerFlank)
+    m.context().fail_field(m.field(g.dense_rows > 0 ? "dense_rows" : "rows"),
+                           fmt::format("{} points per flank is more than the {} a simulation may hold", per_flank,
+                                       grinding::kMaxPointsPerFlank));
   for (const auto& t : m.optional_text_list("teeth")) {
     int v = 0;
     const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);

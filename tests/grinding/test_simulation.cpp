@@ -156,3 +156,15 @@ TEST(Simulation, CErrorsShowBetweenTeethZErrorsAlongTheHelix) {
   const auto& g = z_topo[1].grid; // tooth 1 right flank: first and last column of the middle row
   EXPECT_GT(std::abs(g[3 * 9 + 8].deviation_um - g[3 * 9].deviation_um), 3.0);
 }
+
+TEST(Simulation, HugeGridsAreRefusedBeforeAllocating) {
+  const grinding::IdealProcess ideal;
+  grinding::SimulationOptions o;
+  o.dense_rows = 31623, o.dense_cols = 31623; // 10⁹ points per flank
+  try {
+    grinding::simulate_topology(paper_setup(), ideal, o);
+    FAIL() << "accepted 10^9 points per flank";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("more than a simulation may hold"), std::string::npos) << e.what();
+  }
+}

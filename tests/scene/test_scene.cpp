@@ -232,4 +232,7 @@ TEST(SceneSections, WheelProcessAndMeasurementAreChecked) {
             std::string::npos);
   EXPECT_NE(error_as_default(replace(text, "feed_mm_per_min: 1200", "feed_mm_per_min: 0")).find("process.feed_mm_per_min: 0 is outside (0, 100000]"),
             std::string::npos);
+  // A 10⁸-point grid per flank (10⁹ and more for the gear) is refused before anything is allocated.
+  const auto huge = error_as_default(replace(text, "helix_points: 150", "helix_points: 150\n  dense_rows: 10000\n  dense_cols: 10000"));
+  EXPECT_NE(huge.find("measurement.dense_rows: 100000063 points per flank is more than the 4000000"), std::string::npos) << huge;
 }
