@@ -92,6 +92,9 @@ struct HiddenCase {
   std::uint64_t seed;
 };
 
+// Readable test names in ctest's listing (instead of a byte dump of the parameter).
+void PrintTo(const HiddenCase& c, std::ostream* os) { *os << c.effect.type; }
+
 class HiddenEffect : public ::testing::TestWithParam<HiddenCase> {};
 
 } // namespace
