@@ -65,7 +65,11 @@ std::string cat(const Parts&... parts) {
   return s;
 }
 
-std::string quoted(std::string_view s) { return cat("'", s, "'"); }
+// Quotes a field in a message: whole, or its first 40 characters when longer (a corrupt file can hold a 64 KiB field).
+std::string quoted(std::string_view s) {
+  if (s.size() <= 40) return cat("'", s, "'");
+  return cat("'", s.substr(0, 40), "…' (", std::to_string(s.size()), " characters)");
+}
 
 std::string fixed(double v, int decimals) {
   char buf[64];

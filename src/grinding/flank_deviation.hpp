@@ -3,7 +3,8 @@
 // exact:  the ground flank is the envelope of the wheel at its actual poses. Along the flank's normal line
 //         P + t n (n out of the material), the wheel at stroke position Z first enters at t_in(Z); the material left is
 //         t < min_Z t_in(Z). The deviation (plus material positive) is that minimum. Z is searched continuously
-//         (Brent's method) around the nominal generating position Z₀ = z − z_c(ξ): no scallops from a pose step.
+//         (Brent's method, ±0.5 mm then ±4 mm) around the nominal generating position Z₀ = z − z_c(ξ): no scallops
+//         from a pose step.
 // linear: the first-order deviation n·(δp + δθ × P) − δR(v)/√(1 + R′(v)²) of the pose error twist and the radial
 //         wheel-radius error (moved onto the wheel's normal) at the generating pose (envelope theorem: moving the contact along the stroke changes it only to second order).
 // Units: mm in, mm out (callers convert to µm).

@@ -39,6 +39,13 @@ std::vector<Field> split(const std::string& line) {
   return out;
 }
 
+// What an error message quotes of a field: the field itself, or its first 40 characters when it is longer (a corrupt
+// file can hold a 64 KiB "number": the message must stay readable).
+std::string excerpt(std::string_view s) {
+  if (s.size() <= 40) return std::string(s);
+  return std::string(s.substr(0, 40)) + "… (" + std::to_string(s.size()) + " characters)";
+}
+
 [[noreturn]] void fail(const std::string& src, int line, int col, const std::string& field, const std::string& msg) {
   throw std::runtime_error(fmt::format("{}:{}:{}: {}: {}", src, line, col, field, msg));
 }
@@ -49,8 +56,8 @@ double number(const Field& f, const std::string& src, int line, const char* name
   const char* e = b + f.text.size();
   if (b != e && *b == '+') ++b;
   const auto [ptr, ec] = std::from_chars(b, e, v);
-  if (f.text.empty() || ec != std::errc() || ptr != e) fail(src, line, f.column, name, fmt::format("'{}' is not a number", f.text));
-  if (!std::isfinite(v)) fail(src, line, f.column, name, fmt::format("'{}' is not finite", f.text));
+  if (f.text.empty() || ec != std::errc() || ptr != e) fail(src, line, f.column, name, fmt::format("'{}' is not a number", excerpt(f.text)));
+  if (!std::isfinite(v)) fail(src, line, f.column, name, fmt::format("'{}' is not finite", excerpt(f.text)));
   return v;
 }
 
@@ -58,7 +65,7 @@ int whole(const Field& f, const std::string& src, int line, const char* name) {
   int v = 0;
   const auto [ptr, ec] = std::from_chars(f.text.data(), f.text.data() + f.text.size(), v);
   if (f.text.empty() || ec != std::errc() || ptr != f.text.data() + f.text.size())
-    fail(src, line, f.column, name, fmt::format("'{}' is not a whole number", f.text));
+    fail(src, line, f.column, name, fmt::format("'{}' is not a whole number", excerpt(f.text)));
   return v;
 }
 
@@ -69,7 +76,7 @@ void check_header(const std::vector<Field>& f, const std::string& line, const ch
     if (i >= f.size() || f[i].text != names[i])
       fail(src, lineno, i < f.size() ? f[i].column : static_cast<int>(line.size()) + 1, "header",
            fmt::format("expected the columns {} (column {} should be '{}')", header, i + 1, names[i]));
-  if (f.size() != 7) fail(src, lineno, f[7].column, "header", fmt::format("unexpected column '{}'", f[7].text));
+  if (f.size() != 7) fail(src, lineno, f[7].column, "header", fmt::format("unexpected column '{}'", excerpt(f[7].text)));
 }
 
 } // namespace
@@ -138,7 +145,7 @@ std::vector<TopologyRow> read_topology_csv(std::istream& in, const std::string& 
     r.tooth = whole(f[0], src, lineno, "tooth");
     if (r.tooth < 1 || r.tooth > teeth) fail(src, lineno, f[0].column, "tooth", fmt::format("{} is not one of 1..{}", r.tooth, teeth));
     const auto flank = gears::parse_flank(f[1].text);
-    if (!flank) fail(src, lineno, f[1].column, "flank", fmt::format("'{}' is neither left nor right", f[1].text));
+    if (!flank) fail(src, lineno, f[1].column, "flank", fmt::format("'{}' is neither left nor right", excerpt(f[1].text)));
     r.flank = *flank;
     r.row = whole(f[2], src, lineno, "row");
     if (r.row < 1) fail(src, lineno, f[2].column, "row", fmt::format("{} must be >= 1", r.row));
@@ -180,9 +187,9 @@ std::vector<FlankTopology> read_traces_csv(std::istream& in, const std::string& 
     const int tooth = whole(f[0], src, lineno, "tooth");
     if (tooth < 1 || tooth > teeth) fail(src, lineno, f[0].column, "tooth", fmt::format("{} is not one of 1..{}", tooth, teeth));
     const auto flank = gears::parse_flank(f[1].text);
-    if (!flank) fail(src, lineno, f[1].column, "flank", fmt::format("'{}' is neither left nor right", f[1].text));
+    if (!flank) fail(src, lineno, f[1].column, "flank", fmt::format("'{}' is neither left nor right", excerpt(f[1].text)));
     const bool profile = f[2].text == "profile";
-    if (!profile && f[2].text != "helix") fail(src, lineno, f[2].column, "trace", fmt::format("'{}' is neither profile nor helix", f[2].text));
+    if (!profile && f[2].text != "helix") fail(src, lineno, f[2].column, "trace", fmt::format("'{}' is neither profile nor helix", excerpt(f[2].text)));
     TracePoint p{number(f[3], src, lineno, "roll_length_mm"), number(f[4], src, lineno, "diameter_mm"),
                  number(f[5], src, lineno, "z_mm"), number(f[6], src, lineno, "deviation_um")};
     if (!(p.diameter_mm > 0.0)) fail(src, lineno, f[4].column, "diameter_mm", fmt::format("{} must be > 0", f[4].text));

@@ -13,6 +13,14 @@ namespace geartopo::machine {
 
 namespace {
 
+// What an error message quotes of a field: the field itself, or its first 40 characters when it is longer (a corrupt
+// file can hold a 64 KiB "number": the message must stay readable).
+std::string excerpt(std::string_view s) {
+  if (s.size() <= 40) return std::string(s);
+  return std::string(s.substr(0, 40)) + "… (" + std::to_string(s.size()) + " characters)";
+}
+
+
 std::string located(const std::string& file, int line, int column, const std::string& field, const std::string& msg) {
   std::string where = file;
   if (line > 0) where += fmt::format(":{}", line);
@@ -112,7 +120,7 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
       const auto ps = position_unit_scale(axis, unit);
       if (!ps) {
         if (unit.empty()) throw fail(line_no, p.column, position_field, "the position column has no unit");
-        if (!is_known_unit(unit)) throw fail(line_no, p.column, position_field, fmt::format("unknown unit '{}'", unit));
+        if (!is_known_unit(unit)) throw fail(line_no, p.column, position_field, fmt::format("unknown unit '{}'", excerpt(unit)));
         throw fail(line_no, p.column, position_field,
                    fmt::format("'{}' is not a position unit of axis {} (use {})", unit, axis_name(axis),
                                is_rotary(axis) ? "deg or rad" : "mm"));
@@ -131,7 +139,7 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
           // "delta_xx" without a unit splits as stem "delta", unit "xx": say what is missing.
           if (component_from_name(f.text))
             throw fail(line_no, f.column, name, "the error column has no unit (e.g. '_um' or '_urad')");
-          throw fail(line_no, f.column, name, fmt::format("unknown error component '{}'", stem));
+          throw fail(line_no, f.column, name, fmt::format("unknown error component '{}'", excerpt(stem)));
         }
         const ComponentInfo& c = info(*id);
         if (!c.position_dependent)
@@ -142,7 +150,7 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
                                  axis_name(c.axis), position_field));
         const auto vs = value_unit_scale(c.quantity, vunit);
         if (!vs) {
-          if (!is_known_unit(vunit)) throw fail(line_no, f.column, name, fmt::format("unknown unit '{}'", vunit));
+          if (!is_known_unit(vunit)) throw fail(line_no, f.column, name, fmt::format("unknown unit '{}'", excerpt(vunit)));
           throw fail(line_no, f.column, name,
                      fmt::format("unit '{}' does not fit {}, which is {} (use {})", vunit, c.name,
                                  c.quantity == Quantity::Length ? "a length" : "an angle", file_unit(c.quantity)));
@@ -173,8 +181,8 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
       double v = 0.0;
       const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
       if (ec != std::errc() || end != t.data() + t.size())
-        throw fail(line_no, f.column, fname, fmt::format("'{}' is not a number", f.text));
-      if (!std::isfinite(v)) throw fail(line_no, f.column, fname, fmt::format("'{}' is not a finite number", f.text));
+        throw fail(line_no, f.column, fname, fmt::format("'{}' is not a number", excerpt(f.text)));
+      if (!std::isfinite(v)) throw fail(line_no, f.column, fname, fmt::format("'{}' is not a finite number", excerpt(f.text)));
       if (k == 0) {
         if (!positions.empty() && !(v > positions.back()))
           throw fail(line_no, f.column, fname,

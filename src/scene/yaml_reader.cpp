@@ -31,12 +31,19 @@ std::optional<long long> parse_integer(const std::string& s) {
   return v;
 }
 
+// What an error message quotes of a field: the field itself, or its first 40 characters when it is longer (a corrupt
+// file can hold a 64 KiB "number": the message must stay readable).
+std::string excerpt(std::string_view s) {
+  if (s.size() <= 40) return std::string(s);
+  return std::string(s.substr(0, 40)) + "… (" + std::to_string(s.size()) + " characters)";
+}
+
 std::string kind_of(const YAML::Node& n) {
   switch (n.Type()) {
   case YAML::NodeType::Map: return "a map";
   case YAML::NodeType::Sequence: return "a list";
   case YAML::NodeType::Null: return "empty";
-  case YAML::NodeType::Scalar: return fmt::format("'{}'", n.Scalar());
+  case YAML::NodeType::Scalar: return fmt::format("'{}'", excerpt(n.Scalar()));
   default: return "undefined";
   }
 }
@@ -81,7 +88,8 @@ MapReader::MapReader(const YAML::Node& node, std::string path, ReadContext& ctx)
   if (!path_.empty()) ctx_.marks.emplace(path_, mark_);
 }
 
-bool MapReader::has(const std::string& key) const {
+bool MapReader::has(const std::string& key) {
+  known_.insert(key); // a reader that asks for a key knows it: "unknown key" messages list it
   for (const auto& kv : node_)
     if (scalar_of(kv.first) == key) return true;
   return false;
@@ -114,8 +122,8 @@ std::optional<double> MapReader::optional_number(const std::string& key, const R
   const auto& mark = ctx_.marks[field(key)];
   const auto v = n.IsScalar() ? parse_double(n.Scalar()) : std::nullopt;
   if (!v) ctx_.fail(mark, field(key), fmt::format("{} is not a number", kind_of(n)));
-  if (!std::isfinite(*v)) ctx_.fail(mark, field(key), fmt::format("{} is not finite", n.Scalar()));
-  if (!range.contains(*v)) ctx_.fail(mark, field(key), fmt::format("{} is outside {}", n.Scalar(), range.str()));
+  if (!std::isfinite(*v)) ctx_.fail(mark, field(key), fmt::format("{} is not finite", excerpt(n.Scalar())));
+  if (!range.contains(*v)) ctx_.fail(mark, field(key), fmt::format("{} is outside {}", excerpt(n.Scalar()), range.str()));
   return v;
 }
 
@@ -151,7 +159,7 @@ std::optional<std::string> MapReader::optional_choice(const std::string& key, co
   if (!v) return v;
   for (const auto& c : choices)
     if (*v == c) return v;
-  ctx_.fail(ctx_.marks[field(key)], field(key), fmt::format("'{}' is not one of: {}", *v, fmt::join(choices, ", ")));
+  ctx_.fail(ctx_.marks[field(key)], field(key), fmt::format("'{}' is not one of: {}", excerpt(*v), fmt::join(choices, ", ")));
 }
 
 std::vector<std::string> MapReader::optional_text_list(const std::string& key) {

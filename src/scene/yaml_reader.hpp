@@ -47,7 +47,7 @@ public:
   std::vector<std::string> optional_text_list(const std::string& key);
   MapReader map(const std::string& key);
   std::optional<MapReader> optional_map(const std::string& key);
-  bool has(const std::string& key) const;
+  bool has(const std::string& key); ///< also marks the key as known (for unknown-key messages)
   /// The raw node of a key (marked known), for lists of maps; undefined when absent.
   YAML::Node raw(const std::string& key) { return value(key); }
   /// Keys in file order (readers of open-ended maps, e.g. error constants, iterate over them).

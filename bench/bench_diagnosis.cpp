@@ -1,0 +1,54 @@
+// Diagnosis speed: teeth 1 and 18 (7×9 grid, both flanks: 252 points) "measured" on the truth scene
+// (scenes/truth-skmc1200w-mn14-z35.yaml, hidden thermal drift) with diagnosis::synthesize (0.5 µm noise, seed 1), then
+// diagnosis::diagnose on the default scene with every library effect as a candidate, noise estimated from the
+// residual (as `geartopo diagnose` without --noise-um). Counter `points`: measured points per second.
+#include "bench_scene.hpp"
+
+#include "diagnosis/diagnose.hpp"
+#include "diagnosis/synth.hpp"
+
+#include <benchmark/benchmark.h>
+
+using namespace geartopo;
+
+namespace {
+
+const std::vector<diagnosis::MeasuredPoint>& measured() {
+  static const auto pts = [] {
+    const auto& truth = bench::truth_scene();
+    diagnosis::SynthOptions o; // teeth 1 and 18, 7×9, 0.5 µm, seed 1
+    return diagnosis::measured_points(diagnosis::synthesize(truth.setup, truth.actual(), o), truth.setup.geometry(),
+                                      "synthetic");
+  }();
+  return pts;
+}
+
+void BM_Synthesize(benchmark::State& state) {
+  const auto& truth = bench::truth_scene();
+  size_t n = 0;
+  for (auto _ : state) {
+    const auto rows = diagnosis::synthesize(truth.setup, truth.actual(), diagnosis::SynthOptions{});
+    n = rows.size();
+    benchmark::DoNotOptimize(rows.data());
+  }
+  state.counters["points"] = benchmark::Counter(static_cast<double>(n) * static_cast<double>(state.iterations()),
+                                                benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Synthesize)->Name("Synthesize/teeth1+18/grid7x9")->UseRealTime()->Unit(benchmark::kMillisecond);
+
+void BM_Diagnose(benchmark::State& state) {
+  const auto& model = bench::default_scene();
+  const auto& pts = measured();
+  std::string chosen;
+  for (auto _ : state) {
+    const auto d = diagnosis::diagnose(model.setup, model.actual(), pts, model.in_scene, diagnosis::DiagnoseOptions{});
+    chosen = d.chosen ? d.chosen->name() : "none";
+    benchmark::DoNotOptimize(d.ranked.data());
+  }
+  state.SetLabel("chosen: " + chosen);
+  state.counters["points"] = benchmark::Counter(static_cast<double>(pts.size()) * static_cast<double>(state.iterations()),
+                                                benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Diagnose)->Name("Diagnose/all_library_effects/teeth1+18")->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(2);
+
+} // namespace

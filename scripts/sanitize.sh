@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# CI step: build geartopo with AddressSanitizer + UndefinedBehaviorSanitizer (Debug) in build-asan/ and run the whole
+# ctest suite under them. Any ASan error, leak (LeakSanitizer) or UBSan report fails the step.
+#
+#   bash scripts/sanitize.sh            # from the repository root or anywhere
+#   BUILD_DIR=/tmp/asan JOBS=4 bash scripts/sanitize.sh
+#
+# Duration on the 2-core reference machine: see docs/performance.md ("Sanitizer run"), well under 60 minutes.
+# Needs the packages of scripts/install-deps.sh (run it first on a fresh machine).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+build_dir=${BUILD_DIR:-build-asan}
+jobs=${JOBS:-$(nproc)}
+flags="-fsanitize=address,undefined -fno-omit-frame-pointer"
+
+start=$(date +%s)
+cmake -S . -B "$build_dir" -G Ninja \
+  -DCMAKE_BUILD_TYPE=Debug \
+  -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_C_FLAGS="$flags" \
+  -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags" \
+  -DGEARTOPO_BUILD_TESTS=ON -DGEARTOPO_BUILD_BENCH=OFF >/dev/null
+cmake --build "$build_dir" -j "$jobs"
+built=$(date +%s)
+
+# detect_leaks: LeakSanitizer works on this machine (Debian 12, x86-64); it must be off under ptrace (gdb, strace).
+# halt_on_error: the first UBSan report aborts the test, so ctest marks it failed (UBSan reports are otherwise only
+# printed). abort_on_error=0 keeps ASan's exit code (1) instead of a core dump.
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1
+export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+status=0
+ctest --test-dir "$build_dir" --output-on-failure -j "$jobs" --timeout 1500 || status=$?
+end=$(date +%s)
+
+echo "sanitize: build $((built - start)) s, tests $((end - built)) s, total $((end - start)) s; ctest exit $status"
+exit "$status"

@@ -1,0 +1,242 @@
+#!/usr/bin/env python3
+"""Writes the broken-input corpus replayed by tests/robustness/test_corpus.cpp.
+
+The files are kept in the repository; this script documents how each was made (and remakes them). Every file must be
+refused with a clear message: the expected exception, line and message fragment of each are in
+<folder>/expected.tsv (one row per file; the test fails for a file without a row or a row without a file).
+
+Run from anywhere:  python3 tests/robustness/corpus/make_corpus.py
+"""
+import os
+import random
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+GEAR = """gear:
+  normal_module_mm: 14
+  teeth: 35
+  normal_pressure_angle_deg: 20
+  helix_angle_deg: 30
+  profile_shift: 0.274
+  face_width_mm: 150
+"""
+
+def gear(**over):
+    """The seed paper's gear with some keys replaced (value None: key removed)."""
+    keys = {"normal_module_mm": "14", "teeth": "35", "normal_pressure_angle_deg": "20", "helix_angle_deg": "30",
+            "profile_shift": "0.274", "face_width_mm": "150"}
+    extra = {}
+    for k, v in over.items():
+        if k in keys:
+            if v is None:
+                del keys[k]
+            else:
+                keys[k] = v
+        else:
+            extra[k] = v
+    keys.update(extra)
+    return "gear:\n" + "".join(f"  {k}: {v}\n" for k, v in keys.items())
+
+
+def write(folder, name, data, expected, note=""):
+    path = os.path.join(HERE, folder, name)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    mode = "wb" if isinstance(data, bytes) else "w"
+    with open(path, mode, **({} if mode == "wb" else {"newline": ""})) as f:
+        f.write(data)
+    ROWS.setdefault(folder, []).append((name,) + expected + (note,))
+
+
+ROWS = {}
+rng = random.Random(20261121)
+junk = bytes(rng.randrange(256) for _ in range(4096))
+
+# ---------------------------------------------------------------------------------------------------- scenes
+# expected: (exception, line (0: none expected, -1: any), message fragment)
+S = "scenes"
+write(S, "syntax_unclosed_bracket.yaml", GEAR + "measurement:\n  teeth: [1, 2\n", ("SceneError", -1, "YAML syntax error"))
+write(S, "syntax_bad_indent.yaml", "gear:\n  normal_module_mm: 14\n teeth: 35\n", ("SceneError", -1, "YAML syntax error"))
+write(S, "syntax_tab_indent.yaml", "gear:\n\tnormal_module_mm: 14\n", ("SceneError", -1, "YAML syntax error"))
+# yaml-cpp 0.7 lets an unterminated double quote run to the end of the file: refused, but as "gear: missing".
+write(S, "syntax_unclosed_quote.yaml", 'name: "unterminated\n' + GEAR, ("SceneError", -1, "gear"))
+write(S, "wrong_type_teeth_text.yaml", gear(teeth="many"), ("SceneError", 3, "gear.teeth"))
+write(S, "wrong_type_teeth_fraction.yaml", gear(teeth="35.5"), ("SceneError", 3, "not a whole number"))
+write(S, "wrong_type_gear_is_list.yaml", "gear: [14, 35, 20]\n", ("SceneError", 1, "expected a map"))
+write(S, "wrong_type_module_is_map.yaml", gear(normal_module_mm="{value: 14}"), ("SceneError", 2, "gear.normal_module_mm"))
+write(S, "wrong_type_top_is_scalar.yaml", "just a string\n", ("SceneError", -1, "expected a map"))
+write(S, "nan_module.yaml", gear(normal_module_mm=".nan"), ("SceneError", 2, "gear.normal_module_mm"))
+write(S, "nan_plain_module.yaml", gear(normal_module_mm="nan"), ("SceneError", 2, "gear.normal_module_mm"))
+write(S, "inf_face_width.yaml", gear(face_width_mm=".inf"), ("SceneError", 7, "gear.face_width_mm"))
+write(S, "inf_negative_helix.yaml", gear(helix_angle_deg="-.inf"), ("SceneError", 5, "gear.helix_angle_deg"))
+write(S, "nan_stroke.yaml", GEAR + "machine:\n  strokes: {x_mm: [0, nan]}\n", ("SceneError", 9, "machine.strokes.x_mm"))
+write(S, "nan_constant.yaml", GEAR + "machine:\n  constants:\n    S_xy_urad: .nan\n", ("SceneError", 10, "S_xy_urad"))
+write(S, "nan_polynomial.yaml", GEAR + "machine:\n  polynomials:\n    delta_xx: {unit: um, position_unit: mm, coefficients: [0, nan]}\n",
+      ("SceneError", -1, "coefficients"))
+write(S, "nan_effect_parameter.yaml", GEAR + "effects:\n  - type: thermal_drift\n    x_growth_um: .nan\n", ("SceneError", 10, "x_growth_um"))
+write(S, "nan_wheel.yaml", GEAR + "wheel:\n  outer_diameter_mm: .NaN\n", ("SceneError", 9, "wheel.outer_diameter_mm"))
+write(S, "unknown_key_top.yaml", GEAR + "gearbox: 3\n", ("SceneError", 8, "unknown key"))
+write(S, "unknown_key_typo.yaml", gear(normal_modul_mm="14"), ("SceneError", 8, "gear.normal_modul_mm"))
+write(S, "unknown_key_measurement.yaml", GEAR + "measurement:\n  rowz: 7\n", ("SceneError", 9, "unknown key"))
+write(S, "duplicate_key.yaml", GEAR + "  teeth: 36\n", ("SceneError", 8, "duplicate key"))
+write(S, "huge_module.yaml", gear(normal_module_mm="1e308"), ("SceneError", 2, "outside"))
+write(S, "huge_overflow_number.yaml", gear(face_width_mm="1e400"), ("SceneError", 7, "gear.face_width_mm"))
+write(S, "huge_teeth.yaml", gear(teeth="99999999999999999999999"), ("SceneError", 3, "gear.teeth"))
+write(S, "huge_teeth_in_range.yaml", gear(teeth="10000"), ("SceneError", -1, ""))
+write(S, "huge_datum.yaml", GEAR + "machine:\n  datum_face_z_mm: 1e300\n", ("SceneError", 9, "machine.datum_face_z_mm"))
+write(S, "empty.yaml", "", ("SceneError", 0, "empty scene"))
+write(S, "only_comments.yaml", "# nothing here\n# at all\n", ("SceneError", 0, "empty scene"))
+write(S, "only_whitespace.yaml", "   \n\n  \n", ("SceneError", 0, "empty scene"))
+write(S, "binary_junk.yaml", junk, ("SceneError", -1, ""))
+write(S, "nul_bytes.yaml", GEAR.encode()[:40] + b"\x00\x00\x00" + GEAR.encode()[40:], ("SceneError", -1, ""))
+write(S, "deeply_nested_lists.yaml", GEAR + "name: " + "[" * 5000 + "]" * 5000 + "\n", ("SceneError", -1, ""))
+write(S, "deeply_nested_maps.yaml", GEAR + "name: " + "{a: " * 5000 + "1" + "}" * 5000 + "\n", ("SceneError", -1, ""))
+write(S, "deeply_nested_block.yaml", GEAR + "measurement:\n" + "".join(" " * (i + 2) + f"k{i}:\n" for i in range(300)),
+      ("SceneError", 9, "unknown key"))
+write(S, "long_line_number.yaml", gear(normal_module_mm="1" * 65_536), ("SceneError", 2, "gear.normal_module_mm"))
+# YAML limits implicit keys to 1024 characters: a syntax error.
+write(S, "long_line_key.yaml", GEAR + "x" * 65_536 + ": 1\n", ("SceneError", 8, "YAML syntax error"))
+write(S, "teeth_4.yaml", gear(teeth="4"), ("SceneError", 3, "gear.teeth"))
+write(S, "teeth_negative.yaml", gear(teeth="-35"), ("SceneError", 3, "gear.teeth"))
+write(S, "helix_45.yaml", gear(helix_angle_deg="45"), ("SceneError", -1, "helix"))
+write(S, "helix_minus_50.yaml", gear(helix_angle_deg="-50"), ("SceneError", 5, "gear.helix_angle_deg"))
+write(S, "hand_contradicts_helix.yaml", gear(hand="left"), ("SceneError", 8, "gear.hand"))
+write(S, "module_0.yaml", gear(normal_module_mm="0"), ("SceneError", 2, "gear.normal_module_mm"))
+write(S, "module_negative.yaml", gear(normal_module_mm="-14"), ("SceneError", 2, "gear.normal_module_mm"))
+write(S, "undercut.yaml", gear(teeth="8", helix_angle_deg="0", profile_shift="-0.5"), ("SceneError", -1, "undercut"))
+write(S, "pointed_tip.yaml", gear(tip_diameter_mm="625"), ("SceneError", 8, "pointed-tip"))
+write(S, "root_above_form.yaml", gear(root_diameter_mm="560"), ("SceneError", -1, "gear.root_diameter_mm"))
+write(S, "missing_gear.yaml", "name: no gear\n", ("SceneError", -1, "gear"))
+write(S, "missing_teeth.yaml", gear(teeth=None), ("SceneError", -1, "gear.teeth"))
+write(S, "table_one_point.yaml", GEAR + "machine:\n  tables: [../error_tables/one_point.csv]\n", ("SceneError", -1, "one_point.csv"))
+write(S, "table_c_not_closed.yaml", GEAR + "machine:\n  tables: [../error_tables/c_not_closed.csv]\n", ("SceneError", -1, "c_not_closed.csv"))
+write(S, "table_missing_file.yaml", GEAR + "machine:\n  tables: [../error_tables/no_such_table.csv]\n", ("SceneError", -1, "no_such_table.csv"))
+write(S, "table_binary.yaml", GEAR + "machine:\n  tables: [../error_tables/binary_junk.csv]\n", ("SceneError", -1, "binary_junk.csv"))
+write(S, "table_short_stroke.yaml", GEAR + "machine:\n  tables: [../error_tables/x_short.csv]\n", ("SceneError", -1, "x_short.csv"))
+write(S, "grid_rows_1.yaml", GEAR + "measurement:\n  rows: 1\n", ("SceneError", 9, "measurement.rows"))
+write(S, "grid_huge_1e10.yaml", GEAR + "measurement:\n  dense_rows: 100000\n  dense_cols: 100000\n", ("SceneError", 9, "measurement.dense_rows"))
+# 10000 × 10000 = 1e8 points per flank (7e9 for 70 flanks, ~336 GB of GridPoint): each size is in range, the product
+# is not (grinding::kMaxPointsPerFlank = 4e6). Accepted until 2026-11-21.
+write(S, "grid_dense_1e8_per_flank.yaml", GEAR + "measurement:\n  dense_rows: 10000\n  dense_cols: 10000\n",
+      ("SceneError", 9, "points per flank"), "the reader must bound dense_rows x dense_cols, not each alone")
+write(S, "grid_dense_just_over_4e6.yaml", GEAR + "measurement:\n  rows: 1000\n  cols: 1000\n  dense_rows: 2000\n  dense_cols: 1501\n",
+      ("SceneError", -1, "points per flank"))
+write(S, "grid_dense_one_side.yaml", GEAR + "measurement:\n  dense_rows: 50\n", ("SceneError", -1, "dense_cols"))
+write(S, "grid_tooth_36.yaml", GEAR + "measurement:\n  teeth: [1, 36]\n", ("SceneError", 9, "measurement.teeth"))
+write(S, "process_first_space_36.yaml", GEAR + "process:\n  first_space: 36\n", ("SceneError", -1, "first_space"))
+write(S, "process_index_step_not_coprime.yaml", GEAR + "process:\n  index_step: 5\n", ("SceneError", -1, "index_step"))
+write(S, "process_feed_0.yaml", GEAR + "process:\n  feed_mm_per_min: 0\n", ("SceneError", 9, "process.feed_mm_per_min"))
+write(S, "process_stroke_sideways.yaml", GEAR + "process:\n  stroke: sideways\n", ("SceneError", 9, "process.stroke"))
+write(S, "effect_unknown.yaml", GEAR + "effects:\n  - type: gremlins\n", ("SceneError", 9, "effects[0].type"))
+write(S, "effect_twice.yaml", GEAR + "effects:\n  - type: wheel_wear\n  - type: wheel_wear\n", ("SceneError", 10, "listed twice"))
+write(S, "effects_not_a_list.yaml", GEAR + "effects: thermal_drift\n", ("SceneError", 8, "effects"))
+write(S, "strokes_reversed.yaml", GEAR + "machine:\n  strokes: {z_mm: [800, 0]}\n", ("SceneError", 9, "machine.strokes.z_mm"))
+write(S, "wheel_too_small.yaml", GEAR + "wheel:\n  outer_diameter_mm: 5\n", ("SceneError", 9, "wheel.outer_diameter_mm"))
+write(S, "bom_crlf_nan.yaml", b"\xef\xbb\xbf" + gear(normal_module_mm=".nan").replace("\n", "\r\n").encode(), ("SceneError", 2, "gear.normal_module_mm"))
+write(S, "component_unknown.yaml", GEAR + "machine:\n  constants:\n    S_xq_urad: 3\n", ("SceneError", 10, "S_xq"))
+
+# ---------------------------------------------------------------------------------------------------- error tables
+# expected: (exception, line, fragment)
+E = "error_tables"
+HX = "x_mm,delta_xx_um,delta_yx_um\n"
+def xrows(n=10, step=100.0):
+    return "".join(f"{i * step:g},{0.1 * i:.4f},{-0.05 * i:.4f}\n" for i in range(n))
+write(E, "one_point.csv", "# one row only\n" + HX + "0,1.0,2.0\n", ("TableError", 3, "at least 2"))
+C_HEAD = "c_deg,delta_xc_um,delta_yc_um\n"
+write(E, "c_not_closed.csv", C_HEAD + "".join(f"{a},{1 + a / 100:.3f},0\n" for a in range(0, 360, 30)), ("TableError", -1, "c_deg"))
+write(E, "c_values_differ.csv", C_HEAD + "".join(f"{a},{1 + a / 100:.3f},0\n" for a in range(0, 361, 30)), ("TableError", -1, "delta_xc_um"))
+write(E, "c_half_turn.csv", C_HEAD + "".join(f"{a},1,0\n" for a in range(0, 181, 30)), ("TableError", -1, "c_deg"))
+write(E, "truncated_line.csv", HX + xrows(3) + "300,0.3\n" + xrows(2), ("TableError", 5, ""))
+write(E, "truncated_file.csv", HX + xrows(3) + "300,0.", ("TableError", 5, ""))
+write(E, "extra_field.csv", HX + "0,0,0\n100,1,1,1\n", ("TableError", 3, ""))
+write(E, "nan_value.csv", HX + xrows(2) + "200,nan,0\n", ("TableError", 4, "delta_xx_um"))
+write(E, "inf_value.csv", HX + xrows(2) + "200,0,-inf\n", ("TableError", 4, "delta_yx_um"))
+write(E, "nan_position.csv", HX + "0,0,0\nNaN,1,1\n", ("TableError", 3, "x_mm"))
+write(E, "huge_value.csv", HX + "0,0,0\n100,1e400,0\n", ("TableError", 3, "delta_xx_um"))
+write(E, "wrong_header.csv", "q_mm,delta_xx_um\n0,0\n100,1\n", ("TableError", 1, "q_mm"))
+write(E, "no_header_numbers_first.csv", "0,0,0\n100,1,1\n", ("TableError", 1, ""))
+write(E, "unknown_component.csv", "x_mm,delta_qq_um\n0,0\n100,1\n", ("TableError", 1, "delta_qq"))
+write(E, "component_of_other_axis.csv", "x_mm,delta_xz_um\n0,0\n100,1\n", ("TableError", 1, "delta_xz_um"))
+write(E, "unknown_unit.csv", "x_mm,delta_xx_furlong\n0,0\n100,1\n", ("TableError", 1, "furlong"))
+write(E, "duplicate_column.csv", "x_mm,delta_xx_um,delta_xx_nm\n0,0,0\n100,1,1\n", ("TableError", 1, "delta_xx_nm"))
+write(E, "duplicate_position.csv", HX + "0,0,0\n100,1,1\n100,2,2\n200,3,3\n", ("TableError", 4, "x_mm"))
+write(E, "decreasing_positions.csv", HX + "0,0,0\n200,1,1\n100,2,2\n", ("TableError", 4, "x_mm"))
+write(E, "empty.csv", "", ("TableError", 0, "no header"))
+write(E, "only_comments.csv", "# a comment\n\n# another\n", ("TableError", 0, "no header"))
+write(E, "only_header.csv", HX, ("TableError", -1, ""))
+write(E, "empty_field.csv", HX + "0,,0\n100,1,1\n", ("TableError", 2, "empty field"))
+write(E, "text_value.csv", HX + "0,zero,0\n100,1,1\n", ("TableError", 2, "delta_xx_um"))
+write(E, "bom_crlf_nan.csv", b"\xef\xbb\xbf" + (HX + xrows(2) + "200,NaN,0\n").replace("\n", "\r\n").encode(), ("TableError", 4, ""))
+write(E, "binary_junk.csv", junk, ("TableError", -1, ""))
+write(E, "long_line.csv", HX + "0," + "1" * 65_536 + ",0\n100,1,1\n", ("TableError", 2, "delta_xx_um"))
+write(E, "x_short.csv", HX + xrows(3), ("TableError", -1, ""))  # valid table, but covers only X 0..200: the scene refuses it
+
+# ---------------------------------------------------------------------------------------------------- topology CSV
+T = "topology"
+TH = "tooth,flank,row,col,diameter_mm,z_mm,deviation_um\n"
+def trows(n=4):
+    return "".join(f"1,left,{1 + i // 2},{1 + i % 2},{560 + i:.3f},{10 + 20 * (i % 2):.3f},{0.5 * i:.4f}\n" for i in range(n))
+write(T, "wrong_header.csv", "tooth,side,row,col,diameter_mm,z_mm,deviation_um\n" + trows(), ("runtime_error", 1, "header"))
+write(T, "reordered_header.csv", "flank,tooth,row,col,diameter_mm,z_mm,deviation_um\n" + trows(), ("runtime_error", 1, "header"))
+write(T, "extra_header_column.csv", TH.rstrip("\n") + ",note\n" + trows(), ("runtime_error", 1, "note"))
+write(T, "missing_header.csv", trows(), ("runtime_error", 1, "header"))
+write(T, "truncated_line.csv", TH + trows(2) + "1,left,2,1,562.0\n", ("runtime_error", 4, "fields"))
+# Cut in the middle of the 6th field, no final newline. (A cut that leaves a number, e.g. "0.1234" → "0.", cannot be
+# told from a complete file unless a final newline is required: docs/performance.md, robustness findings.)
+write(T, "truncated_file.csv", TH + trows(2) + "1,left,2,1,562.0,1", ("runtime_error", 4, "fields"))
+write(T, "nan_deviation.csv", TH + trows(2) + "1,left,2,1,562.0,10.0,nan\n", ("runtime_error", 4, "deviation_um"))
+write(T, "inf_z.csv", TH + trows(2) + "1,left,2,1,562.0,inf,0.1\n", ("runtime_error", 4, "z_mm"))
+write(T, "negative_diameter.csv", TH + "1,left,1,1,-560,10,0.1\n", ("runtime_error", 2, "diameter_mm"))
+write(T, "duplicate_point.csv", TH + trows(3) + "1,left,1,1,560.0,10.0,0.7\n", ("runtime_error", 5, "duplicate"))
+write(T, "unknown_flank.csv", TH + "1,middle,1,1,560,10,0.1\n", ("runtime_error", 2, "flank"))
+write(T, "tooth_0.csv", TH + "0,left,1,1,560,10,0.1\n", ("runtime_error", 2, "tooth"))
+write(T, "tooth_36.csv", TH + "36,right,1,1,560,10,0.1\n", ("runtime_error", 2, "tooth"))
+write(T, "tooth_fraction.csv", TH + "1.5,right,1,1,560,10,0.1\n", ("runtime_error", 2, "tooth"))
+write(T, "tooth_overflow.csv", TH + "99999999999999999999,right,1,1,560,10,0.1\n", ("runtime_error", 2, "tooth"))
+write(T, "row_0.csv", TH + "1,left,0,1,560,10,0.1\n", ("runtime_error", 2, "row"))
+write(T, "empty.csv", "", ("runtime_error", -1, "header"))
+write(T, "only_header.csv", TH, ("runtime_error", -1, "no data rows"))
+write(T, "bom_crlf_nan.csv", b"\xef\xbb\xbf" + (TH + trows(2) + "1,left,2,1,562.0,10.0,NaN\n").replace("\n", "\r\n").encode(),
+      ("runtime_error", -1, ""))
+write(T, "crlf_nan.csv", (TH + trows(2) + "1,left,2,1,562.0,10.0,NaN\n").replace("\n", "\r\n"), ("runtime_error", 4, "deviation_um"))
+write(T, "binary_junk.csv", junk, ("runtime_error", -1, ""))
+write(T, "long_line.csv", TH + "1,left,1,1,560,10," + "9" * 65_536 + "\n", ("runtime_error", -1, ""))
+write(T, "off_the_flank.csv", TH + "1,left,1,1,700,10,0.1\n", ("runtime_error", 2, "diameter"))  # read_measurement only
+write(T, "traces_unknown_trace.csv", "tooth,flank,trace,roll_length_mm,diameter_mm,z_mm,deviation_um\n1,left,lead,10,560,75,0.1\n",
+      ("runtime_error", 2, "trace"))
+write(T, "traces_not_increasing.csv", "tooth,flank,trace,roll_length_mm,diameter_mm,z_mm,deviation_um\n"
+      "1,left,profile,10,560,75,0.1\n1,left,profile,20,565,75,0.1\n1,left,profile,15,563,75,0.1\n", ("runtime_error", 4, "roll_length_mm"))
+write(T, "traces_nan.csv", "tooth,flank,trace,roll_length_mm,diameter_mm,z_mm,deviation_um\n1,left,helix,10,560,nan,0.1\n",
+      ("runtime_error", 2, "z_mm"))
+
+# ---------------------------------------------------------------------------------------------------- point clouds
+P = "point_clouds"
+PH = "x_mm,y_mm,z_mm\n"
+def prows(n=4):
+    return "".join(f"{280 + i:.3f},{5 * i:.3f},{10 + i:.3f}\n" for i in range(n))
+write(P, "wrong_header.csv", "x,y,z\n" + prows(), ("runtime_error", 1, "header"))
+write(P, "missing_header.csv", prows(), ("runtime_error", 1, "header"))
+write(P, "truncated_line.csv", PH + prows(2) + "290.0,3.0\n", ("runtime_error", 4, ""))
+write(P, "truncated_file.csv", PH + prows(2) + "290.0,3.0,", ("runtime_error", 4, ""))
+write(P, "extra_field.csv", PH + prows(2) + "290,3,4,5\n", ("runtime_error", 4, ""))
+write(P, "nan.csv", PH + prows(2) + "290,nan,4\n", ("runtime_error", 4, "y_mm"))
+write(P, "inf.csv", PH + prows(2) + "290,3,-inf\n", ("runtime_error", 4, "z_mm"))
+write(P, "huge_overflow.csv", PH + prows(2) + "1e400,3,4\n", ("runtime_error", 4, "x_mm"))
+write(P, "duplicate_point.csv", PH + prows(3) + "280.000,0.000,10.000\n", ("runtime_error", 5, "line 2"))
+write(P, "duplicate_id.csv", "x_mm,y_mm,z_mm,id\n1,2,3,7\n4,5,6,7\n", ("runtime_error", 3, "id"))
+write(P, "negative_id.csv", "x_mm,y_mm,z_mm,id\n1,2,3,-1\n", ("runtime_error", 2, "id"))
+write(P, "fractional_id.csv", "x_mm,y_mm,z_mm,id\n1,2,3,1.5\n", ("runtime_error", 2, "id"))
+write(P, "empty.csv", "", ("runtime_error", -1, ""))
+write(P, "only_header.csv", PH, ("runtime_error", -1, ""))
+write(P, "only_comments.csv", "# scanner export\n\n", ("runtime_error", -1, ""))
+write(P, "bom_crlf_nan.csv", b"\xef\xbb\xbf" + (PH + prows(2) + "290,NaN,4\n").replace("\n", "\r\n").encode(), ("runtime_error", 4, "y_mm"))
+write(P, "binary_junk.csv", junk, ("runtime_error", -1, ""))
+write(P, "nul_in_number.csv", PH.encode() + b"280.0,0\x00.5,10\n", ("runtime_error", 2, "y_mm"))
+write(P, "long_line.csv", PH + "1," + "2" * 65_536 + ",3\n", ("runtime_error", 2, ""))
+write(P, "semicolons.csv", "x_mm;y_mm;z_mm\n1;2;3\n", ("runtime_error", 1, "header"))
+
+for folder, rows in ROWS.items():
+    with open(os.path.join(HERE, folder, "expected.tsv"), "w") as f:
+        f.write("# file\texception\tline (0: none, -1: any)\tmessage fragment\tnote\n")
+        for name, exc, line, frag, note in rows:
+            f.write(f"{name}\t{exc}\t{line}\t{frag}\t{note}\n")
+print({k: len(v) for k, v in ROWS.items()})

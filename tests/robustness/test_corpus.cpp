@@ -1,0 +1,183 @@
+// Replays the broken-input corpus (corpus/<folder>/*, made by corpus/make_corpus.py). Every file must be refused by
+// the public reader with a clear exception: the expected type, a message that names the file (and the line, where
+// <folder>/expected.tsv gives one) and contains the expected fragment. Never a crash, a hang (ctest TIMEOUT) or an
+// accepted NaN (a file that loads is a failure).
+//
+// Readers: scenes → scene::load_scene; error_tables → machine::load_error_tables; topology → grinding::read_topology_csv
+// (traces_* → grinding::read_traces_csv) and diagnosis::read_measurement; point_clouds → surfaces::read_point_cloud;
+// topology and point clouds also through diagnosis::read_any_measurement (tells the two apart by the header).
+#include "robustness_support.hpp"
+
+#include "diagnosis/compare.hpp"
+#include "diagnosis/measured_points.hpp"
+#include "grinding/topology_csv.hpp"
+#include "machine/error_table.hpp"
+#include "scene/scene.hpp"
+#include "surfaces/point_cloud.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <functional>
+#include <regex>
+#include <set>
+#include <sstream>
+
+using namespace geartopo;
+using namespace geartopo::robustness;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CorpusCase {
+  std::string folder, file;
+  std::string exception; ///< SceneError, TableError, runtime_error, invalid_argument
+  int line = -1;         ///< expected line; 0: the message must not name a line; -1: any
+  std::string fragment;  ///< must occur in what()
+  std::string note;      ///< printed on failure (e.g. a known finding)
+};
+
+std::vector<CorpusCase> read_expected(const std::string& folder) {
+  std::vector<CorpusCase> out;
+  std::ifstream in(kCorpus / folder / "expected.tsv");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, '\t');) f.push_back(x);
+    f.resize(5);
+    out.push_back({folder, f[0], f[1], std::stoi(f[2]), f[3], f[4]});
+  }
+  return out;
+}
+
+std::vector<CorpusCase> all_cases() {
+  std::vector<CorpusCase> out;
+  for (const char* folder : {"scenes", "error_tables", "topology", "point_clouds"})
+    for (auto& c : read_expected(folder)) out.push_back(std::move(c));
+  return out;
+}
+
+// The line named right after `file:` in a message, 0 if none.
+int line_after(const std::string& what, const std::string& file) {
+  const auto at = what.find(file + ":");
+  if (at == std::string::npos) return 0;
+  const auto b = at + file.size() + 1;
+  size_t e = b;
+  while (e < what.size() && std::isdigit(static_cast<unsigned char>(what[e]))) ++e;
+  return e > b ? std::stoi(what.substr(b, e - b)) : 0;
+}
+
+struct Caught {
+  std::string type, what;
+  int line = -1; ///< from the exception object when it carries one
+};
+
+// Runs fn and reports what it threw ("" when it returned: the file was accepted).
+Caught catch_from(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const scene::SceneError& e) {
+    return {"SceneError", e.what(), e.line()};
+  } catch (const machine::TableError& e) {
+    return {"TableError", e.what(), e.line()};
+  } catch (const std::invalid_argument& e) {
+    return {"invalid_argument", e.what()};
+  } catch (const std::runtime_error& e) {
+    return {"runtime_error", e.what()};
+  } catch (const std::exception& e) {
+    return {std::string("unexpected std::exception: ") + typeid(e).name(), e.what()};
+  } catch (...) {
+    return {"unexpected non-std exception", ""};
+  }
+  return {};
+}
+
+// Does the message name this file and carry the expected line and fragment?
+void check_message(const CorpusCase& c, const Caught& got, const std::string& reader, bool check_type = true) {
+  SCOPED_TRACE(reader + " on " + c.folder + "/" + c.file + (c.note.empty() ? "" : "  NOTE: " + c.note));
+  ASSERT_FALSE(got.type.empty()) << "accepted: the file loaded without an exception";
+  if (check_type) {
+    EXPECT_EQ(got.type, c.exception) << got.what;
+  } else {
+    EXPECT_TRUE(got.type == "SceneError" || got.type == "TableError" || got.type == "runtime_error" ||
+                got.type == "invalid_argument")
+        << got.type << ": " << got.what;
+  }
+  // A scene that refers to a broken table is reported at the table: the fragment names that file.
+  const bool names_other = c.folder == "scenes" && c.fragment.size() > 4 && c.fragment.ends_with(".csv");
+  const std::string named = names_other ? c.fragment : c.file;
+  EXPECT_NE(got.what.find(named), std::string::npos) << "the message does not name " << named << ": " << got.what;
+  EXPECT_NE(got.what.find(c.fragment), std::string::npos) << "expected '" << c.fragment << "' in: " << got.what;
+  const int line = got.line >= 0 ? got.line : line_after(got.what, named);
+  if (c.line > 0 && !names_other) {
+    EXPECT_EQ(line, c.line) << got.what;
+  }
+  if (c.line == 0) {
+    EXPECT_EQ(line, 0) << got.what;
+  }
+}
+
+// Readable parameter in failure messages (instead of a byte dump).
+[[maybe_unused]] void PrintTo(const CorpusCase& c, std::ostream* os) { *os << c.folder << "/" << c.file; }
+
+class Corpus : public ::testing::TestWithParam<CorpusCase> {};
+
+} // namespace
+
+TEST_P(Corpus, IsRefusedWithAClearMessage) {
+  const CorpusCase& c = GetParam();
+  const fs::path path = kCorpus / c.folder / c.file;
+  ASSERT_TRUE(fs::exists(path)) << path;
+  if (c.folder == "scenes") {
+    check_message(c, catch_from([&] { (void)scene::load_scene(path); }), "scene::load_scene");
+  } else if (c.folder == "error_tables") {
+    if (c.file == "x_short.csv") { // valid on its own; the scene refuses it for not covering the X stroke
+      EXPECT_NO_THROW((void)machine::load_error_tables(path));
+      return;
+    }
+    check_message(c, catch_from([&] { (void)machine::load_error_tables(path); }), "machine::load_error_tables");
+  } else if (c.folder == "topology") {
+    const auto& g = default_scene().setup.geometry();
+    if (c.file.starts_with("traces_")) {
+      check_message(c, catch_from([&] { (void)grinding::read_traces_csv(path, g.teeth()); }), "grinding::read_traces_csv");
+      return;
+    }
+    if (c.file != "off_the_flank.csv")
+      check_message(c, catch_from([&] { (void)grinding::read_topology_csv(path, g.teeth()); }),
+                    "grinding::read_topology_csv");
+    check_message(c, catch_from([&] { (void)diagnosis::read_measurement(path.string(), g); }),
+                  "diagnosis::read_measurement");
+    check_message(c, catch_from([&] { (void)diagnosis::read_any_measurement(path.string(), default_scene().setup); }),
+                  "diagnosis::read_any_measurement", false);
+  } else if (c.folder == "point_clouds") {
+    check_message(c, catch_from([&] { (void)surfaces::read_point_cloud(path); }), "surfaces::read_point_cloud");
+    // Through the measurement front end the header decides the format; the file must still be refused clearly.
+    const Caught any = catch_from([&] { (void)diagnosis::read_any_measurement(path.string(), default_scene().setup); });
+    SCOPED_TRACE("diagnosis::read_any_measurement");
+    ASSERT_FALSE(any.type.empty()) << "accepted";
+    EXPECT_NE(any.what.find(c.file), std::string::npos) << any.what;
+  } else {
+    FAIL() << "unknown corpus folder " << c.folder;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Files, Corpus, ::testing::ValuesIn(all_cases()), [](const auto& info) {
+  std::string name = info.param.folder + "_" + info.param.file;
+  std::replace_if(name.begin(), name.end(), [](char ch) { return !std::isalnum(static_cast<unsigned char>(ch)); }, '_');
+  return name;
+});
+
+// Every corpus file has a row in expected.tsv (and every row a file): a new file cannot slip in untested.
+TEST(CorpusIndex, EveryFileHasAnExpectation) {
+  for (const char* folder : {"scenes", "error_tables", "topology", "point_clouds"}) {
+    std::set<std::string> listed, present;
+    for (const auto& c : read_expected(folder)) EXPECT_TRUE(listed.insert(c.file).second) << folder << "/" << c.file << " listed twice";
+    for (const auto& e : fs::directory_iterator(kCorpus / folder))
+      if (e.path().filename() != "expected.tsv") present.insert(e.path().filename().string());
+    EXPECT_EQ(listed, present) << folder;
+    EXPECT_GE(present.size(), 15u) << folder;
+  }
+}

@@ -1,0 +1,58 @@
+// FINDINGS of the robustness work (docs/performance.md, "Robustness findings"), kept as regression tests. All three
+// were fixed on 2026-11-21: (1) a 10⁸-point dense grid per flank accepted by the scene reader (corpus/scenes/
+// grid_dense_*.yaml); (2) readers echoing a whole 64 KiB field into their message; (3) unknown-key messages listing
+// only the keys a reader happened to look up.
+#include "robustness_support.hpp"
+
+#include "grinding/topology_csv.hpp"
+#include "machine/error_table.hpp"
+#include "scene/scene.hpp"
+#include "surfaces/point_cloud.hpp"
+
+#include <gtest/gtest.h>
+
+#include <functional>
+
+using namespace geartopo;
+using namespace geartopo::robustness;
+
+namespace {
+
+std::string message_of(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+} // namespace
+
+// Finding 2: every reader echoes the whole offending field into what(): a 64 KiB number gives a 64 KiB message (and a
+// 64 KiB line on stderr from the CLI). The echo should be cut, e.g. to 40 characters and "…".
+TEST(KnownFinding, MessagesDoNotEchoAWhole64KiBField) {
+  const auto& d = default_scene();
+  const std::pair<const char*, std::function<void()>> cases[] = {
+      {"scene::load_scene", [] { (void)scene::load_scene(kCorpus / "scenes/long_line_number.yaml"); }},
+      {"machine::load_error_tables", [] { (void)machine::load_error_tables(kCorpus / "error_tables/long_line.csv"); }},
+      {"grinding::read_topology_csv",
+       [&] { (void)grinding::read_topology_csv(kCorpus / "topology/long_line.csv", d.setup.geometry().teeth()); }},
+      {"surfaces::read_point_cloud", [] { (void)surfaces::read_point_cloud(kCorpus / "point_clouds/long_line.csv"); }},
+  };
+  for (const auto& [reader, fn] : cases) {
+    const std::string what = message_of(fn);
+    EXPECT_LE(what.size(), 1000u) << reader << ": " << what.size() << " characters: " << what.substr(0, 200) << "…";
+  }
+}
+
+// Finding 3: "unknown key (known here: …)" lists only the keys the reader happened to look up. Keys read behind a
+// has() guard (measurement rows, cols, profile_points, helix_points, dense_rows, dense_cols; process index_step,
+// first_space; machine strokes x_mm … a_deg) are missing when absent, so a typo of `rows` is answered with
+// "known here: measured, teeth".
+TEST(KnownFinding, UnknownKeyMessageListsEveryKeyOfTheSection) {
+  const std::string what = message_of([] { (void)scene::load_scene(kCorpus / "scenes/unknown_key_measurement.yaml"); });
+  EXPECT_NE(what.find("unknown key"), std::string::npos) << what;
+  for (const char* key : {"rows", "cols", "profile_points", "helix_points", "dense_rows", "dense_cols"})
+    EXPECT_NE(what.find(key), std::string::npos) << "'" << key << "' is not among the known keys: " << what;
+}
