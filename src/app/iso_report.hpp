@@ -2,6 +2,7 @@
 // evaluator's input, the iso1328.json sections and the printed table. Units: µm, mm.
 #pragma once
 
+#include "diagnosis/iso_measurement.hpp"
 #include "evaluation/gear_evaluation.hpp"
 #include "gears/evaluation_ranges.hpp"
 #include "gears/gear_geometry.hpp"
@@ -14,20 +15,11 @@
 
 namespace geartopo::app {
 
-evaluation::GearParameters gear_parameters(const gears::GearGeometry& g);
-
-/// Profile traces over L_α, helix traces over L_β, and for pitch and runout the deviation of each flank at mid face
-/// width on the helix-trace diameter (the middle of L_α).
-evaluation::GearMeasurement gear_measurement(const gears::GearGeometry& g, const gears::EvaluationRanges& r,
-                                             const std::vector<grinding::FlankTopology>& topo);
-
-struct IsoResult {
-  evaluation::GearParameters parameters;
-  evaluation::GearEvaluation evaluation;
-};
-
-IsoResult evaluate_iso(const gears::GearGeometry& g, const gears::EvaluationRanges& r,
-                       const std::vector<grinding::FlankTopology>& topo);
+// The conversion and evaluation live in the diagnosis library (the benchmarks use them too).
+using diagnosis::evaluate_iso;
+using diagnosis::gear_measurement;
+using diagnosis::gear_parameters;
+using diagnosis::IsoResult;
 
 /// One section of iso1328.json: per flank the six trace values, the flank's pitch and runout values and each value's
 /// class; the gear's pitch and runout, the mean slopes, the class-5 tolerances and the overall class.
