@@ -9,12 +9,16 @@
 #include <set>
 #include <stdexcept>
 #include <tuple>
+#include <utility>
 
 namespace geartopo::grinding {
 namespace {
 
-std::string strip_cr(std::string s) {
+// A line as the reader sees it: without the '\r' of CRLF files and, on the first line, without the UTF-8 byte-order
+// mark that Excel's "CSV UTF-8" writes (invisible in an editor, so columns are counted after it).
+std::string clean_line(std::string s, int lineno) {
   if (!s.empty() && s.back() == '\r') s.pop_back();
+  if (lineno == 1 && s.rfind("\xEF\xBB\xBF", 0) == 0) s.erase(0, 3);
   return s;
 }
 
@@ -129,7 +133,7 @@ std::vector<TopologyRow> read_topology_csv(std::istream& in, const std::string& 
   bool header = false;
   while (std::getline(in, line)) {
     ++lineno;
-    line = strip_cr(line);
+    line = clean_line(std::move(line), lineno);
     if (line.empty() || line[0] == '#') continue;
     const auto f = split(line);
     if (!header) {
@@ -173,7 +177,7 @@ std::vector<FlankTopology> read_traces_csv(std::istream& in, const std::string& 
   bool header = false;
   while (std::getline(in, line)) {
     ++lineno;
-    line = strip_cr(line);
+    line = clean_line(std::move(line), lineno);
     if (line.empty() || line[0] == '#') continue;
     const auto f = split(line);
     if (!header) {

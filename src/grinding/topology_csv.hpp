@@ -42,7 +42,7 @@ void write_traces_csv(const std::filesystem::path& file, const std::vector<Flank
 /// Reads a topology file. `teeth` bounds the tooth numbers (1..teeth). Throws std::runtime_error
 /// "file:line:column: field: message" on the first problem: missing or reordered columns, a non-number, NaN or inf,
 /// an unknown flank, a tooth outside 1..teeth, a row or column < 1, a non-positive diameter, a duplicate
-/// (tooth, flank, row, col).
+/// (tooth, flank, row, col). Comment lines ('#'), blank lines, CRLF line ends and a UTF-8 byte-order mark are accepted.
 std::vector<TopologyRow> read_topology_csv(std::istream& in, const std::string& source, int teeth);
 std::vector<TopologyRow> read_topology_csv(const std::filesystem::path& file, int teeth);
 

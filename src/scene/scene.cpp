@@ -244,9 +244,11 @@ MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& 
 // The wheel must be synthesizable and the whole path must stay within the machine's strokes.
 void check_grinding(const Scene& scene, ReadContext& ctx) {
   try {
-    const grinding::GrindingSetup setup(scene.gear, scene.wheel, scene.process);
+    // The set-up's position first: it is cheap, and a gear far too big for the machine would otherwise fail inside
+    // the form-wheel synthesis with a message that names no scene field.
+    const gears::GearGeometry geometry(scene.gear);
+    const auto set = grinding::make_wheel_setting(geometry, scene.wheel.outer_diameter_mm, scene.wheel.axial_position_mm);
     const auto& st = scene.machine.strokes;
-    const auto& set = setup.setting();
     auto outside = [](double v, const machine::Interval& iv) { return v < iv.min - 1e-9 || v > iv.max + 1e-9; };
     if (outside(set.centre_distance_mm, st.x_mm))
       ctx.fail_field("wheel.outer_diameter_mm",
@@ -258,6 +260,7 @@ void check_grinding(const Scene& scene, ReadContext& ctx) {
     if (outside(set.tilt_rad / kDeg, st.a_deg))
       ctx.fail_field("gear.helix_angle_deg", fmt::format("needs A = {:.3f}°, outside the A stroke [{}, {}]°",
                                                          set.tilt_rad / kDeg, st.a_deg.min, st.a_deg.max));
+    const grinding::GrindingSetup setup(scene.gear, scene.wheel, scene.process);
     for (const auto& stroke : setup.path().strokes()) {
       const double lo = std::min(stroke.z_begin_mm, stroke.z_end_mm) + scene.machine.datum_face_z_mm;
       const double hi = std::max(stroke.z_begin_mm, stroke.z_end_mm) + scene.machine.datum_face_z_mm;

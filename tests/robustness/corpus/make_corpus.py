@@ -81,7 +81,8 @@ write(S, "duplicate_key.yaml", GEAR + "  teeth: 36\n", ("SceneError", 8, "duplic
 write(S, "huge_module.yaml", gear(normal_module_mm="1e308"), ("SceneError", 2, "outside"))
 write(S, "huge_overflow_number.yaml", gear(face_width_mm="1e400"), ("SceneError", 7, "gear.face_width_mm"))
 write(S, "huge_teeth.yaml", gear(teeth="99999999999999999999999"), ("SceneError", 3, "gear.teeth"))
-write(S, "huge_teeth_in_range.yaml", gear(teeth="10000"), ("SceneError", -1, ""))
+write(S, "huge_teeth_in_range.yaml", gear(teeth="10000"), ("SceneError", -1, "outside the X stroke"),
+      "d ≈ 162 m: refused by the X stroke before the form wheel is synthesised (finding 6)")
 write(S, "huge_datum.yaml", GEAR + "machine:\n  datum_face_z_mm: 1e300\n", ("SceneError", 9, "machine.datum_face_z_mm"))
 write(S, "empty.yaml", "", ("SceneError", 0, "empty scene"))
 write(S, "only_comments.yaml", "# nothing here\n# at all\n", ("SceneError", 0, "empty scene"))
@@ -196,7 +197,7 @@ write(T, "row_0.csv", TH + "1,left,0,1,560,10,0.1\n", ("runtime_error", 2, "row"
 write(T, "empty.csv", "", ("runtime_error", -1, "header"))
 write(T, "only_header.csv", TH, ("runtime_error", -1, "no data rows"))
 write(T, "bom_crlf_nan.csv", b"\xef\xbb\xbf" + (TH + trows(2) + "1,left,2,1,562.0,10.0,NaN\n").replace("\n", "\r\n").encode(),
-      ("runtime_error", -1, ""))
+      ("runtime_error", 4, "deviation_um"))
 write(T, "crlf_nan.csv", (TH + trows(2) + "1,left,2,1,562.0,10.0,NaN\n").replace("\n", "\r\n"), ("runtime_error", 4, "deviation_um"))
 write(T, "binary_junk.csv", junk, ("runtime_error", -1, ""))
 write(T, "long_line.csv", TH + "1,left,1,1,560,10," + "9" * 65_536 + "\n", ("runtime_error", -1, ""))
