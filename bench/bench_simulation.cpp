@@ -13,6 +13,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <atomic>
 #include <vector>
 
 using namespace geartopo;
@@ -80,6 +81,39 @@ void BM_Simulate(benchmark::State& state, std::vector<int64_t> a) {
   }
   set_points(state, static_cast<double>(points));
 }
+
+// How many wheel poses the exact search evaluates per point: the simulator behind a counting GrindingProcess.
+class CountingProcess final : public grinding::GrindingProcess {
+public:
+  explicit CountingProcess(const grinding::GrindingProcess& inner) : inner_(inner) {}
+  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override {
+    poses.fetch_add(1, std::memory_order_relaxed);
+    return inner_.actual_wMg(pp);
+  }
+  machine::Vector6d error_twist_w(const grinding::PathPoint& pp) const override {
+    twists.fetch_add(1, std::memory_order_relaxed);
+    return inner_.error_twist_w(pp);
+  }
+  double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override {
+    return inner_.wheel_radius_error_mm(v, pp);
+  }
+  mutable std::atomic<long> poses{0}, twists{0};
+
+private:
+  const grinding::GrindingProcess& inner_;
+};
+
+void BM_PoseEvaluationsPerPoint(benchmark::State& state) {
+  const auto& b = bench::default_scene();
+  const CountingProcess counting(b.actual());
+  const Method m = method_of(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(grid_only(b.setup, counting, m, 7, 9, 1));
+  const double points = 2.0 * b.setup.geometry().teeth() * 63 * static_cast<double>(state.iterations());
+  state.counters["poses_per_point"] = static_cast<double>(counting.poses.load()) / points;
+  state.counters["twists_per_point"] = static_cast<double>(counting.twists.load()) / points;
+}
+BENCHMARK(BM_PoseEvaluationsPerPoint)->Name("PoseEvaluationsPerPoint/exact/7x9")->Arg(0)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PoseEvaluationsPerPoint)->Name("PoseEvaluationsPerPoint/linear/7x9")->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 struct SimCase {
   const char* name;

@@ -16,6 +16,12 @@ std::vector<double> predict(const grinding::GrindingSetup& setup, const grinding
       out[static_cast<size_t>(i)] = 1e3 * dev.at(p.tooth, p.flank, p.roll_length_mm, p.z_mm, method).deviation_mm;
     }
   });
+  if (method != grinding::Method::Exact) return out; // the first-order model has no "not reached"; LM rejects non-finite steps
+  const auto& g = setup.geometry();
+  for (size_t i = 0; i < points.size(); ++i) {
+    const auto& p = points[i];
+    grinding::require_reached(out[i], p.tooth, p.flank, g.diameter_at_roll_length(p.roll_length_mm), p.z_mm);
+  }
   return out;
 }
 

@@ -10,6 +10,7 @@
 
 namespace geartopo::diagnosis {
 
+/// Exact: throws std::runtime_error naming the first point (in input order) the wheel never reaches.
 std::vector<double> predict(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
                             const std::vector<MeasuredPoint>& points, grinding::Method method, int threads = 0);
 

@@ -2,9 +2,13 @@
 
 #include "machine/chain.hpp"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cmath>
 #include <tuple>
 #include <limits>
+#include <stdexcept>
 
 namespace geartopo::grinding {
 namespace {
@@ -60,6 +64,14 @@ std::pair<double, double> brent_minimize(F&& f, double a, double b, double tol) 
 
 } // namespace
 
+void require_reached(double deviation, int tooth, gears::Flank flank, double diameter_mm, double z_mm) {
+  if (std::isfinite(deviation)) return;
+  throw std::runtime_error(fmt::format(
+      "tooth {} {} flank at d = {:.3f} mm, z = {:.3f} mm: the wheel never reaches this point, so it is not ground there "
+      "(the errors move the wheel's profile off it); check the size of the machine errors and effects",
+      tooth, gears::to_string(flank), diameter_mm, z_mm));
+}
+
 int space_of(int tooth, gears::Flank flank, int teeth) {
   if (flank == gears::Flank::Right) return tooth;
   return tooth == 1 ? teeth : tooth - 1;
@@ -105,12 +117,40 @@ DeviationResult FlankDeviation::at(int tooth, gears::Flank flank, double xi, dou
     const PathPoint pp = path_.point(space, zs);
     return entry_depth(fp, process_.actual_wMg(pp), pp);
   };
+  // Near its minimum the depth is t* + ½c(Z − Z*)² + O((Z − Z*)³) with c ≈ 1/R_wheel, and Z* lies within a fraction
+  // of a millimetre of Z₀. Three depths at Z₀ − h, Z₀, Z₀ + h give the parabola's vertex u; the depth at u is a real
+  // depth (never below the true minimum) and exceeds it by ½c(u − Z*)², where |u − Z*| ~ (3d s² − d h²)/c for the
+  // cubic coefficient d and s = Z₀ − Z*: ~1e-9 mm for s ≤ 0.2 mm. The quadratic model is trusted only when the
+  // depth at u agrees with the parabola's own prediction; otherwise Brent's search decides (tests/grinding:
+  // ExactSearch.*).
+  constexpr double h = 0.05;
+  const double f_m = depth_at(z0 - h), f_0 = depth_at(z0), f_p = depth_at(z0 + h);
+  const double curvature = f_p + f_m - 2.0 * f_0; // c h²
+  if (std::isfinite(f_m) && std::isfinite(f_0) && std::isfinite(f_p) && curvature > 0.0) {
+    const double u = z0 + 0.5 * h * (f_m - f_p) / curvature;
+    if (std::abs(u - z0) <= kParabolaReachMm) {
+      const double f_u = depth_at(u);
+      const double predicted = f_0 - (f_p - f_m) * (f_p - f_m) / (8.0 * curvature);
+      if (std::abs(f_u - predicted) <= kParabolaAgreementMm && f_u <= std::min({f_m, f_0, f_p})) return {f_u, u};
+    }
+  }
+  return exact_by_brent(tooth, flank, xi, z, kBrentTolMm);
+}
+
+DeviationResult FlankDeviation::exact_by_brent(int tooth, gears::Flank flank, double xi, double z, double z_tol_mm) const {
+  const int space = space_of(tooth, flank, flanks_.geometry().teeth());
+  const gears::FlankPoint fp = flanks_.at(tooth, flank, xi, z);
+  const double z0 = z - wheel_.contact_offset_mm(flank, xi);
+  auto depth_at = [&](double zs) {
+    const PathPoint pp = path_.point(space, zs);
+    return entry_depth(fp, process_.actual_wMg(pp), pp);
+  };
   // The deepest cut moves from Z₀ by (error gradient)/(clearance curvature) — well under 0.2 mm for any realistic
-  // error — so ±0.5 mm is searched first, and ±4 mm if the minimum lands on that window's edge. Near the minimum the
-  // depth is t_min + ½ c (Z − Z*)² with c ≈ 1/R_wheel, so a Z tolerance of 1e-4 mm leaves the depth exact to ~1e-10 mm.
-  constexpr double kTol = 1e-4;
-  auto [z_best, t_best] = brent_minimize(depth_at, z0 - 0.5, z0 + 0.5, kTol);
-  if (std::abs(z_best - z0) > 0.5 - 10 * kTol) std::tie(z_best, t_best) = brent_minimize(depth_at, z0 - 4.0, z0 + 4.0, kTol);
+  // error — so ±0.5 mm is searched first, and ±4 mm if the minimum lands on that window's edge. A Z tolerance of
+  // 1e-4 mm leaves the depth exact to ½c·1e-8 ≈ 1e-10 mm.
+  auto [z_best, t_best] = brent_minimize(depth_at, z0 - 0.5, z0 + 0.5, z_tol_mm);
+  if (std::abs(z_best - z0) > 0.5 - 10 * z_tol_mm)
+    std::tie(z_best, t_best) = brent_minimize(depth_at, z0 - 4.0, z0 + 4.0, z_tol_mm);
   return {t_best, z_best};
 }
 

@@ -3,8 +3,9 @@
 // exact:  the ground flank is the envelope of the wheel at its actual poses. Along the flank's normal line
 //         P + t n (n out of the material), the wheel at stroke position Z first enters at t_in(Z); the material left is
 //         t < min_Z t_in(Z). The deviation (plus material positive) is that minimum. Z is searched continuously
-//         (Brent's method, ±0.5 mm then ±4 mm) around the nominal generating position Z₀ = z − z_c(ξ): no scallops
-//         from a pose step.
+//         around the nominal generating position Z₀ = z − z_c(ξ), so there are no scallops from a pose step: first
+//         by the vertex of the parabola through three depths (4 poses per point), and by Brent's method (±0.5 mm,
+//         then ±4 mm; ~9 poses) wherever the depth is not locally quadratic enough to trust that vertex.
 // linear: the first-order deviation n·(δp + δθ × P) − δR(v)/√(1 + R′(v)²) of the pose error twist and the radial
 //         wheel-radius error (moved onto the wheel's normal) at the generating pose (envelope theorem: moving the contact along the stroke changes it only to second order).
 // Units: mm in, mm out (callers convert to µm).
@@ -27,6 +28,11 @@ struct DeviationResult {
   double z_stroke_mm = 0.0; ///< stroke position Z of the deepest cut (exact) or of the generating pose (linear)
 };
 
+/// Throws std::runtime_error when a deviation is not finite: the wheel at its actual poses never reaches the point's
+/// normal line (errors large enough to move the wheel's profile off it), so no ground surface exists there. The
+/// message names the point; callers scan their results in a fixed order so the message does not depend on threads.
+void require_reached(double deviation, int tooth, gears::Flank flank, double diameter_mm, double z_mm);
+
 class FlankDeviation {
 public:
   FlankDeviation(const gears::InvoluteHelicoid& flanks, const FormWheel& wheel, const WheelPath& path,
@@ -34,6 +40,14 @@ public:
       : flanks_(flanks), wheel_(wheel), path_(path), process_(process) {}
 
   DeviationResult at(int tooth, gears::Flank flank, double roll_length_mm, double z_mm, Method method) const;
+
+  /// The exact deviation by Brent's search alone, Z to within z_tol_mm: the reference for the parabolic shortcut of
+  /// at() (tests/grinding/test_exact_search.cpp) and its fallback (with kBrentTolMm).
+  DeviationResult exact_by_brent(int tooth, gears::Flank flank, double roll_length_mm, double z_mm, double z_tol_mm) const;
+
+  static constexpr double kBrentTolMm = 1e-4;          ///< Z tolerance of the fallback search
+  static constexpr double kParabolaReachMm = 0.45;     ///< farthest vertex from Z₀ trusted (Brent's first window is ±0.5)
+  static constexpr double kParabolaAgreementMm = 1e-7; ///< |depth at vertex − parabola's prediction| that is trusted
 
   /// Where the wheel at pose wMg first enters along P + t n (t in mm); +∞ if it misses near the flank.
   double entry_depth(const gears::FlankPoint& fp, const machine::Pose& wMg, const PathPoint& pp) const;

@@ -84,6 +84,12 @@ std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const G
       ft.dense = grid(dev, g, ft.tooth, ft.flank, grid_roll_lengths(r, o.dense_rows),
                       grid_axial_positions(r, o.dense_cols), o.method);
   });
+  for (const auto& ft : out) {
+    for (const auto& p : ft.grid) require_reached(p.deviation_um, ft.tooth, ft.flank, p.diameter_mm, p.z_mm);
+    for (const auto& p : ft.profile) require_reached(p.deviation_um, ft.tooth, ft.flank, p.diameter_mm, p.z_mm);
+    for (const auto& p : ft.helix) require_reached(p.deviation_um, ft.tooth, ft.flank, p.diameter_mm, p.z_mm);
+    for (const auto& p : ft.dense) require_reached(p.deviation_um, ft.tooth, ft.flank, p.diameter_mm, p.z_mm);
+  }
   return out;
 }
 

@@ -48,7 +48,8 @@ struct SimulationOptions {
   int threads = 0;               ///< 0: all hardware threads
 };
 
-/// One entry per requested tooth and flank, ordered by tooth then left, right. Throws std::invalid_argument for a
+/// One entry per requested tooth and flank, ordered by tooth then left, right. Throws std::runtime_error naming the
+/// first point (in that order) the wheel never reaches (grinding::require_reached), std::invalid_argument for a
 /// tooth outside 1..z, grids below 2×2, or more points than kMaxPointsPerFlank / kMaxPointsPerSimulation.
 std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const GrindingProcess& process,
                                              const SimulationOptions& options);
