@@ -1,11 +1,29 @@
 // geartopo — first-order error sensitivities by adjoint transport (first_order.hpp). Units: mm, rad.
 #include "machine/first_order.hpp"
 
+#include "machine/transforms.hpp"
+
 namespace geartopo::machine {
 
 namespace {
 using enum ComponentId;
+
+// Ad(aMb)·ξ without forming the 6×6 adjoint: (R v + p × R ω; R ω).
+Vector6d transport(const Pose& aMb, const Vector6d& xi) {
+  const Eigen::Vector3d w = aMb.linear() * xi.tail<3>();
+  Vector6d out;
+  out.head<3>() = aMb.linear() * xi.head<3>() + aMb.translation().cross(w);
+  out.tail<3>() = w;
+  return out;
 }
+
+// The six motion components of an axis as a twist (δx, δy, δz; εx, εy, εz) at that axis's frame.
+Vector6d motion_twist(const ErrorVector& e, Axis axis) {
+  Vector6d xi;
+  for (int k = 0; k < 6; ++k) xi(k) = e(index(motion_component(axis, k)));
+  return xi;
+}
+} // namespace
 
 void error_jacobians(const AxisPose& q, MachineData& data) {
   data.q = q;
@@ -51,6 +69,33 @@ void error_jacobians(const AxisPose& q, MachineData& data) {
   col(E_AOA) = AdA.col(3); // the same as a constant ε_xa
 
   data.J_twistg_e = adjoint(data.wMg_ideal.inverse(Eigen::Isometry)) * J;
+}
+
+Vector6d twist_w_linear(const ErrorVector& e, const AxisPose& q) {
+  const auto E = [&](ComponentId k) { return e(index(k)); };
+  // The ideal frames, as ideal_kinematics builds them.
+  const Pose wMF = Rz(-q.c);
+  const Pose wMX = wMF * translation(q.x, 0.0, 0.0);
+  const Pose wMZ = wMX * translation(0.0, 0.0, q.z);
+  const Pose wMA = wMZ * Rx(q.a);
+  const Pose wMg = wMA * translation(0.0, q.y, 0.0);
+
+  // Each frame's share of the error twist, the columns of error_jacobians summed with their values.
+  Vector6d at_w = -motion_twist(e, Axis::C);
+  at_w(5) -= E(E_COC);
+  Vector6d at_F;
+  at_F << -E(E_XOC), -E(E_YOC), 0.0, -E(E_AOC), -E(E_BOC), 0.0;
+  Vector6d S_A;
+  S_A << 0.0, E(E_YOA), E(E_ZOA), 0.0, E(E_BOA), E(E_COA);
+  Vector6d at_Z = motion_twist(e, Axis::Z) + S_A;
+  at_Z(0) -= q.z * E(S_xz);
+  Vector6d at_A = motion_twist(e, Axis::A) - S_A;
+  at_A(3) += E(E_AOA);
+  Vector6d at_g = motion_twist(e, Axis::Y);
+  at_g(0) -= q.y * E(S_xy);
+  at_g(2) -= q.y * E(S_zy);
+  return at_w + transport(wMF, at_F) + transport(wMX, motion_twist(e, Axis::X)) + transport(wMZ, at_Z) +
+         transport(wMA, at_A) + transport(wMg, at_g);
 }
 
 PoseErrorTwists twist_linear(const ErrorVector& e, const AxisPose& q, MachineData& data) {

@@ -22,4 +22,10 @@ PoseErrorTwists twist_linear(const ErrorVector& e, const AxisPose& q, MachineDat
 /// Same with the model's errors at q (data.e is set).
 PoseErrorTwists twist_linear(const MachineModel& model, MachineData& data, const AxisPose& q);
 
+/// The workpiece-frame twist J_twistw_e(q) · e alone, by transporting the error twists grouped per frame of the
+/// ideal chain (six transports instead of a 6×43 Jacobian and two 6×43 products). Equal to twist_linear(e, q, …).w
+/// to rounding (tests/machine/test_exact_vs_first_order.cpp); the simulator's linear method calls it once per
+/// point. No workspace, no allocation.
+Vector6d twist_w_linear(const ErrorVector& e, const AxisPose& q);
+
 } // namespace geartopo::machine

@@ -75,5 +75,26 @@ TEST(FirstOrder, FrameRelationOfTheTwoTwists) {
   EXPECT_LT(max_abs(adjoint(ideal_wMg(q)) * ex.g - ex.w), 1e-3 * max_abs(ex.w));
 }
 
+TEST(FirstOrder, WorkpieceTwistWithoutTheJacobianEqualsJTimesE) {
+  // twist_w_linear groups the same columns per frame; only rounding may differ. Each component alone too, so a
+  // component moved to the wrong frame or sign cannot hide behind the others.
+  std::mt19937 rng(29);
+  MachineData data;
+  for (int trial = 0; trial < 50; ++trial) {
+    const AxisPose q = random_pose(rng);
+    const ErrorVector e = random_errors(rng);
+    const Vector6d reference = twist_linear(e, q, data).w;
+    EXPECT_LT(max_abs(twist_w_linear(e, q) - reference), 1e-12 * (1.0 + max_abs(reference))) << "trial " << trial;
+  }
+  const AxisPose q = random_pose(rng);
+  error_jacobians(q, data);
+  for (int k = 0; k < kComponentCount; ++k) {
+    ErrorVector unit = ErrorVector::Zero();
+    unit(k) = 1.0;
+    const Vector6d column = data.J_twistw_e.col(k);
+    EXPECT_LT(max_abs(twist_w_linear(unit, q) - column), 1e-12 * (1.0 + max_abs(column))) << info(component_at(k)).name;
+  }
+}
+
 } // namespace
 } // namespace geartopo::machine
