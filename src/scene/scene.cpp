@@ -8,6 +8,7 @@
 #include "effects/registry.hpp"
 
 #include <fmt/format.h>
+#include <yaml-cpp/depthguard.h> // YAML::DeepRecursion, not included by yaml.h in 0.7
 
 #include <algorithm>
 #include <charconv>
@@ -293,6 +294,9 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
+  } catch (const YAML::DeepRecursion& e) {
+    // yaml-cpp stops at a fixed depth and reports it only as "bad file".
+    ctx.fail(e.mark, "", fmt::format("YAML nested deeper than {} levels, the parser's limit", e.depth()));
   } catch (const YAML::ParserException& e) {
     ctx.fail(e.mark, "", "YAML syntax error: " + e.msg);
   }

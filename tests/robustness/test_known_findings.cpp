@@ -1,7 +1,9 @@
-// FINDINGS of the robustness work (docs/performance.md, "Robustness findings"), kept as regression tests. All three
-// were fixed on 2026-11-21: (1) a 10⁸-point dense grid per flank accepted by the scene reader (corpus/scenes/
-// grid_dense_*.yaml); (2) readers echoing a whole 64 KiB field into their message; (3) unknown-key messages listing
-// only the keys a reader happened to look up.
+// FINDINGS of the robustness work (docs/performance.md, "Robustness findings"), kept as regression tests, all fixed on
+// 2026-11-21: (1) a 10⁸-point dense grid per flank accepted by the scene reader (corpus/scenes/grid_dense_*.yaml);
+// (2) readers echoing a whole 64 KiB field into their message; (3) unknown-key messages listing only the keys a reader
+// happened to look up; (4) topology and traces files with a UTF-8 byte-order mark refused. Findings 6 and 7 are
+// pinned by their corpus files' expected messages (huge_teeth_in_range.yaml, deeply_nested_*.yaml), finding 9 by
+// tests/grinding/test_exact_search.cpp.
 #include "robustness_support.hpp"
 
 #include "grinding/topology_csv.hpp"

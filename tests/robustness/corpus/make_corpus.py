@@ -89,8 +89,8 @@ write(S, "only_comments.yaml", "# nothing here\n# at all\n", ("SceneError", 0, "
 write(S, "only_whitespace.yaml", "   \n\n  \n", ("SceneError", 0, "empty scene"))
 write(S, "binary_junk.yaml", junk, ("SceneError", -1, ""))
 write(S, "nul_bytes.yaml", GEAR.encode()[:40] + b"\x00\x00\x00" + GEAR.encode()[40:], ("SceneError", -1, ""))
-write(S, "deeply_nested_lists.yaml", GEAR + "name: " + "[" * 5000 + "]" * 5000 + "\n", ("SceneError", -1, ""))
-write(S, "deeply_nested_maps.yaml", GEAR + "name: " + "{a: " * 5000 + "1" + "}" * 5000 + "\n", ("SceneError", -1, ""))
+write(S, "deeply_nested_lists.yaml", GEAR + "name: " + "[" * 5000 + "]" * 5000 + "\n", ("SceneError", -1, "nested deeper than"))
+write(S, "deeply_nested_maps.yaml", GEAR + "name: " + "{a: " * 5000 + "1" + "}" * 5000 + "\n", ("SceneError", -1, "nested deeper than"))
 write(S, "deeply_nested_block.yaml", GEAR + "measurement:\n" + "".join(" " * (i + 2) + f"k{i}:\n" for i in range(300)),
       ("SceneError", 9, "unknown key"))
 write(S, "long_line_number.yaml", gear(normal_module_mm="1" * 65_536), ("SceneError", 2, "gear.normal_module_mm"))
