@@ -52,7 +52,8 @@ const TempFile& cloud_file() {
 void BM_ReadPointCloud(benchmark::State& state) {
   const auto& file = cloud_file();
   for (auto _ : state) benchmark::DoNotOptimize(surfaces::read_point_cloud(file.path).data());
-  state.counters["rows"] = benchmark::Counter(double(kCloudRows) * double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["rows"] =
+      benchmark::Counter(double(kCloudRows) * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_ReadPointCloud)->Name("ReadPointCloud/1e6rows")->Unit(benchmark::kMillisecond);
 

@@ -5,6 +5,7 @@
 // 63 + 4 points per flank. The `GridOnly/*` cases run exactly the grid loop of simulate_topology (same
 // FlankDeviation::at calls, same parallel_for over flanks) through the public FlankDeviation API, without traces.
 // Counter `points`: deviations computed per second (wall clock: the simulation is multi-threaded).
+// `PoseEvaluationsPerPoint/*` counts the wheel poses (exact) or error twists (linear) asked for per point.
 #include "bench_scene.hpp"
 
 #include "grinding/flank_deviation.hpp"
@@ -112,8 +113,10 @@ void BM_PoseEvaluationsPerPoint(benchmark::State& state) {
   state.counters["poses_per_point"] = static_cast<double>(counting.poses.load()) / points;
   state.counters["twists_per_point"] = static_cast<double>(counting.twists.load()) / points;
 }
-BENCHMARK(BM_PoseEvaluationsPerPoint)->Name("PoseEvaluationsPerPoint/exact/7x9")->Arg(0)->Iterations(1)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_PoseEvaluationsPerPoint)->Name("PoseEvaluationsPerPoint/linear/7x9")->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PoseEvaluationsPerPoint)
+    ->Name("PoseEvaluationsPerPoint/exact/7x9")->Arg(0)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PoseEvaluationsPerPoint)
+    ->Name("PoseEvaluationsPerPoint/linear/7x9")->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 struct SimCase {
   const char* name;

@@ -16,7 +16,8 @@ std::vector<double> predict(const grinding::GrindingSetup& setup, const grinding
       out[static_cast<size_t>(i)] = 1e3 * dev.at(p.tooth, p.flank, p.roll_length_mm, p.z_mm, method).deviation_mm;
     }
   });
-  if (method != grinding::Method::Exact) return out; // the first-order model has no "not reached"; LM rejects non-finite steps
+  // The first-order model has no "not reached" (and the LM fits that call it reject non-finite steps themselves).
+  if (method != grinding::Method::Exact) return out;
   const auto& g = setup.geometry();
   for (size_t i = 0; i < points.size(); ++i) {
     const auto& p = points[i];

@@ -5,7 +5,7 @@
 //         t < min_Z t_in(Z). The deviation (plus material positive) is that minimum. Z is searched continuously
 //         around the nominal generating position Z₀ = z − z_c(ξ), so there are no scallops from a pose step: first
 //         by the vertex of the parabola through three depths (4 poses per point), and by Brent's method (±0.5 mm,
-//         then ±4 mm; ~9 poses) wherever the depth is not locally quadratic enough to trust that vertex.
+//         then ±4 mm) wherever the depth is not locally quadratic enough to trust that vertex.
 // linear: the first-order deviation n·(δp + δθ × P) − δR(v)/√(1 + R′(v)²) of the pose error twist and the radial
 //         wheel-radius error (moved onto the wheel's normal) at the generating pose (envelope theorem: moving the contact along the stroke changes it only to second order).
 // Units: mm in, mm out (callers convert to µm).
