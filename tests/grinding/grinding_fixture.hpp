@@ -9,7 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <memory>
+#include <random>
 
 namespace geartopo::test {
 
@@ -25,6 +27,42 @@ inline constexpr double kDatumZ = 300.0;
 inline machine::MachineModel machine_with(std::vector<machine::ErrorSource> sources) {
   return machine::MachineModel(machine::Strokes::skmc_1200w(), std::move(sources));
 }
+
+/// Random errors on all 43 components, at most `scale` × 50 µm / 100 µrad: the motion components vary linearly along
+/// their axis (except δ_xc and the Y axis), the others are constants. The same draw for the same seed.
+inline machine::MachineModel random_machine(double scale, unsigned seed) {
+  using machine::ErrorSource;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<ErrorSource> sources;
+  for (int i = 0; i < machine::kComponentCount; ++i) {
+    const auto id = machine::component_at(i);
+    const bool angle = machine::info(id).quantity == machine::Quantity::Angle;
+    const double amp = scale * (angle ? 100.0 : 50.0);
+    const auto unit = angle ? "urad" : "um";
+    const bool varies = i < machine::kMotionComponentCount && id != machine::ComponentId::delta_xc && i / 6 != 4;
+    if (varies) {
+      const bool rotary = i / 6 == 3;
+      const double span = rotary ? 90.0 : 900.0; // deg or mm
+      sources.push_back(
+          ErrorSource::polynomial(id, {0.5 * amp * u(rng), 0.5 * amp * u(rng) / span}, unit, rotary ? "deg" : "mm"));
+    } else {
+      sources.push_back(ErrorSource::constant(id, 0.5 * amp * u(rng), unit));
+    }
+  }
+  return machine_with(sources);
+}
+
+/// A process whose wheel pose is the ideal one changed by a fixed rule, to test invariances and searches.
+class ModifiedProcess final : public grinding::GrindingProcess {
+public:
+  explicit ModifiedProcess(std::function<machine::Pose(const grinding::PathPoint&)> f) : f_(std::move(f)) {}
+  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override { return f_(pp); }
+  machine::Vector6d error_twist_w(const grinding::PathPoint&) const override { return machine::Vector6d::Zero(); }
+
+private:
+  std::function<machine::Pose(const grinding::PathPoint&)> f_;
+};
 
 inline std::vector<grinding::FlankTopology> simulate(const grinding::GrindingProcess& p, grinding::Method m,
                                                      std::vector<int> teeth = {1, 18}) {

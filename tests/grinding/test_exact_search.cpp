@@ -10,40 +10,16 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <functional>
-#include <random>
 
 using namespace geartopo;
 using grinding::FlankDeviation;
 using grinding::Method;
-using machine::ErrorSource;
 using test::kDatumZ;
+using test::ModifiedProcess;
+using test::random_machine;
 using test::paper_setup;
 
 namespace {
-
-// Random errors on all 43 components, varying along the axes (as Simulation.ExactAndLinearAgreeForRealisticErrors),
-// `scale` × 50 µm / 100 µrad at most.
-machine::MachineModel random_machine(double scale, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<ErrorSource> sources;
-  for (int i = 0; i < machine::kComponentCount; ++i) {
-    const auto id = machine::component_at(i);
-    const bool angle = machine::info(id).quantity == machine::Quantity::Angle;
-    const double amp = scale * (angle ? 100.0 : 50.0);
-    const auto unit = angle ? "urad" : "um";
-    const bool varies = i < machine::kMotionComponentCount && id != machine::ComponentId::delta_xc && i / 6 != 4;
-    if (varies) {
-      const bool rotary = i / 6 == 3;
-      const double span = rotary ? 90.0 : 900.0;
-      sources.push_back(ErrorSource::polynomial(id, {0.5 * amp * u(rng), 0.5 * amp * u(rng) / span}, unit, rotary ? "deg" : "mm"));
-    } else {
-      sources.push_back(ErrorSource::constant(id, 0.5 * amp * u(rng), unit));
-    }
-  }
-  return test::machine_with(sources);
-}
 
 // Counts the wheel poses a search asks for.
 class Counting final : public grinding::GrindingProcess {
@@ -61,16 +37,6 @@ public:
 
 private:
   const grinding::GrindingProcess& inner_;
-};
-
-class ModifiedProcess final : public grinding::GrindingProcess {
-public:
-  explicit ModifiedProcess(std::function<machine::Pose(const grinding::PathPoint&)> f) : f_(std::move(f)) {}
-  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override { return f_(pp); }
-  machine::Vector6d error_twist_w(const grinding::PathPoint&) const override { return machine::Vector6d::Zero(); }
-
-private:
-  std::function<machine::Pose(const grinding::PathPoint&)> f_;
 };
 
 struct Comparison {

@@ -4,13 +4,13 @@
 #include "machine/chain.hpp"
 #include "machine/transforms.hpp"
 
-#include <random>
 
 using namespace geartopo;
 using grinding::Method;
 using machine::ComponentId;
 using machine::ErrorSource;
 using test::kDatumZ;
+using test::ModifiedProcess;
 using test::paper_setup;
 
 namespace {
@@ -23,17 +23,6 @@ void for_each_point(const std::vector<grinding::FlankTopology>& topo, F&& f) {
     for (const auto& p : ft.helix) f(ft, p.deviation_um);
   }
 }
-
-// A process whose wheel pose is the ideal one changed by a fixed rule, to test invariances.
-class ModifiedProcess final : public grinding::GrindingProcess {
-public:
-  explicit ModifiedProcess(std::function<machine::Pose(const grinding::PathPoint&)> f) : f_(std::move(f)) {}
-  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override { return f_(pp); }
-  machine::Vector6d error_twist_w(const grinding::PathPoint&) const override { return machine::Vector6d::Zero(); }
-
-private:
-  std::function<machine::Pose(const grinding::PathPoint&)> f_;
-};
 
 } // namespace
 
@@ -95,24 +84,7 @@ TEST(Simulation, ScrewMotionAndWheelSpinLeaveTheFlankUnchanged) {
 // Exact and first-order simulations agree within 1 % of the deviation range + 0.05 µm for errors up to 50 µm and
 // 100 µrad (every one of the 43 components, varying along its axis).
 TEST(Simulation, ExactAndLinearAgreeForRealisticErrors) {
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<ErrorSource> sources;
-  for (int i = 0; i < machine::kComponentCount; ++i) {
-    const auto id = machine::component_at(i);
-    const bool angle = machine::info(id).quantity == machine::Quantity::Angle;
-    const double amp = angle ? 100.0 : 50.0;
-    const auto unit = angle ? "urad" : "um";
-    const bool varies = i < machine::kMotionComponentCount && id != ComponentId::delta_xc && i / 6 != 4;
-    if (varies) {
-      const bool rotary = i / 6 == 3;
-      const double span = rotary ? 90.0 : 900.0; // deg or mm
-      sources.push_back(ErrorSource::polynomial(id, {0.5 * amp * u(rng), 0.5 * amp * u(rng) / span}, unit, rotary ? "deg" : "mm"));
-    } else {
-      sources.push_back(ErrorSource::constant(id, 0.5 * amp * u(rng), unit));
-    }
-  }
-  const auto model = test::machine_with(sources);
+  const auto model = test::random_machine(1.0, 11);
   const grinding::MachineProcess process(model, kDatumZ);
   const auto exact = test::simulate(process, Method::Exact), linear = test::simulate(process, Method::Linear);
   double lo = 1e9, hi = -1e9;
