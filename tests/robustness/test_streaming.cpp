@@ -1,7 +1,9 @@
 // Large inputs: a 1e6-row point cloud (2e5 under ASan) is read line by line with memory linear in the points (no
-// copy of the whole file), and an error on its last line is still found and located.
+// copy of the whole file), and an error on its last line is still found and located; the simulation's memory is
+// linear in its points.
 #include "robustness_support.hpp"
 
+#include "grinding/topology.hpp"
 #include "surfaces/point_cloud.hpp"
 
 #include <gtest/gtest.h>
@@ -107,4 +109,28 @@ TEST(Streaming, ADuplicateOfTheFirstPointOnTheLastOfAMillionRowsIsFound) {
     EXPECT_NE(what.find(fmt::format("{}:{}:", file.p.string(), kRows + 1)), std::string::npos) << what;
     EXPECT_NE(what.find("line 2"), std::string::npos) << what; // names the line it repeats
   }
+}
+
+// The simulation's memory is linear in the points it computes: 10⁶ dense-grid points (4 flanks × 500 × 500, linear
+// method) grow the peak RSS by about 40 bytes each (a GridPoint), allowed twice that. Without this a per-point
+// allocation, a copy of the whole result or a quadratic buffer would only show on a customer's big grid.
+TEST(Streaming, SimulationMemoryIsLinearInThePoints) {
+  if (kAsan) GTEST_SKIP() << "ASan's shadow memory and quarantine make RSS meaningless";
+  const auto& d = default_scene();
+  grinding::SimulationOptions o;
+  o.method = grinding::Method::Linear;
+  o.teeth = {1, 2};
+  o.dense_rows = 500;
+  o.dense_cols = 500;
+  const long before = peak_rss_kib();
+  const auto topo = grinding::simulate_topology(d.setup, d.machine, o);
+  const long grown_kib = peak_rss_kib() - before;
+  size_t points = 0;
+  for (const auto& ft : topo) points += ft.dense.size();
+  ASSERT_EQ(points, 1'000'000u);
+  const double bytes_per_point = 1024.0 * static_cast<double>(grown_kib) / static_cast<double>(points);
+  RecordProperty("bytes_per_point", fmt::format("{:.1f}", bytes_per_point));
+  std::printf("10^6 simulated dense points: peak RSS grew by %.1f MiB (%.1f bytes per point; a GridPoint is %zu)\n",
+              grown_kib / 1024.0, bytes_per_point, sizeof(grinding::GridPoint));
+  EXPECT_LT(bytes_per_point, 2.0 * sizeof(grinding::GridPoint));
 }
