@@ -15,10 +15,10 @@ void BM_Compensation(benchmark::State& state) {
   const auto& b = bench::default_scene();
   compensation::CompensationOptions o;
   o.method = state.range(0) == 0 ? compensation::Method::Flank : compensation::Method::Paper;
-  const compensation::StrokeCheck strokes{b.model, b.machine.datum_face_z_mm()};
+  const compensation::StrokeCheck strokes{b.machine, b.machine_process.datum_face_z_mm()};
   size_t rows = 0;
   for (auto _ : state) {
-    const auto table = compensation::compute_corrections(b.setup, b.actual(), strokes, o);
+    const auto table = compensation::compute_corrections(b.setup, b.process(), strokes, o);
     rows = table.rows().size();
     benchmark::DoNotOptimize(table.rows().data());
   }

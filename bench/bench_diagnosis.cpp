@@ -17,7 +17,7 @@ const std::vector<diagnosis::MeasuredPoint>& measured() {
   static const auto pts = [] {
     const auto& truth = bench::truth_scene();
     diagnosis::SynthOptions o; // teeth 1 and 18, 7×9, 0.5 µm, seed 1
-    return diagnosis::measured_points(diagnosis::synthesize(truth.setup, truth.actual(), o), truth.setup.geometry(),
+    return diagnosis::measured_points(diagnosis::synthesize(truth.setup, truth.process(), o), truth.setup.geometry(),
                                       "synthetic");
   }();
   return pts;
@@ -27,7 +27,7 @@ void BM_Synthesize(benchmark::State& state) {
   const auto& truth = bench::truth_scene();
   size_t n = 0;
   for (auto _ : state) {
-    const auto rows = diagnosis::synthesize(truth.setup, truth.actual(), diagnosis::SynthOptions{});
+    const auto rows = diagnosis::synthesize(truth.setup, truth.process(), diagnosis::SynthOptions{});
     n = rows.size();
     benchmark::DoNotOptimize(rows.data());
   }
@@ -41,7 +41,7 @@ void BM_Diagnose(benchmark::State& state) {
   const auto& pts = measured();
   std::string chosen;
   for (auto _ : state) {
-    const auto d = diagnosis::diagnose(model.setup, model.actual(), pts, model.in_scene, diagnosis::DiagnoseOptions{});
+    const auto d = diagnosis::diagnose(model.setup, model.process(), pts, model.effect_types(), diagnosis::DiagnoseOptions{});
     chosen = d.chosen ? d.chosen->name() : "none";
     benchmark::DoNotOptimize(d.ranked.data());
   }

@@ -21,9 +21,9 @@ const std::vector<grinding::FlankTopology>& simulated_gear() {
   static const auto topo = [] {
     const auto& b = bench::default_scene();
     grinding::SimulationOptions o;
-    o.profile_points = b.sc.grid.profile_points;
-    o.helix_points = b.sc.grid.helix_points;
-    return grinding::simulate_topology(b.setup, b.actual(), o);
+    o.profile_points = b.scene.grid.profile_points;
+    o.helix_points = b.scene.grid.helix_points;
+    return grinding::simulate_topology(b.setup, b.process(), o);
   }();
   return topo;
 }

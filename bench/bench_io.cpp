@@ -70,7 +70,7 @@ const TopologyFile& dense_topology_file() {
     o.method = grinding::Method::Linear; // only the file's size and format matter here
     o.dense_rows = 50;
     o.dense_cols = 100;
-    const auto topo = grinding::simulate_topology(b.setup, b.actual(), o);
+    const auto topo = grinding::simulate_topology(b.setup, b.process(), o);
     grinding::write_topology_csv(f.file.path, topo, grinding::GridKind::Dense);
     f.rows = grinding::topology_rows(topo, grinding::GridKind::Dense).size();
     return true;

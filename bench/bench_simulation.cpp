@@ -57,7 +57,7 @@ void BM_GridOnly(benchmark::State& state, std::vector<int64_t> a) {
   const Method m = method_of(a[0]);
   const int rows = static_cast<int>(a[1]), cols = static_cast<int>(a[2]);
   const int threads = static_cast<int>(a[3]);
-  for (auto _ : state) benchmark::DoNotOptimize(grid_only(b.setup, b.actual(), m, rows, cols, threads));
+  for (auto _ : state) benchmark::DoNotOptimize(grid_only(b.setup, b.process(), m, rows, cols, threads));
   set_points(state, 2.0 * b.setup.geometry().teeth() * rows * cols);
 }
 
@@ -75,7 +75,7 @@ void BM_Simulate(benchmark::State& state, std::vector<int64_t> a) {
   o.threads = static_cast<int>(a[7]);
   size_t points = 0;
   for (auto _ : state) {
-    const auto topo = grinding::simulate_topology(b.setup, b.actual(), o);
+    const auto topo = grinding::simulate_topology(b.setup, b.process(), o);
     points = 0;
     for (const auto& ft : topo) points += ft.grid.size() + ft.profile.size() + ft.helix.size() + ft.dense.size();
     benchmark::DoNotOptimize(topo.data());
@@ -106,7 +106,7 @@ private:
 
 void BM_PoseEvaluationsPerPoint(benchmark::State& state) {
   const auto& b = bench::default_scene();
-  const CountingProcess counting(b.actual());
+  const CountingProcess counting(b.process());
   const Method m = method_of(state.range(0));
   for (auto _ : state) benchmark::DoNotOptimize(grid_only(b.setup, counting, m, 7, 9, 1));
   const double points = 2.0 * b.setup.geometry().teeth() * 63 * static_cast<double>(state.iterations());

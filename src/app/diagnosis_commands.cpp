@@ -21,12 +21,6 @@
 namespace geartopo::app {
 namespace {
 
-std::vector<std::string> effect_types_of(const scene::Scene& s) {
-  std::vector<std::string> t;
-  for (const auto& e : s.effects) t.push_back(e.type);
-  return t;
-}
-
 nlohmann::json candidate_json(const diagnosis::Candidate& c) {
   nlohmann::json j;
   j["effect"] = c.name();
@@ -117,7 +111,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       diagnosis::DiagnoseOptions o;
       o.noise_um = opt->noise;
       o.candidates = opt->candidates;
-      const auto d = diagnosis::diagnose(wb.setup, wb.process(), pts, effect_types_of(wb.scene), o);
+      const auto d = diagnosis::diagnose(wb.setup, wb.process(), pts, wb.effect_types(), o);
 
       nlohmann::json j;
       j["scene"] = opt->scene;

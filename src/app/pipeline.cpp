@@ -35,16 +35,12 @@ PipelineResult run_pipeline(const Workbench& wb, const std::string& measured_fil
     m.file = measured_file;
     m.points = diagnosis::read_any_measurement(measured_file, wb.setup);
     m.before = diagnosis::compare(wb.setup, wb.process(), m.points, 0.0);
-    std::vector<std::string> in_scene;
-    for (const auto& e : wb.scene.effects) in_scene.push_back(e.type);
     diagnosis::DiagnoseOptions d;
     d.noise_um = m.before.noise_um;
-    m.diagnosis = diagnosis::diagnose(wb.setup, wb.process(), m.points, in_scene, d);
+    m.diagnosis = diagnosis::diagnose(wb.setup, wb.process(), m.points, wb.effect_types(), d);
     if (m.diagnosis.chosen) {
       const auto effs = make_effects(m.diagnosis.chosen->effects, wb.setup);
-      std::vector<const effects::Effect*> list;
-      for (const auto& e : effs) list.push_back(e.get());
-      const effects::EffectsProcess with(wb.process(), list);
+      const effects::EffectsProcess with(wb.process(), effs);
       m.after = diagnosis::compare(wb.setup, with, m.points, m.before.noise_um);
       std::ifstream in(scene_file);
       std::stringstream text;

@@ -3,28 +3,11 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include "effects/registry.hpp"
+#include "grinding/topology.hpp"
 
 #include <charconv>
 
 namespace geartopo::app {
-
-Workbench::Workbench(const std::string& scene_file)
-    : scene(scene::load_scene(scene_file)), setup(scene.gear, scene.wheel, scene.process), machine(scene.machine.model()),
-      machine_process(machine, scene.machine.datum_face_z_mm), effects(make_effects(scene.effects, setup)) {
-  if (!effects.empty()) {
-    std::vector<const effects::Effect*> list;
-    for (const auto& e : effects) list.push_back(e.get());
-    effects_process = std::make_unique<effects::EffectsProcess>(machine_process, list);
-  }
-}
-
-std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<scene::EffectSpec>& specs,
-                                                           const grinding::GrindingSetup& setup) {
-  std::vector<std::unique_ptr<effects::Effect>> out;
-  for (const auto& s : specs) out.push_back(effects::make_effect(s.type, s.values, setup));
-  return out;
-}
 
 namespace {
 bool parse_int(const std::string& s, int& v) {
@@ -54,8 +37,9 @@ std::pair<int, int> parse_grid_size(const std::string& text) {
   const auto x = text.find('x');
   int r = 0, c = 0;
   if (x == std::string::npos || !parse_int(text.substr(0, x), r) || !parse_int(text.substr(x + 1), c) || r < 2 || c < 2 ||
-      static_cast<long long>(r) * c > 4'000'000)
-    throw CLI::ValidationError("--dense", fmt::format("'{}' is not ROWSxCOLS with 2 ≤ each and at most 4e6 points per flank", text));
+      static_cast<long long>(r) * c > grinding::kMaxPointsPerFlank)
+    throw CLI::ValidationError("--dense", fmt::format("'{}' is not ROWSxCOLS with 2 ≤ each and at most {} points per flank",
+                                                      text, grinding::kMaxPointsPerFlank));
   return {r, c};
 }
 

@@ -4,6 +4,7 @@
 #include "diagnosis/prediction.hpp"
 #include "effects/effects_process.hpp"
 #include "effects/registry.hpp"
+#include "scene/workbench.hpp"
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -51,9 +52,7 @@ public:
   /// Effects' first-order contribution at the points (µm).
   std::vector<double> contribution() const {
     const grinding::IdealProcess ideal;
-    std::vector<const effects::Effect*> list;
-    for (const auto& e : effects_) list.push_back(e.get());
-    const effects::EffectsProcess p(ideal, list);
+    const effects::EffectsProcess p(ideal, effects_);
     return predict(setup_, p, pts_, grinding::Method::Linear, threads_);
   }
 
@@ -277,13 +276,8 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   // The residual with the chosen effects, by the exact simulation.
   d.residual_after_um = d.residual_before_um;
   if (d.chosen) {
-    std::vector<std::unique_ptr<effects::Effect>> effs;
-    std::vector<const effects::Effect*> list;
-    for (const auto& spec : d.chosen->effects) {
-      effs.push_back(effects::make_effect(spec.type, spec.values, setup));
-      list.push_back(effs.back().get());
-    }
-    const effects::EffectsProcess with(model, list);
+    const auto effs = scene::make_effects(d.chosen->effects, setup);
+    const effects::EffectsProcess with(model, effs);
     const auto after = predict(setup, with, pts, grinding::Method::Exact, o.threads);
     for (size_t i = 0; i < pts.size(); ++i) d.residual_after_um[i] = pts[i].deviation_um - after[i];
     d.chosen->rms_after_um = std::sqrt(rss_of(d.residual_after_um) / n);

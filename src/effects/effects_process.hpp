@@ -6,6 +6,7 @@
 #include "effects/effect.hpp"
 #include "grinding/grinding_process.hpp"
 
+#include <memory>
 #include <vector>
 
 namespace geartopo::effects {
@@ -15,6 +16,11 @@ public:
   /// `effects` must be bound to the same set-up and outlive the process.
   EffectsProcess(const grinding::GrindingProcess& inner, std::vector<const Effect*> effects)
       : inner_(inner), effects_(std::move(effects)) {}
+  /// The same over effects someone owns (a scene's, a diagnosis candidate's); they must outlive the process.
+  EffectsProcess(const grinding::GrindingProcess& inner, const std::vector<std::unique_ptr<Effect>>& effects)
+      : inner_(inner) {
+    for (const auto& e : effects) effects_.push_back(e.get());
+  }
 
   machine::Pose actual_wMg(const grinding::PathPoint& pp) const override;
   /// The pose error of actual_wMg against the ideal pose, as (translation; rotation vector): first-order exact.

@@ -6,7 +6,7 @@
 #include "diagnosis/synth.hpp"
 #include "effects/effects_process.hpp"
 #include "effects/registry.hpp"
-#include "grinding/machine_process.hpp"
+#include "scene/workbench.hpp"
 
 #include <gtest/gtest.h>
 
@@ -28,30 +28,9 @@ std::string default_text() {
   return s.str();
 }
 
-// Everything a scene makes, kept together (the processes refer to the model and the effects).
-struct Built {
-  explicit Built(const scene::Scene& s)
-      : sc(s), setup(sc.gear, sc.wheel, sc.process), model(sc.machine.model()), machine(model, sc.machine.datum_face_z_mm) {
-    std::vector<const effects::Effect*> list;
-    for (const auto& spec : sc.effects) {
-      effs.push_back(effects::make_effect(spec.type));
-      effs.back()->set_values(spec.values);
-      effs.back()->bind(setup);
-      list.push_back(effs.back().get());
-    }
-    process = std::make_unique<effects::EffectsProcess>(machine, list);
-  }
-  scene::Scene sc;
-  grinding::GrindingSetup setup;
-  machine::MachineModel model;
-  grinding::MachineProcess machine;
-  std::vector<std::unique_ptr<effects::Effect>> effs;
-  std::unique_ptr<effects::EffectsProcess> process;
-};
-
 // The default scene, shared by every test (built once: geometry-central style shared assets).
-const Built& model_scene() {
-  static const Built b(scene::load_scene(kDefault));
+const scene::Workbench& model_scene() {
+  static const scene::Workbench b(kDefault);
   return b;
 }
 
@@ -65,7 +44,7 @@ scene::EffectSpec spec(const std::string& type, const std::vector<std::pair<std:
 std::vector<diagnosis::MeasuredPoint> measure(const std::vector<scene::EffectSpec>& hidden, std::uint64_t seed,
                                               const effects::Effect* extra = nullptr) {
   const std::string text = hidden.empty() ? default_text() : diagnosis::scene_with_effects(default_text(), hidden, {});
-  const Built truth(scene::parse_scene(text, kDefault)); // table paths resolve next to the default scene
+  const scene::Workbench truth(scene::parse_scene(text, kDefault)); // table paths resolve next to the default scene
   diagnosis::SynthOptions o;
   o.noise_um = kNoise;
   o.seed = seed;
@@ -73,10 +52,10 @@ std::vector<diagnosis::MeasuredPoint> measure(const std::vector<scene::EffectSpe
   if (extra) {
     std::unique_ptr<effects::Effect> e = extra->clone();
     e->bind(truth.setup);
-    const effects::EffectsProcess with(*truth.process, {e.get()});
+    const effects::EffectsProcess with(truth.process(), {e.get()});
     rows = diagnosis::synthesize(truth.setup, with, o);
   } else {
-    rows = diagnosis::synthesize(truth.setup, *truth.process, o);
+    rows = diagnosis::synthesize(truth.setup, truth.process(), o);
   }
   return diagnosis::measured_points(rows, truth.setup.geometry(), "synthetic");
 }
@@ -84,7 +63,7 @@ std::vector<diagnosis::MeasuredPoint> measure(const std::vector<scene::EffectSpe
 diagnosis::Diagnosis run(const std::vector<diagnosis::MeasuredPoint>& pts) {
   diagnosis::DiagnoseOptions o;
   o.noise_um = kNoise;
-  return diagnosis::diagnose(model_scene().setup, *model_scene().process, pts, {}, o);
+  return diagnosis::diagnose(model_scene().setup, model_scene().process(), pts, {}, o);
 }
 
 struct HiddenCase {

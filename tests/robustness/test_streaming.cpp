@@ -123,7 +123,7 @@ TEST(Streaming, SimulationMemoryIsLinearInThePoints) {
   o.dense_rows = 500;
   o.dense_cols = 500;
   const long before = peak_rss_kib();
-  const auto topo = grinding::simulate_topology(d.setup, d.machine, o);
+  const auto topo = grinding::simulate_topology(d.setup, d.process(), o);
   const long grown_kib = peak_rss_kib() - before;
   size_t points = 0;
   for (const auto& ft : topo) points += ft.dense.size();

@@ -49,7 +49,7 @@ TEST_P(ThreadCount, DeviationsAreBitIdenticalFor1And2And4Threads) {
   std::vector<std::vector<std::uint64_t>> results;
   for (int threads : {1, 2, 4}) {
     o.threads = threads;
-    results.push_back(bits(grinding::simulate_topology(d.setup, d.machine, o)));
+    results.push_back(bits(grinding::simulate_topology(d.setup, d.process(), o)));
   }
   ASSERT_EQ(results[0].size(), results[1].size());
   ASSERT_EQ(results[0].size(), results[2].size());
@@ -62,7 +62,7 @@ TEST_P(ThreadCount, DeviationsAreBitIdenticalFor1And2And4Threads) {
   EXPECT_EQ(differ_4, 0u) << "threads 1 vs 4";
   // And the default (0 = all hardware threads) agrees too.
   o.threads = 0;
-  EXPECT_EQ(bits(grinding::simulate_topology(d.setup, d.machine, o)), results[0]);
+  EXPECT_EQ(bits(grinding::simulate_topology(d.setup, d.process(), o)), results[0]);
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, ThreadCount, ::testing::Values(grinding::Method::Exact, grinding::Method::Linear),
