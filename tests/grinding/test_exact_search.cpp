@@ -124,6 +124,9 @@ TEST(ExactSearch, DeepestCutFarFromTheNominalStrokeIsFound) {
     compare(screw, c);
     EXPECT_LT(c.worst_mm, 1e-8) << "shift " << shift;
     EXPECT_LT(c.range_mm, 1e-8) << "shift " << shift << ": a screw motion must leave the flank unchanged";
+    if (shift > FlankDeviation::kParabolaReachMm) {
+      EXPECT_GT(c.poses_per_point, 10.0) << "the fallback must have decided";
+    }
   }
 }
 

@@ -4,7 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -121,12 +120,11 @@ TEST(Cli, SimulateRefusesAGridTooLargeForAllFlanksBeforeAllocating) {
                           "  helix_angle_deg: 30\n  profile_shift: 0.274\n  face_width_mm: 150\n"
                           "measurement:\n  dense_rows: 1900\n  dense_cols: 2000\n";
   const auto out = temp_path("cli_big_grid");
-  const auto t0 = std::chrono::steady_clock::now();
   const auto r = run("simulate " + scene.string() + " --out " + out.string());
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_EQ(r.code, 1) << r.err;
-  EXPECT_NE(r.err.find("points"), std::string::npos) << r.err;
-  EXPECT_LT(seconds, 60.0); // refused up front, not after computing
+  // Refused by the size check (before allocating: Simulation.HugeGridsAreRefusedBeforeAllocating), not by running out
+  // of memory; a hang would hit the test's timeout.
+  EXPECT_NE(r.err.find("is more than a simulation may hold"), std::string::npos) << r.err;
   fs::remove_all(out);
   fs::remove(scene);
 }

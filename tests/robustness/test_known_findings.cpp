@@ -45,6 +45,7 @@ TEST(KnownFinding, MessagesDoNotEchoAWhole64KiBField) {
   };
   for (const auto& [reader, fn] : cases) {
     const std::string what = message_of(fn);
+    ASSERT_NE(what, "(accepted)") << reader << " accepted a 65 536-digit number";
     EXPECT_LE(what.size(), 1000u) << reader << ": " << what.size() << " characters: " << what.substr(0, 200) << "…";
   }
 }
