@@ -26,7 +26,6 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
   for (size_t i = 0; i < pts.size(); ++i) c.residual_um[i] = pts[i].deviation_um - c.model_um[i];
   c.noise_estimated = noise_um <= 0.0;
   c.noise_um = c.noise_estimated ? estimate_noise_um(pts, c.residual_um) : noise_um;
-  if (!(c.noise_um > 0.0)) c.noise_um = 0.1; // too few points per flank to estimate: a conservative probe figure
 
   std::map<std::pair<int, int>, size_t> index;
   const auto& r = setup.ranges();

@@ -226,7 +226,8 @@ double estimate_noise_um(const std::vector<MeasuredPoint>& pts, const std::vecto
     rss += (y - X * beta).squaredNorm();
     dof += static_cast<double>(idx.size()) - 6.0;
   }
-  return dof > 0.0 ? std::sqrt(rss / dof) : 0.0;
+  constexpr double kFallbackNoiseUm = 0.1;
+  return dof > 0.0 && rss > 0.0 ? std::sqrt(rss / dof) : kFallbackNoiseUm;
 }
 
 Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
@@ -243,10 +244,16 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   d.noise_estimated = o.noise_um <= 0.0;
   d.noise_um = d.noise_estimated ? estimate_noise_um(pts, d.residual_before_um) : o.noise_um;
 
-  std::vector<std::string> types = o.candidates;
-  if (types.empty())
-    for (const auto& t : effects::effect_types())
-      if (std::find(in_scene.begin(), in_scene.end(), t) == in_scene.end()) types.push_back(t);
+  // Candidates: the ones asked for, or every library effect; never one the scene already models (fitting it again
+  // would stack two copies and write a scene that lists it twice), never one twice.
+  const bool asked = !o.candidates.empty();
+  std::vector<std::string> types;
+  for (const auto& t : asked ? o.candidates : effects::effect_types()) {
+    const bool modelled = std::find(in_scene.begin(), in_scene.end(), t) != in_scene.end();
+    if (modelled && asked)
+      throw std::invalid_argument(fmt::format("diagnose: candidate '{}' is already in the scene's effects", t));
+    if (!modelled && std::find(types.begin(), types.end(), t) == types.end()) types.push_back(t);
+  }
 
   std::map<std::string, std::vector<double>> fitted_values;
   for (const auto& t : types) {

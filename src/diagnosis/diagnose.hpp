@@ -64,7 +64,8 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
                    const DiagnoseOptions& options);
 
 /// Noise σ (µm) estimated from residuals: a quadratic surface in (roll length, z) fitted per flank, the pooled
-/// residual standard deviation. Flanks with fewer than 10 points are skipped; 0 if none is left.
+/// residual standard deviation. Flanks with fewer than 10 points are skipped; if none is left, 0.1 µm — a
+/// conservative probe figure, so that no caller divides by or compares with a zero noise.
 double estimate_noise_um(const std::vector<MeasuredPoint>& points, const std::vector<double>& residual_um);
 
 } // namespace geartopo::diagnosis

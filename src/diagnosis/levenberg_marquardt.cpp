@@ -8,9 +8,13 @@ namespace geartopo::diagnosis {
 namespace {
 
 Eigen::MatrixXd jacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f, const Eigen::VectorXd& x,
-                         const Eigen::VectorXd& r0, const Eigen::VectorXd& hi) {
+                         const Eigen::VectorXd& r0, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
   Eigen::MatrixXd J(r0.size(), x.size());
   for (Eigen::Index j = 0; j < x.size(); ++j) {
+    if (lo(j) == hi(j)) { // held fixed (a profile-likelihood refit): no step can move it, so no prediction for it
+      J.col(j).setZero();
+      continue;
+    }
     double h = 1e-4 * std::max(1.0, std::abs(x(j)));
     Eigen::VectorXd xp = x;
     if (xp(j) + h > hi(j)) h = -h; // stay inside the box
@@ -29,7 +33,7 @@ LmResult levenberg_marquardt(const std::function<Eigen::VectorXd(const Eigen::Ve
   Eigen::VectorXd r = f(res.x);
   res.rss = r.squaredNorm();
   double lambda = 1e-3;
-  Eigen::MatrixXd J = jacobian(f, res.x, r, hi);
+  Eigen::MatrixXd J = jacobian(f, res.x, r, lo, hi);
   for (int it = 0; it < max_iterations; ++it) {
     res.iterations = it + 1;
     const Eigen::MatrixXd A = J.transpose() * J;
@@ -49,7 +53,7 @@ LmResult levenberg_marquardt(const std::function<Eigen::VectorXd(const Eigen::Ve
         res.rss = rss_new;
         lambda = std::max(lambda * 0.3, 1e-9);
         improved = true;
-        J = jacobian(f, res.x, r, hi);
+        J = jacobian(f, res.x, r, lo, hi);
         if (converged) {
           res.JtJ = J.transpose() * J;
           return res;
