@@ -11,10 +11,8 @@ cd "$(dirname "$0")/.."
 seconds=${SECONDS_EACH:-60}
 build_dir=${BUILD_DIR:-build-fuzz}
 
-bash scripts/install-deps.sh
-if ! command -v clang++-14 >/dev/null; then
-  if [ "$(id -u)" -eq 0 ]; then apt-get install -y --no-install-recommends clang-14; else sudo apt-get install -y --no-install-recommends clang-14; fi
-fi
+# libclang-rt-14-dev holds libFuzzer and the sanitizer runtimes; clang-14 only recommends it.
+bash scripts/install-deps.sh clang-14 libclang-rt-14-dev
 
 cmake -S . -B "$build_dir" -G Ninja -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGEARTOPO_FUZZ=ON -DGEARTOPO_BUILD_BENCH=OFF -DGEARTOPO_BUILD_TESTS=ON \

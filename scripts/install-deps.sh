@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs every Debian package geartopo needs to build, test and render (Debian 12 "bookworm").
 # Idempotent: packages already installed are skipped, so a second run costs a few dpkg queries.
-# Needs root (or sudo) only when something is missing.
+# Needs root (or sudo) only when something is missing. Extra packages may be given as arguments.
 set -euo pipefail
 
 packages=(
@@ -16,6 +16,8 @@ packages=(
   nlohmann-json3-dev     # JSON output
   libgtest-dev libgmock-dev libbenchmark-dev
 )
+
+packages+=("$@") # extra packages a caller needs (scripts/fuzz.sh: clang-14 libclang-rt-14-dev)
 
 missing=()
 for p in "${packages[@]}"; do
