@@ -1,10 +1,10 @@
 #include "surfaces/point_cloud.hpp"
 
 #include "gears/involute_helicoid.hpp"
+#include "gears/text_field.hpp"
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -68,7 +68,7 @@ std::string cat(const Parts&... parts) {
 // Quotes a field in a message: whole, or its first 40 characters when longer (a corrupt file can hold a 64 KiB field).
 std::string quoted(std::string_view s) {
   if (s.size() <= 40) return cat("'", s, "'");
-  return cat("'", s.substr(0, 40), "…' (", std::to_string(s.size()), " characters)");
+  return cat("'", text::utf8_prefix(s, 40), "…' (", std::to_string(s.size()), " characters)");
 }
 
 std::string fixed(double v, int decimals) {
@@ -78,24 +78,18 @@ std::string fixed(double v, int decimals) {
 }
 
 double number(const Field& f, const std::string& src, std::int64_t line, std::string_view name) {
-  const char* b = f.text.data();
-  const char* e = b + f.text.size();
-  if (b != e && *b == '+') ++b;
   double v = 0.0;
-  const auto [ptr, ec] = std::from_chars(b, e, v);
+  const std::errc ec = text::parse_number(f.text, v);
   if (f.text.empty()) fail(src, line, f.column, name, "empty field, expected a number");
   if (ec == std::errc::result_out_of_range) fail(src, line, f.column, name, quoted(f.text) + " is out of range");
-  if (ec != std::errc() || ptr != e) fail(src, line, f.column, name, quoted(f.text) + " is not a number");
+  if (ec != std::errc()) fail(src, line, f.column, name, quoted(f.text) + " is not a number");
   if (!std::isfinite(v)) fail(src, line, f.column, name, quoted(f.text) + " is not finite");
   return v;
 }
 
 std::int64_t whole(const Field& f, const std::string& src, std::int64_t line, std::string_view name) {
   std::int64_t v = 0;
-  const char* b = f.text.data();
-  const char* e = b + f.text.size();
-  const auto [ptr, ec] = std::from_chars(b, e, v);
-  if (f.text.empty() || ec != std::errc() || ptr != e || v < 0)
+  if (text::parse_number(f.text, v) != std::errc() || v < 0)
     fail(src, line, f.column, name, quoted(f.text) + " is not a whole number >= 0");
   return v;
 }
@@ -206,10 +200,7 @@ std::vector<CloudPoint> read_point_cloud(std::istream& in, const std::string& sr
     ++lineno;
     std::string_view line = buffer;
     int offset = 0; // characters dropped from the start (the BOM), for column numbers
-    if (lineno == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") {
-      line.remove_prefix(3);
-      offset = 3;
-    }
+    if (lineno == 1 && text::strip_bom(line)) offset = static_cast<int>(text::kUtf8Bom.size());
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     const std::string_view content = trim(line);
     if (content.empty() || content.front() == '#') continue;
@@ -273,6 +264,19 @@ std::vector<CloudPoint> read_point_cloud(std::istream& in, const std::string& sr
              " (closer than 1e-9 mm)"));
   }
   return points;
+}
+
+bool starts_like_point_cloud(std::istream& in) {
+  std::string buffer;
+  for (std::int64_t lineno = 1; std::getline(in, buffer); ++lineno) {
+    std::string_view line = buffer;
+    if (lineno == 1) text::strip_bom(line);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    const std::string_view content = trim(line);
+    if (content.empty() || content.front() == '#') continue;
+    return trim(content.substr(0, content.find(','))) == "x_mm";
+  }
+  return false;
 }
 
 std::vector<CloudPoint> read_point_cloud(const std::filesystem::path& file) {

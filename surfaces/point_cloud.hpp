@@ -48,6 +48,11 @@ std::vector<CloudPoint> read_point_cloud(std::istream& in, const std::string& so
 /// Same from a file; `source` in messages is the path. Throws std::runtime_error when the file cannot be opened.
 std::vector<CloudPoint> read_point_cloud(const std::filesystem::path& file);
 
+/// Whether the input's first line that is neither blank nor a comment starts with the column x_mm, by the same rules
+/// as read_point_cloud (BOM, '\r', blanks): how a reader of "any measurement" tells a cloud from a topology file.
+/// Reads up to that line.
+bool starts_like_point_cloud(std::istream& in);
+
 /// Where one measured point lies relative to the exact nominal flanks.
 struct FlankSample {
   int tooth = 0;                   ///< 1..z

@@ -97,11 +97,7 @@ std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file,
 std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup) {
   std::ifstream in(file);
   if (!in) throw std::runtime_error(file + ": cannot open");
-  std::string line;
-  while (std::getline(in, line) && (line.empty() || line[0] == '#')) {
-  }
-  if (line.rfind("x_mm,y_mm,z_mm", 0) == 0 || line.rfind("\xEF\xBB\xBFx_mm", 0) == 0)
-    return read_point_cloud_measurement(file, setup.flanks());
+  if (surfaces::starts_like_point_cloud(in)) return read_point_cloud_measurement(file, setup.flanks());
   return read_measurement(file, setup.geometry());
 }
 

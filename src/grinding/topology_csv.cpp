@@ -1,8 +1,9 @@
 #include "grinding/topology_csv.hpp"
 
+#include "gears/text_field.hpp"
+
 #include <fmt/format.h>
 
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -18,7 +19,7 @@ namespace {
 // mark that Excel's "CSV UTF-8" writes (invisible in an editor, so columns are counted after it).
 std::string clean_line(std::string s, int lineno) {
   if (!s.empty() && s.back() == '\r') s.pop_back();
-  if (lineno == 1 && s.rfind("\xEF\xBB\xBF", 0) == 0) s.erase(0, 3);
+  if (lineno == 1 && s.rfind(text::kUtf8Bom, 0) == 0) s.erase(0, text::kUtf8Bom.size());
   return s;
 }
 
@@ -43,12 +44,7 @@ std::vector<Field> split(const std::string& line) {
   return out;
 }
 
-// What an error message quotes of a field: the field itself, or its first 40 characters when it is longer (a corrupt
-// file can hold a 64 KiB "number": the message must stay readable).
-std::string excerpt(std::string_view s) {
-  if (s.size() <= 40) return std::string(s);
-  return std::string(s.substr(0, 40)) + "… (" + std::to_string(s.size()) + " characters)";
-}
+using text::excerpt;
 
 [[noreturn]] void fail(const std::string& src, int line, int col, const std::string& field, const std::string& msg) {
   throw std::runtime_error(fmt::format("{}:{}:{}: {}: {}", src, line, col, field, msg));
@@ -56,19 +52,15 @@ std::string excerpt(std::string_view s) {
 
 double number(const Field& f, const std::string& src, int line, const char* name) {
   double v = 0.0;
-  const char* b = f.text.data();
-  const char* e = b + f.text.size();
-  if (b != e && *b == '+') ++b;
-  const auto [ptr, ec] = std::from_chars(b, e, v);
-  if (f.text.empty() || ec != std::errc() || ptr != e) fail(src, line, f.column, name, fmt::format("'{}' is not a number", excerpt(f.text)));
+  if (text::parse_number(f.text, v) != std::errc())
+    fail(src, line, f.column, name, fmt::format("'{}' is not a number", excerpt(f.text)));
   if (!std::isfinite(v)) fail(src, line, f.column, name, fmt::format("'{}' is not finite", excerpt(f.text)));
   return v;
 }
 
 int whole(const Field& f, const std::string& src, int line, const char* name) {
   int v = 0;
-  const auto [ptr, ec] = std::from_chars(f.text.data(), f.text.data() + f.text.size(), v);
-  if (f.text.empty() || ec != std::errc() || ptr != f.text.data() + f.text.size())
+  if (text::parse_number(f.text, v) != std::errc())
     fail(src, line, f.column, name, fmt::format("'{}' is not a whole number", excerpt(f.text)));
   return v;
 }

@@ -1,9 +1,10 @@
 // geartopo — CSV error-table reader with located messages. Units: file units in, mm and rad out.
 #include "machine/error_table.hpp"
 
+#include "gears/text_field.hpp"
+
 #include <fmt/format.h>
 
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -13,13 +14,7 @@ namespace geartopo::machine {
 
 namespace {
 
-// What an error message quotes of a field: the field itself, or its first 40 characters when it is longer (a corrupt
-// file can hold a 64 KiB "number": the message must stay readable).
-std::string excerpt(std::string_view s) {
-  if (s.size() <= 40) return std::string(s);
-  return std::string(s.substr(0, 40)) + "… (" + std::to_string(s.size()) + " characters)";
-}
-
+using text::excerpt;
 
 std::string located(const std::string& file, int line, int column, const std::string& field, const std::string& msg) {
   std::string where = file;
@@ -74,7 +69,7 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
   auto fail = [&](int line, int column, const std::string& field, const std::string& msg) -> TableError {
     return TableError(source, line, column, field, msg);
   };
-  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3); // UTF-8 byte-order mark
+  geartopo::text::strip_bom(text);
 
   int line_no = 0, header_line = 0;
   Axis axis = Axis::X;
@@ -175,12 +170,9 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
       const Field& f = fields[k];
       last_row_columns.push_back(f.column);
       const std::string& fname = k == 0 ? position_field : columns[k - 1].field;
-      std::string_view t = f.text;
-      if (t.empty()) throw fail(line_no, f.column, fname, "empty field");
-      if (t.front() == '+') t.remove_prefix(1);
+      if (f.text.empty()) throw fail(line_no, f.column, fname, "empty field");
       double v = 0.0;
-      const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-      if (ec != std::errc() || end != t.data() + t.size())
+      if (geartopo::text::parse_number(f.text, v) != std::errc())
         throw fail(line_no, f.column, fname, fmt::format("'{}' is not a number", excerpt(f.text)));
       if (!std::isfinite(v)) throw fail(line_no, f.column, fname, fmt::format("'{}' is not a finite number", excerpt(f.text)));
       if (k == 0) {

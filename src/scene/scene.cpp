@@ -2,6 +2,7 @@
 
 #include "gears/field_error.hpp"
 #include "gears/gear_geometry.hpp"
+#include "gears/text_field.hpp"
 #include "scene/yaml_reader.hpp"
 #include "grinding/topology.hpp"
 #include "machine/error_table.hpp"
@@ -11,7 +12,6 @@
 #include <yaml-cpp/depthguard.h> // YAML::DeepRecursion, not included by yaml.h in 0.7
 
 #include <algorithm>
-#include <charconv>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -74,10 +74,8 @@ machine::Interval read_interval(MapReader& m, const std::string& key, machine::I
   machine::Interval iv{};
   bool ok = items.size() == 2;
   if (ok) {
-    const auto [p1, e1] = std::from_chars(items[0].data(), items[0].data() + items[0].size(), iv.min);
-    const auto [p2, e2] = std::from_chars(items[1].data(), items[1].data() + items[1].size(), iv.max);
-    ok = e1 == std::errc() && e2 == std::errc() && p1 == items[0].data() + items[0].size() &&
-         p2 == items[1].data() + items[1].size() && std::isfinite(iv.min) && std::isfinite(iv.max) && iv.min < iv.max;
+    ok = text::parse_number(items[0], iv.min) == std::errc() && text::parse_number(items[1], iv.max) == std::errc() &&
+         std::isfinite(iv.min) && std::isfinite(iv.max) && iv.min < iv.max;
   }
   if (!ok) m.context().fail_field(m.field(key), "expected [min, max] with min < max, two finite numbers");
   return iv;
@@ -140,9 +138,8 @@ MachineSection read_machine(MapReader& m, const std::filesystem::path& base, dou
       std::vector<double> coef;
       for (const auto& t : poly.optional_text_list("coefficients")) {
         double v = 0.0;
-        const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-        if (ec != std::errc() || ptr != t.data() + t.size() || !std::isfinite(v))
-          ctx.fail_field(poly.field("coefficients"), fmt::format("'{}' is not a finite number", t));
+        if (text::parse_number(t, v) != std::errc() || !std::isfinite(v))
+          ctx.fail_field(poly.field("coefficients"), fmt::format("'{}' is not a finite number", text::excerpt(t)));
         coef.push_back(v);
       }
       if (coef.empty()) ctx.fail_field(poly.field("coefficients"), "missing (a list of numbers, ascending powers)");
@@ -232,9 +229,8 @@ MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& 
                                        grinding::kMaxPointsPerFlank));
   for (const auto& t : m.optional_text_list("teeth")) {
     int v = 0;
-    const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-    if (ec != std::errc() || ptr != t.data() + t.size() || v < 1 || v > teeth)
-      m.context().fail_field(m.field("teeth"), fmt::format("'{}' is not a tooth number of 1..{}", t, teeth));
+    if (text::parse_number(t, v) != std::errc() || v < 1 || v > teeth)
+      m.context().fail_field(m.field("teeth"), fmt::format("'{}' is not a tooth number of 1..{}", text::excerpt(t), teeth));
     g.teeth.push_back(v);
   }
   if (auto f = m.optional_text("measured")) g.measured_file = (base / *f).lexically_normal().string();

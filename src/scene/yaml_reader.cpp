@@ -1,8 +1,9 @@
 #include "scene/yaml_reader.hpp"
 
+#include "gears/text_field.hpp"
+
 #include <fmt/format.h>
 
-#include <charconv>
 #include <cmath>
 
 namespace geartopo::scene {
@@ -13,30 +14,17 @@ std::string scalar_of(const YAML::Node& n) { return n.IsScalar() ? n.Scalar() : 
 // YAML's own spellings of non-finite numbers are refused here: a scene value is always a finite number.
 std::optional<double> parse_double(const std::string& s) {
   double v = 0.0;
-  const char* b = s.data();
-  const char* e = s.data() + s.size();
-  if (b != e && *b == '+') ++b;
-  const auto [ptr, ec] = std::from_chars(b, e, v);
-  if (ec != std::errc() || ptr != e) return std::nullopt;
+  if (text::parse_number(s, v) != std::errc()) return std::nullopt;
   return v;
 }
 
 std::optional<long long> parse_integer(const std::string& s) {
   long long v = 0;
-  const char* b = s.data();
-  const char* e = s.data() + s.size();
-  if (b != e && *b == '+') ++b;
-  const auto [ptr, ec] = std::from_chars(b, e, v);
-  if (ec != std::errc() || ptr != e) return std::nullopt;
+  if (text::parse_number(s, v) != std::errc()) return std::nullopt;
   return v;
 }
 
-// What an error message quotes of a field: the field itself, or its first 40 characters when it is longer (a corrupt
-// file can hold a 64 KiB "number": the message must stay readable).
-std::string excerpt(std::string_view s) {
-  if (s.size() <= 40) return std::string(s);
-  return std::string(s.substr(0, 40)) + "… (" + std::to_string(s.size()) + " characters)";
-}
+using text::excerpt;
 
 std::string kind_of(const YAML::Node& n) {
   switch (n.Type()) {

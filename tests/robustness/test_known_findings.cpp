@@ -1,7 +1,7 @@
 // FINDINGS of the robustness work (docs/performance.md, "Robustness findings"), kept as regression tests, all fixed on
 // 2026-11-21: (1) a 10⁸-point dense grid per flank accepted by the scene reader (corpus/scenes/grid_dense_*.yaml);
 // (2) readers echoing a whole 64 KiB field into their message; (3) unknown-key messages listing only the keys a reader
-// happened to look up; (4) topology and traces files with a UTF-8 byte-order mark refused. Findings 6 and 7 are
+// happened to look up; (4) topology and traces files with a UTF-8 byte-order mark refused; (10) "+-5" read as −5. Findings 6 and 7 are
 // pinned by their corpus files' expected messages (huge_teeth_in_range.yaml, deeply_nested_*.yaml), finding 9 by
 // tests/grinding/test_exact_search.cpp.
 #include "robustness_support.hpp"
@@ -85,4 +85,20 @@ TEST(KnownFinding, TopologyAndTracesFilesWithAByteOrderMarkAreRead) {
     });
     EXPECT_EQ(what, "(accepted)") << (is_topology ? "topology" : "traces") << ": " << what;
   }
+}
+
+// Finding 10: "+-5" was read as −5 by the topology, point-cloud and error-table readers (each stripped a '+' and then
+// parsed the rest); all readers now share gears/text_field.hpp.
+TEST(KnownFinding, EveryReaderRefusesPlusMinus) {
+  const std::string topo = std::string(grinding::kTopologyHeader) + "\n1,left,1,1,560.5,10,+-5\n";
+  const std::string cloud = "x_mm,y_mm,z_mm\n1,2,+-5\n";
+  const std::string table = "x_mm,delta_xx_um\n0,+-5\n900,1\n";
+  const std::string scene_text = "gear:\n  normal_module_mm: +-14\n  teeth: 35\n  normal_pressure_angle_deg: 20\n"
+                                 "  helix_angle_deg: 30\n  profile_shift: 0.274\n  face_width_mm: 150\n";
+  std::istringstream t(topo), c(cloud);
+  EXPECT_NE(message_of([&] { (void)grinding::read_topology_csv(t, "t.csv", 35); }).find("t.csv:2:"), std::string::npos);
+  EXPECT_NE(message_of([&] { (void)surfaces::read_point_cloud(c, "c.csv"); }).find("c.csv:2:"), std::string::npos);
+  EXPECT_NE(message_of([&] { (void)machine::parse_error_tables(table, "e.csv"); }).find("e.csv:2:"), std::string::npos);
+  EXPECT_NE(message_of([&] { (void)scene::parse_scene(scene_text, "s.yaml"); }).find("gear.normal_module_mm"),
+            std::string::npos);
 }
