@@ -99,13 +99,23 @@ double FlankDeviation::entry_depth(const gears::FlankPoint& fp, const machine::P
   return t;
 }
 
+FlankDeviation::Target FlankDeviation::target(int tooth, gears::Flank flank, double xi, double z) const {
+  return {space_of(tooth, flank, flanks_.geometry().teeth()), flanks_.at(tooth, flank, xi, z),
+          z - wheel_.contact_offset_mm(flank, xi)};
+}
+
+double FlankDeviation::depth_at(const Target& t, double z_stroke_mm) const {
+  const PathPoint pp = path_.point(t.space, z_stroke_mm);
+  return entry_depth(t.fp, process_.actual_wMg(pp), pp);
+}
+
 DeviationResult FlankDeviation::at(int tooth, gears::Flank flank, double xi, double z, Method method) const {
-  const int space = space_of(tooth, flank, flanks_.geometry().teeth());
-  const gears::FlankPoint fp = flanks_.at(tooth, flank, xi, z);
-  const double z0 = z - wheel_.contact_offset_mm(flank, xi); // nominal generating stroke position
+  const Target t = target(tooth, flank, xi, z);
+  const gears::FlankPoint& fp = t.fp;
+  const double z0 = t.z0;
 
   if (method == Method::Linear) {
-    const PathPoint pp = path_.point(space, z0);
+    const PathPoint pp = path_.point(t.space, z0);
     const machine::Vector6d e = process_.error_twist_w(pp);
     const Eigen::Vector3d shift = e.head<3>() + e.tail<3>().cross(fp.p);
     const double v = (machine::ideal_wMg(pp.q).inverse() * fp.p).y(); // wheel coordinate of the contact point
@@ -113,10 +123,6 @@ DeviationResult FlankDeviation::at(int tooth, gears::Flank flank, double xi, dou
     return {fp.n.dot(shift) - process_.wheel_radius_error_mm(v, pp) * wheel_.normal_per_radial(v), z0};
   }
 
-  auto depth_at = [&](double zs) {
-    const PathPoint pp = path_.point(space, zs);
-    return entry_depth(fp, process_.actual_wMg(pp), pp);
-  };
   // Near its minimum the depth is t* + ½c(Z − Z*)² + O((Z − Z*)³) with c ≈ 1/R_wheel, and Z* lies within a fraction
   // of a millimetre of Z₀. Three depths at Z₀ − h, Z₀, Z₀ + h give the parabola's vertex u; the depth at u is a real
   // depth (never below the true minimum) and exceeds it by ½c(u − Z*)², where |u − Z*| ~ (3d s² − d h²)/c for the
@@ -124,33 +130,31 @@ DeviationResult FlankDeviation::at(int tooth, gears::Flank flank, double xi, dou
   // depth at u agrees with the parabola's own prediction; otherwise Brent's search decides (tests/grinding:
   // ExactSearch.*).
   constexpr double h = 0.05;
-  const double f_m = depth_at(z0 - h), f_0 = depth_at(z0), f_p = depth_at(z0 + h);
+  const double f_m = depth_at(t, z0 - h), f_0 = depth_at(t, z0), f_p = depth_at(t, z0 + h);
   const double curvature = f_p + f_m - 2.0 * f_0; // c h²
   if (std::isfinite(f_m) && std::isfinite(f_0) && std::isfinite(f_p) && curvature > 0.0) {
     const double u = z0 + 0.5 * h * (f_m - f_p) / curvature;
     if (std::abs(u - z0) <= kParabolaReachMm) {
-      const double f_u = depth_at(u);
+      const double f_u = depth_at(t, u);
       const double predicted = f_0 - (f_p - f_m) * (f_p - f_m) / (8.0 * curvature);
       if (std::abs(f_u - predicted) <= kParabolaAgreementMm && f_u <= std::min({f_m, f_0, f_p})) return {f_u, u};
     }
   }
-  return exact_by_brent(tooth, flank, xi, z, kBrentTolMm);
+  return brent_search(t, kBrentTolMm);
 }
 
 DeviationResult FlankDeviation::exact_by_brent(int tooth, gears::Flank flank, double xi, double z, double z_tol_mm) const {
-  const int space = space_of(tooth, flank, flanks_.geometry().teeth());
-  const gears::FlankPoint fp = flanks_.at(tooth, flank, xi, z);
-  const double z0 = z - wheel_.contact_offset_mm(flank, xi);
-  auto depth_at = [&](double zs) {
-    const PathPoint pp = path_.point(space, zs);
-    return entry_depth(fp, process_.actual_wMg(pp), pp);
-  };
+  return brent_search(target(tooth, flank, xi, z), z_tol_mm);
+}
+
+DeviationResult FlankDeviation::brent_search(const Target& t, double z_tol_mm) const {
+  auto depth = [&](double zs) { return depth_at(t, zs); };
   // The deepest cut moves from Z₀ by (error gradient)/(clearance curvature) — well under 0.2 mm for any realistic
   // error — so ±0.5 mm is searched first, and ±4 mm if the minimum lands on that window's edge. A Z tolerance of
   // 1e-4 mm leaves the depth exact to ½c·1e-8 ≈ 1e-10 mm.
-  auto [z_best, t_best] = brent_minimize(depth_at, z0 - 0.5, z0 + 0.5, z_tol_mm);
-  if (std::abs(z_best - z0) > 0.5 - 10 * z_tol_mm)
-    std::tie(z_best, t_best) = brent_minimize(depth_at, z0 - 4.0, z0 + 4.0, z_tol_mm);
+  auto [z_best, t_best] = brent_minimize(depth, t.z0 - 0.5, t.z0 + 0.5, z_tol_mm);
+  if (std::abs(z_best - t.z0) > 0.5 - 10 * z_tol_mm)
+    std::tie(z_best, t_best) = brent_minimize(depth, t.z0 - 4.0, t.z0 + 4.0, z_tol_mm);
   return {t_best, z_best};
 }
 

@@ -53,6 +53,16 @@ public:
   double entry_depth(const gears::FlankPoint& fp, const machine::Pose& wMg, const PathPoint& pp) const;
 
 private:
+  /// A flank point with what the search around it needs: the space that grinds it and its nominal stroke Z₀.
+  struct Target {
+    int space;
+    gears::FlankPoint fp;
+    double z0;
+  };
+  Target target(int tooth, gears::Flank flank, double roll_length_mm, double z_mm) const;
+  double depth_at(const Target& t, double z_stroke_mm) const; ///< entry depth with the wheel at stroke position Z
+  DeviationResult brent_search(const Target& t, double z_tol_mm) const;
+
   const gears::InvoluteHelicoid& flanks_;
   const FormWheel& wheel_;
   const WheelPath& path_;

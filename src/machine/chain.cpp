@@ -31,12 +31,23 @@ Pose ideal_wMg(const AxisPose& q) {
   return Pose(m);
 }
 
+IdealFrames ideal_frames(const AxisPose& q) {
+  IdealFrames f;
+  f.wMF = Rz(-q.c);
+  f.wMX = f.wMF * translation(q.x, 0.0, 0.0);
+  f.wMZ = f.wMX * translation(0.0, 0.0, q.z);
+  f.wMA = f.wMZ * Rx(q.a);
+  f.wMg = f.wMA * translation(0.0, q.y, 0.0);
+  return f;
+}
+
 const Pose& ideal_kinematics(const AxisPose& q, MachineData& data) {
-  data.wMF_ideal = Rz(-q.c);
-  data.wMX_ideal = data.wMF_ideal * translation(q.x, 0.0, 0.0);
-  data.wMZ_ideal = data.wMX_ideal * translation(0.0, 0.0, q.z);
-  data.wMA_ideal = data.wMZ_ideal * Rx(q.a);
-  data.wMg_ideal = data.wMA_ideal * translation(0.0, q.y, 0.0);
+  const IdealFrames f = ideal_frames(q);
+  data.wMF_ideal = f.wMF;
+  data.wMX_ideal = f.wMX;
+  data.wMZ_ideal = f.wMZ;
+  data.wMA_ideal = f.wMA;
+  data.wMg_ideal = f.wMg;
   return data.wMg_ideal;
 }
 

@@ -22,7 +22,14 @@ namespace geartopo::machine {
 /// Ideal wheel pose in the workpiece frame, the closed form of Eq. 11.
 Pose ideal_wMg(const AxisPose& q);
 
-/// Ideal cumulative poses wMF_ideal … wMg_ideal into data; returns data.wMg_ideal.
+/// The ideal chain's cumulative frames at q (w → F → X → Z → A → g): where the first-order error model and the
+/// axis Jacobian place their twists.
+struct IdealFrames {
+  Pose wMF, wMX, wMZ, wMA, wMg;
+};
+IdealFrames ideal_frames(const AxisPose& q);
+
+/// Ideal cumulative poses wMF_ideal … wMg_ideal into data (ideal_frames); returns data.wMg_ideal.
 const Pose& ideal_kinematics(const AxisPose& q, MachineData& data);
 
 /// Exact chain for given component values e (mm, rad): fills data.q, data.e and the local and cumulative

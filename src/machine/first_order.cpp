@@ -1,8 +1,6 @@
 // geartopo — first-order error sensitivities by adjoint transport (first_order.hpp). Units: mm, rad.
 #include "machine/first_order.hpp"
 
-#include "machine/transforms.hpp"
-
 namespace geartopo::machine {
 
 namespace {
@@ -73,12 +71,7 @@ void error_jacobians(const AxisPose& q, MachineData& data) {
 
 Vector6d twist_w_linear(const ErrorVector& e, const AxisPose& q) {
   const auto E = [&](ComponentId k) { return e(index(k)); };
-  // The ideal frames, as ideal_kinematics builds them.
-  const Pose wMF = Rz(-q.c);
-  const Pose wMX = wMF * translation(q.x, 0.0, 0.0);
-  const Pose wMZ = wMX * translation(0.0, 0.0, q.z);
-  const Pose wMA = wMZ * Rx(q.a);
-  const Pose wMg = wMA * translation(0.0, q.y, 0.0);
+  const IdealFrames f = ideal_frames(q);
 
   // Each frame's share of the error twist, the columns of error_jacobians summed with their values.
   Vector6d at_w = -motion_twist(e, Axis::C);
@@ -94,8 +87,8 @@ Vector6d twist_w_linear(const ErrorVector& e, const AxisPose& q) {
   Vector6d at_g = motion_twist(e, Axis::Y);
   at_g(0) -= q.y * E(S_xy);
   at_g(2) -= q.y * E(S_zy);
-  return at_w + transport(wMF, at_F) + transport(wMX, motion_twist(e, Axis::X)) + transport(wMZ, at_Z) +
-         transport(wMA, at_A) + transport(wMg, at_g);
+  return at_w + transport(f.wMF, at_F) + transport(f.wMX, motion_twist(e, Axis::X)) + transport(f.wMZ, at_Z) +
+         transport(f.wMA, at_A) + transport(f.wMg, at_g);
 }
 
 PoseErrorTwists twist_linear(const ErrorVector& e, const AxisPose& q, MachineData& data) {

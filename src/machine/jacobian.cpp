@@ -31,16 +31,12 @@ Matrix65 J_twistw_q(const AxisPose& q) {
   // Each joint's unit motion is a fixed twist in its own frame, transported to w by the ideal sub-chain:
   //   X: e_x translation in F/X, Z: e_z translation in X/Z, A: e_x rotation in Z/A, Y: e_y translation in A/g,
   //   C: wMF = Rz(−γ), so dγ turns the wheel by −e_z about the origin of w.
-  const Pose wMF = Rz(-q.c);
-  const Pose wMX = wMF * translation(q.x, 0.0, 0.0);
-  const Pose wMZ = wMX * translation(0.0, 0.0, q.z);
-  const Pose wMA = wMZ * Rx(q.a);
-  const Pose wMg = wMA * translation(0.0, q.y, 0.0);
+  const IdealFrames f = ideal_frames(q);
   Matrix65 J;
-  J.col(static_cast<int>(Axis::X)) = adjoint(wMX).col(0);
-  J.col(static_cast<int>(Axis::Y)) = adjoint(wMg).col(1);
-  J.col(static_cast<int>(Axis::Z)) = adjoint(wMZ).col(2);
-  J.col(static_cast<int>(Axis::A)) = adjoint(wMA).col(3);
+  J.col(static_cast<int>(Axis::X)) = adjoint(f.wMX).col(0);
+  J.col(static_cast<int>(Axis::Y)) = adjoint(f.wMg).col(1);
+  J.col(static_cast<int>(Axis::Z)) = adjoint(f.wMZ).col(2);
+  J.col(static_cast<int>(Axis::A)) = adjoint(f.wMA).col(3);
   J.col(static_cast<int>(Axis::C)) = -Matrix6d::Identity().col(5);
   return J;
 }
