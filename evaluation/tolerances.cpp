@@ -58,6 +58,8 @@ std::optional<std::string> validity_refusal(const GearParameters& p) {
   return s + " (ISO 1328-1:2013 range of validity; tolerances are not to be extrapolated)";
 }
 
+std::string class_label(const std::optional<int>& c) { return c ? class_label(*c) : "–"; }
+
 std::string class_label(int a) {
   if (a >= kFinestClass && a <= kCoarsestClass) return std::to_string(a);
   if (a == kWorseThanClass11) return "worse than 11";

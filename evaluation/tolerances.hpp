@@ -47,6 +47,8 @@ inline constexpr int kCoarsestClass = 11;
 
 /// "5" for 1..11, "worse than 11" for kWorseThanClass11.
 std::string class_label(int flank_class);
+/// The same, and "–" when there is no class (ISO 1328-1 does not apply, or nothing was evaluated).
+std::string class_label(const std::optional<int>& flank_class);
 
 /// Rounding of clause 5.2.3 (as gathered, [C]): above 10 µm to whole µm; 5–10 µm to 0.5 µm; below 5 µm to 0.1 µm.
 /// Ties round half up. Because decimal ties (4.95, 7.25, 10.5) are not exact in binary, a value within 1e-9 of a

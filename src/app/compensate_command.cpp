@@ -106,8 +106,8 @@ void register_compensate_command(CLI::App& app, Action& action) {
       for (size_t i = 0; i < qb.size() && i < qa.size(); ++i)
         std::cout << fmt::format("  {:<6} {:>10.2f} {:>10.2f} {:>8.1f}%  {:>6} → {}\n", evaluation::symbol(qb[i].quantity),
                                  qb[i].worst_value_um, qa[i].worst_value_um, improvement(qb[i].worst_value_um, qa[i].worst_value_um),
-                                 qb[i].flank_class ? evaluation::class_label(*qb[i].flank_class) : "-",
-                                 qa[i].flank_class ? evaluation::class_label(*qa[i].flank_class) : "-");
+                                 evaluation::class_label(qb[i].flank_class),
+                                 evaluation::class_label(qa[i].flank_class));
       const auto& cb = iso_b.evaluation.classification;
       const auto& ca = iso_a.evaluation.classification;
       if (cb.overall && ca.overall)

@@ -74,10 +74,7 @@ void register_synth_command(CLI::App& app, Action& action) {
       if (!parent.empty()) std::filesystem::create_directories(parent);
       std::ofstream out(opt->out);
       if (!out) throw std::runtime_error(opt->out + ": cannot write");
-      out << grinding::kTopologyHeader << "\n";
-      for (const auto& r : rows)
-        out << fmt::format("{},{},{},{},{:.6f},{:.6f},{:.4f}\n", r.tooth, gears::to_string(r.flank), r.row, r.col,
-                           r.diameter_mm, r.z_mm, r.deviation_um);
+      grinding::write_topology_rows(out, rows);
       std::cout << fmt::format("wrote {} ({} points, noise {} µm, seed {})\n", opt->out, rows.size(), opt->noise, opt->seed);
       return 0;
     };

@@ -283,7 +283,7 @@ Figure alignment_figure(const Workbench& wb, const PipelineResult& r, const fs::
           c.size.width, c.size.height, std::nullopt, std::nullopt};
 }
 
-std::vector<Figure> measurement_figures(const Workbench& wb, const MeasurementResult& m, const fs::path& dir) {
+std::vector<Figure> measurement_figures(const MeasurementResult& m, const fs::path& dir) {
   std::vector<Figure> out;
   // Heat maps need the grid layout of a topology file.
   bool gridded = true;
@@ -353,7 +353,7 @@ std::vector<Figure> measurement_figures(const Workbench& wb, const MeasurementRe
     render::BarChart c;
     c.title = "Candidate effects: share of the residual each explains (ranked by ΔBIC)";
     c.size = {1000, 600};
-    std::vector<double> explained, significant;
+    std::vector<double> explained;
     for (const auto& cand : d.ranked) {
       c.categories.push_back(cand.name());
       explained.push_back(100.0 * cand.explained_fraction);
@@ -398,7 +398,6 @@ std::vector<Figure> measurement_figures(const Workbench& wb, const MeasurementRe
     const auto size = render::render_composite(comp, dir / "diagnosis.png");
     out.push_back({"diagnosis.png", "measurement", comp.title, d.verdict, size.width, size.height, std::nullopt, std::nullopt});
   }
-  (void)wb;
   return out;
 }
 
@@ -455,7 +454,7 @@ std::vector<Figure> render_figures(const Workbench& wb, const PipelineResult& r,
   figs.push_back(after);
   figs.push_back(alignment_figure(wb, r, dir));
   if (r.measurement)
-    for (auto& f : measurement_figures(wb, *r.measurement, dir)) figs.push_back(std::move(f));
+    for (auto& f : measurement_figures(*r.measurement, dir)) figs.push_back(std::move(f));
   figs.push_back(gear_figure(wb, r, dir));
   return figs;
 }

@@ -35,8 +35,6 @@ std::string figures_of(const std::vector<Figure>& figs, const std::string& secti
   return h;
 }
 
-std::string cls(const std::optional<int>& c) { return c ? evaluation::class_label(*c) : "–"; }
-
 std::string iso_table(const IsoResult& b, const IsoResult& a) {
   std::string h = "<table><tr><th>quantity</th><th>before (µm)</th><th>class</th><th>where</th><th>after (µm)</th><th>class</th>"
                   "<th>better</th></tr>\n";
@@ -47,14 +45,14 @@ std::string iso_table(const IsoResult& b, const IsoResult& a) {
                                                                 std::abs(qb[i].worst_value_um)
                                                           : 0.0;
     h += fmt::format("<tr><td>{}</td><td>{:.2f}</td><td>{}</td><td>{}</td><td>{:.2f}</td><td>{}</td><td>{:.0f} %</td></tr>\n",
-                     esc(std::string(evaluation::symbol(qb[i].quantity))), qb[i].worst_value_um, cls(qb[i].flank_class),
-                     esc(qb[i].where), qa[i].worst_value_um, cls(qa[i].flank_class), imp);
+                     esc(std::string(evaluation::symbol(qb[i].quantity))), qb[i].worst_value_um, evaluation::class_label(qb[i].flank_class),
+                     esc(qb[i].where), qa[i].worst_value_um, evaluation::class_label(qa[i].flank_class), imp);
   }
   const auto& cb = b.evaluation.classification;
   const auto& ca = a.evaluation.classification;
   if (cb.refusal) h += "<tr><td colspan=7>Classification refused: " + esc(*cb.refusal) + "</td></tr>";
-  h += fmt::format("<tr><th>overall class</th><th colspan=3>{}</th><th colspan=3>{}</th></tr></table>\n", cls(cb.overall),
-                   cls(ca.overall));
+  h += fmt::format("<tr><th>overall class</th><th colspan=3>{}</th><th colspan=3>{}</th></tr></table>\n", evaluation::class_label(cb.overall),
+                   evaluation::class_label(ca.overall));
   return h;
 }
 
@@ -83,7 +81,7 @@ void write_html_report(const std::filesystem::path& dir, const Workbench& wb, co
                    "flank-method compensation ({:.1f} % better).</li>",
                    r.largest_before_um, r.largest_after_um,
                    r.largest_before_um > 0 ? 100.0 * (r.largest_before_um - r.largest_after_um) / r.largest_before_um : 0.0);
-  h += fmt::format("<li>Overall flank tolerance class: <b>{}</b> before, <b>{}</b> after.</li>", cls(cb.overall), cls(ca.overall));
+  h += fmt::format("<li>Overall flank tolerance class: <b>{}</b> before, <b>{}</b> after.</li>", evaluation::class_label(cb.overall), evaluation::class_label(ca.overall));
   if (r.measurement) h += "<li>Diagnosis: " + esc(r.measurement->diagnosis.verdict) + "</li>";
   h += "</ul></div>\n";
 

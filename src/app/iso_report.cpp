@@ -141,7 +141,7 @@ std::string iso_table(const IsoResult& res) {
   out += "  worst values and classes:\n";
   for (const auto& q : c.quantities)
     out += fmt::format("    {:<5} {:>8.2f}  class {:<13} ({})\n", evaluation::symbol(q.quantity), q.worst_value_um,
-                       q.flank_class ? evaluation::class_label(*q.flank_class) : "-", q.where);
+                       evaluation::class_label(q.flank_class), q.where);
   if (c.overall)
     out += fmt::format("  overall flank tolerance class: {} (set by {})\n", evaluation::class_label(*c.overall),
                        c.governing ? std::string(evaluation::symbol(*c.governing)) : "-");

@@ -30,7 +30,6 @@ struct PipelineResult {
   std::vector<grinding::FlankTopology> before, after; ///< all teeth, grid + traces (exact)
   IsoResult iso_before, iso_after;
   std::unique_ptr<compensation::CorrectionTable> corrections;
-  std::string compensation_method = "flank";
   double largest_before_um = 0.0, largest_after_um = 0.0;
   std::optional<MeasurementResult> measurement;
 };

@@ -25,8 +25,6 @@ std::string measured_of(const Workbench& wb, const std::string& option) {
   return option.empty() ? wb.scene.grid.measured_file : option;
 }
 
-std::string cls(const std::optional<int>& c) { return c ? evaluation::class_label(*c) : "–"; }
-
 void write_data_files(const fs::path& dir, const std::string& scene_file, const Workbench& wb, const PipelineResult& r) {
   grinding::write_topology_csv(dir / "topology_before.csv", r.before);
   grinding::write_topology_csv(dir / "topology_after.csv", r.after);
@@ -49,7 +47,7 @@ void print_summary(const fs::path& dir, const PipelineResult& r) {
   const auto& ca = r.iso_after.evaluation.classification;
   std::cout << fmt::format("Largest |deviation| (7×9 grids, all teeth): {:.2f} µm before, {:.2f} µm after compensation\n",
                            r.largest_before_um, r.largest_after_um);
-  std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before, {} after{}\n", cls(cb.overall), cls(ca.overall),
+  std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before, {} after{}\n", evaluation::class_label(cb.overall), evaluation::class_label(ca.overall),
                            cb.governing ? fmt::format(" (before: set by {})", evaluation::symbol(*cb.governing)) : "");
   if (r.measurement) {
     const auto& m = *r.measurement;

@@ -86,8 +86,12 @@ std::vector<TopologyRow> topology_rows(const std::vector<FlankTopology>& topo, G
 }
 
 void write_topology_csv(std::ostream& out, const std::vector<FlankTopology>& topo, GridKind kind) {
+  write_topology_rows(out, topology_rows(topo, kind));
+}
+
+void write_topology_rows(std::ostream& out, const std::vector<TopologyRow>& rows) {
   out << kTopologyHeader << "\n";
-  for (const auto& r : topology_rows(topo, kind))
+  for (const auto& r : rows)
     out << fmt::format("{},{},{},{},{:.6f},{:.6f},{:.4f}\n", r.tooth, gears::to_string(r.flank), r.row, r.col,
                        r.diameter_mm, r.z_mm, r.deviation_um);
 }

@@ -34,6 +34,8 @@ struct TopologyRow {
 enum class GridKind { Topology, Dense };
 
 void write_topology_csv(std::ostream& out, const std::vector<FlankTopology>& topo, GridKind kind = GridKind::Topology);
+/// The same file from rows (header included): what measured or synthesised data is written as.
+void write_topology_rows(std::ostream& out, const std::vector<TopologyRow>& rows);
 void write_traces_csv(std::ostream& out, const std::vector<FlankTopology>& topo);
 void write_topology_csv(const std::filesystem::path& file, const std::vector<FlankTopology>& topo,
                         GridKind kind = GridKind::Topology);
