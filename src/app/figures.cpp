@@ -90,8 +90,10 @@ Figure topology_figure(const Workbench& wb, const std::vector<grinding::FlankTop
   const auto size = render::render_composite(comp, dir / file);
   fig.width = size.width, fig.height = size.height;
   fig.data_range_um = range_of(shown);
-  fig.caption = "The nominal 7×9 grid (black) and the ground flank (blue) with the deviation magnified, values at the nodes "
-                "in µm, plus material positive. Rows run from root to tip over L_α, columns from the datum face over L_β.";
+  fig.caption = fmt::format("The nominal {}×{} grid (black) and the ground flank (blue) with the deviation magnified, values "
+                            "at the nodes in µm, plus material positive. Rows run from root to tip over L_α, columns from "
+                            "the datum face over L_β.",
+                            wb.scene.grid.rows, wb.scene.grid.cols);
   return fig;
 }
 
@@ -278,8 +280,9 @@ Figure alignment_figure(const Workbench& wb, const PipelineResult& r, const fs::
   c.legend = render::LegendPlace::above;
   render::render_line_chart(c, dir / "alignment_curve.png");
   return {"alignment_curve.png", "compensation", c.title,
-          "The fourth of the seven tooth-alignment curves (mid profile) across the nine profile curves, before (solid) "
-          "and after (dashed) the flank-method compensation.",
+          fmt::format("Tooth-alignment curve {} of {} (mid profile) across the {} profile curves, before (solid) and after "
+                      "(dashed) the flank-method compensation.",
+                      (wb.scene.grid.rows + 1) / 2, wb.scene.grid.rows, wb.scene.grid.cols),
           c.size.width, c.size.height, std::nullopt, std::nullopt};
 }
 
@@ -423,7 +426,8 @@ Figure gear_figure(const Workbench& wb, const PipelineResult& r, const fs::path&
   }
   v.view_direction = Eigen::Vector3d(-0.35, -0.25, 1.0); // from the datum face side, a little oblique
   v.view_up = Eigen::Vector3d(0.0, 1.0, 0.0);
-  v.caption = "seen from the datum face; colour = normal deviation of the 7×9 grid, µm, plus material positive";
+  v.caption = fmt::format("seen from the datum face; colour = normal deviation of the {} grid, µm, plus material positive",
+                          grid_label(r));
   const auto rr = render::render_surface_view(v, dir / "gear_3d.png");
   return {"gear_3d.png", "gear", v.title, v.caption, v.size.width, v.size.height, range_of(shown), colour_of(rr)};
 }

@@ -77,9 +77,9 @@ void write_html_report(const std::filesystem::path& dir, const Workbench& wb, co
   h += "<div class=box><h3>Summary</h3><ul>";
   const auto& cb = r.iso_before.evaluation.classification;
   const auto& ca = r.iso_after.evaluation.classification;
-  h += fmt::format("<li>Largest |deviation| of the 7×9 grids, all teeth: <b>{:.2f} µm</b> before, <b>{:.2f} µm</b> after the "
+  h += fmt::format("<li>Largest |deviation| of the {} grids, all teeth: <b>{:.2f} µm</b> before, <b>{:.2f} µm</b> after the "
                    "flank-method compensation ({:.1f} % better).</li>",
-                   r.largest_before_um, r.largest_after_um,
+                   grid_label(r), r.largest_before_um, r.largest_after_um,
                    r.largest_before_um > 0 ? 100.0 * (r.largest_before_um - r.largest_after_um) / r.largest_before_um : 0.0);
   h += fmt::format("<li>Overall flank tolerance class: <b>{}</b> before, <b>{}</b> after.</li>", evaluation::class_label(cb.overall), evaluation::class_label(ca.overall));
   if (r.measurement) h += "<li>Diagnosis: " + esc(r.measurement->diagnosis.verdict) + "</li>";

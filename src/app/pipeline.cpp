@@ -1,5 +1,7 @@
 #include "app/pipeline.hpp"
 
+#include <fmt/format.h>
+
 #include "compensation/compensator.hpp"
 #include "diagnosis/scene_writer.hpp"
 #include "effects/effects_process.hpp"
@@ -53,6 +55,12 @@ PipelineResult run_pipeline(const Workbench& wb, const std::string& measured_fil
     r.measurement = std::move(m);
   }
   return r;
+}
+
+std::string grid_label(const PipelineResult& r) {
+  if (r.before.empty() || r.before.front().grid.empty()) return "no";
+  const auto& last = r.before.front().grid.back(); // row-major: the last point has the largest row and column
+  return fmt::format("{}×{}", last.row, last.col);
 }
 
 } // namespace geartopo::app

@@ -36,4 +36,7 @@ struct PipelineResult {
 
 PipelineResult run_pipeline(const Workbench& wb, const std::string& measured_file, const std::string& scene_file);
 
+/// "7×9": the topological grid's rows × columns as simulated (the scene's measurement.rows, cols).
+std::string grid_label(const PipelineResult& r);
+
 } // namespace geartopo::app

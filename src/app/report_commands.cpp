@@ -45,8 +45,8 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
 void print_summary(const fs::path& dir, const PipelineResult& r) {
   const auto& cb = r.iso_before.evaluation.classification;
   const auto& ca = r.iso_after.evaluation.classification;
-  std::cout << fmt::format("Largest |deviation| (7×9 grids, all teeth): {:.2f} µm before, {:.2f} µm after compensation\n",
-                           r.largest_before_um, r.largest_after_um);
+  std::cout << fmt::format("Largest |deviation| ({} grids, all teeth): {:.2f} µm before, {:.2f} µm after compensation\n",
+                           grid_label(r), r.largest_before_um, r.largest_after_um);
   std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before, {} after{}\n", evaluation::class_label(cb.overall), evaluation::class_label(ca.overall),
                            cb.governing ? fmt::format(" (before: set by {})", evaluation::symbol(*cb.governing)) : "");
   if (r.measurement) {
