@@ -12,6 +12,8 @@
 
 #include <fmt/format.h>
 
+#include <set>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -289,8 +291,16 @@ Figure alignment_figure(const Workbench& wb, const PipelineResult& r, const fs::
 std::vector<Figure> measurement_figures(const MeasurementResult& m, const fs::path& dir) {
   std::vector<Figure> out;
   // Heat maps need the grid layout of a topology file.
+  // Heat maps place each row and column by its points (a missing node is an empty cell), so every row 1..rows and
+  // column 1..cols of each flank needs at least one point; anything else (point clouds, a grid with a whole row or
+  // column missing) gets no heat maps — the diagnosis charts below still show.
   bool gridded = true;
   for (const auto& p : m.points) gridded = gridded && p.row > 0 && p.col > 0;
+  for (size_t f = 0; gridded && f < m.before.flanks.size(); ++f) {
+    std::set<int> rows, cols;
+    for (size_t i : m.before.flank_point_index[f]) rows.insert(m.points[i].row), cols.insert(m.points[i].col);
+    gridded = static_cast<int>(rows.size()) == *rows.rbegin() && static_cast<int>(cols.size()) == *cols.rbegin();
+  }
   double vmax = 1e-3, rmax = 1e-3;
   for (size_t i = 0; i < m.points.size(); ++i)
     vmax = std::max({vmax, std::abs(m.points[i].deviation_um), std::abs(m.before.model_um[i])}),

@@ -78,6 +78,7 @@ void register_report_command(CLI::App& app, Action& action) {
       const fs::path dir(opt->out);
       fs::create_directories(dir);
       const auto r = run_pipeline(wb, measured_of(wb, opt->measured), opt->scene);
+      write_data_files(dir, opt->scene, wb, r); // the page names them (corrections.csv, scene_with_effect.yaml …)
       const auto figs = write_report(dir, wb, r);
       std::cout << fmt::format("wrote {} figures and {}\n", figs.size(), (dir / "index.html").string());
       return 0;

@@ -102,3 +102,28 @@ TEST_F(ReportTest, HtmlRefersOnlyToFilesThatExistAndIsOffline) {
   EXPECT_NE(html.find("Verdict"), std::string::npos);
   EXPECT_NE(html.find("thermal_drift"), std::string::npos); // the demo's hidden effect is found and named
 }
+
+// A measured grid with a whole row missing on one flank (accepted by the topology reader) cannot be drawn as heat
+// maps (that row has no position); the report leaves that figure out instead of failing, and still diagnoses.
+TEST(ReportIncompleteGrid, LeavesOutTheHeatMapsAndStillDiagnoses) {
+  const fs::path dir = fs::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_report_incomplete");
+  fs::create_directories(dir);
+  const fs::path measured = dir / "measured_missing_row.csv";
+  {
+    std::ifstream in(std::string(GEARTOPO_SOURCE_DIR) + "/scenes/demo/measured.csv");
+    std::ofstream out(measured);
+    std::string line;
+    while (std::getline(in, line))
+      if (line.rfind("1,left,1,", 0) != 0) out << line << "\n"; // row 1 of tooth 1, left flank
+  }
+  const std::string scene = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35.yaml";
+  const std::string cmd = std::string(GEARTOPO_BINARY) + " report " + scene + " --measured " + measured.string() +
+                          " --out " + (dir / "out").string() + " > " + (dir / "log").string() + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(dir / "log").rdbuf();
+  std::set<std::string> files;
+  for (const auto& f : nlohmann::json::parse(std::ifstream(dir / "out" / "figures.json")))
+    files.insert(f["file"].get<std::string>());
+  EXPECT_FALSE(files.count("measured_vs_model.png"));
+  EXPECT_TRUE(files.count("diagnosis.png"));
+  fs::remove_all(dir);
+}
