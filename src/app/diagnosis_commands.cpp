@@ -144,16 +144,12 @@ void register_diagnose_command(CLI::App& app, Action& action) {
                                  d.combination->delta_bic, d.combination->rms_after_um);
       std::cout << d.verdict << "\n";
       if (d.chosen) {
-        std::ifstream in(opt->scene);
-        std::stringstream text;
-        text << in.rdbuf();
         std::vector<std::string> comments;
         for (const auto& e : d.chosen->effects)
           comments.push_back(fmt::format("{}: identified by geartopo diagnose from {} (ΔBIC {:.1f})", e.type,
                                          opt->measured, d.chosen->delta_bic));
         const auto path = out / "scene_with_effect.yaml";
-        const std::string completed = diagnosis::scene_with_effects(text.str(), d.chosen->effects, comments);
-        std::ofstream(path) << diagnosis::rebase_scene_paths(completed, std::filesystem::path(opt->scene).parent_path(), out);
+        diagnosis::write_scene_with_effects(opt->scene, d.chosen->effects, comments, path);
         std::cout << "wrote " << (out / "diagnosis.json").string() << " and " << path.string() << "\n";
       } else {
         std::cout << "wrote " << (out / "diagnosis.json").string() << "\n";

@@ -6,12 +6,10 @@
 #include "diagnosis/scene_writer.hpp"
 #include "effects/effects_process.hpp"
 
-#include <fstream>
-#include <sstream>
 
 namespace geartopo::app {
 
-PipelineResult run_pipeline(const Workbench& wb, const std::string& measured_file, const std::string& scene_file) {
+PipelineResult run_pipeline(const Workbench& wb, const std::string& measured_file) {
   PipelineResult r;
   grinding::SimulationOptions so;
   so.rows = wb.scene.grid.rows;
@@ -44,13 +42,6 @@ PipelineResult run_pipeline(const Workbench& wb, const std::string& measured_fil
       const auto effs = make_effects(m.diagnosis.chosen->effects, wb.setup);
       const effects::EffectsProcess with(wb.process(), effs);
       m.after = diagnosis::compare(wb.setup, with, m.points, m.before.noise_um);
-      std::ifstream in(scene_file);
-      std::stringstream text;
-      text << in.rdbuf();
-      std::vector<std::string> comments;
-      for (const auto& e : m.diagnosis.chosen->effects)
-        comments.push_back(e.type + ": identified by geartopo from " + measured_file);
-      m.completed_scene_text = diagnosis::scene_with_effects(text.str(), m.diagnosis.chosen->effects, comments);
     }
     r.measurement = std::move(m);
   }

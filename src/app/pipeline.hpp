@@ -23,7 +23,6 @@ struct MeasurementResult {
   diagnosis::Comparison before;             ///< against the scene's model
   diagnosis::Diagnosis diagnosis;
   std::optional<diagnosis::Comparison> after; ///< against the model with the chosen effect(s) added
-  std::string completed_scene_text;           ///< the scene with the chosen effect(s), if any
 };
 
 struct PipelineResult {
@@ -34,7 +33,7 @@ struct PipelineResult {
   std::optional<MeasurementResult> measurement;
 };
 
-PipelineResult run_pipeline(const Workbench& wb, const std::string& measured_file, const std::string& scene_file);
+PipelineResult run_pipeline(const Workbench& wb, const std::string& measured_file);
 
 /// "7×9": the topological grid's rows × columns as simulated (the scene's measurement.rows, cols).
 std::string grid_label(const PipelineResult& r);

@@ -37,9 +37,13 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
   iso["before"] = iso_json(r.iso_before);
   iso["after"] = iso_json(r.iso_after);
   std::ofstream(dir / "iso1328.json") << iso.dump(2) << "\n";
-  if (r.measurement && !r.measurement->completed_scene_text.empty())
-    std::ofstream(dir / "scene_with_effect.yaml")
-        << diagnosis::rebase_scene_paths(r.measurement->completed_scene_text, fs::path(scene_file).parent_path(), dir);
+  if (r.measurement && r.measurement->diagnosis.chosen) {
+    std::vector<std::string> comments;
+    for (const auto& e : r.measurement->diagnosis.chosen->effects)
+      comments.push_back(e.type + ": identified by geartopo from " + r.measurement->file);
+    diagnosis::write_scene_with_effects(scene_file, r.measurement->diagnosis.chosen->effects, comments,
+                                        dir / "scene_with_effect.yaml");
+  }
 }
 
 void print_summary(const fs::path& dir, const PipelineResult& r) {
@@ -77,7 +81,7 @@ void register_report_command(CLI::App& app, Action& action) {
       const Workbench wb(opt->scene);
       const fs::path dir(opt->out);
       fs::create_directories(dir);
-      const auto r = run_pipeline(wb, measured_of(wb, opt->measured), opt->scene);
+      const auto r = run_pipeline(wb, measured_of(wb, opt->measured));
       write_data_files(dir, opt->scene, wb, r); // the page names them (corrections.csv, scene_with_effect.yaml …)
       const auto figs = write_report(dir, wb, r);
       std::cout << fmt::format("wrote {} figures and {}\n", figs.size(), (dir / "index.html").string());
@@ -101,7 +105,7 @@ void register_run_command(CLI::App& app, Action& action) {
       const fs::path dir(opt->out);
       fs::create_directories(dir);
       std::cout << "geartopo run: " << (wb.scene.name.empty() ? opt->scene : wb.scene.name) << "\n";
-      const auto r = run_pipeline(wb, wb.scene.grid.measured_file, opt->scene);
+      const auto r = run_pipeline(wb, wb.scene.grid.measured_file);
       write_data_files(dir, opt->scene, wb, r);
       write_report(dir, wb, r);
       print_summary(dir, r);

@@ -1,4 +1,5 @@
 #include "diagnosis/scene_writer.hpp"
+#include <fstream>
 
 #include "effects/registry.hpp"
 
@@ -110,6 +111,18 @@ std::string rebase_scene_paths(const std::string& text, const std::filesystem::p
     out += line + "\n";
   }
   return out;
+}
+
+void write_scene_with_effects(const std::filesystem::path& scene_file, const std::vector<scene::EffectSpec>& effects,
+                              const std::vector<std::string>& comments, const std::filesystem::path& out_file) {
+  std::ifstream in(scene_file, std::ios::binary);
+  if (!in) throw std::runtime_error(scene_file.string() + ": cannot read the scene to complete it");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string completed = scene_with_effects(text.str(), effects, comments);
+  std::ofstream out(out_file, std::ios::binary);
+  out << rebase_scene_paths(completed, scene_file.parent_path(), out_file.parent_path());
+  if (!out) throw std::runtime_error(out_file.string() + ": cannot write");
 }
 
 } // namespace geartopo::diagnosis

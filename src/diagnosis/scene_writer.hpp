@@ -22,4 +22,9 @@ std::string scene_with_effects(const std::string& scene_text, const std::vector<
 std::string rebase_scene_paths(const std::string& scene_text, const std::filesystem::path& from_dir,
                                const std::filesystem::path& to_dir);
 
+/// Reads `scene_file`, adds the effects (scene_with_effects), rebases its paths to `out_file`'s folder and writes it
+/// there. Throws std::runtime_error naming the file that cannot be read or written.
+void write_scene_with_effects(const std::filesystem::path& scene_file, const std::vector<scene::EffectSpec>& effects,
+                              const std::vector<std::string>& comments, const std::filesystem::path& out_file);
+
 } // namespace geartopo::diagnosis
