@@ -1,6 +1,7 @@
 #include "effects/effects_process.hpp"
 
 #include "machine/chain.hpp"
+#include "machine/jacobian.hpp"
 
 namespace geartopo::effects {
 
@@ -18,8 +19,14 @@ machine::Pose EffectsProcess::actual_wMg(const grinding::PathPoint& pp) const {
   return wMg;
 }
 
+// First order throughout, like the inner process's own twist: the inner error at the commanded pose, the ideal
+// pose's change from the command offsets (J_twistw_q, as CompensatedProcess adds its corrections), and the table's
+// mounting errors, which act in w (they multiply wMg from the left).
 machine::Vector6d EffectsProcess::error_twist_w(const grinding::PathPoint& pp) const {
-  return machine::pose_error_twist(actual_wMg(pp) * machine::ideal_wMg(pp.q).inverse());
+  const grinding::PathPoint c = commanded(pp);
+  machine::Vector6d twist = inner_.error_twist_w(c) + machine::J_twistw_q(pp.q) * (c.q.vector() - pp.q.vector());
+  for (const Effect* e : effects_) twist += machine::pose_error_twist(e->table_in_gear(pp));
+  return twist;
 }
 
 double EffectsProcess::wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const {

@@ -23,7 +23,8 @@ public:
   }
 
   machine::Pose actual_wMg(const grinding::PathPoint& pp) const override;
-  /// The pose error of actual_wMg against the ideal pose, as (translation; rotation vector): first-order exact.
+  /// The first-order pose error in w: the inner process's, plus J_twistw_q · (command offsets), plus the table's
+  /// mounting twists — the linear counterpart of actual_wMg (equal to it to second order in the effects).
   machine::Vector6d error_twist_w(const grinding::PathPoint& pp) const override;
   double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override;
 
