@@ -86,7 +86,7 @@ struct Waviness {
 struct WavinessScan {
   WaveDirection direction = WaveDirection::Helix;
   bool scanned = false;            ///< false: fewer than 5 distinct positions or λ_min ≥ range length
-  double min_wavelength_mm = 0.0;  ///< λ_min = 2 × largest spacing between neighbouring distinct positions
+  double min_wavelength_mm = 0.0;  ///< λ_min = 2 × largest spacing between neighbouring distinct positions, ≥ L/max_waves
   double max_wavelength_mm = 0.0;  ///< λ_max = range length
   std::size_t independent_wavelengths = 0; ///< M = max(1, 2⌈L (1/λ_min − 1/λ_max)⌉) (calibrated, see the doc)
   double chi2_threshold = 0.0;     ///< 2 ln(M/α)
@@ -101,6 +101,9 @@ struct PatternOptions {
   double waviness_false_alarm = 1e-3;       ///< α: probability of reporting a waviness in pure noise, per direction
   double waviness_min_variance_drop = 0.10; ///< the wave must remove at least this fraction of the remaining RSS
   double waviness_oversampling = 10.0;      ///< frequency step of the scan = 1/(oversampling × range length), ≥ 1
+  /// Shortest wavelength scanned ≥ range length / this (besides twice the largest gap between sampled positions):
+  /// bounds the scan for scattered points (a point cloud has tiny gaps; the scan would grow with n²).
+  double waviness_max_waves = 64.0;
 };
 
 /// Named patterns of one flank (least squares on the Legendre basis; docs/residual-patterns.md has the formulas).

@@ -508,23 +508,43 @@ TEST(Regions, OnAGridOnlyNeighbouringCellsConnect) {
 }
 
 TEST(Regions, ScatteredPointsAreGroupedByProximity) {
-  // 300 points scattered uniformly over the flank (no grid), a noise-free bump in the root third near the far face.
-  Gauss g(99);
-  FlankResiduals f{2, Side::Left, {}, kXi0, kXi1, kZ0, kZ1};
-  for (int i = 0; i < 300; ++i) {
-    const double xi = kXi0 + kLa * g.uniform(), z = kZ0 + kLb * g.uniform();
-    const double u = u_of(xi), w = w_of(z);
-    f.points.push_back({xi, z, -9.0 * std::exp(-((u + 0.75) * (u + 0.75) + (w - 0.75) * (w - 0.75)) / 0.08)});
+  // Points scattered uniformly over the flank (no grid), a noise-free bump in the root third near the far face. 300
+  // points, and 20 000 — a point cloud's density, where an all-pairs neighbour search or a wavelength scan growing
+  // with the point count took 40 s per flank (the ctest timeout catches that; the answer must not change).
+  for (int n : {300, 20000}) {
+    SCOPED_TRACE(n);
+    Gauss g(99);
+    FlankResiduals f{2, Side::Left, {}, kXi0, kXi1, kZ0, kZ1};
+    for (int i = 0; i < n; ++i) {
+      const double xi = kXi0 + kLa * g.uniform(), z = kZ0 + kLb * g.uniform();
+      const double u = u_of(xi), w = w_of(z);
+      f.points.push_back({xi, z, -9.0 * std::exp(-((u + 0.75) * (u + 0.75) + (w - 0.75) * (w - 0.75)) / 0.08)});
+    }
+    const auto regions = find_failing_regions(f, region_options(0.5));
+    std::size_t failing = 0;
+    for (const auto& p : f.points) failing += std::abs(p.residual_um) > 1.5;
+    if (n == 300) {
+      ASSERT_EQ(regions.size(), 1u);
+      EXPECT_EQ(regions[0].point_indices.size(), failing);
+    } else {
+      // KNOWN LIMITATION (closing note 2026-11-21): at point-cloud density the 3 × median-spacing link leaves a few
+      // dozen small fragments beside the main region (the former all-pairs search gave the same 24 regions).
+      ASSERT_FALSE(regions.empty());
+      std::size_t largest = 0;
+      for (const auto& r : regions) largest = std::max(largest, r.point_indices.size());
+      EXPECT_GT(largest, failing / 2) << "the bump's main region";
+    }
+    for (const auto& r : regions) {
+      EXPECT_EQ(r.sign, -1);
+      EXPECT_TRUE(contains(r.words, "root")) << r.words;
+      EXPECT_TRUE(contains(r.words, "far face")) << r.words;
+      EXPECT_TRUE(contains(r.sentence, "thinner")) << r.sentence;
+    }
+    // The patterns of the same flank: the scan stops at L/64, whatever the point count.
+    const auto pat = fit_flank_patterns(f, with_noise(0.5));
+    EXPECT_GE(pat.waviness_profile.min_wavelength_mm, kLa / 64.0 - 1e-9);
+    EXPECT_GE(pat.waviness_helix.min_wavelength_mm, kLb / 64.0 - 1e-9);
   }
-  const auto regions = find_failing_regions(f, region_options(0.5));
-  ASSERT_EQ(regions.size(), 1u);
-  EXPECT_EQ(regions[0].sign, -1);
-  EXPECT_TRUE(contains(regions[0].words, "root")) << regions[0].words;
-  EXPECT_TRUE(contains(regions[0].words, "far face")) << regions[0].words;
-  EXPECT_TRUE(contains(regions[0].sentence, "thinner")) << regions[0].sentence;
-  std::size_t failing = 0;
-  for (const auto& p : f.points) failing += std::abs(p.residual_um) > 1.5;
-  EXPECT_EQ(regions[0].point_indices.size(), failing);
 }
 
 TEST(Regions, NothingIsMarkedOnPureNoiseOnTheCoarseGrid) {
