@@ -3,7 +3,7 @@
 // Counter `rows`: correction-table rows (path samples) per second. Wall clock (compute_corrections may use threads).
 #include "bench_scene.hpp"
 
-#include "compensation/compensator.hpp"
+#include "geartopo/compensation/compensator.hpp"
 
 #include <benchmark/benchmark.h>
 

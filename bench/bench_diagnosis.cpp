@@ -4,8 +4,8 @@
 // residual (as `geartopo diagnose` without --noise-um). Counter `points`: measured points per second.
 #include "bench_scene.hpp"
 
-#include "diagnosis/diagnose.hpp"
-#include "diagnosis/synth.hpp"
+#include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/synth.hpp"
 
 #include <benchmark/benchmark.h>
 

@@ -1,15 +1,15 @@
 // ISO 1328-1 evaluation speed on a simulated gear: the default scene simulated once (exact, all 35 teeth, the scene's
 // 100-point profile and 150-point helix traces), then
 //   EvaluateGear  — evaluation::evaluate_gear on all 70 flanks with pitch and runout, the measurement built from the
-//                   topology exactly as the app does (diagnosis::gear_measurement);
+//                   topology exactly as the app does (workbench::gear_measurement);
 //   EvaluateTrace — evaluation::evaluate_trace on the 140 traces (70 profile + 70 helix).
 // Counter `points`: trace points evaluated per second.
 #include "bench_scene.hpp"
 
-#include "diagnosis/iso_measurement.hpp"
-#include "evaluation/gear_evaluation.hpp"
-#include "evaluation/trace.hpp"
-#include "grinding/topology.hpp"
+#include "geartopo/workbench/iso_evaluation.hpp"
+#include "geartopo/evaluation/gear_evaluation.hpp"
+#include "geartopo/evaluation/trace.hpp"
+#include "geartopo/grinding/topology.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -39,7 +39,7 @@ void BM_EvaluateGear(benchmark::State& state) {
   const auto& g = b.setup.geometry();
   const evaluation::GearParameters p{g.teeth(), g.reference_diameter_mm(), g.spec().normal_module_mm,
                                      g.spec().face_width_mm, g.spec().helix_angle_rad};
-  const auto m = diagnosis::gear_measurement(g, b.setup.ranges(), simulated_gear());
+  const auto m = workbench::gear_measurement(g, b.setup.ranges(), simulated_gear());
   for (auto _ : state) benchmark::DoNotOptimize(evaluation::evaluate_gear(m, p));
   state.counters["points"] = benchmark::Counter(trace_points(m) * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["flanks"] = static_cast<double>(m.flanks.size());
@@ -53,8 +53,8 @@ void BM_EvaluateIso(benchmark::State& state) {
   const evaluation::GearParameters p{g.teeth(), g.reference_diameter_mm(), g.spec().normal_module_mm,
                                      g.spec().face_width_mm, g.spec().helix_angle_rad};
   const auto& topo = simulated_gear();
-  for (auto _ : state) benchmark::DoNotOptimize(evaluation::evaluate_gear(diagnosis::gear_measurement(g, b.setup.ranges(), topo), p));
-  state.counters["points"] = benchmark::Counter(trace_points(diagnosis::gear_measurement(g, b.setup.ranges(), topo)) *
+  for (auto _ : state) benchmark::DoNotOptimize(evaluation::evaluate_gear(workbench::gear_measurement(g, b.setup.ranges(), topo), p));
+  state.counters["points"] = benchmark::Counter(trace_points(workbench::gear_measurement(g, b.setup.ranges(), topo)) *
                                                     static_cast<double>(state.iterations()),
                                                 benchmark::Counter::kIsRate);
 }
@@ -62,7 +62,7 @@ BENCHMARK(BM_EvaluateIso)->Name("EvaluateGear/70flanks+measurement_build")->Unit
 
 void BM_EvaluateTrace(benchmark::State& state) {
   const auto& b = bench::default_scene();
-  const auto m = diagnosis::gear_measurement(b.setup.geometry(), b.setup.ranges(), simulated_gear());
+  const auto m = workbench::gear_measurement(b.setup.geometry(), b.setup.ranges(), simulated_gear());
   for (auto _ : state)
     for (const auto& f : m.flanks) {
       benchmark::DoNotOptimize(evaluation::evaluate_trace(f.profile));

@@ -4,9 +4,9 @@
 // Counter `rows`: rows parsed per second. Memory per row is checked by tests/robustness/test_streaming.cpp.
 #include "bench_scene.hpp"
 
-#include "grinding/topology.hpp"
-#include "grinding/topology_csv.hpp"
-#include "surfaces/point_cloud.hpp"
+#include "geartopo/grinding/topology.hpp"
+#include "geartopo/grinding/topology_csv.hpp"
+#include "geartopo/surfaces/point_cloud.hpp"
 
 #include <benchmark/benchmark.h>
 

@@ -8,9 +8,9 @@
 // `PoseEvaluationsPerPoint/*` counts the wheel poses (exact) or error twists (linear) asked for per point.
 #include "bench_scene.hpp"
 
-#include "grinding/flank_deviation.hpp"
-#include "grinding/parallel.hpp"
-#include "grinding/topology.hpp"
+#include "geartopo/grinding/flank_deviation.hpp"
+#include "geartopo/core/parallel.hpp"
+#include "geartopo/grinding/topology.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -33,9 +33,9 @@ double grid_only(const grinding::GrindingSetup& setup, const grinding::GrindingP
   const grinding::FlankDeviation dev(setup.flanks(), setup.wheel(), setup.path(), process);
   const int flanks = 2 * g.teeth();
   std::vector<double> out(static_cast<size_t>(flanks) * xis.size() * zs.size());
-  grinding::parallel_for(flanks, threads, [&](int i) {
+  geartopo::parallel_for(flanks, threads, [&](int i) {
     const int tooth = i / 2 + 1;
-    const auto flank = i % 2 == 0 ? gears::Flank::Left : gears::Flank::Right;
+    const auto flank = i % 2 == 0 ? geartopo::Flank::Left : geartopo::Flank::Right;
     size_t k = static_cast<size_t>(i) * xis.size() * zs.size();
     for (double xi : xis)
       for (double z : zs) out[k++] = 1e3 * dev.at(tooth, flank, xi, z, m).deviation_mm;

@@ -1,8 +1,8 @@
 // geartopo compare: measured − model, where the model fails, and the residual's patterns.
 #include "app/commands.hpp"
-#include "app/workbench.hpp"
+#include "app/options.hpp"
 
-#include "diagnosis/compare.hpp"
+#include "geartopo/diagnosis/compare.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>

@@ -1,9 +1,9 @@
 #include "app/commands.hpp"
-#include "app/iso_report.hpp"
-#include "app/workbench.hpp"
+#include "geartopo/report/iso_report.hpp"
+#include "app/options.hpp"
 
-#include "compensation/compensator.hpp"
-#include "grinding/topology_csv.hpp"
+#include "geartopo/compensation/compensator.hpp"
+#include "geartopo/grinding/topology_csv.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -70,13 +70,13 @@ void register_compensate_command(CLI::App& app, Action& action) {
       grinding::write_traces_csv(out / "traces_before.csv", before);
       grinding::write_traces_csv(out / "traces_after.csv", after);
 
-      const IsoResult iso_b = evaluate_iso(g, wb.setup.ranges(), before), iso_a = evaluate_iso(g, wb.setup.ranges(), after);
+      const workbench::IsoResult iso_b = workbench::evaluate_iso(g, wb.setup.ranges(), before), iso_a = workbench::evaluate_iso(g, wb.setup.ranges(), after);
       const double max_b = grinding::largest_abs_deviation_um(before), max_a = grinding::largest_abs_deviation_um(after);
       nlohmann::json j;
       j["scene"] = wb.scene.name;
       j["units"] = "µm; deviations along the flank normal, plus material positive";
-      j["before"] = iso_json(iso_b);
-      j["after"] = iso_json(iso_a);
+      j["before"] = report::iso_json(iso_b);
+      j["after"] = report::iso_json(iso_a);
       const auto cmax = table.max_abs();
       j["compensation"] = {{"method", opt->method},
                            {"rows", table.rows().size()},

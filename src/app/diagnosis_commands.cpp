@@ -1,12 +1,12 @@
 // geartopo synth / diagnose: synthetic measurements with hidden effects, and finding what a model is missing.
 #include "app/commands.hpp"
-#include "app/workbench.hpp"
+#include "app/options.hpp"
 
-#include "diagnosis/compare.hpp"
-#include "diagnosis/diagnose.hpp"
-#include "diagnosis/scene_writer.hpp"
-#include "diagnosis/synth.hpp"
-#include "effects/registry.hpp"
+#include "geartopo/diagnosis/compare.hpp"
+#include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/scene_writer.hpp"
+#include "geartopo/diagnosis/synth.hpp"
+#include "geartopo/effects/registry.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>

@@ -1,8 +1,8 @@
 #include "app/commands.hpp"
-#include "app/iso_report.hpp"
-#include "app/workbench.hpp"
+#include "geartopo/report/iso_report.hpp"
+#include "app/options.hpp"
 
-#include "grinding/topology_csv.hpp"
+#include "geartopo/grinding/topology_csv.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -42,16 +42,16 @@ void register_evaluate_command(CLI::App& app, Action& action) {
         topo = grinding::simulate_topology(wb.setup, wb.process(), so); // pitch and runout need every tooth
         source = "simulation (" + opt->method + ")";
       }
-      const IsoResult iso = evaluate_iso(g, wb.setup.ranges(), topo);
+      const workbench::IsoResult iso = workbench::evaluate_iso(g, wb.setup.ranges(), topo);
       nlohmann::json j;
       j["scene"] = wb.scene.name;
       j["source"] = source;
       j["units"] = "µm; deviations along the flank normal, plus material positive";
-      j["before"] = iso_json(iso);
+      j["before"] = report::iso_json(iso);
       const std::filesystem::path out(opt->out);
       std::filesystem::create_directories(out);
       std::ofstream(out / "iso1328.json") << j.dump(2) << "\n";
-      std::cout << "Source: " << source << "\n" << iso_table(iso) << "wrote " << (out / "iso1328.json").string() << "\n";
+      std::cout << "Source: " << source << "\n" << report::iso_table(iso) << "wrote " << (out / "iso1328.json").string() << "\n";
       return 0;
     };
   });

@@ -1,8 +1,8 @@
 #include "app/commands.hpp"
-#include "app/gear_report.hpp"
+#include "geartopo/report/gear_report.hpp"
 
-#include "scene/scene.hpp"
-#include "surfaces/gear_mesh.hpp"
+#include "geartopo/scene/scene.hpp"
+#include "geartopo/surfaces/gear_mesh.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -30,9 +30,9 @@ void register_gear_command(CLI::App& app, Action& action) {
       const scene::Scene sc = scene::load_scene(opt->scene);
       const gears::GearGeometry g(sc.gear);
       if (opt->json)
-        std::cout << gear_json(sc, g).dump(2) << "\n";
+        std::cout << report::gear_json(sc, g).dump(2) << "\n";
       else
-        std::cout << gear_table(sc, g);
+        std::cout << report::gear_table(sc, g);
       for (const auto& w : g.warnings()) std::cerr << "geartopo: warning: " << w << "\n";
       if (!opt->mesh.empty()) {
         const surfaces::TriangleMesh mesh = surfaces::gear_mesh(g);

@@ -1,10 +1,11 @@
 #include "app/commands.hpp"
-#include "app/workbench.hpp"
+#include "app/options.hpp"
 
-#include "machine/chain.hpp"
-#include "machine/first_order.hpp"
-#include "machine/jacobian.hpp"
-#include "machine/machine_data.hpp"
+#include "geartopo/machine/chain.hpp"
+#include "geartopo/core/units.hpp"
+#include "geartopo/machine/first_order.hpp"
+#include "geartopo/machine/jacobian.hpp"
+#include "geartopo/machine/machine_data.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -17,7 +18,6 @@
 namespace geartopo::app {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 nlohmann::json matrix_json(const Eigen::MatrixXd& m) {
   nlohmann::json rows = nlohmann::json::array();
@@ -67,7 +67,7 @@ void register_machine_command(CLI::App& app, Action& action) {
     action = [opt] {
       const Workbench wb(opt->scene);
       const auto& p = opt->pose;
-      const machine::AxisPose q{p[0], p[1], p[2], p[3] * kDeg, p[4] * kDeg};
+      const machine::AxisPose q{p[0], p[1], p[2], p[3] * units::kRadPerDeg, p[4] * units::kRadPerDeg};
       if (!wb.machine.within_strokes(q))
         std::cerr << "geartopo: warning: the pose lies outside the machine's strokes; tables are extrapolated\n";
       machine::MachineData data;

@@ -1,11 +1,12 @@
 // geartopo report / run: the report, and the main job (everything, with a short summary).
 #include "app/commands.hpp"
-#include "app/html_report.hpp"
-#include "app/pipeline.hpp"
-#include "app/workbench.hpp"
+#include "geartopo/report/html_report.hpp"
+#include "geartopo/report/iso_report.hpp"
+#include "geartopo/pipeline/pipeline.hpp"
+#include "app/options.hpp"
 
-#include "diagnosis/scene_writer.hpp"
-#include "grinding/topology_csv.hpp"
+#include "geartopo/diagnosis/scene_writer.hpp"
+#include "geartopo/grinding/topology_csv.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -25,7 +26,7 @@ std::string measured_of(const Workbench& wb, const std::string& option) {
   return option.empty() ? wb.scene.grid.measured_file : option;
 }
 
-void write_data_files(const fs::path& dir, const std::string& scene_file, const Workbench& wb, const PipelineResult& r) {
+void write_data_files(const fs::path& dir, const std::string& scene_file, const Workbench& wb, const pipeline::PipelineResult& r) {
   grinding::write_topology_csv(dir / "topology_before.csv", r.before);
   grinding::write_topology_csv(dir / "topology_after.csv", r.after);
   grinding::write_traces_csv(dir / "traces_before.csv", r.before);
@@ -34,8 +35,8 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
   nlohmann::json iso;
   iso["scene"] = wb.scene.name;
   iso["units"] = "µm; deviations along the flank normal, plus material positive";
-  iso["before"] = iso_json(r.iso_before);
-  iso["after"] = iso_json(r.iso_after);
+  iso["before"] = report::iso_json(r.iso_before);
+  iso["after"] = report::iso_json(r.iso_after);
   std::ofstream(dir / "iso1328.json") << iso.dump(2) << "\n";
   if (r.measurement && r.measurement->diagnosis.chosen) {
     std::vector<std::string> comments;
@@ -46,11 +47,11 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
   }
 }
 
-void print_summary(const fs::path& dir, const PipelineResult& r) {
+void print_summary(const fs::path& dir, const pipeline::PipelineResult& r) {
   const auto& cb = r.iso_before.evaluation.classification;
   const auto& ca = r.iso_after.evaluation.classification;
   std::cout << fmt::format("Largest |deviation| ({} grids, all teeth): {:.2f} µm before, {:.2f} µm after compensation\n",
-                           grid_label(r), r.largest_before_um, r.largest_after_um);
+                           pipeline::grid_label(r), r.largest_before_um, r.largest_after_um);
   std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before, {} after{}\n", evaluation::class_label(cb.overall), evaluation::class_label(ca.overall),
                            cb.governing ? fmt::format(" (before: set by {})", evaluation::symbol(*cb.governing)) : "");
   if (r.measurement) {
@@ -81,9 +82,9 @@ void register_report_command(CLI::App& app, Action& action) {
       const Workbench wb(opt->scene);
       const fs::path dir(opt->out);
       fs::create_directories(dir);
-      const auto r = run_pipeline(wb, measured_of(wb, opt->measured));
+      const auto r = pipeline::run_pipeline(wb, measured_of(wb, opt->measured));
       write_data_files(dir, opt->scene, wb, r); // the page names them (corrections.csv, scene_with_effect.yaml …)
-      const auto figs = write_report(dir, wb, r);
+      const auto figs = report::write_report(dir, wb, r);
       std::cout << fmt::format("wrote {} figures and {}\n", figs.size(), (dir / "index.html").string());
       return 0;
     };
@@ -105,9 +106,9 @@ void register_run_command(CLI::App& app, Action& action) {
       const fs::path dir(opt->out);
       fs::create_directories(dir);
       std::cout << "geartopo run: " << (wb.scene.name.empty() ? opt->scene : wb.scene.name) << "\n";
-      const auto r = run_pipeline(wb, wb.scene.grid.measured_file);
+      const auto r = pipeline::run_pipeline(wb, wb.scene.grid.measured_file);
       write_data_files(dir, opt->scene, wb, r);
-      write_report(dir, wb, r);
+      report::write_report(dir, wb, r);
       print_summary(dir, r);
       return 0;
     };

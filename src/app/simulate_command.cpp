@@ -1,10 +1,10 @@
 #include "app/commands.hpp"
-#include "app/workbench.hpp"
+#include "app/options.hpp"
 
-#include "grinding/flank_mesh.hpp"
-#include "grinding/topology.hpp"
-#include "grinding/topology_csv.hpp"
-#include "surfaces/triangle_mesh.hpp"
+#include "geartopo/grinding/flank_mesh.hpp"
+#include "geartopo/grinding/topology.hpp"
+#include "geartopo/grinding/topology_csv.hpp"
+#include "geartopo/surfaces/triangle_mesh.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>

@@ -1,10 +1,10 @@
-#include "compensation/compensator.hpp"
+#include "geartopo/compensation/compensator.hpp"
 
-#include "grinding/flank_deviation.hpp"
-#include "grinding/parallel.hpp"
-#include "machine/chain.hpp"
-#include "machine/jacobian.hpp"
-#include "machine/twist.hpp"
+#include "geartopo/grinding/flank_deviation.hpp"
+#include "geartopo/core/parallel.hpp"
+#include "geartopo/machine/chain.hpp"
+#include "geartopo/machine/jacobian.hpp"
+#include "geartopo/machine/twist.hpp"
 
 #include <Eigen/Dense>
 
@@ -62,7 +62,7 @@ std::vector<ContactPoint> contact_points(const grinding::GrindingSetup& setup, i
   const auto& r = setup.ranges();
   std::vector<ContactPoint> pts;
   const int next = space % g.teeth() + 1;
-  for (auto [tooth, flank] : {std::pair{space, gears::Flank::Right}, std::pair{next, gears::Flank::Left}})
+  for (auto [tooth, flank] : {std::pair{space, geartopo::Flank::Right}, std::pair{next, geartopo::Flank::Left}})
     for (int i = 0; i < n; ++i) {
       const double xi = r.xi_active_start + (r.xi_active_end - r.xi_active_start) * i / (n - 1);
       const auto fp = setup.flanks().at(tooth, flank, xi, z + setup.wheel().contact_offset_mm(flank, xi));
@@ -138,7 +138,7 @@ CorrectionTable compute_corrections(const grinding::GrindingSetup& setup, const 
                                     const StrokeCheck& strokes, const CompensationOptions& o) {
   const std::vector<grinding::PathPoint> samples = setup.path().sample(o.step_mm);
   std::vector<CorrectionRow> rows(samples.size());
-  grinding::parallel_for(static_cast<int>(samples.size()), 0, [&](int i) {
+  geartopo::parallel_for(static_cast<int>(samples.size()), 0, [&](int i) {
     const auto& pp = samples[static_cast<size_t>(i)];
     const PoseResult r = o.method == Method::Paper ? paper_at(process, pp, o.max_iterations) : flank_at(setup, process, pp, o);
     CorrectionRow& row = rows[static_cast<size_t>(i)];

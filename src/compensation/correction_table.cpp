@@ -1,4 +1,5 @@
-#include "compensation/correction_table.hpp"
+#include "geartopo/compensation/correction_table.hpp"
+#include "geartopo/core/units.hpp"
 
 #include <fmt/format.h>
 
@@ -44,13 +45,12 @@ machine::Vector5d CorrectionTable::max_abs() const {
 }
 
 void CorrectionTable::write_csv(std::ostream& out) const {
-  constexpr double kDeg = 180.0 / std::numbers::pi;
   out << "space,z_stroke_mm,time_s,X_mm,Y_mm,Z_mm,A_deg,C_deg,dX_um,dY_um,dZ_um,dA_urad,dC_urad,within_strokes\n";
   for (const auto& r : rows_) {
     const auto& q = r.machine_axes;
     const auto& c = r.correction;
     out << fmt::format("{},{:.4f},{:.3f},{:.5f},{:.5f},{:.5f},{:.7f},{:.7f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{}\n", r.space,
-                       r.z_stroke_mm, r.time_s, q.x, q.y, q.z, q.a * kDeg, q.c * kDeg, 1e3 * c(0), 1e3 * c(1), 1e3 * c(2),
+                       r.z_stroke_mm, r.time_s, q.x, q.y, q.z, q.a * units::kDegPerRad, q.c * units::kDegPerRad, 1e3 * c(0), 1e3 * c(1), 1e3 * c(2),
                        1e6 * c(3), 1e6 * c(4), r.within_strokes ? "yes" : "no");
   }
 }

@@ -1,8 +1,8 @@
-#include "diagnosis/compare.hpp"
+#include "geartopo/diagnosis/compare.hpp"
 
-#include "diagnosis/diagnose.hpp"
-#include "diagnosis/prediction.hpp"
-#include "surfaces/point_cloud.hpp"
+#include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/prediction.hpp"
+#include "geartopo/surfaces/point_cloud.hpp"
 
 #include <fmt/format.h>
 
@@ -13,7 +13,6 @@
 namespace geartopo::diagnosis {
 namespace {
 
-evaluation::Side side_of(gears::Flank f) { return f == gears::Flank::Right ? evaluation::Side::Right : evaluation::Side::Left; }
 
 } // namespace
 
@@ -35,7 +34,7 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
     if (fresh) {
       evaluation::FlankResiduals f;
       f.tooth = pts[i].tooth;
-      f.side = side_of(pts[i].flank);
+      f.side = pts[i].flank;
       f.xi_start_mm = r.xi_eval_start, f.xi_end_mm = r.xi_eval_end, f.z_start_mm = r.z_eval_start, f.z_end_mm = r.z_eval_end;
       c.flanks.push_back(f);
       c.flank_point_index.emplace_back();

@@ -1,10 +1,10 @@
-#include "diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/diagnose.hpp"
 
-#include "diagnosis/levenberg_marquardt.hpp"
-#include "diagnosis/prediction.hpp"
-#include "effects/effects_process.hpp"
-#include "effects/registry.hpp"
-#include "scene/workbench.hpp"
+#include "geartopo/diagnosis/levenberg_marquardt.hpp"
+#include "geartopo/diagnosis/prediction.hpp"
+#include "geartopo/effects/effects_process.hpp"
+#include "geartopo/effects/registry.hpp"
+#include "geartopo/workbench/workbench.hpp"
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -283,7 +283,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   // The residual with the chosen effects, by the exact simulation.
   d.residual_after_um = d.residual_before_um;
   if (d.chosen) {
-    const auto effs = scene::make_effects(d.chosen->effects, setup);
+    const auto effs = workbench::make_effects(d.chosen->effects, setup);
     const effects::EffectsProcess with(model, effs);
     const auto after = predict(setup, with, pts, grinding::Method::Exact, o.threads);
     for (size_t i = 0; i < pts.size(); ++i) d.residual_after_um[i] = pts[i].deviation_um - after[i];

@@ -1,4 +1,4 @@
-#include "diagnosis/levenberg_marquardt.hpp"
+#include "geartopo/diagnosis/levenberg_marquardt.hpp"
 
 #include <Eigen/Dense>
 

@@ -1,4 +1,6 @@
-#include "diagnosis/measured_points.hpp"
+#include "geartopo/diagnosis/measured_points.hpp"
+
+#include "geartopo/core/input_error.hpp"
 
 #include <fmt/format.h>
 
@@ -15,11 +17,11 @@ std::vector<MeasuredPoint> measured_points(const std::vector<grinding::TopologyR
   out.reserve(rows.size());
   for (const auto& r : rows) {
     if (r.diameter_mm < d_lo || r.diameter_mm > d_hi)
-      throw std::runtime_error(fmt::format("{}:{}: diameter_mm: {:.4f} mm is off the flank (active profile {:.4f} … {:.4f} mm)",
-                                           source, r.line, r.diameter_mm, g.root_form_diameter_mm(), g.tip_diameter_mm()));
+      throw InputError(source, r.line, 0, "diameter_mm",
+                       fmt::format("{:.4f} mm is off the flank (active profile {:.4f} … {:.4f} mm)", r.diameter_mm,
+                                   g.root_form_diameter_mm(), g.tip_diameter_mm()));
     if (r.z_mm < -slack || r.z_mm > b + slack)
-      throw std::runtime_error(fmt::format("{}:{}: z_mm: {:.4f} mm is off the flank (face width 0 … {} mm)", source, r.line,
-                                           r.z_mm, b));
+      throw InputError(source, r.line, 0, "z_mm", fmt::format("{:.4f} mm is off the flank (face width 0 … {} mm)", r.z_mm, b));
     MeasuredPoint p;
     p.tooth = r.tooth;
     p.flank = r.flank;

@@ -1,6 +1,6 @@
-#include "diagnosis/prediction.hpp"
+#include "geartopo/diagnosis/prediction.hpp"
 
-#include "grinding/parallel.hpp"
+#include "geartopo/core/parallel.hpp"
 
 namespace geartopo::diagnosis {
 
@@ -10,7 +10,7 @@ std::vector<double> predict(const grinding::GrindingSetup& setup, const grinding
   std::vector<double> out(points.size());
   // Chunks of points per task: one task per point would drown the work in scheduling.
   const int n = static_cast<int>(points.size()), chunk = 32;
-  grinding::parallel_for((n + chunk - 1) / chunk, threads, [&](int c) {
+  geartopo::parallel_for((n + chunk - 1) / chunk, threads, [&](int c) {
     for (int i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
       const auto& p = points[static_cast<size_t>(i)];
       out[static_cast<size_t>(i)] = 1e3 * dev.at(p.tooth, p.flank, p.roll_length_mm, p.z_mm, method).deviation_mm;

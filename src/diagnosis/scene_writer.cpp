@@ -1,7 +1,7 @@
-#include "diagnosis/scene_writer.hpp"
+#include "geartopo/diagnosis/scene_writer.hpp"
 #include <fstream>
 
-#include "effects/registry.hpp"
+#include "geartopo/effects/registry.hpp"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "diagnosis/synth.hpp"
+#include "geartopo/diagnosis/synth.hpp"
 
 #include <random>
 

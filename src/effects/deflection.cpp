@@ -2,7 +2,7 @@
 // ends; the radial grinding force bends it away from the wheel by δ(s) = δ_mid · 16 s² (L − s)² / L⁴ (point load at
 // s on a simply supported beam of span L, scaled to δ_mid at mid span). The wheel's contact travels along the face
 // width, so both flanks get more material in the middle: a helix crowning, the same on every tooth.
-#include "effects/effect.hpp"
+#include "geartopo/effects/effect.hpp"
 
 #include <algorithm>
 

@@ -1,9 +1,9 @@
 // Workpiece eccentricity and wobble on the C axis: the gear's axis is not the C axis. Its axis is displaced by
 // (e_x, e_y) in the gear frame and tilted by (w_x, w_y) about the gear's x and y axes, pivoting at mid face width.
 // Eccentricity gives runout and a once-per-turn pitch error; wobble a once-per-turn helix slope.
-#include "effects/effect.hpp"
+#include "geartopo/effects/effect.hpp"
 
-#include "machine/transforms.hpp"
+#include "geartopo/machine/transforms.hpp"
 
 namespace geartopo::effects {
 namespace {

@@ -1,4 +1,4 @@
-#include "effects/effect.hpp"
+#include "geartopo/effects/effect.hpp"
 
 #include <fmt/format.h>
 

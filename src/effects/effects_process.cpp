@@ -1,7 +1,7 @@
-#include "effects/effects_process.hpp"
+#include "geartopo/effects/effects_process.hpp"
 
-#include "machine/chain.hpp"
-#include "machine/jacobian.hpp"
+#include "geartopo/machine/chain.hpp"
+#include "geartopo/machine/jacobian.hpp"
 
 namespace geartopo::effects {
 

@@ -1,6 +1,6 @@
-#include "effects/registry.hpp"
+#include "geartopo/effects/registry.hpp"
 
-#include "effects/effect_list.hpp"
+#include "geartopo/effects/effect_list.hpp"
 
 #include <stdexcept>
 

@@ -1,7 +1,7 @@
 // Servo following error of the C axis: C follows its command with a time lag against Z, C(t) = C_cmd(t − T).
 // Along a stroke C turns at dC/dt = −k dZ/dt (k = 2 tan β / d), so the lag is a constant angle k·v·T whose sign
 // follows the stroke direction: with alternating strokes, neighbouring spaces get opposite pitch errors.
-#include "effects/effect.hpp"
+#include "geartopo/effects/effect.hpp"
 
 namespace geartopo::effects {
 namespace {

@@ -1,7 +1,7 @@
 // Thermal drift of the X and Z axes with grinding time: the machine warms up after the start and its axes grow
 // towards a steady state with a first-order time constant, δ(t) = δ_∞ (1 − e^(−t/τ)). Positive X growth leaves the
 // wheel further out than commanded (more material); positive Z growth shifts it along the gear axis.
-#include "effects/effect.hpp"
+#include "geartopo/effects/effect.hpp"
 
 #include <cmath>
 

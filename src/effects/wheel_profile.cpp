@@ -2,9 +2,9 @@
 // wheel flanks get the same error (the dressing path is symmetric), so every gear flank shows the same profile
 // slope and crowning. Parameters are given as the gear-profile errors they cause (plus material): a slope from root
 // to tip and a crowning (middle above the ends) over the active profile.
-#include "effects/effect.hpp"
+#include "geartopo/effects/effect.hpp"
 
-#include "gears/involute_helicoid.hpp"
+#include "geartopo/gears/involute_helicoid.hpp"
 
 #include <cmath>
 
@@ -32,7 +32,7 @@ public:
     // Wheel radii at which the wheel touches the start and the end of the active profile.
     const auto& r = s.ranges();
     auto wheel_radius_at = [&](double xi) {
-      const auto fp = s.flanks().at(1, gears::Flank::Right, xi, s.wheel().contact_offset_mm(gears::Flank::Right, xi));
+      const auto fp = s.flanks().at(1, geartopo::Flank::Right, xi, s.wheel().contact_offset_mm(geartopo::Flank::Right, xi));
       const Eigen::Vector3d q = s.wheel().reference_wMg().inverse() * fp.p;
       return std::hypot(q.x(), q.z());
     };

@@ -2,7 +2,7 @@
 // contact travels at the feed rate, so the flanks get waviness of wavelength v_feed / f along the helix. With f the
 // wheel's rotation frequency this is wheel runout; the exact envelope then shows how much of it survives (at high f
 // every point sees the deepest cut and the waviness flattens into a uniform offset).
-#include "effects/effect.hpp"
+#include "geartopo/effects/effect.hpp"
 
 #include <cmath>
 #include <numbers>

@@ -1,7 +1,7 @@
 // Wheel wear with ground length: the wheel wears as it grinds, evenly along its surface normal over the profile, a
 // little with every stroke; dressing restores it every N strokes. A smaller wheel cuts less: plus material, growing along the grinding
 // order in a saw-tooth that dressing resets.
-#include "effects/effect.hpp"
+#include "geartopo/effects/effect.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
-#include "grinding/flank_deviation.hpp"
+#include "geartopo/grinding/flank_deviation.hpp"
 
-#include "machine/chain.hpp"
+#include "geartopo/machine/chain.hpp"
 
 #include <fmt/format.h>
 
@@ -64,7 +64,7 @@ std::pair<double, double> brent_minimize(F&& f, double a, double b, double tol) 
 
 } // namespace
 
-void require_reached(double deviation, int tooth, gears::Flank flank, double diameter_mm, double z_mm) {
+void require_reached(double deviation, int tooth, geartopo::Flank flank, double diameter_mm, double z_mm) {
   if (std::isfinite(deviation)) return;
   throw std::runtime_error(fmt::format(
       "tooth {} {} flank at d = {:.3f} mm, z = {:.3f} mm: the wheel never reaches this point, so it is not ground there "
@@ -72,8 +72,8 @@ void require_reached(double deviation, int tooth, gears::Flank flank, double dia
       tooth, gears::to_string(flank), diameter_mm, z_mm));
 }
 
-int space_of(int tooth, gears::Flank flank, int teeth) {
-  if (flank == gears::Flank::Right) return tooth;
+int space_of(int tooth, geartopo::Flank flank, int teeth) {
+  if (flank == geartopo::Flank::Right) return tooth;
   return tooth == 1 ? teeth : tooth - 1;
 }
 
@@ -99,7 +99,7 @@ double FlankDeviation::entry_depth(const gears::FlankPoint& fp, const machine::P
   return t;
 }
 
-FlankDeviation::Target FlankDeviation::target(int tooth, gears::Flank flank, double xi, double z) const {
+FlankDeviation::Target FlankDeviation::target(int tooth, geartopo::Flank flank, double xi, double z) const {
   return {space_of(tooth, flank, flanks_.geometry().teeth()), flanks_.at(tooth, flank, xi, z),
           z - wheel_.contact_offset_mm(flank, xi)};
 }
@@ -109,7 +109,7 @@ double FlankDeviation::depth_at(const Target& t, double z_stroke_mm) const {
   return entry_depth(t.fp, process_.actual_wMg(pp), pp);
 }
 
-DeviationResult FlankDeviation::at(int tooth, gears::Flank flank, double xi, double z, Method method) const {
+DeviationResult FlankDeviation::at(int tooth, geartopo::Flank flank, double xi, double z, Method method) const {
   const Target t = target(tooth, flank, xi, z);
   const gears::FlankPoint& fp = t.fp;
   const double z0 = t.z0;
@@ -143,7 +143,7 @@ DeviationResult FlankDeviation::at(int tooth, gears::Flank flank, double xi, dou
   return brent_search(t, kBrentTolMm);
 }
 
-DeviationResult FlankDeviation::exact_by_brent(int tooth, gears::Flank flank, double xi, double z, double z_tol_mm) const {
+DeviationResult FlankDeviation::exact_by_brent(int tooth, geartopo::Flank flank, double xi, double z, double z_tol_mm) const {
   return brent_search(target(tooth, flank, xi, z), z_tol_mm);
 }
 

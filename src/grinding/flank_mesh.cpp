@@ -1,4 +1,4 @@
-#include "grinding/flank_mesh.hpp"
+#include "geartopo/grinding/flank_mesh.hpp"
 
 #include <stdexcept>
 

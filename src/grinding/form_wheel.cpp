@@ -1,7 +1,7 @@
-#include "grinding/form_wheel.hpp"
+#include "geartopo/grinding/form_wheel.hpp"
 
-#include "gears/involute_helicoid.hpp"
-#include "machine/chain.hpp"
+#include "geartopo/gears/involute_helicoid.hpp"
+#include "geartopo/machine/chain.hpp"
 
 #include <fmt/format.h>
 
@@ -18,7 +18,7 @@ struct ContactSample {
 };
 
 // Contact points of one flank with the wheel at pose wMg, for roll lengths xi_lo..xi_hi (continuation in ξ).
-std::vector<ContactSample> contact_line(const gears::InvoluteHelicoid& flanks, int tooth, gears::Flank flank,
+std::vector<ContactSample> contact_line(const gears::InvoluteHelicoid& flanks, int tooth, geartopo::Flank flank,
                                         const machine::Pose& wMg, double xi_lo, double xi_hi, int n) {
   const Eigen::Vector3d O = wMg.translation();
   const Eigen::Vector3d u = wMg.linear().col(1);
@@ -81,14 +81,14 @@ FormWheel::FormWheel(const gears::GearGeometry& g, const WheelSetting& setting) 
   wMg_ref_ = machine::ideal_wMg(q);
 
   // Space 1: right flank of tooth 1 and left flank of tooth 2.
-  auto right = contact_line(flanks, 1, gears::Flank::Right, wMg_ref_, xi_lo, xi_hi, n);
-  auto left = contact_line(flanks, 2, gears::Flank::Left, wMg_ref_, xi_lo, xi_hi, n);
+  auto right = contact_line(flanks, 1, geartopo::Flank::Right, wMg_ref_, xi_lo, xi_hi, n);
+  auto left = contact_line(flanks, 2, geartopo::Flank::Left, wMg_ref_, xi_lo, xi_hi, n);
 
   std::vector<double> xi_r, zc_r, xi_l, zc_l;
   for (const auto& s : right) xi_r.push_back(s.xi), zc_r.push_back(s.z_c);
   for (const auto& s : left) xi_l.push_back(s.xi), zc_l.push_back(s.z_c);
-  contact_right_ = machine::CubicSpline(xi_r, zc_r, machine::CubicSpline::Ends::NotAKnot);
-  contact_left_ = machine::CubicSpline(xi_l, zc_l, machine::CubicSpline::Ends::NotAKnot);
+  contact_right_ = geartopo::CubicSpline(xi_r, zc_r, geartopo::CubicSpline::Ends::NotAKnot);
+  contact_left_ = geartopo::CubicSpline(xi_l, zc_l, geartopo::CubicSpline::Ends::NotAKnot);
   const auto [zr_min, zr_max] = std::minmax_element(zc_r.begin(), zc_r.end());
   const auto [zl_min, zl_max] = std::minmax_element(zc_l.begin(), zc_l.end());
   z_c_min_ = std::min(*zr_min, *zl_min);
@@ -117,13 +117,13 @@ FormWheel::FormWheel(const gears::GearGeometry& g, const WheelSetting& setting) 
           "form wheel: the wheel profile folds over near v = {:.3f} mm (wheel too small or setting wrong)", v_[i]));
   if (r_tip - std::max(a0.r, b0.r) <= 0.0)
     throw std::runtime_error("form wheel: the wheel tip does not reach below the root form circle");
-  profile_ = machine::CubicSpline(v_, r_, machine::CubicSpline::Ends::NotAKnot);
+  profile_ = geartopo::CubicSpline(v_, r_, geartopo::CubicSpline::Ends::NotAKnot);
   v_min_ = v_.front();
   v_max_ = v_.back();
 }
 
-double FormWheel::contact_offset_mm(gears::Flank flank, double xi) const {
-  return flank == gears::Flank::Right ? contact_right_.value(xi) : contact_left_.value(xi);
+double FormWheel::contact_offset_mm(geartopo::Flank flank, double xi) const {
+  return flank == geartopo::Flank::Right ? contact_right_.value(xi) : contact_left_.value(xi);
 }
 
 } // namespace geartopo::grinding

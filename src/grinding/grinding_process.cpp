@@ -1,6 +1,6 @@
-#include "grinding/grinding_process.hpp"
+#include "geartopo/grinding/grinding_process.hpp"
 
-#include "machine/chain.hpp"
+#include "geartopo/machine/chain.hpp"
 
 namespace geartopo::grinding {
 

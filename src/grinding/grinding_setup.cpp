@@ -1,4 +1,4 @@
-#include "grinding/grinding_setup.hpp"
+#include "geartopo/grinding/grinding_setup.hpp"
 
 namespace geartopo::grinding {
 

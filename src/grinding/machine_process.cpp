@@ -1,9 +1,9 @@
-#include "grinding/machine_process.hpp"
+#include "geartopo/grinding/machine_process.hpp"
 
-#include "machine/chain.hpp"
-#include "machine/first_order.hpp"
-#include "machine/machine_data.hpp"
-#include "machine/transforms.hpp"
+#include "geartopo/machine/chain.hpp"
+#include "geartopo/machine/first_order.hpp"
+#include "geartopo/machine/machine_data.hpp"
+#include "geartopo/machine/transforms.hpp"
 
 namespace geartopo::grinding {
 

@@ -1,6 +1,6 @@
-#include "grinding/topology.hpp"
+#include "geartopo/grinding/topology.hpp"
 
-#include "grinding/parallel.hpp"
+#include "geartopo/core/parallel.hpp"
 
 #include <fmt/format.h>
 
@@ -16,7 +16,7 @@ std::vector<double> evenly(double a, double b, int n) {
   return out;
 }
 
-std::vector<GridPoint> grid(const FlankDeviation& dev, const gears::GearGeometry& g, int tooth, gears::Flank flank,
+std::vector<GridPoint> grid(const FlankDeviation& dev, const gears::GearGeometry& g, int tooth, geartopo::Flank flank,
                             const std::vector<double>& xis, const std::vector<double>& zs, Method m) {
   std::vector<GridPoint> out;
   out.reserve(xis.size() * zs.size());
@@ -72,7 +72,7 @@ std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const G
   parallel_for(static_cast<int>(out.size()), o.threads, [&](int i) {
     FlankTopology& ft = out[static_cast<size_t>(i)];
     ft.tooth = teeth[static_cast<size_t>(i / 2)];
-    ft.flank = i % 2 == 0 ? gears::Flank::Left : gears::Flank::Right;
+    ft.flank = i % 2 == 0 ? geartopo::Flank::Left : geartopo::Flank::Right;
     ft.grid = grid(dev, g, ft.tooth, ft.flank, rows, cols, o.method);
     for (double xi : prof_xi)
       ft.profile.push_back({xi, g.diameter_at_roll_length(xi), prof_z,

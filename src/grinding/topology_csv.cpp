@@ -1,6 +1,7 @@
-#include "grinding/topology_csv.hpp"
+#include "geartopo/grinding/topology_csv.hpp"
 
-#include "gears/text_field.hpp"
+#include "geartopo/core/input_error.hpp"
+#include "geartopo/core/text_field.hpp"
 
 #include <fmt/format.h>
 
@@ -47,7 +48,7 @@ std::vector<Field> split(const std::string& line) {
 using text::excerpt;
 
 [[noreturn]] void fail(const std::string& src, int line, int col, const std::string& field, const std::string& msg) {
-  throw std::runtime_error(fmt::format("{}:{}:{}: {}: {}", src, line, col, field, msg));
+  throw InputError(src, line, col, field, msg);
 }
 
 double number(const Field& f, const std::string& src, int line, const char* name) {
@@ -144,7 +145,7 @@ std::vector<TopologyRow> read_topology_csv(std::istream& in, const std::string& 
     r.line = lineno;
     r.tooth = whole(f[0], src, lineno, "tooth");
     if (r.tooth < 1 || r.tooth > teeth) fail(src, lineno, f[0].column, "tooth", fmt::format("{} is not one of 1..{}", r.tooth, teeth));
-    const auto flank = gears::parse_flank(f[1].text);
+    const auto flank = geartopo::parse_flank(f[1].text);
     if (!flank) fail(src, lineno, f[1].column, "flank", fmt::format("'{}' is neither left nor right", excerpt(f[1].text)));
     r.flank = *flank;
     r.row = whole(f[2], src, lineno, "row");
@@ -186,7 +187,7 @@ std::vector<FlankTopology> read_traces_csv(std::istream& in, const std::string& 
            fmt::format("{} fields, expected 7", f.size()));
     const int tooth = whole(f[0], src, lineno, "tooth");
     if (tooth < 1 || tooth > teeth) fail(src, lineno, f[0].column, "tooth", fmt::format("{} is not one of 1..{}", tooth, teeth));
-    const auto flank = gears::parse_flank(f[1].text);
+    const auto flank = geartopo::parse_flank(f[1].text);
     if (!flank) fail(src, lineno, f[1].column, "flank", fmt::format("'{}' is neither left nor right", excerpt(f[1].text)));
     const bool profile = f[2].text == "profile";
     if (!profile && f[2].text != "helix") fail(src, lineno, f[2].column, "trace", fmt::format("'{}' is neither profile nor helix", excerpt(f[2].text)));

@@ -1,6 +1,6 @@
-#include "grinding/wheel_setting.hpp"
+#include "geartopo/grinding/wheel_setting.hpp"
 
-#include "gears/field_error.hpp"
+#include "geartopo/core/field_error.hpp"
 
 #include <fmt/format.h>
 

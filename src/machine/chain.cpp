@@ -1,7 +1,7 @@
 // geartopo — ideal and exact forward kinematics of the CFXZAY grinder (see chain.hpp). Units: mm, rad.
-#include "machine/chain.hpp"
+#include "geartopo/machine/chain.hpp"
 
-#include "machine/transforms.hpp"
+#include "geartopo/machine/transforms.hpp"
 
 #include <cmath>
 

@@ -1,5 +1,5 @@
 // geartopo — table of the 43 error components and the units files may use. Units: mm, rad inside.
-#include "machine/error_component.hpp"
+#include "geartopo/machine/error_component.hpp"
 
 #include <numbers>
 

@@ -1,5 +1,5 @@
 // geartopo — constant / polynomial / table error sources. Units: converted to mm and rad on construction.
-#include "machine/error_source.hpp"
+#include "geartopo/machine/error_source.hpp"
 
 #include <fmt/format.h>
 

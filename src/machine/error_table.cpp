@@ -1,7 +1,7 @@
 // geartopo — CSV error-table reader with located messages. Units: file units in, mm and rad out.
-#include "machine/error_table.hpp"
+#include "geartopo/machine/error_table.hpp"
 
-#include "gears/text_field.hpp"
+#include "geartopo/core/text_field.hpp"
 
 #include <fmt/format.h>
 
@@ -15,13 +15,6 @@ namespace geartopo::machine {
 namespace {
 
 using text::excerpt;
-
-std::string located(const std::string& file, int line, int column, const std::string& field, const std::string& msg) {
-  std::string where = file;
-  if (line > 0) where += fmt::format(":{}", line);
-  if (line > 0 && column > 0) where += fmt::format(":{}", column);
-  return field.empty() ? fmt::format("{}: {}", where, msg) : fmt::format("{}: {}: {}", where, field, msg);
-}
 
 struct Field {
   std::string_view text; // trimmed
@@ -60,14 +53,9 @@ std::string_view axis_letter(Axis axis) {
 
 } // namespace
 
-TableError::TableError(const std::string& file, int line, int column, const std::string& field,
-                       const std::string& message)
-    : std::runtime_error(located(file, line, column, field, message)), file_(file), field_(field), line_(line),
-      column_(column) {}
-
 std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::string& source) {
-  auto fail = [&](int line, int column, const std::string& field, const std::string& msg) -> TableError {
-    return TableError(source, line, column, field, msg);
+  auto fail = [&](int line, int column, const std::string& field, const std::string& msg) -> InputError {
+    return InputError(source, line, column, field, msg);
   };
   geartopo::text::strip_bom(text);
 
@@ -239,7 +227,7 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
 
 std::vector<ErrorSource> load_error_tables(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw TableError(path.string(), 0, 0, "", "cannot open the error table");
+  if (!in) throw InputError(path.string(), 0, 0, "", "cannot open the error table");
   std::ostringstream ss;
   ss << in.rdbuf();
   return parse_error_tables(ss.str(), path.string());
@@ -251,7 +239,7 @@ ErrorSource load_error_table(const std::filesystem::path& path, ComponentId expe
     if (s.id() == expected) return std::move(s);
   const ComponentInfo& c = info(expected);
   const TableOrigin* o = all.front().origin();
-  throw TableError(path.string(), o->header_line, 1, "",
+  throw InputError(path.string(), o->header_line, 1, "",
                    fmt::format("no column for {} (expected a header field like '{}_{}' against '{}_{}')", c.name, c.name,
                                file_unit(c.quantity), axis_letter(c.axis),
                                is_rotary(c.axis) ? "deg" : "mm"));

@@ -1,5 +1,5 @@
 // geartopo — first-order error sensitivities by adjoint transport (first_order.hpp). Units: mm, rad.
-#include "machine/first_order.hpp"
+#include "geartopo/machine/first_order.hpp"
 
 namespace geartopo::machine {
 

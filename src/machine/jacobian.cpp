@@ -1,8 +1,8 @@
 // geartopo — ideal and actual Jacobians J_twist*_q by adjoint transport of each joint's body rate.
 // Units: mm, rad.
-#include "machine/jacobian.hpp"
+#include "geartopo/machine/jacobian.hpp"
 
-#include "machine/transforms.hpp"
+#include "geartopo/machine/transforms.hpp"
 
 namespace geartopo::machine {
 

@@ -1,7 +1,8 @@
 // geartopo — MachineModel: validation of strokes and sources, evaluation of the error vector. Units: mm, rad.
-#include "machine/machine_model.hpp"
+#include "geartopo/machine/machine_model.hpp"
+#include "geartopo/core/units.hpp"
 
-#include "machine/error_table.hpp"
+#include "geartopo/machine/error_table.hpp"
 
 #include <fmt/format.h>
 
@@ -13,7 +14,6 @@ namespace geartopo::machine {
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 void check_interval(const Interval& i, std::string_view what) {
   if (!std::isfinite(i.min) || !std::isfinite(i.max) || !(i.max > i.min))
@@ -26,7 +26,7 @@ Interval internal_stroke(const Strokes& s, Axis axis) {
   case Axis::X: return s.x_mm;
   case Axis::Y: return s.y_mm;
   case Axis::Z: return s.z_mm;
-  case Axis::A: return {s.a_deg.min * kDeg, s.a_deg.max * kDeg};
+  case Axis::A: return {s.a_deg.min * units::kRadPerDeg, s.a_deg.max * units::kRadPerDeg};
   case Axis::C: break;
   }
   return {0.0, 2.0 * std::numbers::pi};
@@ -68,11 +68,11 @@ void MachineModel::check_coverage(const ErrorSource& s) const {
     return fmt::format("the {} stroke [{:g}, {:g}] {}", axis_name(axis), st.min * k, st.max * k, o->position_unit);
   };
   if (sp.front() > st.min + tol)
-    throw TableError(o->file, o->first_line, 1, o->position_field,
+    throw InputError(o->file, o->first_line, 1, o->position_field,
                      fmt::format("column {} '{}' starts at {:g} {}, inside {}: the table must cover the stroke",
                                  o->column, o->field, sp.front() * k, o->position_unit, stroke_text()));
   if (sp.back() < st.max - tol)
-    throw TableError(o->file, o->last_line, 1, o->position_field,
+    throw InputError(o->file, o->last_line, 1, o->position_field,
                      fmt::format("column {} '{}' ends at {:g} {}, inside {}: the table must cover the stroke",
                                  o->column, o->field, sp.back() * k, o->position_unit, stroke_text()));
 }

@@ -3,10 +3,10 @@
 // coordinates to pixels itself from the axes' end points, so that it does not depend on the chart's internal
 // transforms (shift/scale of large coordinates).
 
-#include "render/detail/chart2d.hpp"
-#include "render/detail/layout.hpp"
-#include "render/detail/offscreen.hpp"
-#include "render/detail/overlay.hpp"
+#include "detail/chart2d.hpp"
+#include "detail/layout.hpp"
+#include "detail/offscreen.hpp"
+#include "detail/overlay.hpp"
 
 #include <vtkAxis.h>
 #include <vtkBrush.h>

@@ -1,8 +1,8 @@
 // Line and bar charts: input checks and ranges here, drawing in chart2d.cpp.
 
-#include "render/charts.hpp"
-#include "render/detail/chart2d.hpp"
-#include "render/detail/layout.hpp"
+#include "geartopo/render/charts.hpp"
+#include "detail/chart2d.hpp"
+#include "detail/layout.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "render/colour_map.hpp"
+#include "geartopo/render/colour_map.hpp"
 
 #include <algorithm>
 #include <array>

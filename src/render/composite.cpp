@@ -1,10 +1,10 @@
 // Composite of several PNGs: plain pixel copies, captions rasterised with FreeType on the CPU (no OpenGL).
 
-#include "render/composite.hpp"
-#include "render/detail/layout.hpp"
-#include "render/detail/offscreen.hpp"
-#include "render/detail/overlay.hpp"
-#include "render/image.hpp"
+#include "geartopo/render/composite.hpp"
+#include "detail/layout.hpp"
+#include "detail/offscreen.hpp"
+#include "detail/overlay.hpp"
+#include "geartopo/render/image.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -11,7 +11,7 @@
 // option LINKER:--export-dynamic-symbol=glewInit to every executable linking it. The empty anchor function below is
 // called by offscreen.cpp so that this object file is always linked from the static library.
 
-#include "render/detail/offscreen.hpp"
+#include "detail/offscreen.hpp"
 
 #include <EGL/egl.h>
 #include <dlfcn.h>

@@ -1,10 +1,10 @@
 // Topology grid view: nominal grid (black), actual grid with the magnified deviation (blue), values at the nodes.
 // Geometry and labels are built here; drawing in scene3d.cpp.
 
-#include "render/grid_view.hpp"
-#include "render/colour_map.hpp"
-#include "render/detail/layout.hpp"
-#include "render/detail/scene3d.hpp"
+#include "geartopo/render/grid_view.hpp"
+#include "geartopo/render/colour_map.hpp"
+#include "detail/layout.hpp"
+#include "detail/scene3d.hpp"
 
 #include <fmt/format.h>
 

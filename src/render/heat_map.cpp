@@ -1,9 +1,9 @@
 // Heat map: cells, values and marked-region outline computed here; drawing in chart2d.cpp.
 
-#include "render/heat_map.hpp"
-#include "render/colour_map.hpp"
-#include "render/detail/chart2d.hpp"
-#include "render/detail/layout.hpp"
+#include "geartopo/render/heat_map.hpp"
+#include "geartopo/render/colour_map.hpp"
+#include "detail/chart2d.hpp"
+#include "detail/layout.hpp"
 
 #include <algorithm>
 #include <cmath>

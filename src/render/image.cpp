@@ -1,7 +1,7 @@
 // PNG input/output as plain pixels, and image statistics for checks.
 
-#include "render/image.hpp"
-#include "render/detail/offscreen.hpp"
+#include "geartopo/render/image.hpp"
+#include "detail/offscreen.hpp"
 
 #include <vtkImageData.h>
 #include <vtkNew.h>

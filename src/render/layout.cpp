@@ -1,4 +1,4 @@
-#include "render/detail/layout.hpp"
+#include "detail/layout.hpp"
 
 #include <fmt/format.h>
 

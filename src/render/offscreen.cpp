@@ -1,7 +1,7 @@
 // Off-screen OpenGL without a display: a Mesa EGL context on the surfaceless platform, handed to a
 // vtkGenericOpenGLRenderWindow (docs/rendering.md, "How off-screen rendering works").
 
-#include "render/detail/offscreen.hpp"
+#include "detail/offscreen.hpp"
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>

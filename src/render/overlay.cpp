@@ -1,8 +1,8 @@
 // 2D text and colour bars drawn with vtkContext2D (charts and, through a vtkContextActor, 3D views).
 
-#include "render/detail/overlay.hpp"
-#include "render/colour_map.hpp"
-#include "render/detail/layout.hpp"
+#include "detail/overlay.hpp"
+#include "geartopo/render/colour_map.hpp"
+#include "detail/layout.hpp"
 
 #include <vtkBrush.h>
 #include <vtkContext2D.h>

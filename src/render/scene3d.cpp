@@ -1,8 +1,8 @@
 // A 3D view on an off-screen context: layer 0 holds a white background renderer and the 3D renderer (viewport
 // between the title, the caption and the colour bar); layer 1 holds a vtkContextActor with the 2D overlay.
 
-#include "render/detail/scene3d.hpp"
-#include "render/detail/offscreen.hpp"
+#include "detail/scene3d.hpp"
+#include "detail/offscreen.hpp"
 
 #include <vtkActor.h>
 #include <vtkCamera.h>

@@ -1,9 +1,9 @@
 // Surface view: meshes with per-vertex values in the diverging colour map. Checks here; drawing in scene3d.cpp.
 
-#include "render/surface_view.hpp"
-#include "render/colour_map.hpp"
-#include "render/detail/layout.hpp"
-#include "render/detail/scene3d.hpp"
+#include "geartopo/render/surface_view.hpp"
+#include "geartopo/render/colour_map.hpp"
+#include "detail/layout.hpp"
+#include "detail/scene3d.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,12 +1,13 @@
-#include "scene/scene.hpp"
+#include "geartopo/scene/scene.hpp"
+#include "geartopo/core/units.hpp"
 
-#include "gears/field_error.hpp"
-#include "gears/gear_geometry.hpp"
-#include "gears/text_field.hpp"
-#include "scene/yaml_reader.hpp"
-#include "grinding/topology.hpp"
-#include "machine/error_table.hpp"
-#include "effects/registry.hpp"
+#include "geartopo/core/field_error.hpp"
+#include "geartopo/gears/gear_geometry.hpp"
+#include "geartopo/core/text_field.hpp"
+#include "yaml_reader.hpp"
+#include "geartopo/grinding/topology.hpp"
+#include "geartopo/machine/error_table.hpp"
+#include "geartopo/effects/registry.hpp"
 
 #include <fmt/format.h>
 #include <yaml-cpp/depthguard.h> // YAML::DeepRecursion, not included by yaml.h in 0.7
@@ -19,21 +20,14 @@
 namespace geartopo::scene {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
-std::string located(const std::string& file, int line, int column, const std::string& field, const std::string& msg) {
-  std::string where = file;
-  if (line > 0) where += fmt::format(":{}:{}", line, column);
-  return fmt::format("{}: {}{}", where, field.empty() ? "" : field + ": ", msg);
-}
 
 gears::GearSpec read_gear(MapReader& g, Scene& scene) {
   gears::GearSpec s;
   s.normal_module_mm = g.number("normal_module_mm", {0.0, 100.0, true, false});
   s.teeth = static_cast<int>(g.integer("teeth", 5, 10000));
-  s.normal_pressure_angle_rad = g.number("normal_pressure_angle_deg", {5.0, 45.0, true, true}) * kDeg;
+  s.normal_pressure_angle_rad = g.number("normal_pressure_angle_deg", {5.0, 45.0, true, true}) * units::kRadPerDeg;
   const double beta_deg = g.number("helix_angle_deg", {-45.0, 45.0});
-  s.helix_angle_rad = beta_deg * kDeg;
+  s.helix_angle_rad = beta_deg * units::kRadPerDeg;
   if (const auto hand = g.optional_choice("hand", {"right", "left", "spur"})) {
     if (*hand != gears::to_string(s.hand()))
       g.context().fail_field(g.field("hand"),
@@ -110,8 +104,8 @@ MachineSection read_machine(MapReader& m, const std::filesystem::path& base, dou
     const auto path = (base / file).lexically_normal();
     try {
       for (auto& src : machine::load_error_tables(path)) s.sources.push_back(std::move(src));
-    } catch (const machine::TableError& e) {
-      throw SceneError(SceneError::Located{}, e.what(), e.file(), e.line(), e.column(), e.field());
+    } catch (const InputError&) {
+      throw; // located in the table file
     }
     s.table_files.push_back(path.string());
   }
@@ -155,8 +149,8 @@ MachineSection read_machine(MapReader& m, const std::filesystem::path& base, dou
   m.finish();
   try {
     (void)s.model(); // strokes, duplicates and table coverage
-  } catch (const machine::TableError& e) {
-    throw SceneError(SceneError::Located{}, e.what(), e.file(), e.line(), e.column(), e.field());
+  } catch (const InputError&) {
+    throw; // located in a table file
   } catch (const std::invalid_argument& e) {
     ctx.fail_field(m.field("tables"), e.what());
   }
@@ -239,51 +233,17 @@ MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& 
 }
 
 // The wheel must be synthesizable and the whole path must stay within the machine's strokes.
-void check_grinding(const Scene& scene, ReadContext& ctx) {
-  try {
-    // The set-up's position first: it is cheap, and a gear far too big for the machine would otherwise fail inside
-    // the form-wheel synthesis with a message that names no scene field.
-    const gears::GearGeometry geometry(scene.gear);
-    const auto set = grinding::make_wheel_setting(geometry, scene.wheel.outer_diameter_mm, scene.wheel.axial_position_mm);
-    const auto& st = scene.machine.strokes;
-    auto outside = [](double v, const machine::Interval& iv) { return v < iv.min - 1e-9 || v > iv.max + 1e-9; };
-    if (outside(set.centre_distance_mm, st.x_mm))
-      ctx.fail_field("wheel.outer_diameter_mm",
-                     fmt::format("puts X at the centre distance {:.3f} mm, outside the X stroke [{}, {}] mm",
-                                 set.centre_distance_mm, st.x_mm.min, st.x_mm.max));
-    if (outside(set.axial_position_mm, st.y_mm))
-      ctx.fail_field("wheel.axial_position_mm", fmt::format("{} mm is outside the Y stroke [{}, {}] mm",
-                                                            set.axial_position_mm, st.y_mm.min, st.y_mm.max));
-    if (outside(set.tilt_rad / kDeg, st.a_deg))
-      ctx.fail_field("gear.helix_angle_deg", fmt::format("needs A = {:.3f}°, outside the A stroke [{}, {}]°",
-                                                         set.tilt_rad / kDeg, st.a_deg.min, st.a_deg.max));
-    const grinding::GrindingSetup setup(scene.gear, scene.wheel, scene.process);
-    for (const auto& stroke : setup.path().strokes()) {
-      const double lo = std::min(stroke.z_begin_mm, stroke.z_end_mm) + scene.machine.datum_face_z_mm;
-      const double hi = std::max(stroke.z_begin_mm, stroke.z_end_mm) + scene.machine.datum_face_z_mm;
-      if (outside(lo, st.z_mm) || outside(hi, st.z_mm))
-        ctx.fail_field("machine.datum_face_z_mm",
-                       fmt::format("the strokes run from Z = {:.3f} to {:.3f} mm, outside the Z stroke [{}, {}] mm",
-                                   lo, hi, st.z_mm.min, st.z_mm.max));
-    }
-  } catch (const FieldError& e) {
-    ctx.fail_field(e.field(), e.what());
-  } catch (const std::runtime_error& e) {
-    if (dynamic_cast<const SceneError*>(&e)) throw;
-    ctx.fail_field("wheel", e.what());
-  }
-}
-
 } // namespace
 
-SceneError::SceneError(const std::string& file, int line, int column, const std::string& field,
-                       const std::string& message)
-    : std::runtime_error(located(file, line, column, field, message)), file_(file), field_(field), line_(line),
-      column_(column) {}
-
-SceneError::SceneError(Located, const std::string& what, const std::string& file, int line, int column,
-                       const std::string& field)
-    : std::runtime_error(what), file_(file), field_(field), line_(line), column_(column) {}
+void Scene::fail_at(const std::string& field, const std::string& message) const {
+  for (std::string p = field;;) {
+    if (auto it = positions.find(p); it != positions.end()) throw InputError(it->second, field, message);
+    const auto dot = p.rfind('.');
+    if (dot == std::string::npos) break;
+    p.resize(dot);
+  }
+  throw InputError(SourcePosition{source, 0, 0}, field, message);
+}
 
 Scene parse_scene(const std::string& text, const std::string& source) {
   ReadContext ctx{source, {}};
@@ -323,13 +283,14 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   } catch (const FieldError& e) {
     ctx.fail_field(e.field(), e.what());
   }
-  check_grinding(scene, ctx);
+  for (const auto& [field, mark] : ctx.marks)
+    scene.positions[field] = SourcePosition{source, mark.is_null() ? 0 : mark.line + 1, mark.is_null() ? 0 : mark.column + 1};
   return scene;
 }
 
 Scene load_scene(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw SceneError(file.string(), 0, 0, "", "cannot open the scene file");
+  if (!in) throw InputError(file.string(), 0, 0, "", "cannot open the scene file");
   std::ostringstream text;
   text << in.rdbuf();
   return parse_scene(text.str(), file.string());

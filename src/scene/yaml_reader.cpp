@@ -1,6 +1,6 @@
-#include "scene/yaml_reader.hpp"
+#include "yaml_reader.hpp"
 
-#include "gears/text_field.hpp"
+#include "geartopo/core/text_field.hpp"
 
 #include <fmt/format.h>
 
@@ -51,7 +51,7 @@ std::string Range::str() const {
 void ReadContext::fail(const YAML::Mark& mark, const std::string& field, const std::string& message) const {
   const int line = mark.is_null() ? 0 : mark.line + 1;
   const int column = mark.is_null() ? 0 : mark.column + 1;
-  throw SceneError(source, line, column, field, message);
+  throw InputError(source, line, column, field, message);
 }
 
 void ReadContext::fail_field(const std::string& field, const std::string& message) const {

@@ -3,7 +3,7 @@
 // (yaml-cpp stays out of public headers).
 #pragma once
 
-#include "scene/scene.hpp"
+#include "geartopo/scene/scene.hpp"
 
 #include <yaml-cpp/yaml.h>
 

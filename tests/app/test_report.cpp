@@ -1,6 +1,6 @@
 // The report as a user opens it: every figure rendered without a display, of its size, not blank, its colour scale
 // spanning its data; index.html referring only to files that exist. Runs `geartopo report` once for all tests.
-#include "render/image.hpp"
+#include "geartopo/render/image.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -1,8 +1,8 @@
 // Compensation: known errors cancelled, the methods' differences shown with numbers, the correction table.
-#include "compensation/compensator.hpp"
+#include "geartopo/compensation/compensator.hpp"
 
 #include "../grinding/grinding_fixture.hpp"
-#include "scene/scene.hpp"
+#include "geartopo/scene/scene.hpp"
 
 #include <sstream>
 

@@ -1,12 +1,12 @@
 // Model vs measurement on data with hidden effects (issue: diagnosis). Each truth scene is the default scene plus
 // effects; it is "measured" on teeth 1 and 18 (7×9 grid) with 0.5 µm Gaussian probe noise; `diagnose` works on the
 // default scene, which lacks them.
-#include "diagnosis/diagnose.hpp"
-#include "diagnosis/scene_writer.hpp"
-#include "diagnosis/synth.hpp"
-#include "effects/effects_process.hpp"
-#include "effects/registry.hpp"
-#include "scene/workbench.hpp"
+#include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/scene_writer.hpp"
+#include "geartopo/diagnosis/synth.hpp"
+#include "geartopo/effects/effects_process.hpp"
+#include "geartopo/effects/registry.hpp"
+#include "geartopo/workbench/workbench.hpp"
 
 #include <gtest/gtest.h>
 
@@ -29,8 +29,8 @@ std::string default_text() {
 }
 
 // The default scene, shared by every test (built once: geometry-central style shared assets).
-const scene::Workbench& model_scene() {
-  static const scene::Workbench b(kDefault);
+const workbench::Workbench& model_scene() {
+  static const workbench::Workbench b(kDefault);
   return b;
 }
 
@@ -44,7 +44,7 @@ scene::EffectSpec spec(const std::string& type, const std::vector<std::pair<std:
 std::vector<diagnosis::MeasuredPoint> measure(const std::vector<scene::EffectSpec>& hidden, std::uint64_t seed,
                                               const effects::Effect* extra = nullptr) {
   const std::string text = hidden.empty() ? default_text() : diagnosis::scene_with_effects(default_text(), hidden, {});
-  const scene::Workbench truth(scene::parse_scene(text, kDefault)); // table paths resolve next to the default scene
+  const workbench::Workbench truth(scene::parse_scene(text, kDefault)); // table paths resolve next to the default scene
   diagnosis::SynthOptions o;
   o.noise_um = kNoise;
   o.seed = seed;

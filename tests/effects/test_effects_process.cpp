@@ -1,9 +1,9 @@
 // EffectsProcess: its first-order error twist (used by the linear method and by diagnosis's fits) is the
 // linearisation of its exact pose, for every library effect on top of the default machine.
-#include "effects/effects_process.hpp"
-#include "effects/registry.hpp"
-#include "machine/chain.hpp"
-#include "scene/workbench.hpp"
+#include "geartopo/effects/effects_process.hpp"
+#include "geartopo/effects/registry.hpp"
+#include "geartopo/machine/chain.hpp"
+#include "geartopo/workbench/workbench.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,8 +14,8 @@ using namespace geartopo;
 
 namespace {
 
-const scene::Workbench& default_scene() {
-  static const scene::Workbench wb(std::filesystem::path(GEARTOPO_SOURCE_DIR) / "scenes/skmc1200w-mn14-z35.yaml");
+const workbench::Workbench& default_scene() {
+  static const workbench::Workbench wb(std::filesystem::path(GEARTOPO_SOURCE_DIR) / "scenes/skmc1200w-mn14-z35.yaml");
   return wb;
 }
 

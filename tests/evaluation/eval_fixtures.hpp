@@ -3,7 +3,7 @@
 // gears library, and helpers that build synthetic traces. Units: mm, µm, rad.
 #pragma once
 
-#include "evaluation/gear_evaluation.hpp"
+#include "geartopo/evaluation/gear_evaluation.hpp"
 
 #include <cmath>
 #include <functional>

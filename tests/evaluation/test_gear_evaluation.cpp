@@ -2,7 +2,7 @@
 // (docs/iso1328.md). Units: mm, µm, rad.
 #include "eval_fixtures.hpp"
 
-#include "evaluation/gear_evaluation.hpp"
+#include "geartopo/evaluation/gear_evaluation.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,6 +11,7 @@
 #include <string>
 
 using namespace geartopo::evaluation;
+using geartopo::Flank;
 using namespace geartopo::evaluation::test;
 
 namespace {
@@ -25,14 +26,14 @@ Trace ramp(double start, double end, double rise_um) {
 GearMeasurement full_gear(const TestGear& g) {
   GearMeasurement m;
   for (int t = 1; t <= g.z; ++t)
-    for (const Side s : {Side::Left, Side::Right}) {
+    for (const Flank s : {Flank::Left, Flank::Right}) {
       FlankMeasurement f;
       f.tooth = t;
       f.side = s;
-      f.profile = ramp(kProfileStart, kProfileEnd, s == Side::Right ? 1.0 + 0.1 * t : -0.5);
-      f.helix = ramp(kHelixStart, kHelixEnd, s == Side::Right ? 2.0 : 0.2 * t);
+      f.profile = ramp(kProfileStart, kProfileEnd, s == Flank::Right ? 1.0 + 0.1 * t : -0.5);
+      f.helix = ramp(kHelixStart, kHelixEnd, s == Flank::Right ? 2.0 : 0.2 * t);
       m.flanks.push_back(f);
-      m.pitch_points.push_back({t, s, (t == 7 && s == Side::Right) ? 1.0 : 0.0});
+      m.pitch_points.push_back({t, s, (t == 7 && s == Flank::Right) ? 1.0 : 0.0});
     }
   m.pitch_geometry = g.pitch_geometry();
   return m;
@@ -76,7 +77,7 @@ TEST(GearEvaluation, SubsetOfTeethGivesNoPitchOrRunout) {
   GearMeasurement m = full_gear(g);
   // Drop the pitch point of tooth 20 left; keep only flanks of teeth 1, 10, 19, 28 (the ISO four-teeth practice).
   m.pitch_points.erase(std::remove_if(m.pitch_points.begin(), m.pitch_points.end(),
-                                      [](const PitchPoint& p) { return p.tooth == 20 && p.side == Side::Left; }),
+                                      [](const PitchPoint& p) { return p.tooth == 20 && p.side == Flank::Left; }),
                        m.pitch_points.end());
   m.flanks.erase(std::remove_if(m.flanks.begin(), m.flanks.end(),
                                 [](const FlankMeasurement& f) { return (f.tooth - 1) % 9 != 0; }),
@@ -106,7 +107,7 @@ TEST(GearEvaluation, OverallClassIsTheWorstQuantity) {
   const TestGear g = scene_gear();
   GearMeasurement m = full_gear(g);
   for (auto& f : m.flanks) {
-    f.profile = ramp(kProfileStart, kProfileEnd, (f.tooth == 3 && f.side == Side::Left) ? -12.0 : 0.5);
+    f.profile = ramp(kProfileStart, kProfileEnd, (f.tooth == 3 && f.side == Flank::Left) ? -12.0 : 0.5);
     f.helix = ramp(kHelixStart, kHelixEnd, 0.3);
   }
   const auto r = evaluate_gear(m, g.parameters());
@@ -150,7 +151,7 @@ TEST(GearEvaluation, ClassificationRefusedOutsideTheRangeOfValidity) {
   p.teeth = 4; // only teeth 1..4 are then valid
   GearMeasurement m;
   for (int t = 1; t <= 4; ++t)
-    for (const Side s : {Side::Left, Side::Right}) {
+    for (const Flank s : {Flank::Left, Flank::Right}) {
       m.flanks.push_back({t, s, ramp(kProfileStart, kProfileEnd, 1.0), ramp(kHelixStart, kHelixEnd, 1.0)});
       m.pitch_points.push_back({t, s, 0.1 * t});
     }
@@ -174,7 +175,7 @@ TEST(GearEvaluation, RefusesInconsistentInput) {
   m.flanks[0].tooth = 36;
   EXPECT_THROW(evaluate_gear(m, g.parameters()), std::invalid_argument);
   m = full_gear(g);
-  m.pitch_points.push_back({1, Side::Left, 0.0});
+  m.pitch_points.push_back({1, Flank::Left, 0.0});
   EXPECT_THROW(evaluate_gear(m, g.parameters()), std::invalid_argument);
   m = full_gear(g);
   m.pitch_geometry.reset();

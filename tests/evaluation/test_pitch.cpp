@@ -2,7 +2,7 @@
 // flank geometry (docs/iso1328.md "Pitch and runout"). Units: µm, rad.
 #include "eval_fixtures.hpp"
 
-#include "evaluation/pitch.hpp"
+#include "geartopo/evaluation/pitch.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,6 +12,7 @@
 #include <vector>
 
 using namespace geartopo::evaluation;
+using geartopo::Flank;
 using namespace geartopo::evaluation::test;
 
 namespace {
@@ -44,7 +45,7 @@ double conversion(const TestGear& g) { return std::cos(g.beta_b) * std::cos(g.al
 TEST(Pitch, OneOffsetFlankGivesItsArcShift) {
   const TestGear g = scene_gear();
   const double a = 3.0;
-  for (const Side side : {Side::Right, Side::Left}) {
+  for (const Flank side : {Flank::Right, Flank::Left}) {
     std::vector<double> dn(g.z, 0.0);
     dn[6] = a; // tooth 7
     const auto r = evaluate_pitch(dn, side, g.pitch_geometry());
@@ -54,7 +55,7 @@ TEST(Pitch, OneOffsetFlankGivesItsArcShift) {
     EXPECT_DOUBLE_EQ(r.F_pk_um, e);
     EXPECT_EQ(r.sector_pitches, 4); // 35/8 = 4.4 → 4
     // Plus material moves a right flank +θ and a left flank −θ.
-    const double sigma = side == Side::Right ? 1.0 : -1.0;
+    const double sigma = side == Flank::Right ? 1.0 : -1.0;
     EXPECT_DOUBLE_EQ(r.position_um[6], sigma * e);
     EXPECT_DOUBLE_EQ(r.single_pitch_um[5], sigma * e);  // pitch 6: tooth 6 → 7
     EXPECT_DOUBLE_EQ(r.single_pitch_um[6], -sigma * e); // pitch 7: tooth 7 → 8
@@ -69,8 +70,8 @@ TEST(Pitch, RotationOfTheWholeGearIsNeitherPitchNorRunout) {
   const TestGear g = scene_gear();
   const double shift = 0.5 * g.db * std::cos(g.beta_b) * 2e-5; // Δγ = 20 µrad
   const std::vector<double> right(g.z, shift), left(g.z, -shift);
-  const auto pr = evaluate_pitch(right, Side::Right, g.pitch_geometry());
-  const auto pl = evaluate_pitch(left, Side::Left, g.pitch_geometry());
+  const auto pr = evaluate_pitch(right, Flank::Right, g.pitch_geometry());
+  const auto pl = evaluate_pitch(left, Flank::Left, g.pitch_geometry());
   EXPECT_NEAR(pr.f_p_um, 0.0, 1e-12);
   EXPECT_NEAR(pr.F_p_um, 0.0, 1e-12);
   EXPECT_NEAR(pl.F_p_um, 0.0, 1e-12);
@@ -131,7 +132,7 @@ TEST(Runout, NarrowSpaceApproximationMisstatesEccentricity) {
   EXPECT_GT(factor, 1.08);
   EXPECT_NEAR(r.F_r_um, 2 * delta * factor, 1e-9 * delta);
   // And with η = 0 the formula is literally −(e_L,s+1 − e_R,s)/(2 tan α_yt).
-  const auto pr = evaluate_pitch(f.right, Side::Right, narrow), pl = evaluate_pitch(f.left, Side::Left, narrow);
+  const auto pr = evaluate_pitch(f.right, Flank::Right, narrow), pl = evaluate_pitch(f.left, Flank::Left, narrow);
   for (int s = 0; s < g.z; ++s)
     EXPECT_NEAR(r.radial_um[s], -(pl.position_um[(s + 1) % g.z] - pr.position_um[s]) / (2 * std::tan(g.alpha_yt)),
                 1e-12);
@@ -160,7 +161,7 @@ TEST(Pitch, SectorPitchOfARamp) {
   std::vector<double> dn;
   for (int j = 1; j <= z; ++j) dn.push_back(j * conversion(g)); // e_j = j µm on right flanks
   for (int k = 1; k < z; ++k) {
-    const auto r = evaluate_pitch(dn, Side::Right, g.pitch_geometry(), k);
+    const auto r = evaluate_pitch(dn, Flank::Right, g.pitch_geometry(), k);
     EXPECT_NEAR(r.F_pk_um, std::max(k, z - k), 1e-12) << "k = " << k;
     EXPECT_NEAR(r.f_p_um, z - 1, 1e-12);
     EXPECT_NEAR(r.F_p_um, z - 1, 1e-12);
@@ -183,16 +184,16 @@ TEST(Pitch, RefusesBadInput) {
   const TestGear g = scene_gear();
   const PitchGeometry pg = g.pitch_geometry();
   std::vector<double> dn(g.z, 0.0);
-  EXPECT_THROW(evaluate_pitch(std::vector<double>{1.0, 2.0}, Side::Right, pg), std::invalid_argument);
-  EXPECT_THROW(evaluate_pitch(dn, Side::Right, pg, g.z), std::invalid_argument);
-  EXPECT_THROW(evaluate_pitch(dn, Side::Right, pg, -1), std::invalid_argument);
+  EXPECT_THROW(evaluate_pitch(std::vector<double>{1.0, 2.0}, Flank::Right, pg), std::invalid_argument);
+  EXPECT_THROW(evaluate_pitch(dn, Flank::Right, pg, g.z), std::invalid_argument);
+  EXPECT_THROW(evaluate_pitch(dn, Flank::Right, pg, -1), std::invalid_argument);
   PitchGeometry bad = pg;
   bad.transverse_pressure_angle_rad = 0.0;
-  EXPECT_THROW(evaluate_pitch(dn, Side::Right, bad), std::invalid_argument);
+  EXPECT_THROW(evaluate_pitch(dn, Flank::Right, bad), std::invalid_argument);
   bad = pg;
   bad.space_half_angle_rad = -0.1;
   EXPECT_THROW(evaluate_runout(dn, dn, bad), std::invalid_argument);
   dn[3] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THROW(evaluate_pitch(dn, Side::Left, pg), std::invalid_argument);
+  EXPECT_THROW(evaluate_pitch(dn, Flank::Left, pg), std::invalid_argument);
   EXPECT_THROW(evaluate_runout(std::vector<double>(5, 0.0), std::vector<double>(6, 0.0), pg), std::invalid_argument);
 }

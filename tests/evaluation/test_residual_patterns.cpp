@@ -3,7 +3,7 @@
 //
 // Noise is Gaussian from std::mt19937_64 + Box–Muller written out here (std::normal_distribution is implementation-
 // defined), so every seeded case gives the same numbers on every standard library.
-#include "evaluation/residual_patterns.hpp"
+#include "geartopo/evaluation/residual_patterns.hpp"
 
 #include <gtest/gtest.h>
 
@@ -18,6 +18,7 @@
 #include <vector>
 
 using namespace geartopo::evaluation;
+using geartopo::Flank;
 
 namespace {
 
@@ -59,7 +60,7 @@ double w_of(double z) { return 2.0 * (z - kZ0) / kLb - 1.0; }
 /// nxi roll lengths × nz axial positions spanning L_α × L_β exactly (rows root → tip, columns from the datum face),
 /// residual = field + σ·N(0, 1) (σ = 0: no noise).
 FlankResiduals grid(int nxi, int nz, const Field& field, double sigma = 0.0, std::uint64_t seed = 1, int tooth = 1,
-                    Side side = Side::Right) {
+                    Flank side = Flank::Right) {
   FlankResiduals f{tooth, side, {}, kXi0, kXi1, kZ0, kZ1};
   Gauss noise(seed);
   for (int i = 0; i < nxi; ++i)
@@ -195,7 +196,7 @@ TEST(Patterns, PointsOutsideTheRangesAreLeftOutAndCounted) {
 }
 
 TEST(Patterns, DescriptionNamesEveryPattern) {
-  const auto p = fit_flank_patterns(grid(7, 9, [](double, double) { return -2.0; }, 0.0, 1, 4, Side::Left),
+  const auto p = fit_flank_patterns(grid(7, 9, [](double, double) { return -2.0; }, 0.0, 1, 4, Flank::Left),
                                     with_noise(0.5));
   const std::string s = describe_patterns(p);
   EXPECT_NE(s.find("tooth 4, left flank"), std::string::npos) << s;
@@ -377,7 +378,7 @@ TEST(Trends, RefusesBadInput) {
   dup[1].tooth = 1;
   EXPECT_THROW(fit_tooth_trends(dup, 10), std::invalid_argument);
   auto mixed = flanks;
-  mixed[1].side = Side::Left;
+  mixed[1].side = Flank::Left;
   EXPECT_THROW(fit_tooth_trends(mixed, 10), std::invalid_argument);
   auto outside = flanks;
   outside[1].tooth = 11;
@@ -406,7 +407,7 @@ double tip_datum_bump(double u, double w) {
 TEST(Regions, BumpInTheTipHalfNearTheDatumFace) {
   const double sigma = 0.5;
   for (const GridSize g : kGrids) {
-    const auto f = grid(g.nxi, g.nz, tip_datum_bump, sigma, 31, 18, Side::Right);
+    const auto f = grid(g.nxi, g.nz, tip_datum_bump, sigma, 31, 18, Flank::Right);
     const auto regions = find_failing_regions(f, region_options(sigma));
     ASSERT_GE(regions.size(), 1u);
     const FailingRegion& r = regions.front(); // the largest
@@ -432,7 +433,7 @@ TEST(Regions, BumpInTheTipHalfNearTheDatumFace) {
 TEST(Regions, UniformOffsetIsTheWholeFlankThickerOrThinner) {
   const double sigma = 0.5;
   for (const double c : {+6.2, -6.2}) {
-    const auto f = grid(7, 9, [c](double, double) { return c; }, sigma, 5, 1, Side::Left);
+    const auto f = grid(7, 9, [c](double, double) { return c; }, sigma, 5, 1, Flank::Left);
     const auto regions = find_failing_regions(f, region_options(sigma));
     ASSERT_EQ(regions.size(), 1u);
     const FailingRegion& r = regions.front();
@@ -514,7 +515,7 @@ TEST(Regions, ScatteredPointsAreGroupedByProximity) {
   for (int n : {300, 20000}) {
     SCOPED_TRACE(n);
     Gauss g(99);
-    FlankResiduals f{2, Side::Left, {}, kXi0, kXi1, kZ0, kZ1};
+    FlankResiduals f{2, Flank::Left, {}, kXi0, kXi1, kZ0, kZ1};
     for (int i = 0; i < n; ++i) {
       const double xi = kXi0 + kLa * g.uniform(), z = kZ0 + kLb * g.uniform();
       const double u = u_of(xi), w = w_of(z);
@@ -569,16 +570,16 @@ TEST(Regions, FalseAlarmCountOnPureNoiseIsSmall) {
 
 TEST(Summary, RmsAndMaximumPerFlankToothSideAndOverall) {
   std::vector<FlankResiduals> flanks{
-      grid(7, 9, [](double, double) { return 2.0; }, 0.0, 1, 1, Side::Left),
-      grid(7, 9, [](double, double) { return -3.0; }, 0.0, 1, 1, Side::Right),
-      grid(7, 9, [](double, double) { return 1.0; }, 0.0, 1, 2, Side::Right),
+      grid(7, 9, [](double, double) { return 2.0; }, 0.0, 1, 1, Flank::Left),
+      grid(7, 9, [](double, double) { return -3.0; }, 0.0, 1, 1, Flank::Right),
+      grid(7, 9, [](double, double) { return 1.0; }, 0.0, 1, 2, Flank::Right),
   };
   flanks[1].points[10].residual_um = -7.0;
   flanks[2].points.push_back({kXi1 + 1.0, 50.0, 99.0}); // outside L_α: ignored, counted
   const auto s = summarize_residuals(flanks);
   ASSERT_EQ(s.flanks.size(), 3u);
   EXPECT_EQ(s.flanks[0].tooth, 1);
-  EXPECT_EQ(s.flanks[0].side, Side::Left);
+  EXPECT_EQ(s.flanks[0].side, Flank::Left);
   EXPECT_NEAR(s.flanks[0].stats.rms_um, 2.0, 1e-12);
   EXPECT_NEAR(s.flanks[1].stats.max_abs_um, 7.0, 1e-12);
   EXPECT_NEAR(s.flanks[1].stats.extreme_um, -7.0, 1e-12);
@@ -589,13 +590,13 @@ TEST(Summary, RmsAndMaximumPerFlankToothSideAndOverall) {
   EXPECT_NEAR(s.teeth[0].stats.rms_um, std::sqrt((63 * 4.0 + 62 * 9.0 + 49.0) / 126), 1e-12);
   EXPECT_EQ(s.teeth[0].stats.points, 126u);
   ASSERT_EQ(s.sides.size(), 2u);
-  EXPECT_EQ(s.sides[1].side, Side::Right);
+  EXPECT_EQ(s.sides[1].side, Flank::Right);
   EXPECT_EQ(s.sides[1].flanks, 2u);
   EXPECT_NEAR(s.sides[1].stats.rms_um, std::sqrt((62 * 9.0 + 49.0 + 63 * 1.0) / 126), 1e-12);
   EXPECT_EQ(s.overall.points, 189u);
   EXPECT_NEAR(s.overall.extreme_um, -7.0, 1e-12);
   EXPECT_EQ(s.overall.extreme_tooth, 1);
-  EXPECT_EQ(s.overall.extreme_side, Side::Right);
+  EXPECT_EQ(s.overall.extreme_side, Flank::Right);
   EXPECT_NEAR(s.overall.extreme_xi_mm, flanks[1].points[10].xi_mm, 1e-12);
 }
 

@@ -2,7 +2,7 @@
 // /work/shared/notes/iso1328.md). Units: mm (gear data), µm (tolerances).
 #include "eval_fixtures.hpp"
 
-#include "evaluation/tolerances.hpp"
+#include "geartopo/evaluation/tolerances.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,6 +11,7 @@
 #include <string>
 
 using namespace geartopo::evaluation;
+using geartopo::Flank;
 using namespace geartopo::evaluation::test;
 
 namespace {

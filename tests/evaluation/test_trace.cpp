@@ -3,7 +3,7 @@
 // Units: mm (positions), µm (deviations).
 #include "eval_fixtures.hpp"
 
-#include "evaluation/trace.hpp"
+#include "geartopo/evaluation/trace.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,11 +15,12 @@
 #include <tuple>
 
 using namespace geartopo::evaluation;
+using geartopo::Flank;
 using namespace geartopo::evaluation::test;
 
 namespace geartopo::evaluation {
 // Readable parameter values in test listings.
-void PrintTo(Side s, std::ostream* os) { *os << to_string(s); }
+void PrintTo(Flank s, std::ostream* os) { *os << to_string(s); }
 } // namespace geartopo::evaluation
 
 namespace {
@@ -27,10 +28,10 @@ namespace {
 enum class Kind { Profile, Helix };
 void PrintTo(Kind k, std::ostream* os) { *os << (k == Kind::Profile ? "profile" : "helix"); }
 
-class SyntheticTrace : public ::testing::TestWithParam<std::tuple<Kind, Side>> {
+class SyntheticTrace : public ::testing::TestWithParam<std::tuple<Kind, Flank>> {
 protected:
   Kind kind() const { return std::get<0>(GetParam()); }
-  Side side() const { return std::get<1>(GetParam()); }
+  Flank side() const { return std::get<1>(GetParam()); }
   double start() const { return kind() == Kind::Profile ? kProfileStart : kHelixStart; }
   double end() const { return kind() == Kind::Profile ? kProfileEnd : kHelixEnd; }
   double length() const { return end() - start(); }
@@ -54,7 +55,7 @@ protected:
 
 std::string name(const ::testing::TestParamInfo<SyntheticTrace::ParamType>& info) {
   return std::string(std::get<0>(info.param) == Kind::Profile ? "Profile" : "Helix") +
-         (std::get<1>(info.param) == Side::Left ? "Left" : "Right");
+         (std::get<1>(info.param) == Flank::Left ? "Left" : "Right");
 }
 
 } // namespace
@@ -156,7 +157,7 @@ TEST_P(SyntheticTrace, NoiseRaisesFormButNotSlope) {
 
 INSTANTIATE_TEST_SUITE_P(ProfileAndHelixBothSides, SyntheticTrace,
                          ::testing::Combine(::testing::Values(Kind::Profile, Kind::Helix),
-                                            ::testing::Values(Side::Left, Side::Right)),
+                                            ::testing::Values(Flank::Left, Flank::Right)),
                          name);
 
 // The mean line is the least-squares line of the polyline, not of the points: crowding points into one half of the
@@ -224,7 +225,7 @@ TEST(TraceEvaluation, RefusesBadTraces) {
 TEST(TraceEvaluation, GearEvaluationNamesTheRefusedTrace) {
   FlankMeasurement f;
   f.tooth = 4;
-  f.side = Side::Left;
+  f.side = Flank::Left;
   f.profile = flat(kProfileStart, kProfileEnd);
   f.helix = flat(kHelixStart, kHelixEnd);
   f.helix.deviation_um[2] = std::numeric_limits<double>::quiet_NaN();

@@ -1,7 +1,7 @@
 // Shared gear specs for the gear tests. Units: mm, rad.
 #pragma once
 
-#include "gears/gear_spec.hpp"
+#include "geartopo/gears/gear_spec.hpp"
 
 #include <numbers>
 

@@ -1,14 +1,14 @@
 // docs/conventions.md, pinned down: workpiece frame, tooth numbering, left/right flank, hand, plus material.
 #include "gear_fixtures.hpp"
 
-#include "gears/gear_geometry.hpp"
-#include "gears/involute_helicoid.hpp"
+#include "geartopo/gears/gear_geometry.hpp"
+#include "geartopo/gears/involute_helicoid.hpp"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 using namespace geartopo;
-using gears::Flank;
+using geartopo::Flank;
 
 namespace {
 const gears::GearGeometry& paper() {

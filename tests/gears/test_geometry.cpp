@@ -1,9 +1,9 @@
 // Gear geometry against independent published worked examples, and the identities ISO 21771 implies.
 #include "gear_fixtures.hpp"
 
-#include "gears/field_error.hpp"
-#include "gears/gear_geometry.hpp"
-#include "gears/involute.hpp"
+#include "geartopo/core/field_error.hpp"
+#include "geartopo/gears/gear_geometry.hpp"
+#include "geartopo/gears/involute.hpp"
 
 #include <gtest/gtest.h>
 

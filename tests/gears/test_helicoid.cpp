@@ -2,9 +2,9 @@
 // inverse (point → tooth, flank, diameter, z), hand mirroring, and the flank motion under a C offset.
 #include "gear_fixtures.hpp"
 
-#include "gears/gear_geometry.hpp"
-#include "gears/involute.hpp"
-#include "gears/involute_helicoid.hpp"
+#include "geartopo/gears/gear_geometry.hpp"
+#include "geartopo/gears/involute.hpp"
+#include "geartopo/gears/involute_helicoid.hpp"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -12,7 +12,7 @@
 #include <random>
 
 using namespace geartopo;
-using gears::Flank;
+using geartopo::Flank;
 
 namespace {
 
@@ -82,7 +82,7 @@ TEST_F(HelicoidTest, RadiusAndPolarAngleFollowTheInvolute) {
     EXPECT_NEAR(2 * r, g.diameter_at_roll_length(s.xi), 1e-9);
     EXPECT_NEAR(fp.p.z(), s.z, 1e-12);
     const double half = 0.5 * g.transverse_tooth_thickness_at(2 * r) / r; // half tooth angle at r
-    const double expected = flanks_->tooth_centre_angle(s.tooth, s.z) + gears::side_sign(s.flank) * half;
+    const double expected = flanks_->tooth_centre_angle(s.tooth, s.z) + geartopo::side_sign(s.flank) * half;
     EXPECT_NEAR(std::remainder(std::atan2(fp.p.y(), fp.p.x()) - expected, 2 * std::numbers::pi), 0.0, 1e-12);
   }
 }
@@ -159,7 +159,7 @@ TEST_F(HelicoidTest, RotationAboutTheAxisMovesFlanksByBaseRadiusTimesCosBetaB) {
     const auto fp = flanks_->at(s.tooth, s.flank, s.xi, s.z);
     const auto loc = flanks_->locate_on(R * fp.p, s.tooth, s.flank);
     ASSERT_TRUE(loc.has_value());
-    EXPECT_NEAR(loc->normal_distance_mm * 1e3, gears::side_sign(s.flank) * rb * cb * dgamma * 1e3, 1e-6); // µm
+    EXPECT_NEAR(loc->normal_distance_mm * 1e3, geartopo::side_sign(s.flank) * rb * cb * dgamma * 1e3, 1e-6); // µm
   }
 }
 
@@ -172,6 +172,6 @@ TEST_F(HelicoidTest, AxialShiftMovesFlanksBySinBetaB) {
     const auto fp = flanks_->at(s.tooth, s.flank, s.xi, s.z);
     const auto loc = flanks_->locate_on(fp.p + Eigen::Vector3d(0, 0, dz), s.tooth, s.flank);
     ASSERT_TRUE(loc.has_value());
-    EXPECT_NEAR(loc->normal_distance_mm, -gears::side_sign(s.flank) * sb * dz, 1e-9);
+    EXPECT_NEAR(loc->normal_distance_mm, -geartopo::side_sign(s.flank) * sb * dz, 1e-9);
   }
 }

@@ -1,6 +1,6 @@
 // The number and quoting rule shared by every reader (gears/text_field.hpp); that the readers follow it is in
 // tests/robustness/test_known_findings.cpp.
-#include "gears/text_field.hpp"
+#include "geartopo/core/text_field.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,10 +2,10 @@
 #pragma once
 
 #include "../gears/gear_fixtures.hpp"
-#include "grinding/grinding_setup.hpp"
-#include "grinding/machine_process.hpp"
-#include "grinding/topology.hpp"
-#include "machine/error_source.hpp"
+#include "geartopo/grinding/grinding_setup.hpp"
+#include "geartopo/grinding/machine_process.hpp"
+#include "geartopo/grinding/topology.hpp"
+#include "geartopo/machine/error_source.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,8 +4,8 @@
 // poses whose deepest cut lies beyond the shortcut's reach (the fallback).
 #include "grinding_fixture.hpp"
 
-#include "grinding/flank_deviation.hpp"
-#include "machine/chain.hpp"
+#include "geartopo/grinding/flank_deviation.hpp"
+#include "geartopo/machine/chain.hpp"
 
 #include <atomic>
 #include <cmath>
@@ -58,7 +58,7 @@ void compare(const grinding::GrindingProcess& process, Comparison& c) {
   double lo = 1e9, hi = -1e9;
   int points = 0;
   for (int tooth : {1, 12, 24})
-    for (auto flank : {gears::Flank::Left, gears::Flank::Right})
+    for (auto flank : {geartopo::Flank::Left, geartopo::Flank::Right})
       for (int i = 0; i < 15; ++i)
         for (int j = 0; j < 15; ++j) {
           const double xi = r.xi_active_start + (r.xi_active_end - r.xi_active_start) * i / 14.0;

@@ -1,9 +1,9 @@
 // The form wheel and the wheel path, against the geometry that defines them.
 #include "grinding_fixture.hpp"
 
-#include "gears/involute_helicoid.hpp"
-#include "gears/field_error.hpp"
-#include "machine/chain.hpp"
+#include "geartopo/gears/involute_helicoid.hpp"
+#include "geartopo/core/field_error.hpp"
+#include "geartopo/machine/chain.hpp"
 
 #include <numbers>
 
@@ -18,7 +18,7 @@ TEST(FormWheel, ContactLineSatisfiesTheContactCondition) {
   const machine::Pose& wMg = wheel.reference_wMg();
   const Eigen::Vector3d O = wMg.translation(), u = wMg.linear().col(1);
   const auto& r = s.ranges();
-  for (auto [tooth, flank] : {std::pair{1, gears::Flank::Right}, std::pair{2, gears::Flank::Left}}) {
+  for (auto [tooth, flank] : {std::pair{1, geartopo::Flank::Right}, std::pair{2, geartopo::Flank::Left}}) {
     for (int i = 0; i <= 20; ++i) {
       const double xi = r.xi_active_start + (r.xi_active_end - r.xi_active_start) * i / 20.0;
       const auto fp = s.flanks().at(tooth, flank, xi, wheel.contact_offset_mm(flank, xi));

@@ -1,8 +1,8 @@
 // The line-contact grinding simulation against answers known from geometry (issue: the simulator).
 #include "grinding_fixture.hpp"
 
-#include "machine/chain.hpp"
-#include "machine/transforms.hpp"
+#include "geartopo/machine/chain.hpp"
+#include "geartopo/machine/transforms.hpp"
 
 
 using namespace geartopo;
@@ -47,7 +47,7 @@ TEST(Simulation, ConstantCOffsetGivesUniformOppositeDeviations) {
   EXPECT_NEAR(expected, 4.604, 1e-3);
   for (Method m : {Method::Exact, Method::Linear}) {
     for_each_point(test::simulate(process, m), [&](const grinding::FlankTopology& ft, double d) {
-      EXPECT_NEAR(d, -gears::side_sign(ft.flank) * expected, 0.01);
+      EXPECT_NEAR(d, -geartopo::side_sign(ft.flank) * expected, 0.01);
     });
   }
 }
@@ -60,7 +60,7 @@ TEST(Simulation, ConstantZOffsetGivesUniformOppositeDeviations) {
   const double expected = 10.0 * std::sin(paper_setup().geometry().base_helix_angle()); // 4.70 µm
   for (Method m : {Method::Exact, Method::Linear})
     for_each_point(test::simulate(process, m), [&](const grinding::FlankTopology& ft, double d) {
-      EXPECT_NEAR(d, -gears::side_sign(ft.flank) * expected, 0.01);
+      EXPECT_NEAR(d, -geartopo::side_sign(ft.flank) * expected, 0.01);
     });
 }
 
@@ -105,7 +105,7 @@ TEST(Simulation, CErrorsShowBetweenTeethZErrorsAlongTheHelix) {
   machine::TableOrigin origin;
   origin.file = "synthetic";
   const auto c_model = test::machine_with(
-      {ErrorSource::table(ComponentId::epsilon_zc, machine::CubicSpline(c_rad, ez, machine::CubicSpline::Ends::Periodic), origin)});
+      {ErrorSource::table(ComponentId::epsilon_zc, geartopo::CubicSpline(c_rad, ez, geartopo::CubicSpline::Ends::Periodic), origin)});
   const grinding::MachineProcess c_process(c_model, kDatumZ);
   const auto c_topo = test::simulate(c_process, Method::Exact, {1, 9, 18, 27});
   auto mean = [](const grinding::FlankTopology& ft) {
@@ -115,7 +115,7 @@ TEST(Simulation, CErrorsShowBetweenTeethZErrorsAlongTheHelix) {
   };
   double lo = 1e9, hi = -1e9;
   for (const auto& ft : c_topo)
-    if (ft.flank == gears::Flank::Right) lo = std::min(lo, mean(ft)), hi = std::max(hi, mean(ft));
+    if (ft.flank == geartopo::Flank::Right) lo = std::min(lo, mean(ft)), hi = std::max(hi, mean(ft));
   EXPECT_GT(hi - lo, 7.0); // µm between teeth a quarter turn apart (ideal: 2 × 4.6 × |sin|)
 
   // Z straightness-like error: δ_xz grows linearly along Z, 20 µm over 200 mm.

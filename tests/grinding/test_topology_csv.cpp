@@ -1,5 +1,5 @@
 // Topology files: written by the simulator, read back strictly (the same format serves measurements).
-#include "grinding/topology_csv.hpp"
+#include "geartopo/grinding/topology_csv.hpp"
 
 #include "grinding_fixture.hpp"
 

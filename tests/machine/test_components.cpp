@@ -2,7 +2,8 @@
 // The expectations are exact (no small-angle step) unless stated. Units: mm, rad; inputs in µm / µrad.
 #include "test_helpers.hpp"
 
-#include "machine/transforms.hpp"
+#include "geartopo/machine/transforms.hpp"
+#include "geartopo/core/units.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +13,6 @@ namespace geartopo::machine {
 namespace {
 
 using enum ComponentId;
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 /// The actual wheel pose with exactly one component at `value` (file units: µm or µrad).
 Pose with_one(ComponentId id, double value, const AxisPose& q) {
@@ -31,8 +31,8 @@ void expect_vec(const Eigen::Vector3d& got, const Eigen::Vector3d& want, double 
   EXPECT_LT((got - want).norm(), tol) << "got " << got.transpose() << "\nwant " << want.transpose();
 }
 
-const AxisPose kAt0{400.0, 60.0, 300.0, 25.0 * kDeg, 0.0};       // γ = 0: w and F coincide
-const AxisPose kAt90{400.0, 60.0, 300.0, 25.0 * kDeg, 90.0 * kDeg};
+const AxisPose kAt0{400.0, 60.0, 300.0, 25.0 * units::kRadPerDeg, 0.0};       // γ = 0: w and F coincide
+const AxisPose kAt90{400.0, 60.0, 300.0, 25.0 * units::kRadPerDeg, 90.0 * units::kRadPerDeg};
 
 TEST(Components, DeltaXxMovesTheWheelAlongFrameX) {
   expect_vec(shift(delta_xx, 10.0, kAt0), {0.010, 0.0, 0.0});  // +x of w at γ = 0
@@ -53,7 +53,7 @@ TEST(Components, CAxisLineOffsetShiftRotatesWithGamma) {
   // −Rz(−γ)·(10 µm, 0, 0) — a fixed 10 µm that turns with −γ in w.
   for (double g_deg : {0.0, 90.0, 210.0, 333.0}) {
     AxisPose q = kAt0;
-    q.c = g_deg * kDeg;
+    q.c = g_deg * units::kRadPerDeg;
     const Eigen::Vector3d want = -(rot_z(-q.c) * Eigen::Vector3d(0.010, 0.0, 0.0));
     expect_vec(shift(E_XOC, 10.0, q), want);
     EXPECT_NEAR(shift(E_XOC, 10.0, q).norm(), 0.010, 1e-12);
@@ -95,7 +95,7 @@ TEST(Components, SquarenessSxyLeansTheYTravelTowardsMinusX) {
   AxisPose q = kAt0;
   q.y = 100.0;
   expect_vec(shift(S_xy, 50.0, q), {-0.005, 0.0, 0.0}); // −y·S_xy along x
-  q.c = 90.0 * kDeg;
+  q.c = 90.0 * units::kRadPerDeg;
   expect_vec(shift(S_xy, 50.0, q), {0.0, 0.005, 0.0});
   q.y = 0.0;
   expect_vec(shift(S_xy, 50.0, q), Eigen::Vector3d::Zero());

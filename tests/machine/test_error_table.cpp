@@ -2,7 +2,8 @@
 // Units: file units (µm, µrad, mm, deg) in the fixtures; mm and rad in the library.
 #include "test_helpers.hpp"
 
-#include "machine/error_table.hpp"
+#include "geartopo/machine/error_table.hpp"
+#include "geartopo/core/units.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +13,6 @@ namespace geartopo::machine {
 namespace {
 
 using test::data_path;
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 TEST(ErrorTable, ReadsEveryColumnInInternalUnitsAndInterpolatesThroughTheRows) {
   const std::vector<ErrorSource> all = load_error_tables(data_path("x_axis.csv"));
@@ -40,7 +40,7 @@ TEST(ErrorTable, PicksTheExpectedColumn) {
   try {
     load_error_table(data_path("x_axis.csv"), ComponentId::epsilon_xx);
     FAIL() << "missing column accepted";
-  } catch (const TableError& e) {
+  } catch (const geartopo::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("x_axis.csv:3:1:"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("epsilon_xx_urad"), std::string::npos) << e.what();
   }
@@ -49,9 +49,9 @@ TEST(ErrorTable, PicksTheExpectedColumn) {
 TEST(ErrorTable, PeriodicCTableIsSmoothAcrossZero) {
   const ErrorSource s = load_error_table(data_path("c_axis.csv"), ComponentId::epsilon_zc);
   EXPECT_NEAR(s.value(0.0), 10.0e-6, 1e-18);
-  EXPECT_NEAR(s.value(90.0 * kDeg), 15.8e-6, 1e-18);
-  EXPECT_NEAR(s.value(360.0 * kDeg), 10.0e-6, 1e-18);
-  EXPECT_NEAR(s.value(-30.0 * kDeg), 9.6e-6, 1e-18); // −30° is 330°
+  EXPECT_NEAR(s.value(90.0 * units::kRadPerDeg), 15.8e-6, 1e-18);
+  EXPECT_NEAR(s.value(360.0 * units::kRadPerDeg), 10.0e-6, 1e-18);
+  EXPECT_NEAR(s.value(-30.0 * units::kRadPerDeg), 9.6e-6, 1e-18); // −30° is 330°
   const double h = 1e-9;
   EXPECT_NEAR(s.value(-h), s.value(h), 1e-14);
   EXPECT_NEAR(s.rate(-h), s.rate(h), 1e-12);
@@ -60,10 +60,10 @@ TEST(ErrorTable, PeriodicCTableIsSmoothAcrossZero) {
 
 TEST(ErrorTable, ATableInDegreesIsAFunctionOfAlphaInRadians) {
   const ErrorSource s = load_error_table(data_path("a_axis.csv"), ComponentId::epsilon_xa);
-  EXPECT_NEAR(s.value(30.0 * kDeg), 6.0e-6, 1e-18);
+  EXPECT_NEAR(s.value(30.0 * units::kRadPerDeg), 6.0e-6, 1e-18);
   // Rate in rad/rad: the table's slope in µrad/deg times 1e-6·180/π.
-  const double fd = (s.value(20.0 * kDeg + 1e-6) - s.value(20.0 * kDeg - 1e-6)) / 2e-6;
-  EXPECT_NEAR(s.rate(20.0 * kDeg), fd, 1e-9 * std::abs(fd));
+  const double fd = (s.value(20.0 * units::kRadPerDeg + 1e-6) - s.value(20.0 * units::kRadPerDeg - 1e-6)) / 2e-6;
+  EXPECT_NEAR(s.rate(20.0 * units::kRadPerDeg), fd, 1e-9 * std::abs(fd));
 }
 
 struct BadTable {
@@ -84,7 +84,7 @@ TEST_P(BadTables, FailWithFileLineAndColumn) {
     // Coverage of the stroke is checked when the model is built.
     const MachineModel model(Strokes::skmc_1200w(), sources);
     FAIL() << b.file << " was accepted";
-  } catch (const TableError& e) {
+  } catch (const geartopo::InputError& e) {
     const std::string what = e.what();
     EXPECT_EQ(what.rfind(test::data_path(b.where), 0), 0u) << what; // starts with the located file name
     EXPECT_NE(what.find(b.phrase), std::string::npos) << what;
@@ -122,7 +122,7 @@ TEST(ErrorTable, MissingFileIsNamed) {
   try {
     load_error_tables(data_path("no_such_table.csv"));
     FAIL();
-  } catch (const TableError& e) {
+  } catch (const geartopo::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("no_such_table.csv"), std::string::npos);
   }
 }
@@ -135,10 +135,10 @@ TEST(ErrorTable, TableCoveringTheStrokeIsAccepted) {
   EXPECT_LT(e(index(ComponentId::delta_xx)), 6.8e-3);
   Strokes longer = Strokes::skmc_1200w();
   longer.x_mm.max = 901.0;
-  EXPECT_THROW(MachineModel(longer, load_error_tables(data_path("x_axis.csv"))), TableError);
+  EXPECT_THROW(MachineModel(longer, load_error_tables(data_path("x_axis.csv"))), geartopo::InputError);
   Strokes a_wide = Strokes::skmc_1200w();
   a_wide.a_deg = {-46.0, 45.0};
-  EXPECT_THROW(MachineModel(a_wide, {load_error_table(data_path("a_axis.csv"), ComponentId::epsilon_xa)}), TableError);
+  EXPECT_THROW(MachineModel(a_wide, {load_error_table(data_path("a_axis.csv"), ComponentId::epsilon_xa)}), geartopo::InputError);
 }
 
 TEST(ErrorSources, PolynomialAndConstantConvertTheirUnits) {
@@ -148,8 +148,8 @@ TEST(ErrorSources, PolynomialAndConstantConvertTheirUnits) {
   EXPECT_NEAR(p.rate(100.0), 1e-5, 1e-18);
   // 2 µrad/deg·α for A, evaluated at α in rad: at 10°, 20 µrad; slope 2e-6·180/π rad/rad.
   const ErrorSource a = ErrorSource::polynomial(ComponentId::epsilon_xa, {0.0, 2.0}, "urad", "deg");
-  EXPECT_NEAR(a.value(10.0 * kDeg), 20e-6, 1e-18);
-  EXPECT_NEAR(a.rate(0.3), 2e-6 / kDeg, 1e-15);
+  EXPECT_NEAR(a.value(10.0 * units::kRadPerDeg), 20e-6, 1e-18);
+  EXPECT_NEAR(a.rate(0.3), 2e-6 * units::kDegPerRad, 1e-15);
   // Quadratic in mm with value in mm.
   const ErrorSource q = ErrorSource::polynomial(ComponentId::delta_zz, {0.0, 0.0, 1e-8}, "mm", "mm");
   EXPECT_NEAR(q.value(500.0), 2.5e-3, 1e-16);

@@ -2,7 +2,7 @@
 // Units: mm, rad.
 #include "test_helpers.hpp"
 
-#include "machine/first_order.hpp"
+#include "geartopo/machine/first_order.hpp"
 
 #include <gtest/gtest.h>
 

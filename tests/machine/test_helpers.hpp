@@ -2,8 +2,8 @@
 // Units: mm, rad.
 #pragma once
 
-#include "machine/chain.hpp"
-#include "machine/machine_model.hpp"
+#include "geartopo/machine/chain.hpp"
+#include "geartopo/machine/machine_model.hpp"
 
 #include <functional>
 #include <random>

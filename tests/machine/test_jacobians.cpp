@@ -3,9 +3,9 @@
 // Units: mm, rad.
 #include "test_helpers.hpp"
 
-#include "machine/error_table.hpp"
-#include "machine/first_order.hpp"
-#include "machine/jacobian.hpp"
+#include "geartopo/machine/error_table.hpp"
+#include "geartopo/machine/first_order.hpp"
+#include "geartopo/machine/jacobian.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 #include "render_test_support.hpp"
 
-#include "render/charts.hpp"
+#include "geartopo/render/charts.hpp"
 
 #include <gtest/gtest.h>
 

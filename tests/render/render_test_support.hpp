@@ -1,8 +1,8 @@
 #pragma once
 // Shared helpers of the render tests: output directory, standard checks, small data sets.
 
-#include "render/common.hpp"
-#include "render/image.hpp"
+#include "geartopo/render/common.hpp"
+#include "geartopo/render/image.hpp"
 
 #include <filesystem>
 #include <string>

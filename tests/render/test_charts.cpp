@@ -1,7 +1,7 @@
 // Line and bar charts: rendered without a display, requested size, not blank, the series actually drawn.
 
-#include "render/charts.hpp"
-#include "render/image.hpp"
+#include "geartopo/render/charts.hpp"
+#include "geartopo/render/image.hpp"
 #include "render_test_support.hpp"
 
 #include <gtest/gtest.h>

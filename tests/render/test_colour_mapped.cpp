@@ -1,11 +1,11 @@
 // Colour-mapped figures (grid topology, heat map, surface): the colour scale spans the data and both ends' colours
 // are in the image.
 
-#include "render/colour_map.hpp"
-#include "render/grid_view.hpp"
-#include "render/heat_map.hpp"
-#include "render/image.hpp"
-#include "render/surface_view.hpp"
+#include "geartopo/render/colour_map.hpp"
+#include "geartopo/render/grid_view.hpp"
+#include "geartopo/render/heat_map.hpp"
+#include "geartopo/render/image.hpp"
+#include "geartopo/render/surface_view.hpp"
 #include "render_test_support.hpp"
 
 #include <gtest/gtest.h>

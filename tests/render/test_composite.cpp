@@ -1,8 +1,8 @@
 // Composite of PNGs (no OpenGL needed) and rendering from several threads.
 
-#include "render/charts.hpp"
-#include "render/composite.hpp"
-#include "render/image.hpp"
+#include "geartopo/render/charts.hpp"
+#include "geartopo/render/composite.hpp"
+#include "geartopo/render/image.hpp"
 #include "render_test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,11 +1,11 @@
 // Clear exceptions, not crashes: no data, inconsistent input, unwritable output.
 
-#include "render/charts.hpp"
-#include "render/composite.hpp"
-#include "render/grid_view.hpp"
-#include "render/heat_map.hpp"
-#include "render/image.hpp"
-#include "render/surface_view.hpp"
+#include "geartopo/render/charts.hpp"
+#include "geartopo/render/composite.hpp"
+#include "geartopo/render/grid_view.hpp"
+#include "geartopo/render/heat_map.hpp"
+#include "geartopo/render/image.hpp"
+#include "geartopo/render/surface_view.hpp"
 #include "render_test_support.hpp"
 
 #include <gtest/gtest.h>

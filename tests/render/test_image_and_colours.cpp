@@ -1,7 +1,7 @@
 // Image helpers and the colour map: no OpenGL needed.
 
-#include "render/colour_map.hpp"
-#include "render/image.hpp"
+#include "geartopo/render/colour_map.hpp"
+#include "geartopo/render/image.hpp"
 #include "render_test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Shared helpers of the robustness suite: where the corpus is, the default scene built once, running the CLI.
 #pragma once
 
-#include "scene/workbench.hpp"
+#include "geartopo/workbench/workbench.hpp"
 
 #include <filesystem>
 #include <string>
@@ -15,8 +15,8 @@ inline const std::filesystem::path kCorpus = kSourceDir / "tests/robustness/corp
 inline const std::filesystem::path kDefaultScene = kSourceDir / "scenes/skmc1200w-mn14-z35.yaml";
 
 /// The default scene and what is built from it, once per test binary.
-inline const scene::Workbench& default_scene() {
-  static const scene::Workbench d(kDefaultScene);
+inline const workbench::Workbench& default_scene() {
+  static const workbench::Workbench d(kDefaultScene);
   return d;
 }
 

@@ -3,17 +3,18 @@
 // <folder>/expected.tsv gives one) and contains the expected fragment. Never a crash, a hang (ctest TIMEOUT) or an
 // accepted NaN (a file that loads is a failure).
 //
-// Readers: scenes → scene::load_scene; error_tables → machine::load_error_tables; topology → grinding::read_topology_csv
+// Readers: scenes → workbench::Workbench (reads the scene, builds and checks the set-up); error_tables → machine::load_error_tables; topology → grinding::read_topology_csv
 // (traces_* → grinding::read_traces_csv) and diagnosis::read_measurement; point_clouds → surfaces::read_point_cloud;
 // topology and point clouds also through diagnosis::read_any_measurement (tells the two apart by the header).
 #include "robustness_support.hpp"
 
-#include "diagnosis/compare.hpp"
-#include "diagnosis/measured_points.hpp"
-#include "grinding/topology_csv.hpp"
-#include "machine/error_table.hpp"
-#include "scene/scene.hpp"
-#include "surfaces/point_cloud.hpp"
+#include "geartopo/diagnosis/compare.hpp"
+#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/grinding/topology_csv.hpp"
+#include "geartopo/machine/error_table.hpp"
+#include "geartopo/scene/scene.hpp"
+#include "geartopo/workbench/workbench.hpp"
+#include "geartopo/surfaces/point_cloud.hpp"
 
 #include <gtest/gtest.h>
 
@@ -32,7 +33,7 @@ namespace {
 
 struct CorpusCase {
   std::string folder, file;
-  std::string exception; ///< SceneError, TableError, runtime_error, invalid_argument
+  std::string exception; ///< InputError, runtime_error, invalid_argument
   int line = -1;         ///< expected line; 0: the message must not name a line; -1: any
   std::string fragment;  ///< must occur in what()
   std::string note;      ///< printed on failure (e.g. a known finding)
@@ -79,10 +80,8 @@ struct Caught {
 Caught catch_from(const std::function<void()>& fn) {
   try {
     fn();
-  } catch (const scene::SceneError& e) {
-    return {"SceneError", e.what(), e.line()};
-  } catch (const machine::TableError& e) {
-    return {"TableError", e.what(), e.line()};
+  } catch (const geartopo::InputError& e) {
+    return {"InputError", e.what(), e.line()};
   } catch (const std::invalid_argument& e) {
     return {"invalid_argument", e.what()};
   } catch (const std::runtime_error& e) {
@@ -102,7 +101,7 @@ void check_message(const CorpusCase& c, const Caught& got, const std::string& re
   if (check_type) {
     EXPECT_EQ(got.type, c.exception) << got.what;
   } else {
-    EXPECT_TRUE(got.type == "SceneError" || got.type == "TableError" || got.type == "runtime_error" ||
+    EXPECT_TRUE(got.type == "InputError" || got.type == "runtime_error" ||
                 got.type == "invalid_argument")
         << got.type << ": " << got.what;
   }
@@ -132,7 +131,7 @@ TEST_P(Corpus, IsRefusedWithAClearMessage) {
   const fs::path path = kCorpus / c.folder / c.file;
   ASSERT_TRUE(fs::exists(path)) << path;
   if (c.folder == "scenes") {
-    check_message(c, catch_from([&] { (void)scene::load_scene(path); }), "scene::load_scene");
+    check_message(c, catch_from([&] { const workbench::Workbench wb(path); }), "workbench::Workbench");
   } else if (c.folder == "error_tables") {
     if (c.file == "x_short.csv") { // valid on its own; the scene refuses it for not covering the X stroke
       EXPECT_NO_THROW((void)machine::load_error_tables(path));

@@ -6,10 +6,10 @@
 // tests/grinding/test_exact_search.cpp.
 #include "robustness_support.hpp"
 
-#include "grinding/topology_csv.hpp"
-#include "machine/error_table.hpp"
-#include "scene/scene.hpp"
-#include "surfaces/point_cloud.hpp"
+#include "geartopo/grinding/topology_csv.hpp"
+#include "geartopo/machine/error_table.hpp"
+#include "geartopo/scene/scene.hpp"
+#include "geartopo/surfaces/point_cloud.hpp"
 
 #include <gtest/gtest.h>
 

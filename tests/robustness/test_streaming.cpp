@@ -3,8 +3,8 @@
 // linear in its points.
 #include "robustness_support.hpp"
 
-#include "grinding/topology.hpp"
-#include "surfaces/point_cloud.hpp"
+#include "geartopo/grinding/topology.hpp"
+#include "geartopo/surfaces/point_cloud.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // task writes its own slot).
 #include "robustness_support.hpp"
 
-#include "grinding/topology.hpp"
+#include "geartopo/grinding/topology.hpp"
 
 #include <gtest/gtest.h>
 

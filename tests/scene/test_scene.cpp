@@ -1,5 +1,6 @@
 // Scene files: the default scene, and every kind of bad input located at file:line:column with its field.
-#include "scene/scene.hpp"
+#include "geartopo/scene/scene.hpp"
+#include "geartopo/workbench/workbench.hpp"
 
 #include <gtest/gtest.h>
 
@@ -37,7 +38,7 @@ std::string with_line(const std::string& text, const std::string& key, const std
 std::string error_of(const std::string& text) {
   try {
     scene::parse_scene(text, "scenes/x.yaml");
-  } catch (const scene::SceneError& e) {
+  } catch (const geartopo::InputError& e) {
     return e.what();
   }
   return "(no error)";
@@ -137,7 +138,7 @@ TEST(Scene, MissingFileNamesTheFile) {
   try {
     scene::load_scene("/nonexistent/scene.yaml");
     FAIL();
-  } catch (const scene::SceneError& e) {
+  } catch (const geartopo::InputError& e) {
     EXPECT_EQ(std::string(e.what()), "/nonexistent/scene.yaml: cannot open the scene file");
   }
 }
@@ -155,10 +156,12 @@ std::string default_text() {
 }
 
 // Parses text as if it were the default scene (relative table paths resolve against scenes/).
+/// The error of reading `text` as the default scene and building what it describes (workbench: the set-up's fit to
+/// the machine is checked there), or "(no error)".
 std::string error_as_default(const std::string& text) {
   try {
-    scene::parse_scene(text, kDefault);
-  } catch (const scene::SceneError& e) {
+    const workbench::Workbench wb(scene::parse_scene(text, kDefault));
+  } catch (const geartopo::InputError& e) {
     return e.what();
   }
   return "(no error)";
@@ -207,7 +210,7 @@ TEST(SceneMachine, BadErrorTableIsLocatedInTheTableFile) {
   try {
     scene::load_scene(scene_file);
     FAIL() << "accepted a NaN in an error table";
-  } catch (const scene::SceneError& e) {
+  } catch (const geartopo::InputError& e) {
     EXPECT_EQ(e.file(), (dir / "machine" / "x.csv").string());
     EXPECT_EQ(e.line(), 3);
     EXPECT_NE(std::string(e.what()).find(":3:"), std::string::npos) << e.what();

@@ -1,7 +1,7 @@
 // The gear mesh: closed, normals out, flanks on the exact helicoid, and readable by OpenMesh in every format.
-#include "surfaces/gear_mesh.hpp"
+#include "geartopo/surfaces/gear_mesh.hpp"
 
-#include "gears/involute_helicoid.hpp"
+#include "geartopo/gears/involute_helicoid.hpp"
 #include "../gears/gear_fixtures.hpp"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>

@@ -2,8 +2,8 @@
 // Internal: a vtkChartXY on an off-screen context, fed with plain C++ primitives. Used by the line chart, the bar
 // chart and the heat map. No VTK headers here.
 
-#include "render/charts.hpp"
-#include "render/common.hpp"
+#include "geartopo/render/charts.hpp"
+#include "geartopo/render/common.hpp"
 
 #include <filesystem>
 #include <memory>

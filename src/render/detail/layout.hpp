@@ -1,7 +1,7 @@
 #pragma once
 // Internal: plain layout helpers shared by the figures (ticks, font size, labels). No VTK here.
 
-#include "render/common.hpp"
+#include "geartopo/render/common.hpp"
 
 #include <string>
 #include <vector>

@@ -2,7 +2,7 @@
 // Internal: 2D text and colour-bar drawing shared by charts and 3D views (pixel coordinates, origin bottom left).
 // Forward declarations only: VTK headers stay in the .cpp files.
 
-#include "render/common.hpp"
+#include "geartopo/render/common.hpp"
 
 #include <optional>
 #include <string>

@@ -2,9 +2,9 @@
 // Internal: a 3D view on an off-screen context, fed with plain C++ primitives, with a 2D overlay (title, caption,
 // labels anchored at 3D points, colour bar). Used by the grid topology view and the surface view. No VTK headers.
 
-#include "render/common.hpp"
-#include "render/detail/overlay.hpp"
-#include "render/surface_view.hpp"
+#include "geartopo/render/common.hpp"
+#include "detail/overlay.hpp"
+#include "geartopo/render/surface_view.hpp"
 
 #include <Eigen/Core>
 

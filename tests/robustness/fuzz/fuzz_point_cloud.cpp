@@ -2,7 +2,7 @@
 // source:line:column; accepted points are finite.
 #include "fuzz_common.hpp"
 
-#include "surfaces/point_cloud.hpp"
+#include "geartopo/surfaces/point_cloud.hpp"
 
 #include <cstdint>
 #include <sstream>

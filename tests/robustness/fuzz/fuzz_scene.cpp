@@ -1,9 +1,9 @@
-// libFuzzer target: scene::parse_scene on arbitrary text. Documented: throws SceneError only; an accepted scene has
+// libFuzzer target: scene::parse_scene on arbitrary text. Documented: throws geartopo::InputError only; an accepted scene has
 // finite numbers. Inputs naming table files are skipped (a table path could name /dev/zero or a FIFO: the error
 // tables have their own target).
 #include "fuzz_common.hpp"
 
-#include "scene/scene.hpp"
+#include "geartopo/scene/scene.hpp"
 
 #include <cstdint>
 #include <string>
@@ -13,7 +13,7 @@ using namespace geartopo;
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   if (text.find("tables") != std::string::npos) return -1; // not added to the corpus
-  fuzz::run_expecting<scene::SceneError>([&] {
+  fuzz::run_expecting<geartopo::InputError>([&] {
     const scene::Scene s = scene::parse_scene(text, "/nonexistent/fuzz.yaml");
     fuzz::require_finite(s.gear.normal_module_mm, "gear.normal_module_mm");
     fuzz::require_finite(s.gear.helix_angle_rad, "gear.helix_angle");

@@ -2,7 +2,7 @@
 // "file:line:column: field: message"; accepted rows are finite.
 #include "fuzz_common.hpp"
 
-#include "grinding/topology_csv.hpp"
+#include "geartopo/grinding/topology_csv.hpp"
 
 #include <cstdint>
 #include <sstream>

@@ -1,0 +1,61 @@
+// geartopo — compensation of the wheel's errors along the path (docs/compensation.md).
+//
+// paper: the seed paper's method (its Eq. 29, re-derived): at every pose the wheel-frame pose error twist E of the
+//        actual wheel against the ideal one is driven to zero in the least-squares sense by axis corrections,
+//        Δq ← Δq − pinv(J_M)·E(q + Δq), with J_M the 6×5 body Jacobian (jacobian.hpp) and the errors re-evaluated at
+//        the corrected command until the step vanishes. pinv mixes mm and rad exactly as the paper's formula does.
+// flank: at every pose choose the corrections that minimise the predicted normal deviations of the nominal contact
+//        points on both flanks of the space (equal weights along the contact lines, all modelled sources: pose and
+//        wheel radius). Directions that do not change the ground surface — spin about the wheel axis, motion along
+//        the helicoid's screw — have no effect on that objective; among equivalent corrections the smallest is taken
+//        (minimum norm with rotary corrections scaled by the reference radius, so mm and rad weigh alike).
+// Units: mm, rad.
+#pragma once
+
+#include "geartopo/compensation/correction_table.hpp"
+#include "geartopo/grinding/grinding_process.hpp"
+#include "geartopo/grinding/grinding_setup.hpp"
+#include "geartopo/machine/machine_model.hpp"
+
+namespace geartopo::compensation {
+
+enum class Method { Paper, Flank };
+
+struct CompensationOptions {
+  Method method = Method::Flank;
+  double step_mm = 2.0;      ///< path sampling of the correction table along each stroke
+  int contact_points = 15;   ///< per flank along the contact line (flank method)
+  int max_iterations = 12;   ///< Newton iterations per pose
+};
+
+/// Machine strokes check for corrected commands: the machine model and where the gear's datum face sits.
+struct StrokeCheck {
+  const machine::MachineModel& model;
+  double datum_face_z_mm = 0.0;
+};
+
+/// Corrections for every sample of the path. `process` is what the machine does for a given command (geometric
+/// errors and any modelled effect).
+CorrectionTable compute_corrections(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
+                                    const StrokeCheck& strokes, const CompensationOptions& options);
+
+/// The machine running the corrected commands: command q + Δq(space, Z) for every path point.
+class CompensatedProcess final : public grinding::GrindingProcess {
+public:
+  CompensatedProcess(const grinding::GrindingProcess& inner, const CorrectionTable& table) : inner_(inner), table_(table) {}
+
+  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override { return inner_.actual_wMg(corrected(pp)); }
+  /// First order: the inner twist at the corrected command plus the ideal spatial Jacobian times the correction.
+  machine::Vector6d error_twist_w(const grinding::PathPoint& pp) const override;
+  double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override {
+    return inner_.wheel_radius_error_mm(v, corrected(pp));
+  }
+
+  grinding::PathPoint corrected(const grinding::PathPoint& pp) const;
+
+private:
+  const grinding::GrindingProcess& inner_;
+  const CorrectionTable& table_;
+};
+
+} // namespace geartopo::compensation

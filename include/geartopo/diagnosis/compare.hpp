@@ -1,0 +1,44 @@
+// geartopo — measured − model: residuals at every measured point, their statistics, the named patterns of each flank,
+// how the patterns change from tooth to tooth, and the regions where the model fails (docs/diagnosis.md).
+// Units: µm, mm.
+#pragma once
+
+#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/evaluation/residual_patterns.hpp"
+#include "geartopo/gears/involute_helicoid.hpp"
+#include "geartopo/grinding/grinding_process.hpp"
+#include "geartopo/grinding/grinding_setup.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace geartopo::diagnosis {
+
+struct Comparison {
+  std::vector<double> model_um, residual_um;             ///< per measured point
+  double noise_um = 0.0;
+  bool noise_estimated = false;
+  std::vector<evaluation::FlankResiduals> flanks;        ///< one per measured flank (tooth, then left, right)
+  std::vector<std::vector<size_t>> flank_point_index;    ///< flank → indices into the measured points
+  std::vector<evaluation::FlankPatterns> patterns;       ///< per flank (empty entry: too few points to fit)
+  std::vector<bool> has_patterns;
+  std::vector<evaluation::SideTrends> trends;            ///< per side with ≥ 2 teeth
+  std::vector<evaluation::FailingRegion> regions;        ///< every flank's regions
+  evaluation::ResidualSummary summary;
+};
+
+/// noise_um ≤ 0: estimated (quadratic surface per flank).
+Comparison compare(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
+                   const std::vector<MeasuredPoint>& points, double noise_um);
+
+/// Points of a point cloud file (x_mm,y_mm,z_mm in the workpiece frame): each projected onto its flank on the exact
+/// helicoid; its deviation is the signed normal distance (plus material). Points farther than max_offset_mm from
+/// any flank, or off the active flank, are errors naming the line.
+std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file, const gears::InvoluteHelicoid& flanks,
+                                                        double max_offset_mm = 0.5);
+
+/// Topology CSV or point cloud, told apart by the header.
+std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup);
+
+} // namespace geartopo::diagnosis

@@ -1,0 +1,34 @@
+// geartopo — measured flank points: where they lie on the nominal flank and what was measured there.
+// Units: mm, µm (deviation along the flank normal, plus material positive).
+#pragma once
+
+#include "geartopo/gears/evaluation_ranges.hpp"
+#include "geartopo/core/flank.hpp"
+#include "geartopo/gears/gear_geometry.hpp"
+#include "geartopo/grinding/topology_csv.hpp"
+
+#include <string>
+#include <vector>
+
+namespace geartopo::diagnosis {
+
+struct MeasuredPoint {
+  int tooth = 1;
+  geartopo::Flank flank = geartopo::Flank::Left;
+  int row = 0, col = 0;          ///< grid indices if the file has them (topology CSV), else 0
+  double roll_length_mm = 0.0;
+  double diameter_mm = 0.0;
+  double z_mm = 0.0;
+  double deviation_um = 0.0;     ///< measured
+  int line = 0;                  ///< line in the measurement file
+};
+
+/// Points of a topology file on the gear. A point outside the active profile (d_Ff … d_a, 1 µm slack) or the face
+/// width is "off the flank": std::runtime_error naming file:line and the field.
+std::vector<MeasuredPoint> measured_points(const std::vector<grinding::TopologyRow>& rows, const gears::GearGeometry& g,
+                                           const std::string& source);
+
+/// The same for a whole topology file.
+std::vector<MeasuredPoint> read_measurement(const std::string& file, const gears::GearGeometry& g);
+
+} // namespace geartopo::diagnosis

@@ -1,0 +1,30 @@
+// geartopo — writes a scene file with effects added, keeping the original text (comments, order) untouched and
+// appending the new items to its `effects:` list (or a new `effects:` section at the end).
+#pragma once
+
+#include "geartopo/scene/scene.hpp"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace geartopo::diagnosis {
+
+/// The YAML items ("  - type: …") for effects, values in file units with their keys, and a comment line each.
+std::string effects_yaml_items(const std::vector<scene::EffectSpec>& effects, const std::vector<std::string>& comments);
+
+/// `scene_text` with the items added to its top-level `effects:` list (created if absent).
+std::string scene_with_effects(const std::string& scene_text, const std::vector<scene::EffectSpec>& effects,
+                               const std::vector<std::string>& comments);
+
+/// `scene_text` (a scene file read from `from_dir`) with its relative file references — `machine.tables` and
+/// `measurement.measured` — rewritten relative to `to_dir`, so that the text can be saved there. Absolute paths stay.
+std::string rebase_scene_paths(const std::string& scene_text, const std::filesystem::path& from_dir,
+                               const std::filesystem::path& to_dir);
+
+/// Reads `scene_file`, adds the effects (scene_with_effects), rebases its paths to `out_file`'s folder and writes it
+/// there. Throws std::runtime_error naming the file that cannot be read or written.
+void write_scene_with_effects(const std::filesystem::path& scene_file, const std::vector<scene::EffectSpec>& effects,
+                              const std::vector<std::string>& comments, const std::filesystem::path& out_file);
+
+} // namespace geartopo::diagnosis

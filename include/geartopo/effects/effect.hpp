@@ -1,0 +1,66 @@
+// geartopo — a physical effect beyond the machine's geometric errors (docs/adding-an-effect.md).
+//
+// An effect acts through the simulator, never on its output: it may offset the axis commands the machine receives
+// (thermal growth, deflection, servo lag, head vibration), displace the gear against the C table (eccentricity,
+// wobble), or change the wheel's radius (wear, dressing errors). Parameters are kept in the units of the scene file
+// (named in each parameter's key, e.g. "x_growth_um"); hooks return mm and rad.
+#pragma once
+
+#include "geartopo/grinding/grinding_setup.hpp"
+#include "geartopo/grinding/wheel_path.hpp"
+#include "geartopo/machine/twist.hpp"
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace geartopo::effects {
+
+struct ParameterSpec {
+  std::string key;       ///< scene key with its unit, e.g. "x_growth_um"
+  std::string meaning;   ///< one line
+  double default_value;  ///< file units
+  double lo, hi;         ///< allowed range, file units
+  double typical;        ///< typical magnitude (file units): fitting scale and step
+  bool fitted = true;    ///< identified by `diagnose`; false: a set-up value the user must know (e.g. arbor span)
+  std::vector<double> starts{}; ///< start values for fitting a parameter the deviations depend on nonlinearly
+};
+
+class Effect {
+public:
+  virtual ~Effect() = default;
+
+  /// Scene `type:` of the effect, e.g. "thermal_drift".
+  virtual std::string_view type() const = 0;
+  /// One line of physics, shown with diagnosis results.
+  virtual std::string_view explanation() const = 0;
+  virtual const std::vector<ParameterSpec>& parameters() const = 0;
+  virtual std::unique_ptr<Effect> clone() const = 0;
+
+  /// Called once before use, with the grinding set-up (gear, wheel, path). The set-up must outlive the effect.
+  virtual void bind(const grinding::GrindingSetup& setup) { setup_ = &setup; }
+
+  /// Added to the machine's axis commands at pp: δX, δY, δZ (mm), δA, δC (rad).
+  virtual machine::Vector5d command_offset(const grinding::PathPoint& /*pp*/) const { return machine::Vector5d::Zero(); }
+  /// Pose of the machine's table frame in the gear frame (identity for a perfectly mounted gear).  wMc
+  virtual machine::Pose table_in_gear(const grinding::PathPoint& /*pp*/) const { return machine::Pose::Identity(); }
+  /// Change of the wheel radius at wheel axial coordinate v (mm; positive: bigger wheel, deeper cut).
+  virtual double wheel_radius_error_mm(double /*v*/, const grinding::PathPoint& /*pp*/) const { return 0.0; }
+
+  /// Parameter values, file units, in the order of parameters().
+  const std::vector<double>& values() const { return values_; }
+  void set_values(std::vector<double> v);
+  double value(size_t i) const { return values_[i]; }
+  /// Index of the parameter with this key; throws std::out_of_range naming the effect and the key.
+  size_t index_of(std::string_view key) const;
+
+protected:
+  void init_defaults();
+  const grinding::GrindingSetup& setup() const;
+
+  std::vector<double> values_;
+  const grinding::GrindingSetup* setup_ = nullptr;
+};
+
+} // namespace geartopo::effects

@@ -1,0 +1,72 @@
+// geartopo — the deviation the wheel leaves at one point of a nominal flank (docs/grinding.md).
+//
+// exact:  the ground flank is the envelope of the wheel at its actual poses. Along the flank's normal line
+//         P + t n (n out of the material), the wheel at stroke position Z first enters at t_in(Z); the material left is
+//         t < min_Z t_in(Z). The deviation (plus material positive) is that minimum. Z is searched continuously
+//         around the nominal generating position Z₀ = z − z_c(ξ), so there are no scallops from a pose step: first
+//         by the vertex of the parabola through three depths (4 poses per point), and by Brent's method (±0.5 mm,
+//         then ±4 mm) wherever the depth is not locally quadratic enough to trust that vertex.
+// linear: the first-order deviation n·(δp + δθ × P) − δR(v)/√(1 + R′(v)²) of the pose error twist and the radial
+//         wheel-radius error (moved onto the wheel's normal) at the generating pose (envelope theorem: moving the contact along the stroke changes it only to second order).
+// Units: mm in, mm out (callers convert to µm).
+#pragma once
+
+#include "geartopo/gears/involute_helicoid.hpp"
+#include "geartopo/grinding/form_wheel.hpp"
+#include "geartopo/grinding/grinding_process.hpp"
+#include "geartopo/grinding/wheel_path.hpp"
+
+namespace geartopo::grinding {
+
+enum class Method { Exact, Linear };
+
+/// The space whose grinding makes the given flank: right flank of tooth j → space j; left flank → space j − 1.
+int space_of(int tooth, geartopo::Flank flank, int teeth);
+
+struct DeviationResult {
+  double deviation_mm = 0.0;
+  double z_stroke_mm = 0.0; ///< stroke position Z of the deepest cut (exact) or of the generating pose (linear)
+};
+
+/// Throws std::runtime_error when a deviation is not finite: the wheel at its actual poses never reaches the point's
+/// normal line (errors large enough to move the wheel's profile off it), so no ground surface exists there. The
+/// message names the point; callers scan their results in a fixed order so the message does not depend on threads.
+void require_reached(double deviation, int tooth, geartopo::Flank flank, double diameter_mm, double z_mm);
+
+class FlankDeviation {
+public:
+  FlankDeviation(const gears::InvoluteHelicoid& flanks, const FormWheel& wheel, const WheelPath& path,
+                 const GrindingProcess& process)
+      : flanks_(flanks), wheel_(wheel), path_(path), process_(process) {}
+
+  DeviationResult at(int tooth, geartopo::Flank flank, double roll_length_mm, double z_mm, Method method) const;
+
+  /// The exact deviation by Brent's search alone, Z to within z_tol_mm: the reference for the parabolic shortcut of
+  /// at() (tests/grinding/test_exact_search.cpp) and its fallback (with kBrentTolMm).
+  DeviationResult exact_by_brent(int tooth, geartopo::Flank flank, double roll_length_mm, double z_mm, double z_tol_mm) const;
+
+  static constexpr double kBrentTolMm = 1e-4;          ///< Z tolerance of the fallback search
+  static constexpr double kParabolaReachMm = 0.45;     ///< farthest vertex from Z₀ trusted (Brent's first window is ±0.5)
+  static constexpr double kParabolaAgreementMm = 1e-7; ///< |depth at vertex − parabola's prediction| that is trusted
+
+  /// Where the wheel at pose wMg first enters along P + t n (t in mm); +∞ if it misses near the flank.
+  double entry_depth(const gears::FlankPoint& fp, const machine::Pose& wMg, const PathPoint& pp) const;
+
+private:
+  /// A flank point with what the search around it needs: the space that grinds it and its nominal stroke Z₀.
+  struct Target {
+    int space;
+    gears::FlankPoint fp;
+    double z0;
+  };
+  Target target(int tooth, geartopo::Flank flank, double roll_length_mm, double z_mm) const;
+  double depth_at(const Target& t, double z_stroke_mm) const; ///< entry depth with the wheel at stroke position Z
+  DeviationResult brent_search(const Target& t, double z_tol_mm) const;
+
+  const gears::InvoluteHelicoid& flanks_;
+  const FormWheel& wheel_;
+  const WheelPath& path_;
+  const GrindingProcess& process_;
+};
+
+} // namespace geartopo::grinding

@@ -1,0 +1,53 @@
+// geartopo — forward kinematics of the CFXZAY chain w → C → F → X → Z → A → Y → g, ideal and exact.
+//
+// Ideal (Eq. 11):  wMg = Rz(γ)⁻¹ · Tx(x) · Tz(z) · Rx(α) · Ty(y)
+// Exact (Eq. 22, every error HTM exact, docs/machine-model.md §3):
+//   FMC = S_C · Rz(γ + E_COC) · E(δ_c, ε_c)          wMF = FMC⁻¹   (w rides on the actual C axis line)
+//   FMX = Tx(x) · E(δ_x, ε_x)
+//   XMZ = Tz(z) · E(δ_z + (−z·S_xz, 0, 0), ε_z)                    (Eq. 16, with z·S_xz for the print's x·s_xz)
+//   ZMA = S_A · Rx(α + E_AOA) · E(δ_a, ε_a) · S_A⁻¹                 (rotation about the actual A axis line)
+//   AMY = Ty(y) · E(δ_y + (−y·S_xy, 0, −y·S_zy), ε_y)              (Eq. 17)
+// with E(δ, ε) = T(δ)·Rx(εx)·Ry(εy)·Rz(εz), S_C = T(E_XOC, E_YOC, 0)·Rx(E_AOC)·Ry(E_BOC),
+// S_A = T(0, E_YOA, E_ZOA)·Ry(E_BOA)·Rz(E_COA).
+// Pose errors (Eq. 23): wMg_actual = E_w · wMg_ideal = wMg_ideal · E_g, reported as exact twists
+// (translation; rotation vector) of E_w (in w) and of E_g (in g).
+// Units: mm, rad.
+#pragma once
+
+#include "geartopo/machine/machine_data.hpp"
+#include "geartopo/machine/machine_model.hpp"
+
+namespace geartopo::machine {
+
+/// Ideal wheel pose in the workpiece frame, the closed form of Eq. 11.
+Pose ideal_wMg(const AxisPose& q);
+
+/// The ideal chain's cumulative frames at q (w → F → X → Z → A → g): where the first-order error model and the
+/// axis Jacobian place their twists.
+struct IdealFrames {
+  Pose wMF, wMX, wMZ, wMA, wMg;
+};
+IdealFrames ideal_frames(const AxisPose& q);
+
+/// Ideal cumulative poses wMF_ideal … wMg_ideal into data (ideal_frames); returns data.wMg_ideal.
+const Pose& ideal_kinematics(const AxisPose& q, MachineData& data);
+
+/// Exact chain for given component values e (mm, rad): fills data.q, data.e and the local and cumulative
+/// actual poses; returns data.wMg. For identification and finite differences in the components.
+const Pose& actual_kinematics(const ErrorVector& e, const AxisPose& q, MachineData& data);
+
+/// Exact chain with the model's errors at q (Eq. 22 without approximation); returns data.wMg.
+const Pose& actual_wMg(const MachineModel& model, MachineData& data, const AxisPose& q);
+
+/// Pose error as twists: w = twist of E_w (in w), g = twist of E_g (in g); (translation mm; rotation rad).
+struct PoseErrorTwists {
+  Vector6d w; ///< 6×1, workpiece frame: E_w = wMg_actual · wMg_ideal⁻¹ (Eq. 23)
+  Vector6d g; ///< 6×1, wheel frame: E_g = wMg_ideal⁻¹ · wMg_actual
+};
+
+/// Exact pose error at q with the model's errors (replaces the small-angle Eq. 24).
+PoseErrorTwists exact_pose_error(const MachineModel& model, MachineData& data, const AxisPose& q);
+/// Same for given component values.
+PoseErrorTwists exact_pose_error(const ErrorVector& e, const AxisPose& q, MachineData& data);
+
+} // namespace geartopo::machine

@@ -1,0 +1,77 @@
+// geartopo — where one error component's values come from: a constant, a polynomial in the axis position,
+// or a measured table interpolated by a C² cubic spline (periodic for C).
+//
+// Units: constructors take the user's units by name ("um", "urad", "mm", "deg", …) and convert once; value()
+// and rate() work in internal units — position in mm (X, Y, Z) or rad (A, C), value in mm (δ, offsets) or
+// rad (ε, S, tilts, zero-position errors).
+#pragma once
+
+#include "geartopo/core/cubic_spline.hpp"
+#include "geartopo/machine/error_component.hpp"
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace geartopo::machine {
+
+/// Where a table column came from, for messages ("file:line:column: field: …").
+struct TableOrigin {
+  std::string file;           ///< path as given
+  int header_line = 0;        ///< 1-based line of the header
+  int first_line = 0;         ///< 1-based line of the first data row
+  int last_line = 0;          ///< 1-based line of the last data row
+  int column = 0;             ///< 1-based field number of the value column
+  std::string field;          ///< header text of the value column, e.g. "delta_xx_um"
+  std::string position_field; ///< header text of the position column, e.g. "x_mm"
+  std::string position_unit;  ///< "mm", "deg", … (as in the file, for messages)
+  double position_scale = 1;  ///< file position unit → internal (mm or rad)
+};
+
+class ErrorSource {
+public:
+  enum class Kind { Constant, Polynomial, Table };
+
+  /// Zero error (the default of every component in a MachineModel).
+  static ErrorSource zero(ComponentId id);
+  /// A constant, e.g. constant(ComponentId::S_xy, 12.0, "urad"). Throws std::invalid_argument if the unit
+  /// is unknown, is not of the component's quantity, or the value is not finite.
+  static ErrorSource constant(ComponentId id, double value, std::string_view unit);
+  /// value(p) = Σ c_i·p^i with p in `position_unit` and the value in `value_unit`, e.g.
+  /// polynomial(ComponentId::delta_xx, {0.0, 0.01, 2e-6}, "um", "mm") = 0.01 µm/mm·x + 2e-6 µm/mm²·x².
+  /// Throws std::invalid_argument for constants-only components (S, E_…) unless of degree 0, for C-axis
+  /// components unless of degree 0 (a polynomial is not periodic: use a periodic table), for bad units or
+  /// non-finite coefficients.
+  static ErrorSource polynomial(ComponentId id, std::vector<double> coefficients, std::string_view value_unit,
+                                std::string_view position_unit);
+  /// A table column already checked by the loader (error_table.hpp): spline in internal units.
+  static ErrorSource table(ComponentId id, CubicSpline spline, TableOrigin origin);
+
+  ComponentId id() const { return id_; }
+  Kind kind() const { return kind_; }
+  bool is_zero() const { return kind_ == Kind::Constant && constant_ == 0.0; }
+
+  /// Component value at the position of its own axis (mm or rad in, mm or rad out). No allocation.
+  double value(double position) const noexcept;
+  /// d value / d position (mm/mm, mm/rad, rad/mm or rad/rad). No allocation.
+  double rate(double position) const noexcept;
+
+  /// Table only (nullptr otherwise): origin and spline, for stroke checks and messages.
+  const TableOrigin* origin() const { return kind_ == Kind::Table ? &origin_ : nullptr; }
+  const CubicSpline* spline() const { return kind_ == Kind::Table ? &spline_ : nullptr; }
+
+  /// "constant", "polynomial of degree 2" or "table file.csv column 2 'delta_xx_um'", for messages.
+  std::string describe() const;
+
+private:
+  ErrorSource(ComponentId id, Kind kind) : id_(id), kind_(kind) {}
+
+  ComponentId id_;
+  Kind kind_;
+  double constant_ = 0.0;           // internal units
+  std::vector<double> coefficients_; // internal units, ascending powers
+  CubicSpline spline_;
+  TableOrigin origin_;
+};
+
+} // namespace geartopo::machine

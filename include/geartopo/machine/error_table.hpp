@@ -1,0 +1,35 @@
+// geartopo — measured error tables (CSV) → ErrorSource (docs/error-components.md, "Tables").
+//
+// Format:
+//   # comment lines start with '#', blank lines are ignored
+//   x_mm,delta_xx_um,delta_yx_um        ← header: position column "<axis>_<unit>", then "<component>_<unit>"
+//   0,0.0,0.0
+//   100,2.5,-0.8                        ← positions strictly increasing, every value a finite number
+// Position units: mm (um accepted) for x, y, z; deg or rad for a and c. Value units: um (µm), nm, mm for δ;
+// urad (µrad), mrad, rad, arcsec for ε. Every component column must belong to the axis of the position
+// column (delta_xx, delta_yx, … against x_mm). C tables are periodic and must span exactly [0, 360] deg
+// (or [0, 2π] rad) with equal values in the first and last row. Values are interpolated by a C² cubic
+// spline (not-a-knot, or periodic for C). That a table covers its axis' stroke is checked by MachineModel.
+// Units inside: mm and rad.
+#pragma once
+
+#include "geartopo/core/input_error.hpp"
+#include "geartopo/machine/error_source.hpp"
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace geartopo::machine {
+
+/// Every component column of one table file, in column order. Throws InputError.
+std::vector<ErrorSource> load_error_tables(const std::filesystem::path& path);
+/// The column of `expected` in a table file (the file may hold other components of the same axis).
+/// Throws InputError, also when the file has no column for `expected`.
+ErrorSource load_error_table(const std::filesystem::path& path, ComponentId expected);
+/// Same as load_error_tables from text in memory; `source` names it in messages.
+std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::string& source);
+
+} // namespace geartopo::machine

@@ -1,0 +1,76 @@
+// geartopo — a scene: one gear on one machine, with wheel, process and measurement grid (docs/scene-format.md).
+// Units in the file are named in every key (_mm, _deg, _um); inside, lengths are mm and angles rad.
+#pragma once
+
+#include "geartopo/core/input_error.hpp"
+
+#include "geartopo/gears/gear_spec.hpp"
+#include "geartopo/grinding/grinding_setup.hpp"
+#include "geartopo/grinding/wheel_path.hpp"
+#include "geartopo/machine/error_source.hpp"
+#include "geartopo/machine/machine_model.hpp"
+
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace geartopo::scene {
+
+/// Where and how densely flanks are evaluated (and, by a CMM, measured).
+struct MeasurementGrid {
+  int rows = 7, cols = 9;                    ///< topological grid: alignment curves × profile curves
+  int profile_points = 100, helix_points = 150; ///< dense traces
+  int dense_rows = 0, dense_cols = 0;        ///< optional dense grid (0: none)
+  std::vector<int> teeth;                    ///< empty: all teeth
+  std::string measured_file;                 ///< optional measurement (topology CSV), resolved against the scene file
+};
+
+/// A physical effect the scene models: its type and its parameter values in file units, in the order of the
+/// effect's parameters() (defaults filled in).
+struct EffectSpec {
+  std::string type;
+  std::vector<double> values;
+};
+
+/// The machine: strokes, where the gear sits, and its geometric error components (all others zero).
+struct MachineSection {
+  std::string name;
+  machine::Strokes strokes = machine::Strokes::skmc_1200w();
+  double datum_face_z_mm = 0.0; ///< machine Z of the gear's datum face; default: face width centred in the Z stroke
+  std::vector<machine::ErrorSource> sources;   ///< from tables, constants and polynomials
+  std::vector<std::string> table_files;        ///< resolved paths, for reports
+  machine::MachineModel model() const { return machine::MachineModel(strokes, sources); }
+};
+
+struct Scene {
+  std::string source;      ///< file the scene was read from (as given), for messages
+  std::string name;        ///< free text
+  std::string description; ///< free text
+  gears::GearSpec gear;
+  /// Gear keys whose values the scene declares assumed (not from a drawing), in file order.
+  std::vector<std::string> assumed;
+  /// Gear keys that were absent and took their conventional value (tip/root diameter).
+  std::vector<std::string> defaulted;
+  MachineSection machine;
+  grinding::WheelSpec wheel;
+  grinding::ProcessSpec process;
+  MeasurementGrid grid;
+  std::vector<EffectSpec> effects;
+
+  /// Where each field's value stands in the scene file (dotted path → position): errors found after reading, when
+  /// the scene is built into a set-up (workbench), are located with it.
+  std::map<std::string, SourcePosition> positions;
+  /// Throws InputError "file:line:column: field: message" at `field`, or at its longest recorded prefix.
+  [[noreturn]] void fail_at(const std::string& field, const std::string& message) const;
+};
+
+/// Reads and validates a scene file, including the gear's domain rules (undercut, pointed tip, …).
+/// Throws InputError.
+Scene load_scene(const std::filesystem::path& file);
+
+/// Same from text; `source` names it in messages.
+Scene parse_scene(const std::string& text, const std::string& source);
+
+} // namespace geartopo::scene

@@ -1,0 +1,49 @@
+// geartopo — everything a scene describes, built once: the scene, the grinding set-up (gear, wheel, path), the
+// machine model, the grinding process it drives and the scene's effects on top. The one place that assembles them
+// (the program's commands, the tests and the benchmarks all use it) and so the one place that checks that the
+// set-up fits the machine (axis strokes), locating what does not in the scene file. Not copyable: the processes
+// refer to the model.
+#pragma once
+
+#include "geartopo/effects/effect.hpp"
+#include "geartopo/effects/effects_process.hpp"
+#include "geartopo/grinding/grinding_setup.hpp"
+#include "geartopo/grinding/machine_process.hpp"
+#include "geartopo/machine/machine_model.hpp"
+#include "geartopo/scene/scene.hpp"
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace geartopo::workbench {
+
+struct Workbench {
+  /// Builds and checks everything; throws InputError located at the scene field that does not fit the machine.
+  explicit Workbench(scene::Scene s);
+  /// load_scene(file), then everything above; throws InputError.
+  explicit Workbench(const std::filesystem::path& scene_file);
+  Workbench(const Workbench&) = delete;
+  Workbench& operator=(const Workbench&) = delete;
+
+  scene::Scene scene;
+  grinding::GrindingSetup setup;
+  machine::MachineModel machine;
+  grinding::MachineProcess machine_process; ///< geometric errors only
+  std::vector<std::unique_ptr<effects::Effect>> effects; ///< the scene's effects, bound to setup
+  std::unique_ptr<effects::EffectsProcess> effects_process; ///< null when the scene has no effects
+
+  /// What the machine does: geometric errors plus the scene's effects.
+  const grinding::GrindingProcess& process() const {
+    return effects_process ? static_cast<const grinding::GrindingProcess&>(*effects_process) : machine_process;
+  }
+  /// The types of the scene's effects, in scene order ("thermal_drift", …): what diagnosis must not propose again.
+  std::vector<std::string> effect_types() const;
+};
+
+/// Instances of effects with their values, bound to a set-up.
+std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<scene::EffectSpec>& specs,
+                                                           const grinding::GrindingSetup& setup);
+
+} // namespace geartopo::workbench

@@ -1,0 +1,177 @@
+// geartopo — cubic spline construction (second-derivative "moment" form) and evaluation. Units: caller's.
+#include "geartopo/core/cubic_spline.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace geartopo {
+
+namespace {
+
+/// Thomas algorithm for a tridiagonal system (a: sub-, b: main, c: super-diagonal). Our systems are
+/// strictly diagonally dominant, so no pivoting is needed.
+std::vector<double> solve_tridiagonal(std::vector<double> a, std::vector<double> b, std::vector<double> c,
+                                      std::vector<double> r) {
+  const std::size_t n = b.size();
+  for (std::size_t i = 1; i < n; ++i) {
+    const double w = a[i] / b[i - 1];
+    b[i] -= w * c[i - 1];
+    r[i] -= w * r[i - 1];
+  }
+  std::vector<double> x(n);
+  x[n - 1] = r[n - 1] / b[n - 1];
+  for (std::size_t i = n - 1; i-- > 0;) x[i] = (r[i] - c[i] * x[i + 1]) / b[i];
+  return x;
+}
+
+} // namespace
+
+CubicSpline::CubicSpline(std::vector<double> x, std::vector<double> y, Ends ends)
+    : x_(std::move(x)), y_(std::move(y)), periodic_(ends == Ends::Periodic) {
+  const std::size_t n = x_.size();
+  if (n < 2 || y_.size() != n) throw std::invalid_argument("CubicSpline: need ≥ 2 knots and as many values");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(x_[i]) || !std::isfinite(y_[i])) throw std::invalid_argument("CubicSpline: non-finite knot");
+    if (i > 0 && !(x_[i] > x_[i - 1])) throw std::invalid_argument("CubicSpline: knots not strictly increasing");
+  }
+  if (periodic_ && y_.back() != y_.front())
+    throw std::invalid_argument("CubicSpline: periodic values must close (y.back() == y.front())");
+
+  std::vector<double> h(n - 1), s(n - 1); // interval lengths and slopes
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    h[i] = x_[i + 1] - x_[i];
+    s[i] = (y_[i + 1] - y_[i]) / h[i];
+  }
+  m_.assign(n, 0.0);
+
+  if (!periodic_) {
+    if (n == 2) return; // straight line
+    if (n == 3) {       // the parabola through the three points
+      const double m = 2.0 * (s[1] - s[0]) / (h[0] + h[1]);
+      m_.assign(3, m);
+      return;
+    }
+    // Unknowns M_1 … M_{n−2}; M_0 and M_{n−1} eliminated with the not-a-knot conditions
+    // (third derivative continuous at x_1 and x_{n−2}).
+    const std::size_t k = n - 2;
+    std::vector<double> a(k, 0.0), b(k), c(k, 0.0), r(k);
+    for (std::size_t j = 0; j < k; ++j) {
+      const std::size_t i = j + 1;
+      a[j] = h[i - 1];
+      b[j] = 2.0 * (h[i - 1] + h[i]);
+      c[j] = h[i];
+      r[j] = 6.0 * (s[i] - s[i - 1]);
+    }
+    // M_0 = ((h0+h1) M_1 − h0 M_2)/h1
+    b[0] += h[0] * (h[0] + h[1]) / h[1];
+    c[0] -= h[0] * h[0] / h[1];
+    // M_{n−1} = ((h_{n−3}+h_{n−2}) M_{n−2} − h_{n−2} M_{n−3})/h_{n−3}
+    const double hl = h[n - 3], hr = h[n - 2];
+    b[k - 1] += hr * (hl + hr) / hl;
+    a[k - 1] -= hr * hr / hl;
+    a[0] = 0.0;
+    c[k - 1] = 0.0;
+    const std::vector<double> mid = solve_tridiagonal(a, b, c, r);
+    for (std::size_t j = 0; j < k; ++j) m_[j + 1] = mid[j];
+    m_[0] = ((h[0] + h[1]) * m_[1] - h[0] * m_[2]) / h[1];
+    m_[n - 1] = ((hl + hr) * m_[n - 2] - hr * m_[n - 3]) / hl;
+    return;
+  }
+
+  // Periodic: unknowns M_0 … M_{m−1}, M_m ≡ M_0, cyclic indices for h and s.
+  const std::size_t m = n - 1;
+  if (m == 1) return; // a constant
+  auto hc = [&](std::size_t i) { return h[(i + m) % m]; };
+  auto sc = [&](std::size_t i) { return s[(i + m) % m]; };
+  std::vector<double> sol;
+  if (m <= 3) { // tiny: assemble densely (coincident cyclic neighbours add up)
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+    Eigen::VectorXd rhs(static_cast<Eigen::Index>(m));
+    for (std::size_t i = 0; i < m; ++i) {
+      const auto ii = static_cast<Eigen::Index>(i);
+      A(ii, static_cast<Eigen::Index>((i + m - 1) % m)) += hc(i + m - 1);
+      A(ii, ii) += 2.0 * (hc(i + m - 1) + hc(i));
+      A(ii, static_cast<Eigen::Index>((i + 1) % m)) += hc(i);
+      rhs(ii) = 6.0 * (sc(i) - sc(i + m - 1));
+    }
+    const Eigen::VectorXd v = A.partialPivLu().solve(rhs);
+    sol.assign(v.data(), v.data() + v.size());
+  } else { // cyclic tridiagonal, Sherman–Morrison (Numerical Recipes "cyclic")
+    std::vector<double> a(m), b(m), c(m), r(m);
+    for (std::size_t i = 0; i < m; ++i) {
+      a[i] = hc(i + m - 1);
+      b[i] = 2.0 * (hc(i + m - 1) + hc(i));
+      c[i] = hc(i);
+      r[i] = 6.0 * (sc(i) - sc(i + m - 1));
+    }
+    const double alpha = c[m - 1], beta = a[0]; // corner entries A(m−1,0) and A(0,m−1)
+    const double gamma = -b[0];
+    std::vector<double> bb = b;
+    bb[0] -= gamma;
+    bb[m - 1] -= alpha * beta / gamma;
+    a[0] = 0.0;
+    c[m - 1] = 0.0;
+    const std::vector<double> xs = solve_tridiagonal(a, bb, c, r);
+    std::vector<double> u(m, 0.0);
+    u[0] = gamma;
+    u[m - 1] = alpha;
+    const std::vector<double> zs = solve_tridiagonal(a, bb, c, u);
+    const double fact = (xs[0] + beta * xs[m - 1] / gamma) / (1.0 + zs[0] + beta * zs[m - 1] / gamma);
+    sol.resize(m);
+    for (std::size_t i = 0; i < m; ++i) sol[i] = xs[i] - fact * zs[i];
+  }
+  for (std::size_t i = 0; i < m; ++i) m_[i] = sol[i];
+  m_[m] = m_[0];
+}
+
+CubicSpline::Local CubicSpline::locate(double t) const noexcept {
+  const std::size_t n = x_.size();
+  if (periodic_) {
+    const double p = x_.back() - x_.front();
+    t = x_.front() + std::fmod(t - x_.front(), p);
+    if (t < x_.front()) t += p;
+    if (t >= x_.back()) t = x_.front(); // fmod rounding at the seam
+  } else if (t < x_.front()) {
+    return {0, t, true, false};
+  } else if (t > x_.back()) {
+    return {n - 2, t, false, true};
+  }
+  const auto it = std::upper_bound(x_.begin(), x_.end(), t);
+  std::size_t i = static_cast<std::size_t>(it - x_.begin());
+  i = i == 0 ? 0 : std::min(i - 1, n - 2);
+  return {i, t, false, false};
+}
+
+double CubicSpline::value(double t) const noexcept {
+  const Local l = locate(t);
+  if (l.below) return y_.front() + derivative(x_.front()) * (l.t - x_.front());
+  if (l.above) return y_.back() + derivative(x_.back()) * (l.t - x_.back());
+  const std::size_t i = l.i;
+  const double h = x_[i + 1] - x_[i];
+  const double a = (x_[i + 1] - l.t) / h, b = (l.t - x_[i]) / h;
+  return a * y_[i] + b * y_[i + 1] + ((a * a * a - a) * m_[i] + (b * b * b - b) * m_[i + 1]) * h * h / 6.0;
+}
+
+double CubicSpline::derivative(double t) const noexcept {
+  Local l = locate(t);
+  if (l.below) l = {0, x_.front(), false, false};
+  if (l.above) l = {x_.size() - 2, x_.back(), false, false};
+  const std::size_t i = l.i;
+  const double h = x_[i + 1] - x_[i];
+  const double a = (x_[i + 1] - l.t) / h, b = (l.t - x_[i]) / h;
+  return (y_[i + 1] - y_[i]) / h + (-(3.0 * a * a - 1.0) * m_[i] + (3.0 * b * b - 1.0) * m_[i + 1]) * h / 6.0;
+}
+
+double CubicSpline::second_derivative(double t) const noexcept {
+  const Local l = locate(t);
+  if (l.below || l.above) return 0.0;
+  const std::size_t i = l.i;
+  const double h = x_[i + 1] - x_[i];
+  const double a = (x_[i + 1] - l.t) / h, b = (l.t - x_[i]) / h;
+  return a * m_[i] + b * m_[i + 1];
+}
+
+} // namespace geartopo

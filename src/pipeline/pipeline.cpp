@@ -1,0 +1,57 @@
+#include "geartopo/pipeline/pipeline.hpp"
+
+#include <fmt/format.h>
+
+#include "geartopo/compensation/compensator.hpp"
+#include "geartopo/diagnosis/scene_writer.hpp"
+#include "geartopo/effects/effects_process.hpp"
+
+
+namespace geartopo::pipeline {
+
+PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file) {
+  PipelineResult r;
+  grinding::SimulationOptions so;
+  so.rows = wb.scene.grid.rows;
+  so.cols = wb.scene.grid.cols;
+  so.profile_points = wb.scene.grid.profile_points;
+  so.helix_points = wb.scene.grid.helix_points;
+  const auto& g = wb.setup.geometry();
+
+  r.before = grinding::simulate_topology(wb.setup, wb.process(), so);
+  r.iso_before = workbench::evaluate_iso(g, wb.setup.ranges(), r.before);
+  compensation::CompensationOptions co;
+  co.method = compensation::Method::Flank;
+  r.corrections = std::make_unique<compensation::CorrectionTable>(
+      compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm}, co));
+  const compensation::CompensatedProcess corrected(wb.process(), *r.corrections);
+  r.after = grinding::simulate_topology(wb.setup, corrected, so);
+  r.iso_after = workbench::evaluate_iso(g, wb.setup.ranges(), r.after);
+  r.largest_before_um = grinding::largest_abs_deviation_um(r.before);
+  r.largest_after_um = grinding::largest_abs_deviation_um(r.after);
+
+  if (!measured_file.empty()) {
+    MeasurementResult m;
+    m.file = measured_file;
+    m.points = diagnosis::read_any_measurement(measured_file, wb.setup);
+    m.before = diagnosis::compare(wb.setup, wb.process(), m.points, 0.0);
+    diagnosis::DiagnoseOptions d;
+    d.noise_um = m.before.noise_um;
+    m.diagnosis = diagnosis::diagnose(wb.setup, wb.process(), m.points, wb.effect_types(), d);
+    if (m.diagnosis.chosen) {
+      const auto effs = workbench::make_effects(m.diagnosis.chosen->effects, wb.setup);
+      const effects::EffectsProcess with(wb.process(), effs);
+      m.after = diagnosis::compare(wb.setup, with, m.points, m.before.noise_um);
+    }
+    r.measurement = std::move(m);
+  }
+  return r;
+}
+
+std::string grid_label(const PipelineResult& r) {
+  if (r.before.empty() || r.before.front().grid.empty()) return "no";
+  const auto& last = r.before.front().grid.back(); // row-major: the last point has the largest row and column
+  return fmt::format("{}×{}", last.row, last.col);
+}
+
+} // namespace geartopo::pipeline

@@ -1,0 +1,63 @@
+#include "geartopo/workbench/iso_evaluation.hpp"
+
+#include <numbers>
+
+namespace geartopo::workbench {
+namespace {
+
+
+// Deviation at z along a helix trace (linear interpolation; the trace covers the face width).
+double at_z(const std::vector<grinding::TracePoint>& helix, double z) {
+  for (size_t i = 1; i < helix.size(); ++i)
+    if (helix[i].z_mm >= z) {
+      const auto &a = helix[i - 1], &b = helix[i];
+      const double t = (z - a.z_mm) / (b.z_mm - a.z_mm);
+      return a.deviation_um + t * (b.deviation_um - a.deviation_um);
+    }
+  return helix.back().deviation_um;
+}
+
+} // namespace
+
+evaluation::GearParameters gear_parameters(const gears::GearGeometry& g) {
+  return {g.teeth(), g.reference_diameter_mm(), g.spec().normal_module_mm, g.spec().face_width_mm, g.spec().helix_angle_rad};
+}
+
+evaluation::GearMeasurement gear_measurement(const gears::GearGeometry& g, const gears::EvaluationRanges& r,
+                                             const std::vector<grinding::FlankTopology>& topo) {
+  evaluation::GearMeasurement m;
+  double d_m = 0.0;
+  for (const auto& ft : topo) {
+    evaluation::FlankMeasurement fm;
+    fm.tooth = ft.tooth;
+    fm.side = ft.flank;
+    for (const auto& p : ft.profile) fm.profile.position_mm.push_back(p.roll_length_mm), fm.profile.deviation_um.push_back(p.deviation_um);
+    fm.profile.range_start_mm = r.xi_eval_start;
+    fm.profile.range_end_mm = r.xi_eval_end;
+    for (const auto& p : ft.helix) fm.helix.position_mm.push_back(p.z_mm), fm.helix.deviation_um.push_back(p.deviation_um);
+    fm.helix.range_start_mm = r.z_eval_start;
+    fm.helix.range_end_mm = r.z_eval_end;
+    m.flanks.push_back(std::move(fm));
+    if (!ft.helix.empty()) {
+      m.pitch_points.push_back({ft.tooth, ft.flank, at_z(ft.helix, 0.5 * g.spec().face_width_mm)});
+      d_m = ft.helix.front().diameter_mm;
+    }
+  }
+  if (d_m > 0.0) {
+    evaluation::PitchGeometry pg;
+    pg.base_helix_angle_rad = g.base_helix_angle();
+    pg.transverse_pressure_angle_rad = g.transverse_pressure_angle_at(d_m);
+    pg.space_half_angle_rad = std::numbers::pi / g.teeth() - g.transverse_tooth_thickness_at(d_m) / d_m;
+    m.pitch_geometry = pg;
+  }
+  return m;
+}
+
+IsoResult evaluate_iso(const gears::GearGeometry& g, const gears::EvaluationRanges& r,
+                       const std::vector<grinding::FlankTopology>& topo) {
+  IsoResult res{gear_parameters(g), {}};
+  res.evaluation = evaluation::evaluate_gear(gear_measurement(g, r, topo), res.parameters);
+  return res;
+}
+
+} // namespace geartopo::workbench

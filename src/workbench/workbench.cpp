@@ -1,0 +1,89 @@
+#include "geartopo/workbench/workbench.hpp"
+
+#include "geartopo/core/field_error.hpp"
+#include "geartopo/core/units.hpp"
+#include "geartopo/effects/registry.hpp"
+#include "geartopo/gears/gear_geometry.hpp"
+#include "geartopo/grinding/wheel_setting.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <utility>
+
+namespace geartopo::workbench {
+namespace {
+
+bool outside(double v, const machine::Interval& iv) { return v < iv.min - 1e-9 || v > iv.max + 1e-9; }
+
+/// The wheel's position against the X, Y and A strokes. Checked before the form wheel is synthesised: it is cheap,
+/// and a gear far too big for the machine would otherwise fail inside the synthesis with a message naming no field.
+void check_wheel_position(const scene::Scene& s) {
+  const gears::GearGeometry geometry(s.gear);
+  const auto set = grinding::make_wheel_setting(geometry, s.wheel.outer_diameter_mm, s.wheel.axial_position_mm);
+  const auto& st = s.machine.strokes;
+  if (outside(set.centre_distance_mm, st.x_mm))
+    s.fail_at("wheel.outer_diameter_mm", fmt::format("puts X at the centre distance {:.3f} mm, outside the X stroke "
+                                                     "[{}, {}] mm",
+                                                     set.centre_distance_mm, st.x_mm.min, st.x_mm.max));
+  if (outside(set.axial_position_mm, st.y_mm))
+    s.fail_at("wheel.axial_position_mm",
+              fmt::format("{} mm is outside the Y stroke [{}, {}] mm", set.axial_position_mm, st.y_mm.min, st.y_mm.max));
+  const double a_deg = units::deg_from_rad(set.tilt_rad);
+  if (outside(a_deg, st.a_deg))
+    s.fail_at("gear.helix_angle_deg",
+              fmt::format("needs A = {:.3f}°, outside the A stroke [{}, {}]°", a_deg, st.a_deg.min, st.a_deg.max));
+}
+
+/// The grinding set-up (form wheel, path), its errors located at the scene field they concern.
+grinding::GrindingSetup located_setup(const scene::Scene& s) {
+  try {
+    check_wheel_position(s);
+    return grinding::GrindingSetup(s.gear, s.wheel, s.process);
+  } catch (const InputError&) {
+    throw;
+  } catch (const FieldError& e) {
+    s.fail_at(e.field(), e.what());
+  } catch (const std::runtime_error& e) {
+    s.fail_at("wheel", e.what());
+  }
+}
+
+/// Every stroke's Z travel (datum face at machine Z = datum_face_z_mm) against the Z stroke.
+void check_strokes(const scene::Scene& s, const grinding::GrindingSetup& setup) {
+  const auto& z_stroke = s.machine.strokes.z_mm;
+  for (const auto& stroke : setup.path().strokes()) {
+    const double lo = std::min(stroke.z_begin_mm, stroke.z_end_mm) + s.machine.datum_face_z_mm;
+    const double hi = std::max(stroke.z_begin_mm, stroke.z_end_mm) + s.machine.datum_face_z_mm;
+    if (outside(lo, z_stroke) || outside(hi, z_stroke))
+      s.fail_at("machine.datum_face_z_mm",
+                fmt::format("the strokes run from Z = {:.3f} to {:.3f} mm, outside the Z stroke [{}, {}] mm", lo, hi,
+                            z_stroke.min, z_stroke.max));
+  }
+}
+
+} // namespace
+
+Workbench::Workbench(scene::Scene s)
+    : scene(std::move(s)), setup(located_setup(scene)), machine(scene.machine.model()),
+      machine_process(machine, scene.machine.datum_face_z_mm), effects(make_effects(scene.effects, setup)) {
+  check_strokes(scene, setup);
+  if (!effects.empty()) effects_process = std::make_unique<effects::EffectsProcess>(machine_process, effects);
+}
+
+Workbench::Workbench(const std::filesystem::path& scene_file) : Workbench(scene::load_scene(scene_file)) {}
+
+std::vector<std::string> Workbench::effect_types() const {
+  std::vector<std::string> out;
+  for (const auto& e : scene.effects) out.push_back(e.type);
+  return out;
+}
+
+std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<scene::EffectSpec>& specs,
+                                                           const grinding::GrindingSetup& setup) {
+  std::vector<std::unique_ptr<effects::Effect>> out;
+  for (const auto& s : specs) out.push_back(effects::make_effect(s.type, s.values, setup));
+  return out;
+}
+
+} // namespace geartopo::workbench
