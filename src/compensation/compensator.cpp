@@ -102,28 +102,38 @@ PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::Grindi
   //     touch the contact lines) is spent on the wheel's pose error without its spin about the wheel axis, which no
   //     axis can correct and which does not change the surface — so a pure C offset gets a pure C correction;
   // (3) what is still free is resolved by minimum norm.
-  const Eigen::MatrixXd M = A * machine::J_twistw_q(pp.q) * D.cwiseInverse().asDiagonal();
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::VectorXd sv = svd.singularValues();
+  // M = A·J_w·D⁻¹ (m×5) = Q·R by Householder QR, and R (5×5) = U_R·Σ·Vᵀ by SVD, so M = (Q U_R)·Σ·Vᵀ: the SVD of M
+  // with fixed-size 5×5 factors (m = both contact lines' points is only known at run time).
+  using MatrixX5d = Eigen::Matrix<double, Eigen::Dynamic, 5>;
+  using Matrix5d = Eigen::Matrix<double, 5, 5>;
+  const MatrixX5d M = A * machine::J_twistw_q(pp.q) * D.cwiseInverse().asDiagonal(); // m×5
+  const Eigen::HouseholderQR<MatrixX5d> qr(M);
+  const Matrix5d R = qr.matrixQR().topRows<5>().triangularView<Eigen::Upper>();
+  const Eigen::JacobiSVD<Matrix5d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Vector5d sv = svd.singularValues();
   int rank = 0;
-  while (rank < sv.size() && sv(rank) > 1e-9 * sv(0)) ++rank;
-  const Eigen::MatrixXd V = svd.matrixV();
-  const Eigen::MatrixXd N = V.rightCols(5 - rank); // 5×(5−rank): directions that leave every contact point in place
+  while (rank < 5 && sv(rank) > 1e-9 * sv(0)) ++rank;
+  const Matrix5d& V = svd.matrixV();
+  // Directions that leave every contact point in place: the last 5 − rank columns of V (5×(5−rank)).
+  const Eigen::Matrix<double, 5, Eigen::Dynamic, 0, 5, 5> N = V.rightCols(5 - rank);
   // Wheel-frame pose error weights: translations 1, rotations L, spin about the wheel axis (g's y) 0.
   const Vector6d S = (Vector6d() << 1.0, 1.0, 1.0, L, 0.0, L).finished();
-  const Eigen::MatrixXd G = S.asDiagonal() * machine::J_twistg_q(pp.q) * D.cwiseInverse().asDiagonal(); // 6×5
+  const machine::Matrix65 G = S.asDiagonal() * machine::J_twistg_q(pp.q) * D.cwiseInverse().asDiagonal(); // 6×5
 
   PoseResult r;
   Eigen::VectorXd d = deviations(r.dq);
   for (int it = 0; it < o.max_iterations; ++it) {
-    Eigen::VectorXd u = Eigen::VectorXd::Zero(5);
-    for (int k = 0; k < rank; ++k) u += V.col(k) * (svd.matrixU().col(k).dot(d) / sv(k));
+    // Level 1: u = V Σ⁺ (Q U_R)ᵀ d over the first `rank` singular directions; (Q U_R)ᵀ d = U_Rᵀ (Qᵀ d)[0..5).
+    const Eigen::VectorXd qtd = qr.householderQ().transpose() * d;
+    const Vector5d urtd = svd.matrixU().transpose() * qtd.head<5>();
+    Vector5d u = Vector5d::Zero();
+    for (int k = 0; k < rank; ++k) u += V.col(k) * (urtd(k) / sv(k));
     if (N.cols() > 0) {
       const Vector6d e = S.cwiseProduct(error_g(process.actual_wMg(with_correction(pp, r.dq)), ideal));
-      const Eigen::MatrixXd GN = G * N;
+      const Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 5> GN = G * N; // 6×(5−rank)
       u += N * GN.completeOrthogonalDecomposition().solve(e - G * u);
     }
-    const Vector5d step = D.cwiseInverse().cwiseProduct(Vector5d(u));
+    const Vector5d step = D.cwiseInverse().cwiseProduct(u);
     r.dq -= step;
     d = deviations(r.dq);
     if (step.head<3>().norm() < 1e-9 && step.tail<2>().norm() < 1e-12) break;

@@ -1,0 +1,1 @@
+// Compiled only to produce the precompiled headers that geartopo's targets reuse (cmake/GeartopoLibrary.cmake).
