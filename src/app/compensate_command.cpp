@@ -1,5 +1,6 @@
 #include "app/commands.hpp"
 #include "geartopo/report/iso_report.hpp"
+#include "geartopo/core/units.hpp"
 #include "app/options.hpp"
 
 #include "geartopo/compensation/compensator.hpp"
@@ -81,8 +82,8 @@ void register_compensate_command(CLI::App& app, Action& action) {
       j["compensation"] = {{"method", opt->method},
                            {"rows", table.rows().size()},
                            {"rows_outside_strokes", table.rows_outside_strokes()},
-                           {"max_correction", {{"dX_um", 1e3 * cmax(0)}, {"dY_um", 1e3 * cmax(1)}, {"dZ_um", 1e3 * cmax(2)},
-                                               {"dA_urad", 1e6 * cmax(3)}, {"dC_urad", 1e6 * cmax(4)}}}};
+                           {"max_correction", {{"dX_um", units::um_from_mm(cmax(0))}, {"dY_um", units::um_from_mm(cmax(1))}, {"dZ_um", units::um_from_mm(cmax(2))},
+                                               {"dA_urad", units::urad_from_rad(cmax(3))}, {"dC_urad", units::urad_from_rad(cmax(4))}}}};
       nlohmann::json imp;
       imp["largest_abs_deviation_um"] = {{"before", max_b}, {"after", max_a}, {"improvement_percent", improvement(max_b, max_a)}};
       const auto& qb = iso_b.evaluation.classification.quantities;
@@ -99,7 +100,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
       std::cout << fmt::format("Compensation ({} method), {} path samples every {} mm, {} outside the strokes\n", opt->method,
                                table.rows().size(), opt->step, table.rows_outside_strokes());
       std::cout << fmt::format("  largest corrections: X {:.2f} µm, Y {:.2f} µm, Z {:.2f} µm, A {:.2f} µrad, C {:.2f} µrad\n",
-                               1e3 * cmax(0), 1e3 * cmax(1), 1e3 * cmax(2), 1e6 * cmax(3), 1e6 * cmax(4));
+                               units::um_from_mm(cmax(0)), units::um_from_mm(cmax(1)), units::um_from_mm(cmax(2)), units::urad_from_rad(cmax(3)), units::urad_from_rad(cmax(4)));
       std::cout << fmt::format("  topology (all teeth, 7×9 grid): before {:.2f} … {:.2f} µm, after {:.2f} … {:.2f} µm\n", lb, hb, la, ha);
       std::cout << fmt::format("  largest |deviation|: {:.2f} → {:.2f} µm ({:.1f} % better)\n", max_b, max_a, improvement(max_b, max_a));
       std::cout << fmt::format("  {:<6} {:>10} {:>10} {:>9}  {:>6} {:>6}\n", "ISO", "before", "after", "better", "class", "");

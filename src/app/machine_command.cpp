@@ -32,7 +32,7 @@ nlohmann::json matrix_json(const Eigen::MatrixXd& m) {
 // (mm; rad) → (µm; µrad)
 nlohmann::json twist_json(const machine::Vector6d& t) {
   nlohmann::json out = nlohmann::json::array();
-  for (int i = 0; i < 6; ++i) out.push_back(1e3 * t(i) * (i < 3 ? 1.0 : 1e3));
+  for (int i = 0; i < 6; ++i) out.push_back(i < 3 ? units::um_from_mm(t(i)) : units::urad_from_rad(t(i)));
   return out;
 }
 
@@ -97,7 +97,7 @@ void register_machine_command(CLI::App& app, Action& action) {
       std::cout << "actual wheel pose wMg, exact chain (mm):\n" << matrix_text(actual.matrix());
       const auto row = [](const char* name, const machine::Vector6d& t) {
         return fmt::format("  {:<22} δp = ({:9.3f} {:9.3f} {:9.3f}) µm   δθ = ({:9.3f} {:9.3f} {:9.3f}) µrad\n", name,
-                           1e3 * t(0), 1e3 * t(1), 1e3 * t(2), 1e6 * t(3), 1e6 * t(4), 1e6 * t(5));
+                           units::um_from_mm(t(0)), units::um_from_mm(t(1)), units::um_from_mm(t(2)), units::urad_from_rad(t(3)), units::urad_from_rad(t(4)), units::urad_from_rad(t(5)));
       };
       std::cout << "pose error twist, workpiece frame:\n" << row("exact", exact.w) << row("first order", linear.w);
       std::cout << "pose error twist, wheel frame:\n" << row("exact", exact.g) << row("first order", linear.g);

@@ -1,4 +1,5 @@
 #include "geartopo/compensation/compensator.hpp"
+#include "geartopo/core/units.hpp"
 
 #include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/core/parallel.hpp"
@@ -47,7 +48,7 @@ PoseResult paper_at(const grinding::GrindingProcess& process, const grinding::Pa
     if (step.head<3>().norm() < 1e-9 && step.tail<2>().norm() < 1e-12) break;
   }
   e = error_g(process.actual_wMg(with_correction(pp, r.dq)), ideal);
-  r.residual_um = 1e3 * e.head<3>().norm();
+  r.residual_um = units::um_from_mm(e.head<3>().norm());
   return r;
 }
 
@@ -138,7 +139,7 @@ PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::Grindi
     d = deviations(r.dq);
     if (step.head<3>().norm() < 1e-9 && step.tail<2>().norm() < 1e-12) break;
   }
-  r.residual_um = 1e3 * std::sqrt(d.squaredNorm() / static_cast<double>(m));
+  r.residual_um = units::um_from_mm(std::sqrt(d.squaredNorm() / static_cast<double>(m)));
   return r;
 }
 

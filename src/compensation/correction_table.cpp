@@ -50,8 +50,8 @@ void CorrectionTable::write_csv(std::ostream& out) const {
     const auto& q = r.machine_axes;
     const auto& c = r.correction;
     out << fmt::format("{},{:.4f},{:.3f},{:.5f},{:.5f},{:.5f},{:.7f},{:.7f},{:.4f},{:.4f},{:.4f},{:.4f},{:.4f},{}\n", r.space,
-                       r.z_stroke_mm, r.time_s, q.x, q.y, q.z, q.a * units::kDegPerRad, q.c * units::kDegPerRad, 1e3 * c(0), 1e3 * c(1), 1e3 * c(2),
-                       1e6 * c(3), 1e6 * c(4), r.within_strokes ? "yes" : "no");
+                       r.z_stroke_mm, r.time_s, q.x, q.y, q.z, q.a * units::kDegPerRad, q.c * units::kDegPerRad, units::um_from_mm(c(0)), units::um_from_mm(c(1)), units::um_from_mm(c(2)),
+                       units::urad_from_rad(c(3)), units::urad_from_rad(c(4)), r.within_strokes ? "yes" : "no");
   }
 }
 

@@ -3,6 +3,7 @@
 // s on a simply supported beam of span L, scaled to δ_mid at mid span). The wheel's contact travels along the face
 // width, so both flanks get more material in the middle: a helix crowning, the same on every tooth.
 #include "geartopo/effects/effect.hpp"
+#include "geartopo/core/units.hpp"
 
 #include <algorithm>
 
@@ -31,7 +32,7 @@ public:
     const double s = 0.5 * (L - b) + std::clamp(pp.z_stroke_mm, 0.0, b);
     const double shape = 16.0 * s * s * (L - s) * (L - s) / (L * L * L * L);
     machine::Vector5d o = machine::Vector5d::Zero();
-    o(0) = 1e-3 * value(0) * shape; // the workpiece gives way: as if the wheel stood further out
+    o(0) = units::mm_from_um(value(0)) * shape; // the workpiece gives way: as if the wheel stood further out
     return o;
   }
 };

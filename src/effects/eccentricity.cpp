@@ -2,6 +2,7 @@
 // (e_x, e_y) in the gear frame and tilted by (w_x, w_y) about the gear's x and y axes, pivoting at mid face width.
 // Eccentricity gives runout and a once-per-turn pitch error; wobble a once-per-turn helix slope.
 #include "geartopo/effects/effect.hpp"
+#include "geartopo/core/units.hpp"
 
 #include "geartopo/machine/transforms.hpp"
 
@@ -28,8 +29,8 @@ public:
   machine::Pose table_in_gear(const grinding::PathPoint&) const override {
     const double half = 0.5 * setup().geometry().spec().face_width_mm;
     // Pose of the gear in the table frame; the table (where the machine's poses live) in the gear frame is its inverse.
-    const machine::Pose cMw = machine::translation(1e-3 * value(0), 1e-3 * value(1), 0.0) * machine::translation(0, 0, half) *
-                              machine::Rx(1e-6 * value(2)) * machine::Ry(1e-6 * value(3)) * machine::translation(0, 0, -half);
+    const machine::Pose cMw = machine::translation(units::mm_from_um(value(0)), units::mm_from_um(value(1)), 0.0) * machine::translation(0, 0, half) *
+                              machine::Rx(units::rad_from_urad(value(2))) * machine::Ry(units::rad_from_urad(value(3))) * machine::translation(0, 0, -half);
     return cMw.inverse();
   }
 };

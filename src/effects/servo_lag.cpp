@@ -2,6 +2,7 @@
 // Along a stroke C turns at dC/dt = −k dZ/dt (k = 2 tan β / d), so the lag is a constant angle k·v·T whose sign
 // follows the stroke direction: with alternating strokes, neighbouring spaces get opposite pitch errors.
 #include "geartopo/effects/effect.hpp"
+#include "geartopo/core/units.hpp"
 
 namespace geartopo::effects {
 namespace {
@@ -24,7 +25,7 @@ public:
     const auto& path = setup().path();
     const double v = path.process().feed_mm_per_min / 60.0 * path.stroke_direction(pp.space); // dZ/dt, mm/s
     machine::Vector5d o = machine::Vector5d::Zero();
-    o(4) = setup().geometry().twist_rad_per_mm() * v * 1e-3 * value(0); // −T · dC/dt
+    o(4) = setup().geometry().twist_rad_per_mm() * v * units::s_from_ms(value(0)); // −T · dC/dt
     return o;
   }
 };

@@ -2,6 +2,7 @@
 // towards a steady state with a first-order time constant, δ(t) = δ_∞ (1 − e^(−t/τ)). Positive X growth leaves the
 // wheel further out than commanded (more material); positive Z growth shifts it along the gear axis.
 #include "geartopo/effects/effect.hpp"
+#include "geartopo/core/units.hpp"
 
 #include <cmath>
 
@@ -27,8 +28,8 @@ public:
   machine::Vector5d command_offset(const grinding::PathPoint& pp) const override {
     const double f = 1.0 - std::exp(-pp.time_s / value(2));
     machine::Vector5d o = machine::Vector5d::Zero();
-    o(0) = 1e-3 * value(0) * f;
-    o(2) = 1e-3 * value(1) * f;
+    o(0) = units::mm_from_um(value(0)) * f;
+    o(2) = units::mm_from_um(value(1)) * f;
     return o;
   }
 };

@@ -3,6 +3,7 @@
 // slope and crowning. Parameters are given as the gear-profile errors they cause (plus material): a slope from root
 // to tip and a crowning (middle above the ends) over the active profile.
 #include "geartopo/effects/effect.hpp"
+#include "geartopo/core/units.hpp"
 
 #include "geartopo/gears/involute_helicoid.hpp"
 
@@ -44,7 +45,7 @@ public:
     const double rho = (r_root_ - setup().wheel().radius(v)) / (r_root_ - r_tip_); // 0 at the gear's root, 1 at its tip
     const double t = rho - 0.5;
     // The dresser's error is normal to the wheel surface; as a radial change it is 1/normal_per_radial larger.
-    const double normal = -1e-3 * (value(0) * t + value(1) * (1.0 - 4.0 * t * t)); // a bigger wheel removes material
+    const double normal = -units::mm_from_um(value(0) * t + value(1) * (1.0 - 4.0 * t * t)); // a bigger wheel removes material
     return normal / setup().wheel().normal_per_radial(v);
   }
 

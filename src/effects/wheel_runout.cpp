@@ -3,6 +3,7 @@
 // wheel's rotation frequency this is wheel runout; the exact envelope then shows how much of it survives (at high f
 // every point sees the deepest cut and the waviness flattens into a uniform offset).
 #include "geartopo/effects/effect.hpp"
+#include "geartopo/core/units.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -30,7 +31,7 @@ public:
   machine::Vector5d command_offset(const grinding::PathPoint& pp) const override {
     const double phase = 2.0 * std::numbers::pi * value(2) * pp.time_s;
     machine::Vector5d o = machine::Vector5d::Zero();
-    o(0) = 1e-3 * (value(0) * std::cos(phase) + value(1) * std::sin(phase));
+    o(0) = units::mm_from_um(value(0) * std::cos(phase) + value(1) * std::sin(phase));
     return o;
   }
 };

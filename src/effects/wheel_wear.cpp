@@ -2,6 +2,7 @@
 // little with every stroke; dressing restores it every N strokes. A smaller wheel cuts less: plus material, growing along the grinding
 // order in a saw-tooth that dressing resets.
 #include "geartopo/effects/effect.hpp"
+#include "geartopo/core/units.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -30,7 +31,7 @@ public:
     const int interval = static_cast<int>(std::lround(value(1)));
     if (interval > 0) strokes = std::fmod(strokes, interval);
     const double progress = std::clamp(path.stroke_progress(pp.space, pp.z_stroke_mm), 0.0, 1.0);
-    const double normal_wear = 1e-3 * value(0) * (strokes + progress);
+    const double normal_wear = units::mm_from_um(value(0)) * (strokes + progress);
     return -normal_wear / setup().wheel().normal_per_radial(v); // normal wear as a radial change
   }
 };

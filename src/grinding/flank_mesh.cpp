@@ -1,4 +1,5 @@
 #include "geartopo/grinding/flank_mesh.hpp"
+#include "geartopo/core/units.hpp"
 
 #include <stdexcept>
 
@@ -15,7 +16,7 @@ surfaces::TriangleMesh flank_mesh(const gears::InvoluteHelicoid& flanks, const F
   for (const auto& p : pts) {
     const int i = (p.row - 1) * cols + (p.col - 1);
     const auto fp = flanks.at(ft.tooth, ft.flank, p.roll_length_mm, p.z_mm);
-    m.vertices.col(i) = fp.p + 1e-3 * p.deviation_um * fp.n;
+    m.vertices.col(i) = fp.p + units::mm_from_um(p.deviation_um) * fp.n;
     m.vertex_values(i) = p.deviation_um;
   }
   // Orientation: (∂P/∂ξ × ∂P/∂z)·n has the sign of the flank side; order the triangles so their normals point out

@@ -1,4 +1,5 @@
 #include "geartopo/grinding/topology.hpp"
+#include "geartopo/core/units.hpp"
 
 #include "geartopo/core/parallel.hpp"
 
@@ -23,7 +24,7 @@ std::vector<GridPoint> grid(const FlankDeviation& dev, const gears::GearGeometry
   for (size_t r = 0; r < xis.size(); ++r)
     for (size_t c = 0; c < zs.size(); ++c)
       out.push_back({static_cast<int>(r + 1), static_cast<int>(c + 1), xis[r], g.diameter_at_roll_length(xis[r]), zs[c],
-                     1e3 * dev.at(tooth, flank, xis[r], zs[c], m).deviation_mm});
+                     units::um_from_mm(dev.at(tooth, flank, xis[r], zs[c], m).deviation_mm)});
   return out;
 }
 
@@ -76,10 +77,10 @@ std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const G
     ft.grid = grid(dev, g, ft.tooth, ft.flank, rows, cols, o.method);
     for (double xi : prof_xi)
       ft.profile.push_back({xi, g.diameter_at_roll_length(xi), prof_z,
-                            1e3 * dev.at(ft.tooth, ft.flank, xi, prof_z, o.method).deviation_mm});
+                            units::um_from_mm(dev.at(ft.tooth, ft.flank, xi, prof_z, o.method).deviation_mm)});
     for (double z : helix_z)
       ft.helix.push_back({helix_xi, g.diameter_at_roll_length(helix_xi), z,
-                          1e3 * dev.at(ft.tooth, ft.flank, helix_xi, z, o.method).deviation_mm});
+                          units::um_from_mm(dev.at(ft.tooth, ft.flank, helix_xi, z, o.method).deviation_mm)});
     if (o.dense_rows > 0 && o.dense_cols > 0)
       ft.dense = grid(dev, g, ft.tooth, ft.flank, grid_roll_lengths(r, o.dense_rows),
                       grid_axial_positions(r, o.dense_cols), o.method);

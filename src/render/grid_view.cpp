@@ -2,6 +2,7 @@
 // Geometry and labels are built here; drawing in scene3d.cpp.
 
 #include "geartopo/render/grid_view.hpp"
+#include "geartopo/core/units.hpp"
 #include "geartopo/render/colour_map.hpp"
 #include "detail/layout.hpp"
 #include "detail/scene3d.hpp"
@@ -56,7 +57,7 @@ double grid_magnification(const GridTopology& g) {
     target = 0.8 * spacing[spacing.size() / 2];
   }
   if (!(target > 0.0)) return 1000.0;
-  return nice_floor(target / (max_dev * 1e-3));
+  return nice_floor(target / (units::mm_from_um(max_dev)));
 }
 
 RenderResult render_grid_topology(const GridTopology& g, const std::filesystem::path& png) {
@@ -74,7 +75,7 @@ RenderResult render_grid_topology(const GridTopology& g, const std::filesystem::
     return Eigen::Vector3d(g.u(i, j), g.v(i, j), height ? 0.0 : eps);
   };
   const auto actual = [&](Eigen::Index i, Eigen::Index j) {
-    const double offset = g.deviation(i, j) * 1e-3 * mag;
+    const double offset = units::mm_from_um(g.deviation(i, j)) * mag;
     return height ? Eigen::Vector3d(g.u(i, j), g.v(i, j), offset)
                   : Eigen::Vector3d(g.u(i, j), g.v(i, j) + offset, 2 * eps);
   };
@@ -165,7 +166,7 @@ RenderResult render_grid_topology(const GridTopology& g, const std::filesystem::
   double u_axis = left_is_u0 ? u0 : u1; // u of the v axis
   double z_axis = eps;
   if (height) {
-    z_axis = std::min(0.0, g.deviation.minCoeff() * 1e-3 * mag) - 0.05 * extent;
+    z_axis = std::min(0.0, units::mm_from_um(g.deviation.minCoeff()) * mag) - 0.05 * extent;
   } else {
     for (Eigen::Index j = 0; j < cols; ++j) v_axis = std::min(v_axis, actual(0, j).y());
     v_axis -= 0.03 * extent;
@@ -217,7 +218,7 @@ RenderResult render_grid_topology(const GridTopology& g, const std::filesystem::
   if (height) {
     // A vertical scale beside the front corner on the floor: `shown` µm at the magnification.
     const Eigen::Vector3d base(left_is_u0 ? u1 + 0.05 * extent : u0 - 0.05 * extent, v_axis, z_axis);
-    const Eigen::Vector3d top = base + Eigen::Vector3d(0.0, 0.0, shown * 1e-3 * mag);
+    const Eigen::Vector3d top = base + Eigen::Vector3d(0.0, 0.0, units::mm_from_um(shown) * mag);
     scene.add_lines({{base, top}, {top - Eigen::Vector3d(0.5 * tick, 0, 0), top + Eigen::Vector3d(0.5 * tick, 0, 0)}},
                     colours::actual, 2.0);
     detail::OverlayText t;
@@ -234,7 +235,7 @@ RenderResult render_grid_topology(const GridTopology& g, const std::filesystem::
       fmt::format("nominal grid black, actual grid blue; deviation {} magnified {}× ({} µm drawn as {} mm)",
                   height ? "(height)" : "(along v)", detail::format_value(mag, mag < 10 ? 1 : 0),
                   detail::format_value(shown, shown < 1.0 ? 1 : 0),
-                  detail::format_value(shown * 1e-3 * mag, shown * 1e-3 * mag < 10 ? 1 : 0)));
+                  detail::format_value(units::mm_from_um(shown) * mag, units::mm_from_um(shown) * mag < 10 ? 1 : 0)));
   scene.set_colour_bar(colour, detail::axis_label(g.scale.title, g.scale.unit));
   scene.render(png);
   return {colour, std::nullopt, std::nullopt};

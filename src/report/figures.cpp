@@ -1,4 +1,5 @@
 #include "geartopo/report/figures.hpp"
+#include "geartopo/core/units.hpp"
 
 #include "geartopo/evaluation/tolerances.hpp"
 #include "geartopo/grinding/flank_mesh.hpp"
@@ -236,7 +237,7 @@ Figure machine_figure(const workbench::Workbench& wb, const fs::path& dir) {
         for (int i = 0; i <= 100; ++i) {
           const double pos = spans[ax].first + (spans[ax].second - spans[ax].first) * i / 100.0;
           s.x.push_back(pos);
-          s.y.push_back((kind == 0 ? 1e3 : 1e6) * wb.machine.source(id).value(rotary ? pos * std::numbers::pi / 180 : pos));
+          s.y.push_back((kind == 0 ? units::kUmPerMm : units::kUradPerRad) * wb.machine.source(id).value(rotary ? units::rad_from_deg(pos) : pos));
         }
         c.series.push_back(s);
       }

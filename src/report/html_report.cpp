@@ -1,4 +1,5 @@
 #include "geartopo/report/html_report.hpp"
+#include "geartopo/core/units.hpp"
 #include "geartopo/report/iso_report.hpp"
 
 #include "geartopo/evaluation/tolerances.hpp"
@@ -114,7 +115,7 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
     const auto m = r.corrections->max_abs();
     h += fmt::format("<p>{} path samples; largest corrections X {:.2f} µm, Y {:.2f} µm, Z {:.2f} µm, A {:.2f} µrad, C {:.2f} µrad; "
                      "{} samples outside the strokes. The correction table is corrections.csv.</p>\n",
-                     r.corrections->rows().size(), 1e3 * m(0), 1e3 * m(1), 1e3 * m(2), 1e6 * m(3), 1e6 * m(4),
+                     r.corrections->rows().size(), units::um_from_mm(m(0)), units::um_from_mm(m(1)), units::um_from_mm(m(2)), units::urad_from_rad(m(3)), units::urad_from_rad(m(4)),
                      r.corrections->rows_outside_strokes());
   }
   h += figures_of(figs, "compensation");

@@ -22,6 +22,7 @@ constexpr double um_from_mm(double mm) { return mm * kUmPerMm; }
 constexpr double mm_from_um(double um) { return um * kMmPerUm; }
 constexpr double urad_from_rad(double rad) { return rad * kUradPerRad; }
 constexpr double rad_from_urad(double urad) { return urad * kRadPerUrad; }
+constexpr double s_from_ms(double ms) { return ms * 1e-3; }
 /// A feed in mm/min as mm/s.
 constexpr double mm_per_s_from_mm_per_min(double mm_per_min) { return mm_per_min / kSPerMin; }
 
