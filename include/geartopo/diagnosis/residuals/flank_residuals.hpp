@@ -6,8 +6,8 @@
 // normal, plus material positive; wavelengths in mm; angles and phases in rad.
 //
 // Evaluation ranges: every flank carries its L_α = [ξ0, ξ1] and L_β = [z0, z1]. Points outside them (by more than
-// kRangeSlackMm) are left out of every evaluation here and counted; normalised coordinates are
-// u = 2(ξ − ξ0)/(ξ1 − ξ0) − 1 and w = 2(z − z0)/(z1 − z0) − 1, both in [−1, 1].
+// evaluation::kRangeSlackMm, 1 µm, the slack of every evaluation range) are left out of everything here and counted;
+// normalised coordinates are u = 2(ξ − ξ0)/(ξ1 − ξ0) − 1 and w = 2(z − z0)/(z1 − z0) − 1, both in [−1, 1].
 //
 // Every function of the residual analysis (flank_patterns.hpp, tooth_trends.hpp, failing_regions.hpp,
 // residual_summary.hpp) throws std::invalid_argument with a message naming the reason for invalid input: non-finite
