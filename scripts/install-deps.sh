@@ -7,7 +7,8 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev          # dense linear algebra, transforms
-  libcgal-dev            # AABB trees for point-cloud distances
+  libboost-dev           # header-only Boost.Math: χ², F and normal quantiles (src/core/statistics.cpp)
+  libcgal-dev            # k-d tree neighbour search of scattered residual points (diagnosis)
   libopenmesh-dev        # triangle meshes (PLY/OBJ/STL/OFF)
   libvtk9-dev libegl-dev # off-screen rendering (surfaceless EGL + VTK)
   libyaml-cpp-dev        # scene files, with line/column marks for error messages

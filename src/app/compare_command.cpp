@@ -16,13 +16,13 @@
 namespace geartopo::app {
 namespace {
 
-nlohmann::json estimate_json(const evaluation::Estimate& e) { return {{"value", e.value}, {"standard_error", e.standard_error}}; }
+nlohmann::json estimate_json(const diagnosis::Estimate& e) { return {{"value", e.value}, {"standard_error", e.standard_error}}; }
 
-nlohmann::json stats_json(const evaluation::ResidualStats& s) {
+nlohmann::json stats_json(const diagnosis::ResidualStats& s) {
   return {{"points", s.points}, {"rms_um", s.rms_um}, {"max_abs_um", s.max_abs_um}, {"extreme_um", s.extreme_um}};
 }
 
-nlohmann::json wave_json(const evaluation::WavinessScan& w) {
+nlohmann::json wave_json(const diagnosis::WavinessScan& w) {
   if (!w.wave) return nullptr;
   return {{"amplitude_um", estimate_json(w.wave->amplitude_um)}, {"wavelength_mm", w.wave->wavelength_mm},
           {"first_crest_mm", w.wave->first_crest_mm}};
@@ -69,7 +69,7 @@ void register_compare_command(CLI::App& app, Action& action) {
       for (size_t f = 0; f < c.flanks.size(); ++f) {
         nlohmann::json fj;
         fj["tooth"] = c.flanks[f].tooth;
-        fj["flank"] = evaluation::to_string(c.flanks[f].side);
+        fj["flank"] = diagnosis::to_string(c.flanks[f].side);
         fj["stats"] = stats_json(c.summary.flanks[f].stats);
         if (c.has_patterns[f]) {
           const auto& p = c.patterns[f];
@@ -82,7 +82,7 @@ void register_compare_command(CLI::App& app, Action& action) {
                             {"waviness_along_profile", wave_json(p.waviness_profile)},
                             {"waviness_along_helix", wave_json(p.waviness_helix)},
                             {"rms_unexplained_um", p.rms_unexplained_um}};
-          fj["description"] = evaluation::describe_patterns(p);
+          fj["description"] = diagnosis::describe_patterns(p);
         }
         flanks.push_back(fj);
       }
@@ -92,7 +92,7 @@ void register_compare_command(CLI::App& app, Action& action) {
       j["teeth"] = teeth;
       nlohmann::json trends = nlohmann::json::array();
       for (const auto& s : c.trends)
-        for (const auto& t : s.trends) trends.push_back({{"flank", evaluation::to_string(s.side)}, {"sentence", t.sentence}});
+        for (const auto& t : s.trends) trends.push_back({{"flank", diagnosis::to_string(s.side)}, {"sentence", t.sentence}});
       j["tooth_to_tooth"] = trends;
       nlohmann::json regions = nlohmann::json::array();
       for (const auto& r : c.regions) regions.push_back(r.sentence);
@@ -105,7 +105,7 @@ void register_compare_command(CLI::App& app, Action& action) {
                                c.noise_estimated ? " (estimated)" : "");
       for (size_t f = 0; f < c.flanks.size(); ++f)
         std::cout << fmt::format("  tooth {:>3} {:<5}  RMS {:6.2f} µm  max {:6.2f} µm\n", c.flanks[f].tooth,
-                                 evaluation::to_string(c.flanks[f].side), c.summary.flanks[f].stats.rms_um,
+                                 diagnosis::to_string(c.flanks[f].side), c.summary.flanks[f].stats.rms_um,
                                  c.summary.flanks[f].stats.max_abs_um);
       if (c.regions.empty())
         std::cout << "Where the model fails: nowhere above 3σ of the noise.\n";
@@ -115,7 +115,7 @@ void register_compare_command(CLI::App& app, Action& action) {
       }
       std::cout << "Patterns of the residual:\n";
       for (size_t f = 0; f < c.flanks.size(); ++f)
-        if (c.has_patterns[f]) std::cout << "  " << evaluation::describe_patterns(c.patterns[f]) << "\n";
+        if (c.has_patterns[f]) std::cout << "  " << diagnosis::describe_patterns(c.patterns[f]) << "\n";
       for (const auto& s : c.trends)
         for (const auto& t : s.trends)
           if (!t.sentence.empty()) std::cout << "  " << t.sentence << "\n";

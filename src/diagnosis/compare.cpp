@@ -11,11 +11,6 @@
 #include <map>
 
 namespace geartopo::diagnosis {
-namespace {
-
-
-} // namespace
-
 Comparison compare(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
                    const std::vector<MeasuredPoint>& pts, double noise_um) {
   if (pts.empty()) throw std::invalid_argument("compare: no measured points");
@@ -32,7 +27,7 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
     const auto key = std::make_pair(pts[i].tooth, static_cast<int>(pts[i].flank));
     auto [it, fresh] = index.try_emplace(key, c.flanks.size());
     if (fresh) {
-      evaluation::FlankResiduals f;
+      FlankResiduals f;
       f.tooth = pts[i].tooth;
       f.side = pts[i].flank;
       f.xi_start_mm = r.xi_eval_start, f.xi_end_mm = r.xi_eval_end, f.z_start_mm = r.z_eval_start, f.z_end_mm = r.z_eval_end;
@@ -44,32 +39,32 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
   }
   // Order flanks by tooth, then left before right (the map's order).
   {
-    std::vector<evaluation::FlankResiduals> ordered;
+    std::vector<FlankResiduals> ordered;
     std::vector<std::vector<size_t>> ordered_index;
     for (const auto& [key, k] : index) ordered.push_back(c.flanks[k]), ordered_index.push_back(c.flank_point_index[k]);
     c.flanks = std::move(ordered);
     c.flank_point_index = std::move(ordered_index);
   }
 
-  evaluation::PatternOptions po;
+  PatternOptions po;
   po.noise_um = c.noise_um;
-  evaluation::RegionOptions ro;
+  RegionOptions ro;
   ro.noise_um = c.noise_um;
-  std::map<int, std::vector<evaluation::FlankPatterns>> by_side;
+  std::map<int, std::vector<FlankPatterns>> by_side;
   for (const auto& f : c.flanks) {
     try {
-      c.patterns.push_back(evaluation::fit_flank_patterns(f, po));
+      c.patterns.push_back(fit_flank_patterns(f, po));
       c.has_patterns.push_back(true);
       by_side[static_cast<int>(f.side)].push_back(c.patterns.back());
     } catch (const std::invalid_argument&) { // too few distinct positions on this flank for the six patterns
       c.patterns.emplace_back();
       c.has_patterns.push_back(false);
     }
-    for (auto& reg : evaluation::find_failing_regions(f, ro)) c.regions.push_back(std::move(reg));
+    for (auto& reg : find_failing_regions(f, ro)) c.regions.push_back(std::move(reg));
   }
   for (const auto& [side, list] : by_side)
-    if (list.size() >= 2) c.trends.push_back(evaluation::fit_tooth_trends(list, setup.geometry().teeth()));
-  c.summary = evaluation::summarize_residuals(c.flanks);
+    if (list.size() >= 2) c.trends.push_back(fit_tooth_trends(list, setup.geometry().teeth()));
+  c.summary = summarize_residuals(c.flanks);
   return c;
 }
 

@@ -1,9 +1,10 @@
 #include "geartopo/diagnosis/diagnose.hpp"
 
-#include "geartopo/diagnosis/levenberg_marquardt.hpp"
+#include "effect_fit.hpp"
+
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/effects/effects_process.hpp"
-#include "geartopo/effects/registry.hpp"
+#include "geartopo/effects/registry.hpp" // effect_types
 #include "geartopo/workbench/workbench.hpp"
 
 #include <Eigen/Dense>
@@ -12,186 +13,27 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <memory>
+#include <stdexcept>
+#include <string_view>
 
 namespace geartopo::diagnosis {
 namespace {
 
-double rss_of(const std::vector<double>& r) {
-  double s = 0.0;
-  for (double v : r) s += v * v;
-  return s;
-}
-
-// One fit of a set of effects: which parameters are free, their scales and bounds, and how to evaluate them.
-class EffectFit {
-public:
-  EffectFit(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts, const std::vector<double>& r0,
-            const std::vector<std::string>& types, int threads)
-      : setup_(setup), pts_(pts), r0_(r0), threads_(threads) {
-    for (const auto& t : types) {
-      effects_.push_back(effects::make_effect(t));
-      effects_.back()->bind(setup);
-      const auto& params = effects_.back()->parameters();
-      for (size_t k = 0; k < params.size(); ++k)
-        if (params[k].fitted) free_.push_back({effects_.size() - 1, k});
-    }
-  }
-
-  size_t size() const { return free_.size(); }
-  const effects::ParameterSpec& spec(size_t j) const { return effects_[free_[j].first]->parameters()[free_[j].second]; }
-
-  void set(const Eigen::VectorXd& x) {
-    for (size_t j = 0; j < free_.size(); ++j) {
-      auto values = effects_[free_[j].first]->values();
-      values[free_[j].second] = x(static_cast<long>(j)) * spec(j).typical;
-      effects_[free_[j].first]->set_values(values);
-    }
-  }
-
-  /// Effects' first-order contribution at the points (µm).
-  std::vector<double> contribution() const {
-    const grinding::IdealProcess ideal;
-    const effects::EffectsProcess p(ideal, effects_);
-    return predict(setup_, p, pts_, grinding::Method::Linear, threads_);
-  }
-
-  Eigen::VectorXd residual(const Eigen::VectorXd& x) {
-    set(x);
-    const auto c = contribution();
-    Eigen::VectorXd r(static_cast<long>(c.size()));
-    for (size_t i = 0; i < c.size(); ++i) r(static_cast<long>(i)) = r0_[i] - c[i];
-    return r;
-  }
-
-  std::vector<scene::EffectSpec> specs() const {
-    std::vector<scene::EffectSpec> out;
-    for (const auto& e : effects_) out.push_back({std::string(e->type()), e->values()});
-    return out;
-  }
-  const std::vector<std::unique_ptr<effects::Effect>>& effects() const { return effects_; }
-
-  /// Index in free_ of (effect e, parameter k), or −1.
-  int free_index(size_t e, size_t k) const {
-    for (size_t j = 0; j < free_.size(); ++j)
-      if (free_[j].first == e && free_[j].second == k) return static_cast<int>(j);
-    return -1;
-  }
-
-private:
-  const grinding::GrindingSetup& setup_;
-  const std::vector<MeasuredPoint>& pts_;
-  const std::vector<double>& r0_;
-  int threads_;
-  std::vector<std::unique_ptr<effects::Effect>> effects_;
-  std::vector<std::pair<size_t, size_t>> free_; // (effect, parameter)
-};
-
-// Fits the effects from every combination of start values of their nonlinear parameters (and from `warm`, if given:
-// values of a previous fit per type). Returns the candidate with the smallest RSS.
-Candidate fit(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts, const std::vector<double>& r0,
-              const std::vector<std::string>& types, const std::map<std::string, std::vector<double>>& warm, int threads) {
-  EffectFit f(setup, pts, r0, types, threads);
-  const long p = static_cast<long>(f.size());
-  Eigen::VectorXd lo(p), hi(p), x0(p);
-  std::vector<std::vector<double>> starts;
-  for (long j = 0; j < p; ++j) {
-    const auto& s = f.spec(static_cast<size_t>(j));
-    lo(j) = s.lo / s.typical;
-    hi(j) = s.hi / s.typical;
-    x0(j) = (s.starts.empty() ? 0.0 : s.default_value) / s.typical;
-    if (!s.starts.empty()) {
-      std::vector<double> v;
-      for (double st : s.starts) v.push_back(st / s.typical);
-      starts.push_back(v);
-    } else {
-      starts.push_back({x0(j)});
-    }
-  }
-  // Warm starts from earlier single fits (used for combinations).
-  std::vector<Eigen::VectorXd> inits;
-  Eigen::VectorXd w = x0;
-  bool have_warm = false;
-  for (size_t e = 0; e < f.effects().size(); ++e) {
-    const auto it = warm.find(std::string(f.effects()[e]->type()));
-    if (it == warm.end()) continue;
-    for (size_t k = 0; k < it->second.size(); ++k) {
-      const int j = f.free_index(e, k);
-      if (j >= 0) w(j) = it->second[k] / f.spec(static_cast<size_t>(j)).typical, have_warm = true;
-    }
-  }
-  if (have_warm) inits.push_back(w);
-  // Cartesian product of the start lists (only nonlinear parameters have more than one start).
-  std::vector<size_t> idx(starts.size(), 0);
-  for (;;) {
-    Eigen::VectorXd x(p);
-    for (long j = 0; j < p; ++j) x(j) = starts[static_cast<size_t>(j)][idx[static_cast<size_t>(j)]];
-    inits.push_back(x);
-    long j = 0;
-    for (; j < p; ++j) {
-      if (++idx[static_cast<size_t>(j)] < starts[static_cast<size_t>(j)].size()) break;
-      idx[static_cast<size_t>(j)] = 0;
-    }
-    if (j == p) break;
-  }
-
-  LmResult best;
-  best.rss = std::numeric_limits<double>::infinity();
-  for (const auto& init : inits) {
-    const LmResult r = levenberg_marquardt([&](const Eigen::VectorXd& x) { return f.residual(x); }, init, lo, hi);
-    if (r.rss < best.rss) best = r;
-  }
-  f.set(best.x);
-
-  const double n = static_cast<double>(pts.size());
-  const double rss0 = rss_of(r0);
-  Candidate c;
-  c.effects = f.specs();
-  // Covariance σ̂² (JᵀJ)⁻¹ in scaled units; a tiny ridge keeps directions the data cannot see at huge variance
-  // instead of a false zero.
-  const double sigma2 = best.rss / std::max(1.0, n - static_cast<double>(p));
-  Eigen::MatrixXd A = best.JtJ;
-  A.diagonal().array() += 1e-12 * std::max(1.0, A.trace());
-  const Eigen::MatrixXd cov = sigma2 * A.inverse();
-  Eigen::VectorXd sd = cov.diagonal().cwiseMax(0.0).cwiseSqrt();
-  // Nonlinear parameters (those with start lists, e.g. a time constant) make the linearised covariance optimistic:
-  // the likelihood is not Gaussian in them. Walk each along its profile until the RSS has risen by σ̂² (the 1σ
-  // profile-likelihood bound, doubling the step from the linearised σ), refit the others there, and widen every
-  // uncertainty to cover how far the refit moved.
-  for (long j = 0; j < p; ++j) {
-    if (f.spec(static_cast<size_t>(j)).starts.empty()) continue;
-    for (double sign : {-1.0, 1.0}) {
-      double step = std::max(sd(j), 1e-6);
-      for (int k = 0; k < 8; ++k, step *= 2.0) {
-        Eigen::VectorXd lo_j = lo, hi_j = hi, x = best.x;
-        x(j) = std::clamp(best.x(j) + sign * step, lo(j), hi(j));
-        lo_j(j) = hi_j(j) = x(j);
-        const LmResult r = levenberg_marquardt([&](const Eigen::VectorXd& y) { return f.residual(y); }, x, lo_j, hi_j);
-        const bool reached = r.rss - best.rss >= sigma2 || x(j) == lo(j) || x(j) == hi(j);
-        if (reached || k == 7) {
-          sd = sd.cwiseMax((r.x - best.x).cwiseAbs());
-          break;
-        }
-      }
-    }
-  }
-  f.set(best.x);
-  for (size_t e = 0; e < f.effects().size(); ++e) {
-    const auto& eff = *f.effects()[e];
-    std::vector<FittedParameter> params;
-    for (size_t k = 0; k < eff.parameters().size(); ++k) {
-      const int j = f.free_index(e, k);
-      const double u = j >= 0 ? sd(j) * eff.parameters()[k].typical : 0.0;
-      params.push_back({eff.parameters()[k].key, eff.value(k), u, j >= 0});
-    }
-    c.parameters.push_back(params);
-    c.explanations.emplace_back(eff.explanation());
-  }
-  c.rms_before_um = std::sqrt(rss0 / n);
-  c.rms_after_um = std::sqrt(best.rss / n);
-  c.explained_fraction = rss0 > 0.0 ? 1.0 - best.rss / rss0 : 0.0;
-  c.delta_bic = n * std::log(std::max(best.rss, 1e-300) / std::max(rss0, 1e-300)) + static_cast<double>(p) * std::log(n);
-  return c;
+/// Refuses options that would make the rules meaningless (the message names the option and its allowed range).
+void check_options(const DiagnoseOptions& o) {
+  const auto refuse = [](std::string_view name, double value, std::string_view rule) {
+    throw std::invalid_argument(fmt::format("diagnose: option {} = {} (must be {})", name, value, rule));
+  };
+  if (!(std::isfinite(o.bic_threshold) && o.bic_threshold >= 0.0)) refuse("bic_threshold", o.bic_threshold, "finite and ≥ 0");
+  if (o.min_points < 1) refuse("min_points", static_cast<double>(o.min_points), "≥ 1");
+  if (!(std::isfinite(o.explained_noise_factor) && o.explained_noise_factor > 0.0))
+    refuse("explained_noise_factor", o.explained_noise_factor, "finite and > 0");
+  if (o.pair_candidates < 1) refuse("pair_candidates", static_cast<double>(o.pair_candidates), "≥ 1");
+  if (!(std::isfinite(o.covariance_ridge) && o.covariance_ridge >= 0.0))
+    refuse("covariance_ridge", o.covariance_ridge, "finite and ≥ 0");
+  if (o.profile_walk_steps < 0) refuse("profile_walk_steps", o.profile_walk_steps, "≥ 0");
+  if (!(std::isfinite(o.profile_min_step) && o.profile_min_step > 0.0))
+    refuse("profile_min_step", o.profile_min_step, "finite and > 0");
 }
 
 } // namespace
@@ -233,14 +75,16 @@ double estimate_noise_um(const std::vector<MeasuredPoint>& pts, const std::vecto
 Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
                    const std::vector<MeasuredPoint>& pts, const std::vector<std::string>& in_scene,
                    const DiagnoseOptions& o) {
-  if (pts.size() < 10) throw std::invalid_argument("diagnose: at least 10 measured points are needed");
+  check_options(o);
+  if (pts.size() < o.min_points)
+    throw std::invalid_argument(fmt::format("diagnose: {} measured point(s); at least {} are needed", pts.size(), o.min_points));
   Diagnosis d;
   d.points = static_cast<int>(pts.size());
   const auto base = predict(setup, model, pts, grinding::Method::Exact, o.threads);
   d.residual_before_um.resize(pts.size());
   for (size_t i = 0; i < pts.size(); ++i) d.residual_before_um[i] = pts[i].deviation_um - base[i];
   const double n = static_cast<double>(pts.size());
-  d.rms_before_um = std::sqrt(rss_of(d.residual_before_um) / n);
+  d.rms_before_um = std::sqrt(sum_of_squares(d.residual_before_um) / n);
   d.noise_estimated = o.noise_um <= 0.0;
   d.noise_um = d.noise_estimated ? estimate_noise_um(pts, d.residual_before_um) : o.noise_um;
 
@@ -257,7 +101,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
 
   std::map<std::string, std::vector<double>> fitted_values;
   for (const auto& t : types) {
-    Candidate c = fit(setup, pts, d.residual_before_um, {t}, {}, o.threads);
+    Candidate c = fit_effects(setup, pts, d.residual_before_um, {t}, {}, o);
     c.significant = c.delta_bic < -o.bic_threshold;
     fitted_values[t] = c.effects.front().values;
     d.ranked.push_back(std::move(c));
@@ -266,13 +110,13 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
 
   if (!d.ranked.empty() && d.ranked.front().significant) {
     d.chosen = d.ranked.front();
-    if (d.ranked.front().rms_after_um > 1.5 * d.noise_um) {
+    if (d.ranked.front().rms_after_um > o.explained_noise_factor * d.noise_um) {
       std::vector<std::string> top;
       for (const auto& c : d.ranked)
-        if (c.significant && top.size() < 4) top.push_back(c.effects.front().type);
+        if (c.significant && top.size() < o.pair_candidates) top.push_back(c.effects.front().type);
       // The best effect with each other significant one (warm-started from the single fits).
       for (size_t b = 1; b < top.size(); ++b) {
-        Candidate c = fit(setup, pts, d.residual_before_um, {top[0], top[b]}, fitted_values, o.threads);
+        Candidate c = fit_effects(setup, pts, d.residual_before_um, {top[0], top[b]}, fitted_values, o);
         c.significant = c.delta_bic < d.ranked.front().delta_bic - o.bic_threshold;
         if (c.significant && (!d.combination || c.delta_bic < d.combination->delta_bic)) d.combination = std::move(c);
       }
@@ -287,10 +131,10 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     const effects::EffectsProcess with(model, effs);
     const auto after = predict(setup, with, pts, grinding::Method::Exact, o.threads);
     for (size_t i = 0; i < pts.size(); ++i) d.residual_after_um[i] = pts[i].deviation_um - after[i];
-    d.chosen->rms_after_um = std::sqrt(rss_of(d.residual_after_um) / n);
+    d.chosen->rms_after_um = std::sqrt(sum_of_squares(d.residual_after_um) / n);
   }
 
-  const double rms_after = std::sqrt(rss_of(d.residual_after_um) / n);
+  const double rms_after = std::sqrt(sum_of_squares(d.residual_after_um) / n);
   if (!d.chosen) {
     d.verdict = fmt::format("No effect of the library explains the residual significantly (best: {}, ΔBIC {:.1f}). "
                             "The residual ({:.2f} µm RMS against {:.2f} µm noise) stays unexplained: see its pattern.",
@@ -299,8 +143,9 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   } else {
     d.verdict = fmt::format("Missing: {}. Adding it takes the residual from {:.2f} to {:.2f} µm RMS (noise {:.2f} µm{}).",
                             d.chosen->name(), d.rms_before_um, rms_after, d.noise_um, d.noise_estimated ? ", estimated" : "");
-    if (rms_after > 1.5 * d.noise_um)
-      d.verdict += " More than 1.5× the noise is left: part of the residual is still unexplained.";
+    if (rms_after > o.explained_noise_factor * d.noise_um)
+      d.verdict += fmt::format(" More than {:g}× the noise is left: part of the residual is still unexplained.",
+                               o.explained_noise_factor);
   }
   return d;
 }

@@ -4,7 +4,10 @@
 #pragma once
 
 #include "geartopo/diagnosis/measured_points.hpp"
-#include "geartopo/evaluation/residual_patterns.hpp"
+#include "geartopo/diagnosis/residuals/failing_regions.hpp"
+#include "geartopo/diagnosis/residuals/flank_patterns.hpp"
+#include "geartopo/diagnosis/residuals/residual_summary.hpp"
+#include "geartopo/diagnosis/residuals/tooth_trends.hpp"
 #include "geartopo/gears/involute_helicoid.hpp"
 #include "geartopo/grinding/grinding_process.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
@@ -19,13 +22,13 @@ struct Comparison {
   std::vector<double> model_um, residual_um;             ///< per measured point
   double noise_um = 0.0;
   bool noise_estimated = false;
-  std::vector<evaluation::FlankResiduals> flanks;        ///< one per measured flank (tooth, then left, right)
+  std::vector<FlankResiduals> flanks;                    ///< one per measured flank (tooth, then left, right)
   std::vector<std::vector<size_t>> flank_point_index;    ///< flank → indices into the measured points
-  std::vector<evaluation::FlankPatterns> patterns;       ///< per flank (empty entry: too few points to fit)
+  std::vector<FlankPatterns> patterns;                   ///< per flank (empty entry: too few points to fit)
   std::vector<bool> has_patterns;
-  std::vector<evaluation::SideTrends> trends;            ///< per side with ≥ 2 teeth
-  std::vector<evaluation::FailingRegion> regions;        ///< every flank's regions
-  evaluation::ResidualSummary summary;
+  std::vector<SideTrends> trends;                        ///< per side with ≥ 2 teeth
+  std::vector<FailingRegion> regions;                    ///< every flank's regions
+  ResidualSummary summary;
 };
 
 /// noise_um ≤ 0: estimated (quadratic surface per flank).

@@ -6,7 +6,8 @@
 // standard uncertainties, the fraction of the residual's sum of squares it explains, the RMS before and after, and
 // ΔBIC = n ln(RSS/RSS₀) + p ln n against the model without it, so that a many-parameter effect does not win by
 // over-fitting. Candidates are ranked by ΔBIC; an effect is significant when ΔBIC < −threshold. When the best one
-// leaves more than 1.5× the noise, pairs of significant effects are fitted jointly. Units: µm, and each parameter's
+// leaves more than 1.5× the noise (DiagnoseOptions::explained_noise_factor), pairs of significant effects are fitted
+// jointly. Units: µm, and each parameter's
 // own unit (its key).
 #pragma once
 
@@ -15,6 +16,7 @@
 #include "geartopo/grinding/grinding_setup.hpp"
 #include "geartopo/scene/scene.hpp"
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,11 +41,37 @@ struct Candidate {
   std::string name() const;        ///< "thermal_drift" or "thermal_drift + wheel_wear"
 };
 
+/// What diagnose does and when; the defaults are the documented behaviour (docs/diagnosis.md).
 struct DiagnoseOptions {
-  double noise_um = 0.0;            ///< probe noise σ; ≤ 0: estimated from the residual (quadratic surface per flank)
-  double bic_threshold = 10.0;      ///< "very strong" evidence on the BIC scale
+  double noise_um = 0.0;            ///< probe noise σ (µm); ≤ 0: estimated from the residual (quadratic surface per flank)
+  /// ΔBIC an effect must beat (unit-free, on the natural-log BIC scale): significant when ΔBIC < −threshold, and a pair
+  /// must improve on the best single effect by as much again. 10 is "very strong" evidence (Kass & Raftery), so that
+  /// a library effect is not named on data that only mildly prefer it.
+  double bic_threshold = 10.0;
   std::vector<std::string> candidates; ///< effect types to try; empty: every library effect not in the scene
-  int threads = 0;
+  int threads = 0;                  ///< threads of the predictions; 0: all hardware threads
+  /// Fewest measured points (count) diagnose accepts: the noise estimate fits 6 terms per flank, and BIC with a
+  /// handful of points rewards nothing.
+  std::size_t min_points = 10;
+  /// A residual counts as explained when its RMS is at most this multiple of the noise σ (unit-free). Above it, the
+  /// best single effect is fitted jointly with each other significant one, and the verdict says part of the residual
+  /// remains. 1.5: pure noise has RMS ≈ σ, and an estimated σ from a few flanks can be off by tens of per cent; a
+  /// missing effect comparable to the noise still raises the RMS beyond it.
+  double explained_noise_factor = 1.5;
+  /// Significant single effects taken into pairs (count): the best with each of the next ones, up to this many in
+  /// all. 4 (three pairs): each joint fit costs as much as several single fits, and an effect ranked below fourth has
+  /// not explained enough alone to be the needed partner.
+  std::size_t pair_candidates = 4;
+  /// Ridge added to the diagonal of JᵀJ before inverting it for the covariance, relative to max(1, trace) (unit-free,
+  /// parameters scaled by their typical size). 1e-12: negligible for identifiable parameters, but a direction the data
+  /// cannot see gets a huge variance instead of a singular matrix or a false zero.
+  double covariance_ridge = 1e-12;
+  /// Profile-likelihood walk of a nonlinear parameter: the largest number of steps on each side (count), the step
+  /// doubling from the linearised σ. 8 steps reach 2⁷ = 128 σ, beyond which the bound is a box limit anyway.
+  int profile_walk_steps = 8;
+  /// Smallest first step of that walk (unit-free, in units of the parameter's typical size): a parameter whose
+  /// linearised σ is 0 still moves.
+  double profile_min_step = 1e-6;
 };
 
 struct Diagnosis {

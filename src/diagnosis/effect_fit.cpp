@@ -1,0 +1,244 @@
+// geartopo diagnosis — fitting a set of effects to a residual (effect_fit.hpp, docs/diagnosis.md). Parameters are fitted
+// in scaled units x = value / typical (order one, as Levenberg–Marquardt wants); every vector below of length p is in
+// those units, p the number of fitted parameters.
+#include "effect_fit.hpp"
+
+#include "geartopo/diagnosis/levenberg_marquardt.hpp"
+#include "geartopo/diagnosis/prediction.hpp"
+#include "geartopo/effects/effects_process.hpp"
+#include "geartopo/effects/registry.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <utility>
+
+namespace geartopo::diagnosis {
+namespace {
+
+// One fit of a set of effects: which parameters are free, their scales and bounds, and how to evaluate them.
+class EffectFit {
+public:
+  EffectFit(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts, const std::vector<double>& r0,
+            const std::vector<std::string>& types, int threads)
+      : setup_(setup), pts_(pts), r0_(r0), threads_(threads) {
+    for (const auto& t : types) {
+      effects_.push_back(effects::make_effect(t));
+      effects_.back()->bind(setup);
+      const auto& params = effects_.back()->parameters();
+      for (size_t k = 0; k < params.size(); ++k)
+        if (params[k].fitted) free_.push_back({effects_.size() - 1, k});
+    }
+  }
+
+  size_t size() const { return free_.size(); }
+  const effects::ParameterSpec& spec(size_t j) const { return effects_[free_[j].first]->parameters()[free_[j].second]; }
+
+  void set(const Eigen::VectorXd& x) {
+    for (size_t j = 0; j < free_.size(); ++j) {
+      auto values = effects_[free_[j].first]->values();
+      values[free_[j].second] = x(static_cast<long>(j)) * spec(j).typical;
+      effects_[free_[j].first]->set_values(values);
+    }
+  }
+
+  /// Effects' first-order contribution at the points (µm).
+  std::vector<double> contribution() const {
+    const grinding::IdealProcess ideal;
+    const effects::EffectsProcess p(ideal, effects_);
+    return predict(setup_, p, pts_, grinding::Method::Linear, threads_);
+  }
+
+  /// Residual left at the points (µm, one per point) with the parameters x (p, scaled).
+  Eigen::VectorXd residual(const Eigen::VectorXd& x) {
+    set(x);
+    const auto c = contribution();
+    Eigen::VectorXd r(static_cast<long>(c.size()));
+    for (size_t i = 0; i < c.size(); ++i) r(static_cast<long>(i)) = r0_[i] - c[i];
+    return r;
+  }
+
+  /// Levenberg–Marquardt from x0 within [lo, hi] (all p, scaled).
+  LmResult minimise(const Eigen::VectorXd& x0, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+    return levenberg_marquardt([&](const Eigen::VectorXd& x) { return residual(x); }, x0, lo, hi);
+  }
+
+  std::vector<scene::EffectSpec> specs() const {
+    std::vector<scene::EffectSpec> out;
+    for (const auto& e : effects_) out.push_back({std::string(e->type()), e->values()});
+    return out;
+  }
+  const std::vector<std::unique_ptr<effects::Effect>>& effects() const { return effects_; }
+
+  /// Index in free_ of (effect e, parameter k), or −1.
+  int free_index(size_t e, size_t k) const {
+    for (size_t j = 0; j < free_.size(); ++j)
+      if (free_[j].first == e && free_[j].second == k) return static_cast<int>(j);
+    return -1;
+  }
+
+private:
+  const grinding::GrindingSetup& setup_;
+  const std::vector<MeasuredPoint>& pts_;
+  const std::vector<double>& r0_;
+  int threads_;
+  std::vector<std::unique_ptr<effects::Effect>> effects_;
+  std::vector<std::pair<size_t, size_t>> free_; // (effect, parameter)
+};
+
+/// Bounds of the fitted parameters and the default start (p each, scaled).
+struct Box {
+  Eigen::VectorXd lo, hi, x0;
+};
+
+Box parameter_box(const EffectFit& f) {
+  const long p = static_cast<long>(f.size());
+  Box b{Eigen::VectorXd(p), Eigen::VectorXd(p), Eigen::VectorXd(p)};
+  for (long j = 0; j < p; ++j) {
+    const auto& s = f.spec(static_cast<size_t>(j));
+    b.lo(j) = s.lo / s.typical;
+    b.hi(j) = s.hi / s.typical;
+    b.x0(j) = (s.starts.empty() ? 0.0 : s.default_value) / s.typical;
+  }
+  return b;
+}
+
+/// Step 1a, multi-start: the warm start (values of earlier single fits, when `warm` has any of these types), then the
+/// Cartesian product of the start lists (only nonlinear parameters have more than one start; a linear one starts at 0).
+std::vector<Eigen::VectorXd> start_points(const EffectFit& f, const Box& box,
+                                          const std::map<std::string, std::vector<double>>& warm) {
+  const long p = static_cast<long>(f.size());
+  std::vector<std::vector<double>> starts;
+  for (long j = 0; j < p; ++j) {
+    const auto& s = f.spec(static_cast<size_t>(j));
+    if (!s.starts.empty()) {
+      std::vector<double> v;
+      for (double st : s.starts) v.push_back(st / s.typical);
+      starts.push_back(v);
+    } else {
+      starts.push_back({box.x0(j)});
+    }
+  }
+  std::vector<Eigen::VectorXd> inits;
+  Eigen::VectorXd w = box.x0;
+  bool have_warm = false;
+  for (size_t e = 0; e < f.effects().size(); ++e) {
+    const auto it = warm.find(std::string(f.effects()[e]->type()));
+    if (it == warm.end()) continue;
+    for (size_t k = 0; k < it->second.size(); ++k) {
+      const int j = f.free_index(e, k);
+      if (j >= 0) w(j) = it->second[k] / f.spec(static_cast<size_t>(j)).typical, have_warm = true;
+    }
+  }
+  if (have_warm) inits.push_back(w);
+  std::vector<size_t> idx(starts.size(), 0);
+  for (;;) {
+    Eigen::VectorXd x(p);
+    for (long j = 0; j < p; ++j) x(j) = starts[static_cast<size_t>(j)][idx[static_cast<size_t>(j)]];
+    inits.push_back(x);
+    long j = 0;
+    for (; j < p; ++j) {
+      if (++idx[static_cast<size_t>(j)] < starts[static_cast<size_t>(j)].size()) break;
+      idx[static_cast<size_t>(j)] = 0;
+    }
+    if (j == p) break;
+  }
+  return inits;
+}
+
+/// Step 1b: Levenberg–Marquardt from every start; the smallest RSS wins (the first of equals).
+LmResult best_of_starts(EffectFit& f, const std::vector<Eigen::VectorXd>& inits, const Box& box) {
+  LmResult best;
+  best.rss = std::numeric_limits<double>::infinity();
+  for (const auto& init : inits) {
+    const LmResult r = f.minimise(init, box.lo, box.hi);
+    if (r.rss < best.rss) best = r;
+  }
+  return best;
+}
+
+/// Step 2, covariance: standard deviations (p, scaled) from σ̂² (JᵀJ)⁻¹ with σ̂² = sigma2 (µm²). A ridge relative to
+/// the trace keeps directions the data cannot see at huge variance instead of a false zero.
+Eigen::VectorXd linearised_sd(const LmResult& best, double sigma2, double ridge) {
+  Eigen::MatrixXd A = best.JtJ; // p × p
+  A.diagonal().array() += ridge * std::max(1.0, A.trace());
+  const Eigen::MatrixXd cov = sigma2 * A.inverse(); // p × p
+  return cov.diagonal().cwiseMax(0.0).cwiseSqrt();
+}
+
+/// Step 2b, profile-likelihood walk. Nonlinear parameters (those with start lists, e.g. a time constant) make the
+/// linearised covariance optimistic: the likelihood is not Gaussian in them. Walks each along its profile, on both
+/// sides, until the RSS has risen by σ̂² (the 1σ profile-likelihood bound; the step starts at the linearised σ and
+/// doubles, `profile_walk_steps` steps at most), refits the others there, and widens every uncertainty in sd (p,
+/// scaled) to cover how far the refit moved.
+void widen_by_profile_likelihood(EffectFit& f, const LmResult& best, const Box& box, double sigma2,
+                                 const DiagnoseOptions& o, Eigen::VectorXd& sd) {
+  const long p = static_cast<long>(f.size());
+  for (long j = 0; j < p; ++j) {
+    if (f.spec(static_cast<size_t>(j)).starts.empty()) continue;
+    for (double sign : {-1.0, 1.0}) {
+      double step = std::max(sd(j), o.profile_min_step);
+      for (int k = 0; k < o.profile_walk_steps; ++k, step *= 2.0) {
+        Eigen::VectorXd lo_j = box.lo, hi_j = box.hi, x = best.x;
+        x(j) = std::clamp(best.x(j) + sign * step, box.lo(j), box.hi(j));
+        lo_j(j) = hi_j(j) = x(j);
+        const LmResult r = f.minimise(x, lo_j, hi_j);
+        const bool reached = r.rss - best.rss >= sigma2 || x(j) == box.lo(j) || x(j) == box.hi(j);
+        if (reached || k == o.profile_walk_steps - 1) {
+          sd = sd.cwiseMax((r.x - best.x).cwiseAbs());
+          break;
+        }
+      }
+    }
+  }
+}
+
+/// Step 3: the candidate with its parameters (own units), uncertainties and scores.
+Candidate to_candidate(EffectFit& f, const LmResult& best, const Eigen::VectorXd& sd, double rss0, double n) {
+  f.set(best.x);
+  Candidate c;
+  c.effects = f.specs();
+  for (size_t e = 0; e < f.effects().size(); ++e) {
+    const auto& eff = *f.effects()[e];
+    std::vector<FittedParameter> params;
+    for (size_t k = 0; k < eff.parameters().size(); ++k) {
+      const int j = f.free_index(e, k);
+      const double u = j >= 0 ? sd(j) * eff.parameters()[k].typical : 0.0;
+      params.push_back({eff.parameters()[k].key, eff.value(k), u, j >= 0});
+    }
+    c.parameters.push_back(params);
+    c.explanations.emplace_back(eff.explanation());
+  }
+  const double p = static_cast<double>(f.size());
+  c.rms_before_um = std::sqrt(rss0 / n);
+  c.rms_after_um = std::sqrt(best.rss / n);
+  c.explained_fraction = rss0 > 0.0 ? 1.0 - best.rss / rss0 : 0.0;
+  c.delta_bic = n * std::log(std::max(best.rss, 1e-300) / std::max(rss0, 1e-300)) + p * std::log(n);
+  return c;
+}
+
+} // namespace
+
+double sum_of_squares(const std::vector<double>& r) {
+  double s = 0.0;
+  for (double v : r) s += v * v;
+  return s;
+}
+
+Candidate fit_effects(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
+                      const std::vector<double>& r0, const std::vector<std::string>& types,
+                      const std::map<std::string, std::vector<double>>& warm, const DiagnoseOptions& o) {
+  EffectFit f(setup, pts, r0, types, o.threads);
+  const Box box = parameter_box(f);
+  const LmResult best = best_of_starts(f, start_points(f, box, warm), box);
+  const double n = static_cast<double>(pts.size());
+  const double sigma2 = best.rss / std::max(1.0, n - static_cast<double>(f.size())); // σ̂² (µm²)
+  Eigen::VectorXd sd = linearised_sd(best, sigma2, o.covariance_ridge);
+  widen_by_profile_likelihood(f, best, box, sigma2, o, sd);
+  return to_candidate(f, best, sd, sum_of_squares(r0), n);
+}
+
+} // namespace geartopo::diagnosis
