@@ -65,7 +65,7 @@ std::vector<ContactPoint> contact_points(const grinding::GrindingSetup& setup, i
   const int next = space % g.teeth() + 1;
   for (auto [tooth, flank] : {std::pair{space, geartopo::Flank::Right}, std::pair{next, geartopo::Flank::Left}})
     for (int i = 0; i < n; ++i) {
-      const double xi = r.xi_active_start + (r.xi_active_end - r.xi_active_start) * i / (n - 1);
+      const double xi = r.xi_active_start_mm + (r.xi_active_end_mm - r.xi_active_start_mm) * i / (n - 1);
       const auto fp = setup.flanks().at(tooth, flank, xi, z + setup.wheel().contact_offset_mm(flank, xi));
       ContactPoint c;
       c.a << fp.n.transpose(), fp.p.cross(fp.n).transpose();

@@ -1,4 +1,5 @@
 #include "geartopo/diagnosis/compare.hpp"
+#include "geartopo/core/units.hpp"
 
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
@@ -30,7 +31,7 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
       FlankResiduals f;
       f.tooth = pts[i].tooth;
       f.side = pts[i].flank;
-      f.xi_start_mm = r.xi_eval_start, f.xi_end_mm = r.xi_eval_end, f.z_start_mm = r.z_eval_start, f.z_end_mm = r.z_eval_end;
+      f.xi_start_mm = r.xi_eval_start_mm, f.xi_end_mm = r.xi_eval_end_mm, f.z_start_mm = r.z_eval_start_mm, f.z_end_mm = r.z_eval_end_mm;
       c.flanks.push_back(f);
       c.flank_point_index.emplace_back();
     }
@@ -81,7 +82,7 @@ std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file,
     p.roll_length_mm = s.roll_length_mm;
     p.diameter_mm = s.diameter_mm;
     p.z_mm = s.z_mm;
-    p.deviation_um = 1e3 * s.normal_distance_mm;
+    p.deviation_um = units::um_from_mm(s.normal_distance_mm);
     p.line = static_cast<int>(s.line);
     out.push_back(p);
   }

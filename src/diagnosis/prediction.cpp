@@ -1,4 +1,5 @@
 #include "geartopo/diagnosis/prediction.hpp"
+#include "geartopo/core/units.hpp"
 
 #include "geartopo/core/parallel.hpp"
 
@@ -13,7 +14,7 @@ std::vector<double> predict(const grinding::GrindingSetup& setup, const grinding
   geartopo::parallel_for((n + chunk - 1) / chunk, threads, [&](int c) {
     for (int i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
       const auto& p = points[static_cast<size_t>(i)];
-      out[static_cast<size_t>(i)] = 1e3 * dev.at(p.tooth, p.flank, p.roll_length_mm, p.z_mm, method).deviation_mm;
+      out[static_cast<size_t>(i)] = units::um_from_mm(dev.at(p.tooth, p.flank, p.roll_length_mm, p.z_mm, method).deviation_mm);
     }
   });
   // The first-order model has no "not reached" (and the LM fits that call it reject non-finite steps themselves).

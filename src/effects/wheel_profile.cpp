@@ -37,8 +37,8 @@ public:
       const Eigen::Vector3d q = s.wheel().reference_wMg().inverse() * fp.p;
       return std::hypot(q.x(), q.z());
     };
-    r_root_ = wheel_radius_at(r.xi_active_start);
-    r_tip_ = wheel_radius_at(r.xi_active_end);
+    r_root_ = wheel_radius_at(r.xi_active_start_mm);
+    r_tip_ = wheel_radius_at(r.xi_active_end_mm);
   }
 
   double wheel_radius_error_mm(double v, const grinding::PathPoint&) const override {

@@ -1,5 +1,6 @@
 #include "geartopo/grinding/flank_deviation.hpp"
 
+#include "geartopo/core/minimize.hpp"
 #include "geartopo/machine/chain.hpp"
 
 #include <fmt/format.h>
@@ -15,52 +16,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Brent's minimisation of f on [a, b] (parabolic steps with golden-section safeguard), to |Δx| ≤ tol.
-template <class F>
-std::pair<double, double> brent_minimize(F&& f, double a, double b, double tol) {
-  constexpr double kGold = 0.3819660112501051;
-  double x = a + kGold * (b - a), w = x, v = x;
-  double fx = f(x), fw = fx, fv = fx;
-  double d = 0.0, e = 0.0;
-  for (int it = 0; it < 100; ++it) {
-    const double m = 0.5 * (a + b);
-    const double tol1 = tol + 1e-12 * std::abs(x), tol2 = 2.0 * tol1;
-    if (std::abs(x - m) <= tol2 - 0.5 * (b - a)) break;
-    bool golden = true;
-    if (std::abs(e) > tol1) {
-      double r = (x - w) * (fx - fv), q = (x - v) * (fx - fw), p = (x - v) * q - (x - w) * r;
-      q = 2.0 * (q - r);
-      if (q > 0.0) p = -p;
-      q = std::abs(q);
-      const double e_old = e;
-      e = d;
-      if (std::abs(p) < std::abs(0.5 * q * e_old) && p > q * (a - x) && p < q * (b - x)) {
-        d = p / q;
-        const double u = x + d;
-        if (u - a < tol2 || b - u < tol2) d = (m >= x) ? tol1 : -tol1;
-        golden = false;
-      }
-    }
-    if (golden) {
-      e = (x >= m) ? a - x : b - x;
-      d = kGold * e;
-    }
-    const double u = (std::abs(d) >= tol1) ? x + d : x + (d > 0 ? tol1 : -tol1);
-    const double fu = f(u);
-    if (fu <= fx) {
-      if (u >= x) a = x; else b = x;
-      v = w, fv = fw, w = x, fw = fx, x = u, fx = fu;
-    } else {
-      if (u < x) a = u; else b = u;
-      if (fu <= fw || w == x) {
-        v = w, fv = fw, w = u, fw = fu;
-      } else if (fu <= fv || v == x || v == w) {
-        v = u, fv = fu;
-      }
-    }
-  }
-  return {x, fx};
-}
 
 } // namespace
 
@@ -152,10 +107,9 @@ DeviationResult FlankDeviation::brent_search(const Target& t, double z_tol_mm) c
   // The deepest cut moves from Z₀ by (error gradient)/(clearance curvature) — well under 0.2 mm for any realistic
   // error — so ±0.5 mm is searched first, and ±4 mm if the minimum lands on that window's edge. A Z tolerance of
   // 1e-4 mm leaves the depth exact to ½c·1e-8 ≈ 1e-10 mm.
-  auto [z_best, t_best] = brent_minimize(depth, t.z0 - 0.5, t.z0 + 0.5, z_tol_mm);
-  if (std::abs(z_best - t.z0) > 0.5 - 10 * z_tol_mm)
-    std::tie(z_best, t_best) = brent_minimize(depth, t.z0 - 4.0, t.z0 + 4.0, z_tol_mm);
-  return {t_best, z_best};
+  Minimum best = minimize_brent(depth, t.z0 - 0.5, t.z0 + 0.5, z_tol_mm);
+  if (std::abs(best.x - t.z0) > 0.5 - 10 * z_tol_mm) best = minimize_brent(depth, t.z0 - 4.0, t.z0 + 4.0, z_tol_mm);
+  return {best.value, best.x};
 }
 
 } // namespace geartopo::grinding

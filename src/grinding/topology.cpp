@@ -38,11 +38,11 @@ double largest_abs_deviation_um(const std::vector<FlankTopology>& topo) {
 }
 
 std::vector<double> grid_roll_lengths(const gears::EvaluationRanges& r, int rows) {
-  return evenly(r.xi_eval_start, r.xi_eval_end, rows);
+  return evenly(r.xi_eval_start_mm, r.xi_eval_end_mm, rows);
 }
 
 std::vector<double> grid_axial_positions(const gears::EvaluationRanges& r, int cols) {
-  return evenly(r.z_eval_start, r.z_eval_end, cols);
+  return evenly(r.z_eval_start_mm, r.z_eval_end_mm, cols);
 }
 
 std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const GrindingProcess& process,
@@ -64,9 +64,9 @@ std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const G
 
   const auto& r = setup.ranges();
   const auto rows = grid_roll_lengths(r, o.rows), cols = grid_axial_positions(r, o.cols);
-  const auto prof_xi = evenly(r.xi_active_start, r.xi_active_end, o.profile_points);
+  const auto prof_xi = evenly(r.xi_active_start_mm, r.xi_active_end_mm, o.profile_points);
   const auto helix_z = evenly(0.0, g.spec().face_width_mm, o.helix_points);
-  const double prof_z = 0.5 * g.spec().face_width_mm, helix_xi = 0.5 * (r.xi_eval_start + r.xi_eval_end);
+  const double prof_z = 0.5 * g.spec().face_width_mm, helix_xi = 0.5 * (r.xi_eval_start_mm + r.xi_eval_end_mm);
   const FlankDeviation dev(setup.flanks(), setup.wheel(), setup.path(), process);
 
   std::vector<FlankTopology> out(2 * teeth.size());

@@ -132,7 +132,7 @@ fs::path trace_chart(const workbench::Workbench& wb, const workbench::IsoResult&
   const double T = classify ? evaluation::tolerance_um(qT, p, 5) : 0.0;
   if (classify) c.bands.push_back({render::Orientation::vertical, -0.5 * T, 0.5 * T, render::colours::tolerance, 0.22,
                                    fmt::format("±½ {} class 5", profile ? "F_αT" : "F_βT")});
-  const double a = profile ? r.xi_eval_start : r.z_eval_start, b = profile ? r.xi_eval_end : r.z_eval_end;
+  const double a = profile ? r.xi_eval_start_mm : r.z_eval_start_mm, b = profile ? r.xi_eval_end_mm : r.z_eval_end_mm;
   c.lines.push_back({render::Orientation::horizontal, a, render::colours::grey, 1.5, true, profile ? "L_α" : "L_β"});
   c.lines.push_back({render::Orientation::horizontal, b, render::colours::grey, 1.5, true, ""});
   c.lines.push_back({render::Orientation::vertical, 0.0, render::colours::black, 1.0, false, ""});

@@ -32,11 +32,11 @@ evaluation::GearMeasurement gear_measurement(const gears::GearGeometry& g, const
     fm.tooth = ft.tooth;
     fm.side = ft.flank;
     for (const auto& p : ft.profile) fm.profile.position_mm.push_back(p.roll_length_mm), fm.profile.deviation_um.push_back(p.deviation_um);
-    fm.profile.range_start_mm = r.xi_eval_start;
-    fm.profile.range_end_mm = r.xi_eval_end;
+    fm.profile.range_start_mm = r.xi_eval_start_mm;
+    fm.profile.range_end_mm = r.xi_eval_end_mm;
     for (const auto& p : ft.helix) fm.helix.position_mm.push_back(p.z_mm), fm.helix.deviation_um.push_back(p.deviation_um);
-    fm.helix.range_start_mm = r.z_eval_start;
-    fm.helix.range_end_mm = r.z_eval_end;
+    fm.helix.range_start_mm = r.z_eval_start_mm;
+    fm.helix.range_end_mm = r.z_eval_end_mm;
     m.flanks.push_back(std::move(fm));
     if (!ft.helix.empty()) {
       m.pitch_points.push_back({ft.tooth, ft.flank, at_z(ft.helix, 0.5 * g.spec().face_width_mm)});

@@ -61,7 +61,7 @@ void compare(const grinding::GrindingProcess& process, Comparison& c) {
     for (auto flank : {geartopo::Flank::Left, geartopo::Flank::Right})
       for (int i = 0; i < 15; ++i)
         for (int j = 0; j < 15; ++j) {
-          const double xi = r.xi_active_start + (r.xi_active_end - r.xi_active_start) * i / 14.0;
+          const double xi = r.xi_active_start_mm + (r.xi_active_end_mm - r.xi_active_start_mm) * i / 14.0;
           const double z = b * j / 14.0;
           const double fast = dev.at(tooth, flank, xi, z, Method::Exact).deviation_mm;
           const double ref = reference.exact_by_brent(tooth, flank, xi, z, 1e-7).deviation_mm;

@@ -20,7 +20,7 @@ TEST(FormWheel, ContactLineSatisfiesTheContactCondition) {
   const auto& r = s.ranges();
   for (auto [tooth, flank] : {std::pair{1, geartopo::Flank::Right}, std::pair{2, geartopo::Flank::Left}}) {
     for (int i = 0; i <= 20; ++i) {
-      const double xi = r.xi_active_start + (r.xi_active_end - r.xi_active_start) * i / 20.0;
+      const double xi = r.xi_active_start_mm + (r.xi_active_end_mm - r.xi_active_start_mm) * i / 20.0;
       const auto fp = s.flanks().at(tooth, flank, xi, wheel.contact_offset_mm(flank, xi));
       // Distance between the normal line and the wheel axis (skew-line distance), mm.
       const Eigen::Vector3d w = fp.n.cross(u);

@@ -11,11 +11,11 @@
 namespace geartopo::gears {
 
 struct EvaluationRanges {
-  double xi_active_start, xi_active_end; ///< L_AE: roll lengths of SAP and EAP
-  double xi_eval_start, xi_eval_end;     ///< L_α
-  double z_eval_start, z_eval_end;       ///< L_β
-  double profile_evaluation_length() const { return xi_eval_end - xi_eval_start; }
-  double helix_evaluation_length() const { return z_eval_end - z_eval_start; }
+  double xi_active_start_mm = 0.0, xi_active_end_mm = 0.0; ///< L_AE: roll lengths of SAP and EAP (mm)
+  double xi_eval_start_mm = 0.0, xi_eval_end_mm = 0.0;     ///< L_α: roll lengths (mm)
+  double z_eval_start_mm = 0.0, z_eval_end_mm = 0.0;       ///< L_β: axial positions from the datum face (mm)
+  double profile_evaluation_length() const { return xi_eval_end_mm - xi_eval_start_mm; }
+  double helix_evaluation_length() const { return z_eval_end_mm - z_eval_start_mm; }
 };
 
 EvaluationRanges iso1328_ranges(const GearGeometry& g);
