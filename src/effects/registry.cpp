@@ -1,6 +1,6 @@
 #include "geartopo/effects/registry.hpp"
 
-#include "geartopo/effects/effect_list.hpp"
+#include "effect_list.hpp"
 
 #include <stdexcept>
 
