@@ -4,6 +4,7 @@
 #include "app/options.hpp"
 
 #include "geartopo/compensation/compensator.hpp"
+#include "geartopo/compensation/cycle_corrections.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 
 #include <CLI/CLI.hpp>
@@ -35,16 +36,20 @@ void register_compensate_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, out, method = "flank";
     double step = 2.0;
+    double lead_step = 5.0;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("compensate", "Axis corrections along the wheel path (paper: Jacobian pseudo-inverse; "
                                                    "flank: minimise flank deviations) and the gear before/after");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
-  cmd->add_option("--out", opt->out, "Output directory (created): corrections.csv, topology_before/after.csv, iso1328.json")
+  cmd->add_option("--out", opt->out, "Output directory (created): corrections.csv, cycle_corrections.csv, topology_before/after.csv, iso1328.json")
       ->required();
   cmd->add_option("--method", opt->method, "paper or flank (default)")->check(CLI::IsMember({"paper", "flank"}));
   cmd->add_option("--step", opt->step, "Correction table spacing along each stroke, mm (default 2)")
       ->check(CLI::Range(0.05, 50.0));
+  cmd->add_option("--lead-step", opt->lead_step,
+                  "Largest Z step of the cycle table's lead corrections (cycle_corrections.csv), mm (default 5)")
+      ->check(CLI::Range(0.1, 100.0));
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
@@ -62,10 +67,19 @@ void register_compensate_command(CLI::App& app, Action& action) {
       const auto table = compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm}, co);
       const compensation::CompensatedProcess corrected(wb.process(), table);
       const auto after = grinding::simulate_topology(wb.setup, corrected, so);
+      // What a grinding cycle can take (docs/compensation.md): index and lead corrections per space, Y and A fixed.
+      // The gear is ground again with exactly that, so the after-state of the cycle form is shown, not assumed.
+      const auto cycle = compensation::make_cycle_corrections(table, g.twist_rad_per_mm(), opt->lead_step);
+      std::vector<compensation::CorrectionRow> cycle_rows = table.rows();
+      for (auto& r : cycle_rows) r.correction = cycle.at(r.space, r.machine_axes.z);
+      const compensation::CorrectionTable cycle_table(std::move(cycle_rows));
+      const compensation::CompensatedProcess cycle_corrected(wb.process(), cycle_table);
+      const double max_cycle = grinding::largest_abs_deviation_um(grinding::simulate_topology(wb.setup, cycle_corrected, so));
 
       const std::filesystem::path out(opt->out);
       std::filesystem::create_directories(out);
       table.write_csv(out / "corrections.csv");
+      cycle.write_csv(out / "cycle_corrections.csv");
       grinding::write_topology_csv(out / "topology_before.csv", before);
       grinding::write_topology_csv(out / "topology_after.csv", after);
       grinding::write_traces_csv(out / "traces_before.csv", before);
@@ -93,6 +107,13 @@ void register_compensate_command(CLI::App& app, Action& action) {
                                                                {"after", qa[i].worst_value_um},
                                                                {"improvement_percent", improvement(qb[i].worst_value_um, qa[i].worst_value_um)}};
       j["improvement"] = imp;
+      j["cycle"] = {{"file", "cycle_corrections.csv"},
+                    {"lead_step_mm", opt->lead_step},
+                    {"setup_dY_um", units::um_from_mm(cycle.setup_dY_mm)},
+                    {"setup_dA_urad", units::urad_from_rad(cycle.setup_dA_rad)},
+                    {"not_carried_Y_um", units::um_from_mm(cycle.y_not_carried_mm)},
+                    {"not_carried_A_urad", units::urad_from_rad(cycle.a_not_carried_rad)},
+                    {"largest_abs_deviation_after_um", max_cycle}};
       std::ofstream(out / "iso1328.json") << j.dump(2) << "\n";
 
       const auto [lb, hb] = range_of(before);
@@ -103,6 +124,11 @@ void register_compensate_command(CLI::App& app, Action& action) {
                                units::um_from_mm(cmax(0)), units::um_from_mm(cmax(1)), units::um_from_mm(cmax(2)), units::urad_from_rad(cmax(3)), units::urad_from_rad(cmax(4)));
       std::cout << fmt::format("  topology (all teeth, 7×9 grid): before {:.2f} … {:.2f} µm, after {:.2f} … {:.2f} µm\n", lb, hb, la, ha);
       std::cout << fmt::format("  largest |deviation|: {:.2f} → {:.2f} µm ({:.1f} % better)\n", max_b, max_a, improvement(max_b, max_a));
+      std::cout << fmt::format("  with the cycle table (index + lead per space, Y {:+.2f} µm and A {:+.2f} µrad per gear; "
+                               "not carried: Y {:.2f} µm, A {:.2f} µrad): largest |deviation| {:.2f} µm\n",
+                               units::um_from_mm(cycle.setup_dY_mm), units::urad_from_rad(cycle.setup_dA_rad),
+                               units::um_from_mm(cycle.y_not_carried_mm), units::urad_from_rad(cycle.a_not_carried_rad),
+                               max_cycle);
       std::cout << fmt::format("  {:<6} {:>10} {:>10} {:>9}  {:>6} {:>6}\n", "ISO", "before", "after", "better", "class", "");
       for (size_t i = 0; i < qb.size() && i < qa.size(); ++i)
         std::cout << fmt::format("  {:<6} {:>10.2f} {:>10.2f} {:>8.1f}%  {:>6} → {}\n", evaluation::symbol(qb[i].quantity),
@@ -114,7 +140,8 @@ void register_compensate_command(CLI::App& app, Action& action) {
       if (cb.overall && ca.overall)
         std::cout << fmt::format("  overall flank tolerance class: {} → {}\n", evaluation::class_label(*cb.overall),
                                  evaluation::class_label(*ca.overall));
-      std::cout << "wrote " << out.string() << "/corrections.csv, topology_before.csv, topology_after.csv, iso1328.json\n";
+      std::cout << "wrote " << out.string() << "/corrections.csv, cycle_corrections.csv, topology_before.csv, topology_after.csv, "
+                   "iso1328.json\n";
       return 0;
     };
   });

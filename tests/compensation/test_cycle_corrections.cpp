@@ -1,0 +1,150 @@
+// The cycle form of the corrections (per space an index C, lead X(Z) and C(Z), set-up Y and A): values against
+// formulas written here, the file read back, and on the paper's gear the physics it rests on — a Z correction folded
+// into C through the twist grinds the same flank.
+#include "geartopo/compensation/compensator.hpp"
+#include "geartopo/compensation/cycle_corrections.hpp"
+
+#include "../grinding/grinding_fixture.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+using namespace geartopo;
+using machine::ComponentId;
+using machine::ErrorSource;
+
+namespace {
+
+constexpr double kTwist = 0.002; // rad/mm
+
+// Two spaces, 100 samples each over machine Z 250 … 400 mm (not on any 10 mm grid):
+//   δX = 2 µm + 1e-6 mm⁻¹ (Z − 325)²,  δY = 1 µm + 0.2 µm sin(Z/7),  δZ = ±5 µm (space 1 / 2),
+//   εA = 10 µrad + 1 µrad cos(Z/5),    εC = 20 µrad (space 1) or −30 µrad (space 2) + 0.1 µrad/mm (Z − 325).
+compensation::CorrectionTable analytic_table() {
+  std::vector<compensation::CorrectionRow> rows;
+  for (int space : {1, 2})
+    for (int i = 0; i < 100; ++i) {
+      compensation::CorrectionRow r;
+      r.space = space;
+      const double z = 250.0 + 150.0 * i / 99.0;
+      r.machine_axes.z = z;
+      r.z_stroke_mm = z - 300.0;
+      const double dz = space == 1 ? 5e-3 : -5e-3;
+      const double c0 = space == 1 ? 20e-6 : -30e-6;
+      r.correction << 2e-3 + 1e-6 * (z - 325.0) * (z - 325.0), 1e-3 + 2e-4 * std::sin(z / 7.0), dz,
+          10e-6 + 1e-6 * std::cos(z / 5.0), c0 + 1e-7 * (z - 325.0);
+      rows.push_back(r);
+    }
+  return compensation::CorrectionTable(std::move(rows));
+}
+
+} // namespace
+
+TEST(CycleCorrections, IndexLeadAndSetUpFollowTheFormulas) {
+  const auto table = analytic_table();
+  const auto cycle = compensation::make_cycle_corrections(table, kTwist, 10.0);
+  ASSERT_EQ(cycle.spaces.size(), 2u);
+  for (const auto& s : cycle.spaces) {
+    ASSERT_EQ(s.z_mm.size(), 16u); // 150 mm in 15 steps of 10 mm
+    const double dz = s.space == 1 ? 5e-3 : -5e-3;
+    const double c0 = s.space == 1 ? 20e-6 : -30e-6;
+    // Index: the mean over the stroke of εC + k·δZ; the linear part has mean 0 over 250 … 400.
+    EXPECT_NEAR(s.index_dC_rad, c0 + kTwist * dz, 1e-12);
+    for (size_t i = 0; i < s.z_mm.size(); ++i) {
+      const double z = 250.0 + 10.0 * static_cast<double>(i);
+      EXPECT_NEAR(s.z_mm[i], z, 1e-9);
+      EXPECT_NEAR(s.dC_rad[i], 1e-7 * (z - 325.0), 1e-12); // linear: exact under linear interpolation
+      // Quadratic sampled every 150/99 mm: linear interpolation errs by at most h²/8·f'' = 0.57 nm.
+      EXPECT_NEAR(s.dX_mm[i], 2e-3 + 1e-6 * (z - 325.0) * (z - 325.0), 6e-7);
+    }
+  }
+  double mean_y = 0.0, mean_a = 0.0;
+  for (const auto& r : table.rows()) mean_y += r.correction(1) / 200.0, mean_a += r.correction(3) / 200.0;
+  EXPECT_NEAR(cycle.setup_dY_mm, mean_y, 1e-15);
+  EXPECT_NEAR(cycle.setup_dA_rad, mean_a, 1e-18);
+  double y_left = 0.0, a_left = 0.0;
+  for (const auto& r : table.rows())
+    y_left = std::max(y_left, std::abs(r.correction(1) - mean_y)), a_left = std::max(a_left, std::abs(r.correction(3) - mean_a));
+  EXPECT_NEAR(cycle.y_not_carried_mm, y_left, 1e-15);
+  EXPECT_GT(cycle.y_not_carried_mm, 1.9e-4); // the 0.2 µm sine is what the cycle cannot apply
+  EXPECT_NEAR(cycle.a_not_carried_rad, a_left, 1e-18);
+}
+
+TEST(CycleCorrections, TheFileReadsBackToItsPrintedPrecision) {
+  const auto cycle = compensation::make_cycle_corrections(analytic_table(), kTwist, 10.0);
+  std::ostringstream out;
+  cycle.write_csv(out);
+  std::istringstream in(out.str());
+  std::string line;
+  bool header = false;
+  size_t rows = 0;
+  double setup_y_um = NAN;
+  while (std::getline(in, line)) {
+    if (line.rfind("# setup_dY_um: ", 0) == 0) setup_y_um = std::stod(line.substr(15));
+    if (line.empty() || line[0] == '#') continue;
+    if (!header) {
+      EXPECT_EQ(line, "space,index_dC_urad,Z_mm,lead_dX_um,lead_dC_urad");
+      header = true;
+      continue;
+    }
+    std::istringstream f(line);
+    std::string v[5];
+    for (auto& s : v) std::getline(f, s, ',');
+    const int space = std::stoi(v[0]);
+    const auto& s = cycle.spaces[static_cast<size_t>(space - 1)];
+    const size_t i = rows % 16;
+    EXPECT_NEAR(std::stod(v[1]), 1e6 * s.index_dC_rad, 1e-4);
+    EXPECT_NEAR(std::stod(v[2]), s.z_mm[i], 1e-4);
+    EXPECT_NEAR(std::stod(v[3]), 1e3 * s.dX_mm[i], 1e-4);
+    EXPECT_NEAR(std::stod(v[4]), 1e6 * s.dC_rad[i], 1e-4);
+    ++rows;
+  }
+  EXPECT_EQ(rows, 32u);
+  EXPECT_NEAR(setup_y_um, 1e3 * cycle.setup_dY_mm, 1e-4);
+}
+
+TEST(CycleCorrections, RefusesAnEmptyTableAndABadStep) {
+  EXPECT_THROW(compensation::make_cycle_corrections(compensation::CorrectionTable({}), kTwist, 10.0),
+               std::invalid_argument);
+  EXPECT_THROW(compensation::make_cycle_corrections(analytic_table(), kTwist, 0.0), std::invalid_argument);
+  EXPECT_THROW(compensation::make_cycle_corrections(analytic_table(), kTwist, NAN), std::invalid_argument);
+}
+
+// A machine whose Z positions 8 µm long and whose C is 15 µrad off: the flank method corrects with Z and C. The
+// cycle table has no Z; it folds δZ into C through the twist. Ground with the cycle's corrections the flanks must
+// be those ground with the full table — the screw motion (Z by s, C by −k·s) does not change a helicoid — to
+// within the lead grid's interpolation (a few nm here).
+TEST(CycleCorrections, AZCorrectionFoldedIntoCGrindsTheSameFlank) {
+  const auto model = test::machine_with({ErrorSource::constant(ComponentId::delta_zz, 8.0, "um"),
+                                         ErrorSource::constant(ComponentId::epsilon_zc, 15.0, "urad"),
+                                         ErrorSource::constant(ComponentId::delta_xx, 6.0, "um")});
+  const grinding::MachineProcess process(model, test::kDatumZ);
+  compensation::CompensationOptions o;
+  o.step_mm = 4.0;
+  const auto full = compensation::compute_corrections(test::paper_setup(), process, {model, test::kDatumZ}, o);
+  double max_dz = 0.0;
+  for (const auto& r : full.rows()) max_dz = std::max(max_dz, std::abs(r.correction(2)));
+  ASSERT_GT(max_dz, 1e-3) << "the full table must use Z for this test to mean anything";
+
+  const double k = test::paper_setup().geometry().twist_rad_per_mm();
+  const auto cycle = compensation::make_cycle_corrections(full, k, 10.0);
+  std::vector<compensation::CorrectionRow> rows = full.rows();
+  for (auto& r : rows) r.correction = cycle.at(r.space, r.machine_axes.z);
+  const compensation::CorrectionTable as_cycle(std::move(rows));
+
+  const compensation::CompensatedProcess with_full(process, full), with_cycle(process, as_cycle);
+  const auto a = test::simulate(with_full, grinding::Method::Exact, {1, 18});
+  const auto b = test::simulate(with_cycle, grinding::Method::Exact, {1, 18});
+  const auto before = test::simulate(process, grinding::Method::Exact, {1, 18});
+  double diff = 0.0, largest_before = 0.0;
+  for (size_t f = 0; f < a.size(); ++f)
+    for (size_t i = 0; i < a[f].grid.size(); ++i) {
+      diff = std::max(diff, std::abs(a[f].grid[i].deviation_um - b[f].grid[i].deviation_um));
+      largest_before = std::max(largest_before, std::abs(before[f].grid[i].deviation_um));
+    }
+  EXPECT_GT(largest_before, 5.0);
+  EXPECT_LT(diff, 0.01) << "µm: folding Z into C must not change the flank";
+}
