@@ -44,7 +44,9 @@ void register_compensate_command(CLI::App& app, Action& action) {
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
   cmd->add_option("--out", opt->out, "Output directory (created): corrections.csv, cycle_corrections.csv, topology_before/after.csv, iso1328.json")
       ->required();
-  cmd->add_option("--method", opt->method, "paper or flank (default)")->check(CLI::IsMember({"paper", "flank"}));
+  cmd->add_option("--method", opt->method,
+                  "paper, flank (default; every axis at every pose) or cycle (X, Z, C per pose; Y and A per gear)")
+      ->check(CLI::IsMember({"paper", "flank", "cycle"}));
   cmd->add_option("--step", opt->step, "Correction table spacing along each stroke, mm (default 2)")
       ->check(CLI::Range(0.05, 50.0));
   cmd->add_option("--lead-step", opt->lead_step,
@@ -61,7 +63,9 @@ void register_compensate_command(CLI::App& app, Action& action) {
       so.cols = wb.scene.grid.cols;
 
       compensation::CompensationOptions co;
-      co.method = opt->method == "paper" ? compensation::Method::Paper : compensation::Method::Flank;
+      co.method = opt->method == "paper"   ? compensation::Method::Paper
+                  : opt->method == "cycle" ? compensation::Method::Cycle
+                                           : compensation::Method::Flank;
       co.step_mm = opt->step;
       const auto before = grinding::simulate_topology(wb.setup, wb.process(), so);
       const auto table = compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm}, co);

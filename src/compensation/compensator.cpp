@@ -75,8 +75,12 @@ std::vector<ContactPoint> contact_points(const grinding::GrindingSetup& setup, i
   return pts;
 }
 
+/// Axes a method may move at every pose: all five, or (cycle) X, Z and C with Y and A held at the gear's values.
+using AxisMask = Eigen::Matrix<double, 5, 1>; // 1 free, 0 held
+
 PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
-                    const grinding::PathPoint& pp, const CompensationOptions& o) {
+                    const grinding::PathPoint& pp, const CompensationOptions& o, const Vector5d& start = Vector5d::Zero(),
+                    const AxisMask& free = AxisMask::Ones()) {
   const auto pts = contact_points(setup, pp.space, pp.z_stroke_mm, o.contact_points);
   const long m = static_cast<long>(pts.size());
   Eigen::Matrix<double, Eigen::Dynamic, 6> A(m, 6);
@@ -107,7 +111,8 @@ PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::Grindi
   // with fixed-size 5×5 factors (m = both contact lines' points is only known at run time).
   using MatrixX5d = Eigen::Matrix<double, Eigen::Dynamic, 5>;
   using Matrix5d = Eigen::Matrix<double, 5, 5>;
-  const MatrixX5d M = A * machine::J_twistw_q(pp.q) * D.cwiseInverse().asDiagonal(); // m×5
+  // Held axes get zero columns: their directions fall into the null space and keep their start value.
+  const MatrixX5d M = A * machine::J_twistw_q(pp.q) * D.cwiseInverse().asDiagonal() * free.asDiagonal(); // m×5
   const Eigen::HouseholderQR<MatrixX5d> qr(M);
   const Matrix5d R = qr.matrixQR().topRows<5>().triangularView<Eigen::Upper>();
   const Eigen::JacobiSVD<Matrix5d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
@@ -119,9 +124,11 @@ PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::Grindi
   const Eigen::Matrix<double, 5, Eigen::Dynamic, 0, 5, 5> N = V.rightCols(5 - rank);
   // Wheel-frame pose error weights: translations 1, rotations L, spin about the wheel axis (g's y) 0.
   const Vector6d S = (Vector6d() << 1.0, 1.0, 1.0, L, 0.0, L).finished();
-  const machine::Matrix65 G = S.asDiagonal() * machine::J_twistg_q(pp.q) * D.cwiseInverse().asDiagonal(); // 6×5
+  const machine::Matrix65 G =
+      S.asDiagonal() * machine::J_twistg_q(pp.q) * D.cwiseInverse().asDiagonal() * free.asDiagonal(); // 6×5
 
   PoseResult r;
+  r.dq = start;
   Eigen::VectorXd d = deviations(r.dq);
   for (int it = 0; it < o.max_iterations; ++it) {
     // Level 1: u = V Σ⁺ (Q U_R)ᵀ d over the first `rank` singular directions; (Q U_R)ᵀ d = U_Rᵀ (Qᵀ d)[0..5).
@@ -143,15 +150,73 @@ PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::Grindi
   return r;
 }
 
+/// Contribution of one pose to the gear-level normal equations of the held axes (Y, A) in the scaled variables
+/// u = D·Δq: with the pose axes P = {X, Z, C} free, the best pose correction leaves P⊥(d0 + M_G u_G), P⊥ the
+/// projector off the range of M_P (m×3), so the gear's u_G minimises Σ ‖P⊥ d0 + P⊥ M_G u_G‖².
+struct GearTerms {
+  Eigen::Matrix2d H = Eigen::Matrix2d::Zero(); ///< Σ M_Gᵀ P⊥ M_G
+  Eigen::Vector2d b = Eigen::Vector2d::Zero(); ///< Σ M_Gᵀ P⊥ d0
+};
+
+GearTerms gear_terms_at(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
+                        const grinding::PathPoint& pp, const CompensationOptions& o) {
+  const auto pts = contact_points(setup, pp.space, pp.z_stroke_mm, o.contact_points);
+  const long m = static_cast<long>(pts.size());
+  Eigen::Matrix<double, Eigen::Dynamic, 6> A(m, 6);
+  for (long i = 0; i < m; ++i) A.row(i) = pts[static_cast<size_t>(i)].a;
+  const Pose ideal = machine::ideal_wMg(pp.q);
+  const Pose gMw = ideal.inverse();
+  const double L = 0.5 * setup.geometry().reference_diameter_mm();
+  const Vector5d D = (Vector5d() << 1.0, 1.0, 1.0, L, L).finished();
+  const Vector6d t = error_w(process.actual_wMg(pp), ideal);
+  Eigen::VectorXd d0 = A * t;
+  for (long i = 0; i < m; ++i) {
+    const double v = (gMw * pts[static_cast<size_t>(i)].p).y();
+    d0(i) -= process.wheel_radius_error_mm(v, pp) * setup.wheel().normal_per_radial(v);
+  }
+  const Eigen::Matrix<double, Eigen::Dynamic, 5> M = A * machine::J_twistw_q(pp.q) * D.cwiseInverse().asDiagonal();
+  Eigen::Matrix<double, Eigen::Dynamic, 3> MP(m, 3);
+  MP << M.col(0), M.col(2), M.col(4);
+  Eigen::Matrix<double, Eigen::Dynamic, 2> MG(m, 2);
+  MG << M.col(1), M.col(3);
+  // P⊥ x = x − Q (Qᵀ x) over the rank of M_P (Z and C are nearly the same motion on a helicoid: rank-revealing QR).
+  const Eigen::ColPivHouseholderQR<Eigen::Matrix<double, Eigen::Dynamic, 3>> qr(MP);
+  const Eigen::Index rank = qr.rank();
+  const Eigen::MatrixXd Q = Eigen::MatrixXd(qr.householderQ()).leftCols(rank);
+  const Eigen::Matrix<double, Eigen::Dynamic, 2> PG = MG - Q * (Q.transpose() * MG);
+  const Eigen::VectorXd Pd = d0 - Q * (Q.transpose() * d0);
+  GearTerms g;
+  g.H = MG.transpose() * PG;
+  g.b = MG.transpose() * Pd;
+  return g;
+}
+
 } // namespace
 
 CorrectionTable compute_corrections(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
                                     const StrokeCheck& strokes, const CompensationOptions& o) {
   const std::vector<grinding::PathPoint> samples = setup.path().sample(o.step_mm);
+  // Cycle: first the gear's Y and A (one linear least-squares problem over every pose), then every pose with them held.
+  Vector5d gear_start = Vector5d::Zero();
+  if (o.method == Method::Cycle) {
+    std::vector<GearTerms> terms(samples.size());
+    geartopo::parallel_for(static_cast<int>(samples.size()), 0, [&](int i) {
+      terms[static_cast<size_t>(i)] = gear_terms_at(setup, process, samples[static_cast<size_t>(i)], o);
+    });
+    GearTerms sum; // summed in path order: the same result at any thread count
+    for (const auto& t : terms) sum.H += t.H, sum.b += t.b;
+    const Eigen::Vector2d u = -sum.H.completeOrthogonalDecomposition().solve(sum.b);
+    const double L = 0.5 * setup.geometry().reference_diameter_mm();
+    gear_start(1) = u(0);     // Y (mm)
+    gear_start(3) = u(1) / L; // A (rad)
+  }
+  const AxisMask cycle_axes = (AxisMask() << 1.0, 0.0, 1.0, 0.0, 1.0).finished();
   std::vector<CorrectionRow> rows(samples.size());
   geartopo::parallel_for(static_cast<int>(samples.size()), 0, [&](int i) {
     const auto& pp = samples[static_cast<size_t>(i)];
-    const PoseResult r = o.method == Method::Paper ? paper_at(process, pp, o.max_iterations) : flank_at(setup, process, pp, o);
+    const PoseResult r = o.method == Method::Paper   ? paper_at(process, pp, o.max_iterations)
+                         : o.method == Method::Cycle ? flank_at(setup, process, pp, o, gear_start, cycle_axes)
+                                                     : flank_at(setup, process, pp, o);
     CorrectionRow& row = rows[static_cast<size_t>(i)];
     row.space = pp.space;
     row.z_stroke_mm = pp.z_stroke_mm;

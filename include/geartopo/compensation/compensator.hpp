@@ -9,6 +9,9 @@
 //        wheel radius). Directions that do not change the ground surface — spin about the wheel axis, motion along
 //        the helicoid's screw — have no effect on that objective; among equivalent corrections the smallest is taken
 //        (minimum norm with rotary corrections scaled by the reference radius, so mm and rad weigh alike).
+// cycle: the flank objective with what a profile grinder's cycle can move: X, Z and C at every pose, Y and A once for
+//        the gear. The gear's Y and A minimise the flank deviations left over all poses after each pose's best X, Z, C
+//        (one linear least-squares problem in two unknowns); then every pose is solved as in flank with them held.
 // Units: mm, rad.
 #pragma once
 
@@ -19,7 +22,7 @@
 
 namespace geartopo::compensation {
 
-enum class Method { Paper, Flank };
+enum class Method { Paper, Flank, Cycle };
 
 struct CompensationOptions {
   Method method = Method::Flank;
