@@ -23,8 +23,8 @@ namespace {
 class EffectFit {
 public:
   EffectFit(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts, const std::vector<double>& r0,
-            const std::vector<std::string>& types, int threads)
-      : setup_(setup), pts_(pts), r0_(r0), threads_(threads) {
+            const std::vector<std::string>& types, const SetupTermModel& setup_terms, int threads)
+      : setup_(setup), pts_(pts), r0_(r0), setup_terms_(setup_terms), threads_(threads) {
     for (const auto& t : types) {
       effects_.push_back(effects::make_effect(t));
       effects_.back()->bind(setup);
@@ -52,13 +52,14 @@ public:
     return predict(setup_, p, pts_, grinding::Method::Linear, threads_);
   }
 
-  /// Residual left at the points (µm, one per point) with the parameters x (p, scaled).
+  /// Residual left at the points (µm, one per point) with the parameters x (p, scaled) and the best set-up terms for
+  /// them (variable projection: the terms are linear, so they are solved exactly for every x).
   Eigen::VectorXd residual(const Eigen::VectorXd& x) {
     set(x);
     const auto c = contribution();
     Eigen::VectorXd r(static_cast<long>(c.size()));
     for (size_t i = 0; i < c.size(); ++i) r(static_cast<long>(i)) = r0_[i] - c[i];
-    return r;
+    return setup_terms_.remove(r);
   }
 
   /// Levenberg–Marquardt from x0 within [lo, hi] (all p, scaled).
@@ -84,6 +85,7 @@ private:
   const grinding::GrindingSetup& setup_;
   const std::vector<MeasuredPoint>& pts_;
   const std::vector<double>& r0_;
+  const SetupTermModel& setup_terms_;
   int threads_;
   std::vector<std::unique_ptr<effects::Effect>> effects_;
   std::vector<std::pair<size_t, size_t>> free_; // (effect, parameter)
@@ -230,15 +232,18 @@ double sum_of_squares(const std::vector<double>& r) {
 
 Candidate fit_effects(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
                       const std::vector<double>& r0, const std::vector<std::string>& types,
-                      const std::map<std::string, std::vector<double>>& warm, const DiagnoseOptions& o) {
-  EffectFit f(setup, pts, r0, types, o.threads);
+                      const std::map<std::string, std::vector<double>>& warm, const SetupTermModel& setup_terms,
+                      const DiagnoseOptions& o) {
+  EffectFit f(setup, pts, r0, types, setup_terms, o.threads);
   const Box box = parameter_box(f);
   const LmResult best = best_of_starts(f, start_points(f, box, warm), box);
   const double n = static_cast<double>(pts.size());
-  const double sigma2 = best.rss / std::max(1.0, n - static_cast<double>(f.size())); // σ̂² (µm²)
+  const double dof = n - static_cast<double>(f.size()) - setup_terms.count();
+  const double sigma2 = best.rss / std::max(1.0, dof); // σ̂² (µm²)
   Eigen::VectorXd sd = linearised_sd(best, sigma2, o.covariance_ridge);
   widen_by_profile_likelihood(f, best, box, sigma2, o, sd);
-  return to_candidate(f, best, sd, sum_of_squares(r0), n);
+  const Eigen::VectorXd r0v = Eigen::Map<const Eigen::VectorXd>(r0.data(), static_cast<Eigen::Index>(r0.size()));
+  return to_candidate(f, best, sd, setup_terms.remove(r0v).squaredNorm(), n);
 }
 
 } // namespace geartopo::diagnosis

@@ -4,6 +4,8 @@
 // parameter in its own unit (its key).
 #pragma once
 
+#include "setup_terms.hpp"
+
 #include "geartopo/diagnosis/diagnose.hpp"
 
 #include <map>
@@ -16,11 +18,13 @@ namespace geartopo::diagnosis {
 double sum_of_squares(const std::vector<double>& r);
 
 /// Fits the effects `types` jointly to the residual r0 (µm, one value per point of `points`), their contribution being
-/// their first-order deviation at the points. Starts from every combination of the start values of the nonlinear
+/// their first-order deviation at the points, together with the set-up terms (`setup`: projected out, so the effects
+/// are judged on what the set-up terms cannot take; the baseline RSS₀ is that of r0 with them removed). Starts from every combination of the start values of the nonlinear
 /// parameters and, when `warm` has values of a type (a previous single fit, each parameter in its own unit), also from
 /// those; keeps the smallest RSS. The candidate's `significant` is left to the caller.
 Candidate fit_effects(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& points,
                       const std::vector<double>& r0, const std::vector<std::string>& types,
-                      const std::map<std::string, std::vector<double>>& warm, const DiagnoseOptions& options);
+                      const std::map<std::string, std::vector<double>>& warm, const SetupTermModel& setup_terms,
+                      const DiagnoseOptions& options);
 
 } // namespace geartopo::diagnosis

@@ -5,10 +5,11 @@
 // first-order deviation (superposed on the model's exact deviation — both are small). Each fit reports values with
 // standard uncertainties, the fraction of the residual's sum of squares it explains, the RMS before and after, and
 // ΔBIC = n ln(RSS/RSS₀) + p ln n against the model without it, so that a many-parameter effect does not win by
-// over-fitting. Candidates are ranked by ΔBIC; an effect is significant when ΔBIC < −threshold. When the best one
-// leaves more than 1.5× the noise (DiagnoseOptions::explained_noise_factor), pairs of significant effects are fitted
-// jointly. Units: µm, and each parameter's
-// own unit (its key).
+// over-fitting. Every fit, the baseline included, also fits the measurement's set-up terms (thickness offset, angular
+// registration: SetupTerms), which are reported on their own and never credited to an effect. Candidates are ranked
+// by ΔBIC; an effect is significant when ΔBIC < −threshold. When two or more are significant, pairs are fitted
+// jointly and one is taken when it beats the best single effect by the threshold again. What is left is judged
+// against the noise by a χ² test. Units: µm, and each parameter's own unit (its key).
 #pragma once
 
 #include "geartopo/diagnosis/measured_points.hpp"
@@ -30,12 +31,20 @@ struct FittedParameter {
   bool fitted = true;
 };
 
+/// Set-up terms of a measurement (not process physics; docs/diagnosis.md): a thickness offset on every flank and the
+/// gear's angular registration, fitted alongside every explanation and reported on their own.
+struct SetupTerms {
+  double thickness_um = 0.0, thickness_sd_um = 0.0;  ///< uniform normal offset, plus material positive, and its 1σ
+  double rotation_urad = 0.0, rotation_sd_urad = 0.0; ///< rigid turn of the gear (+: right flanks gain material)
+  bool rotation_identified = true;                    ///< false with one flank side: the offset then holds both
+};
+
 struct Candidate {
   std::vector<scene::EffectSpec> effects;               ///< one (or two, for a combination) with fitted values
   std::vector<std::vector<FittedParameter>> parameters; ///< per effect
   std::vector<std::string> explanations;                ///< one line of physics per effect
-  double rms_before_um = 0.0, rms_after_um = 0.0;
-  double explained_fraction = 0.0; ///< 1 − RSS/RSS₀
+  double rms_before_um = 0.0, rms_after_um = 0.0; ///< with the set-up terms removed (µm)
+  double explained_fraction = 0.0; ///< 1 − RSS/RSS₀, both with the set-up terms fitted
   double delta_bic = 0.0;
   bool significant = false;
   std::string name() const;        ///< "thermal_drift" or "thermal_drift + wheel_wear"
@@ -53,13 +62,12 @@ struct DiagnoseOptions {
   /// Fewest measured points (count) diagnose accepts: the noise estimate fits 6 terms per flank, and BIC with a
   /// handful of points rewards nothing.
   std::size_t min_points = 10;
-  /// A residual counts as explained when its RMS is at most this multiple of the noise σ (unit-free). Above it, the
-  /// best single effect is fitted jointly with each other significant one, and the verdict says part of the residual
-  /// remains. 1.5: pure noise has RMS ≈ σ, and an estimated σ from a few flanks can be off by tens of per cent; a
-  /// missing effect comparable to the noise still raises the RMS beyond it.
-  double explained_noise_factor = 1.5;
-  /// Significant single effects taken into pairs (count): the best with each of the next ones, up to this many in
-  /// all. 4 (three pairs): each joint fit costs as much as several single fits, and an effect ranked below fourth has
+  /// What is left after the chosen explanation counts as more than noise when Σ r²/σ² exceeds the χ² quantile of its
+  /// degrees of freedom at this upper-tail probability (unit-free): the verdict then says part of the residual
+  /// remains unexplained. 0.001: one false "unexplained" in a thousand pure-noise measurements.
+  double unexplained_false_alarm = 1e-3;
+  /// Significant single effects taken into pairs (count): whenever two or more are significant, the best with each
+  /// of the next ones, up to this many in all. 4 (three pairs): each joint fit costs as much as several single fits, and an effect ranked below fourth has
   /// not explained enough alone to be the needed partner.
   std::size_t pair_candidates = 4;
   /// Ridge added to the diagonal of JᵀJ before inverting it for the covariance, relative to max(1, trace) (unit-free,
@@ -78,11 +86,15 @@ struct Diagnosis {
   int points = 0;
   double noise_um = 0.0;
   bool noise_estimated = false;
-  double rms_before_um = 0.0;
+  double rms_before_um = 0.0;          ///< measured − model, as measured (µm)
+  double rms_before_setup_um = 0.0;    ///< the same with the set-up terms removed: what effects must explain (µm)
+  SetupTerms setup;                    ///< set-up terms fitted with the chosen explanation (or with none)
   std::vector<Candidate> ranked;       ///< single effects, best ΔBIC first
   std::optional<Candidate> combination; ///< a significant pair, when one effect leaves too much
   std::optional<Candidate> chosen;      ///< what to add: the combination, else the best significant single effect
-  std::vector<double> residual_before_um, residual_after_um; ///< per point (after: with `chosen`, exact simulation)
+  /// Per point (µm): measured − model as measured; after: measured − model with `chosen` (exact simulation) with the
+  /// set-up terms removed.
+  std::vector<double> residual_before_um, residual_after_um;
   std::string verdict;                  ///< one paragraph for people
 };
 

@@ -1,0 +1,42 @@
+#include "setup_terms.hpp"
+
+#include "geartopo/core/units.hpp"
+
+#include <cmath>
+
+namespace geartopo::diagnosis {
+
+SetupTermModel::SetupTermModel(const gears::GearGeometry& g, const std::vector<MeasuredPoint>& pts) {
+  const Eigen::Index n = static_cast<Eigen::Index>(pts.size());
+  bool left = false, right = false;
+  for (const auto& p : pts) (p.flank == Flank::Right ? right : left) = true;
+  // µm of normal offset per µrad of turn: r_b (mm) · cos β_b · 1e-6 rad/µrad · 1e3 µm/mm.
+  const double um_per_urad =
+      units::um_from_mm(0.5 * g.base_diameter_mm()) * std::cos(g.base_helix_angle()) * units::rad_from_urad(1.0);
+  S_.resize(n, left && right ? 2 : 1);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    S_(i, 0) = 1.0;
+    if (S_.cols() == 2) S_(i, 1) = side_sign(pts[static_cast<size_t>(i)].flank) * um_per_urad;
+  }
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(S_);
+  Q_ = qr.householderQ() * Eigen::MatrixXd::Identity(n, S_.cols());
+}
+
+Eigen::VectorXd SetupTermModel::remove(const Eigen::VectorXd& r) const { return r - Q_ * (Q_.transpose() * r); }
+
+SetupTerms SetupTermModel::fit(const Eigen::VectorXd& r, double sigma_um) const {
+  const Eigen::MatrixXd StS = S_.transpose() * S_;                    // count × count
+  const Eigen::VectorXd beta = StS.ldlt().solve(S_.transpose() * r);  // t (µm)[, ψ (µrad)]
+  const Eigen::MatrixXd cov = sigma_um * sigma_um * StS.inverse();    // count × count
+  SetupTerms s;
+  s.thickness_um = beta(0);
+  s.thickness_sd_um = std::sqrt(cov(0, 0));
+  s.rotation_identified = S_.cols() == 2;
+  if (s.rotation_identified) {
+    s.rotation_urad = beta(1);
+    s.rotation_sd_urad = std::sqrt(cov(1, 1));
+  }
+  return s;
+}
+
+} // namespace geartopo::diagnosis
