@@ -117,6 +117,13 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       j["noise_um"] = d.noise_um;
       j["noise_estimated"] = d.noise_estimated;
       j["rms_before_um"] = d.rms_before_um;
+      j["rms_before_setup_removed_um"] = d.rms_before_setup_um;
+      // Not process physics: fitted alongside every explanation (docs/diagnosis.md, "Set-up terms").
+      j["setup"] = {{"thickness_um", d.setup.thickness_um},
+                    {"thickness_sd_um", d.setup.thickness_sd_um},
+                    {"rotation_urad", d.setup.rotation_identified ? nlohmann::json(d.setup.rotation_urad) : nlohmann::json(nullptr)},
+                    {"rotation_sd_urad", d.setup.rotation_identified ? nlohmann::json(d.setup.rotation_sd_urad) : nlohmann::json(nullptr)},
+                    {"rotation_identified", d.setup.rotation_identified}};
       nlohmann::json cands = nlohmann::json::array();
       for (const auto& c : d.ranked) cands.push_back(candidate_json(c));
       j["candidates"] = cands;

@@ -227,6 +227,8 @@ TEST(Cli, SynthCompareDiagnoseAndTheErrorFalls) {
   for (const char* key : {"effect", "parameters", "explained_fraction", "rms_before_um", "rms_after_um"})
     EXPECT_TRUE(d["candidates"][0].contains(key)) << key;
   EXPECT_EQ(d["candidates"][0]["parameters"]["x_growth_um"]["unit"], "um");
+  for (const char* key : {"thickness_um", "thickness_sd_um", "rotation_urad", "rotation_sd_urad", "rotation_identified"})
+    EXPECT_TRUE(d["setup"].contains(key)) << key;
 
   const CliResult after = run("compare " + (dir / "d" / "scene_with_effect.yaml").string() + " --measured " + measured +
                               " --out " + (dir / "c2").string() + " --noise-um 0.5");
