@@ -36,6 +36,7 @@ nlohmann::json candidate_json(const diagnosis::Candidate& c) {
     }
   j["parameters"] = params;
   j["explained_fraction"] = c.explained_fraction;
+  j["rejected"] = c.rejected.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.rejected);
   j["rms_before_um"] = c.rms_before_um;
   j["rms_after_um"] = c.rms_after_um;
   j["delta_bic"] = c.delta_bic;
@@ -144,7 +145,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
         for (const auto& p : c.parameters.front())
           if (p.fitted) params += fmt::format("{} {:.4g} ± {:.2g}  ", p.key, p.value, p.uncertainty);
         std::cout << fmt::format("  {:<4} {:<16} {:>9.1f} {:>9.1f}% {:>7.2f} µm  {}{}\n", rank++, c.name(), c.delta_bic,
-                                 100.0 * c.explained_fraction, c.rms_after_um, params, c.significant ? "" : "(not significant)");
+                                 100.0 * c.explained_fraction, c.rms_after_um, params, !c.rejected.empty() ? "(rejected: " + c.rejected + ")" : c.significant ? std::string() : std::string("(not significant)"));
       }
       if (d.combination)
         std::cout << fmt::format("  combination: {} (ΔBIC {:.1f}, RMS after {:.2f} µm)\n", d.combination->name(),

@@ -111,24 +111,35 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   std::map<std::string, std::vector<double>> fitted_values;
   for (const auto& t : types) {
     Candidate c = fit_effects(setup, pts, d.residual_before_um, {t}, {}, setup_terms, o);
-    c.significant = c.delta_bic < -o.bic_threshold;
+    c.significant = c.delta_bic < -o.bic_threshold && c.rejected.empty();
     fitted_values[t] = c.effects.front().values;
     d.ranked.push_back(std::move(c));
   }
   std::sort(d.ranked.begin(), d.ranked.end(), [](const Candidate& a, const Candidate& b) { return a.delta_bic < b.delta_bic; });
 
+  // Rejected candidates (implausible parameters) go after the others, whatever their ΔBIC: the best explanation is
+  // the first plausible significant one.
+  std::stable_partition(d.ranked.begin(), d.ranked.end(), [](const Candidate& c) { return c.rejected.empty(); });
   if (!d.ranked.empty() && d.ranked.front().significant) {
     d.chosen = d.ranked.front();
     // Pairs by evidence, not by a gate on the residual: whenever two or more effects are significant alone, the best
     // is fitted jointly with each of the next ones (warm-started from the single fits), and a pair is taken when it
     // beats the best single effect by the ΔBIC threshold again. A few joint fits cost little beside the evidence a
     // fixed "residual > 1.5 σ" gate throws away (with hundreds of points 1.2 σ is already a highly significant excess).
-    std::vector<std::string> top;
+    // Partners: every single effect the evidence favours (ΔBIC below −threshold), also one rejected alone — an effect
+    // forced to mimic another's pattern on its own can take implausible values and be plausible beside it. The pair
+    // faces the plausibility rule itself.
+    std::vector<const Candidate*> favoured;
     for (const auto& c : d.ranked)
-      if (c.significant && top.size() < o.pair_candidates) top.push_back(c.effects.front().type);
+      if (c.delta_bic < -o.bic_threshold) favoured.push_back(&c);
+    std::stable_sort(favoured.begin() + 1, favoured.end(),
+                     [](const Candidate* a, const Candidate* b) { return a->delta_bic < b->delta_bic; });
+    std::vector<std::string> top;
+    for (const Candidate* c : favoured)
+      if (top.size() < o.pair_candidates) top.push_back(c->effects.front().type);
     for (size_t b = 1; b < top.size(); ++b) {
       Candidate c = fit_effects(setup, pts, d.residual_before_um, {top[0], top[b]}, fitted_values, setup_terms, o);
-      c.significant = c.delta_bic < d.ranked.front().delta_bic - o.bic_threshold;
+      c.significant = c.delta_bic < d.ranked.front().delta_bic - o.bic_threshold && c.rejected.empty();
       if (c.significant && (!d.combination || c.delta_bic < d.combination->delta_bic)) d.combination = std::move(c);
     }
     if (d.combination) d.chosen = d.combination;
@@ -168,6 +179,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
                             "unexplained: see its pattern.",
                             d.ranked.empty() ? "none" : d.ranked.front().name(),
                             d.ranked.empty() ? 0.0 : d.ranked.front().delta_bic, d.rms_before_setup_um, d.noise_um);
+
   } else {
     d.verdict = setup_text +
                 fmt::format("Missing: {}. Adding it takes the residual (set-up removed) from {:.2f} to {:.2f} µm RMS "
@@ -183,6 +195,14 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
                                "degrees of freedom at {:g}): part of the residual is still unexplained.",
                                chi2, limit, dof, o.unexplained_false_alarm);
   }
+  // A fit the evidence favoured over what was chosen (or over nothing) but plausibility refused: said aloud, with why.
+  const auto nearest = std::min_element(d.ranked.begin(), d.ranked.end(), [](const Candidate& a, const Candidate& b) {
+    return a.delta_bic < b.delta_bic;
+  });
+  const double beat = d.chosen ? d.chosen->delta_bic : -o.bic_threshold;
+  if (nearest != d.ranked.end() && !nearest->rejected.empty() && nearest->delta_bic < beat)
+    d.verdict += fmt::format(" {} fits better (ΔBIC {:.1f}) but was rejected: {}.", nearest->name(), nearest->delta_bic,
+                             nearest->rejected);
   return d;
 }
 

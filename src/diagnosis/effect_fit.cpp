@@ -9,6 +9,7 @@
 #include "geartopo/effects/registry.hpp"
 
 #include <Eigen/Dense>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -208,8 +209,22 @@ Candidate to_candidate(EffectFit& f, const LmResult& best, const Eigen::VectorXd
     std::vector<FittedParameter> params;
     for (size_t k = 0; k < eff.parameters().size(); ++k) {
       const int j = f.free_index(e, k);
-      const double u = j >= 0 ? sd(j) * eff.parameters()[k].typical : 0.0;
-      params.push_back({eff.parameters()[k].key, eff.value(k), u, j >= 0});
+      const auto& spec = eff.parameters()[k];
+      const double u = j >= 0 ? sd(j) * spec.typical : 0.0;
+      params.push_back({spec.key, eff.value(k), u, j >= 0});
+      if (j < 0 || !c.rejected.empty()) continue;
+      // Plausibility: a value the data demand beyond what a real machine shows is the optimiser absorbing a pattern
+      // the effect does not make — not a measurement of the effect. "Demand": outside the plausible range by more than
+      // 2σ. A value merely wandering there along a direction the data cannot see (a thermal amplitude trading against
+      // its time constant on two teeth: huge σ) is not rejected; its uncertainty says how little is known.
+      const double v = eff.value(k);
+      const double outside = std::max(spec.plausible_lo - v, v - spec.plausible_hi); // > 0: outside (file units)
+      if (outside > 2.0 * u) {
+        const double at_end = 1e-6 * (spec.hi - spec.lo);
+        c.rejected = fmt::format("{}.{} = {:.4g} ± {:.2g} is outside its plausible range [{}, {}]{}", eff.type(),
+                                 spec.key, v, u, spec.plausible_lo, spec.plausible_hi,
+                                 v <= spec.lo + at_end || v >= spec.hi - at_end ? " (at the end of the fit's range)" : "");
+      }
     }
     c.parameters.push_back(params);
     c.explanations.emplace_back(eff.explanation());

@@ -19,10 +19,10 @@ public:
   }
   const std::vector<ParameterSpec>& parameters() const override {
     static const std::vector<ParameterSpec> p{
-        {"ecc_x_um", "gear axis offset from the C axis along the gear's x", 0.0, -1000.0, 1000.0, 5.0, true},
-        {"ecc_y_um", "gear axis offset from the C axis along the gear's y", 0.0, -1000.0, 1000.0, 5.0, true},
-        {"wobble_x_urad", "tilt of the gear axis about the gear's x (pivot at mid face)", 0.0, -5000.0, 5000.0, 20.0, true},
-        {"wobble_y_urad", "tilt of the gear axis about the gear's y (pivot at mid face)", 0.0, -5000.0, 5000.0, 20.0, true}};
+        {"ecc_x_um", "gear axis offset from the C axis along the gear's x", 0.0, -1000.0, 1000.0, 5.0, true, {}, -100.0, 100.0},
+        {"ecc_y_um", "gear axis offset from the C axis along the gear's y", 0.0, -1000.0, 1000.0, 5.0, true, {}, -100.0, 100.0},
+        {"wobble_x_urad", "tilt of the gear axis about the gear's x (pivot at mid face)", 0.0, -5000.0, 5000.0, 20.0, true, {}, -1000.0, 1000.0},
+        {"wobble_y_urad", "tilt of the gear axis about the gear's y (pivot at mid face)", 0.0, -5000.0, 5000.0, 20.0, true, {}, -1000.0, 1000.0}};
     return p;
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<Eccentricity>(*this); }

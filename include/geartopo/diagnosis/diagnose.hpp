@@ -46,6 +46,10 @@ struct Candidate {
   double rms_before_um = 0.0, rms_after_um = 0.0; ///< with the set-up terms removed (µm)
   double explained_fraction = 0.0; ///< 1 − RSS/RSS₀, both with the set-up terms fitted
   double delta_bic = 0.0;
+  /// Why this fit is no explanation, empty when it can be one: a fitted parameter on the end of its allowed range or
+  /// outside its plausible range (effects::ParameterSpec), e.g. "x_growth_um = 412 is outside its plausible range
+  /// [-100, 100]". A rejected candidate is never significant, whatever its ΔBIC.
+  std::string rejected;
   bool significant = false;
   std::string name() const;        ///< "thermal_drift" or "thermal_drift + wheel_wear"
 };
@@ -66,8 +70,8 @@ struct DiagnoseOptions {
   /// degrees of freedom at this upper-tail probability (unit-free): the verdict then says part of the residual
   /// remains unexplained. 0.001: one false "unexplained" in a thousand pure-noise measurements.
   double unexplained_false_alarm = 1e-3;
-  /// Significant single effects taken into pairs (count): whenever two or more are significant, the best with each
-  /// of the next ones, up to this many in all. 4 (three pairs): each joint fit costs as much as several single fits, and an effect ranked below fourth has
+  /// Single effects taken into pairs (count): whenever one is significant, the best with each of the next ones the
+  /// evidence favours (ΔBIC below −threshold, also those rejected alone as implausible), up to this many in all. 4 (three pairs): each joint fit costs as much as several single fits, and an effect ranked below fourth has
   /// not explained enough alone to be the needed partner.
   std::size_t pair_candidates = 4;
   /// Ridge added to the diagonal of JᵀJ before inverting it for the covariance, relative to max(1, trace) (unit-free,
