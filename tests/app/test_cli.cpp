@@ -52,8 +52,12 @@ TEST(Cli, GearJsonHasTheDocumentedKeys) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   for (const char* key : {"d_mm", "db_mm", "da_mm", "df_mm", "alpha_t_deg", "beta_b_deg", "lead_mm", "pbt_mm", "sn_mm",
-                          "k", "Wk_mm"})
+                          "k", "Wk_mm", "Wk_upper_mm", "Wk_lower_mm", "A_sne_um", "A_sni_um", "D_M_mm", "MdK_mm",
+                          "MdK_upper_mm", "MdK_lower_mm"})
     EXPECT_TRUE(j.contains(key)) << key;
+  // The default scene gives no allowance: the band collapses onto the nominal values.
+  EXPECT_EQ(j["Wk_upper_mm"].get<double>(), j["Wk_mm"].get<double>());
+  EXPECT_EQ(j["MdK_lower_mm"].get<double>(), j["MdK_mm"].get<double>());
   EXPECT_NEAR(j["d_mm"].get<double>(), 565.8033, 1e-4);
   EXPECT_NEAR(j["alpha_t_deg"].get<double>(), 22.7959, 1e-4);
   EXPECT_EQ(j["hand"], "right");
@@ -66,6 +70,8 @@ TEST(Cli, GearTableMarksAssumedValues) {
   EXPECT_NE(r.out.find("face width"), std::string::npos);
   EXPECT_NE(r.out.find("assumed"), std::string::npos);
   EXPECT_NE(r.out.find("W_k"), std::string::npos);
+  EXPECT_NE(r.out.find("M_dK"), std::string::npos);
+  EXPECT_NE(r.out.find("D_M"), std::string::npos);
 }
 
 TEST(Cli, GearMeshIsWritten) {
