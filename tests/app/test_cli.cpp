@@ -249,3 +249,23 @@ TEST(Cli, SynthCompareDiagnoseAndTheErrorFalls) {
   EXPECT_NE(bad.err.find("bad.csv:2: diameter_mm"), std::string::npos) << bad.err;
   std::filesystem::remove_all(dir);
 }
+
+// A Klingelnberg export from synth is recognised by its content and compared like the topology CSV of the same data.
+TEST(Cli, CompareReadsAKlingelnbergExport) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_mka");
+  std::filesystem::create_directories(dir);
+  const std::string truth = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/truth-skmc1200w-mn14-z35.yaml";
+  const std::string mka = (dir / "m.mka").string(), csv = (dir / "m.csv").string();
+  ASSERT_EQ(run("synth " + truth + " --out " + mka + " --format klingelnberg --noise-um 0.5 --seed 3").code, 0);
+  ASSERT_EQ(run("synth " + truth + " --out " + csv + " --noise-um 0.5 --seed 3").code, 0);
+  const CliResult a = run("compare " + kScene + " --measured " + mka + " --out " + (dir / "a").string() + " --noise-um 0.5");
+  ASSERT_EQ(a.code, 0) << a.err;
+  const CliResult b = run("compare " + kScene + " --measured " + csv + " --out " + (dir / "b").string() + " --noise-um 0.5");
+  ASSERT_EQ(b.code, 0) << b.err;
+  std::ifstream ja(dir / "a" / "compare.json"), jb(dir / "b" / "compare.json");
+  // The export prints deviations to 0.001 µm (transverse): the RMS agrees to that.
+  EXPECT_NEAR(nlohmann::json::parse(ja)["overall"]["rms_um"].get<double>(),
+              nlohmann::json::parse(jb)["overall"]["rms_um"].get<double>(), 1e-3);
+  EXPECT_EQ(run("synth " + truth + " --out " + mka + " --format xml").code, 2);
+  std::filesystem::remove_all(dir);
+}
