@@ -39,13 +39,16 @@ void register_compare_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("compare", "Measured − model (µm) at every measured point: statistics, where the model "
                                                 "fails, and the residual's patterns");
   cmd->add_option("SCENE", opt->scene, "Model scene (YAML)")->required();
-  cmd->add_option("--measured", opt->measured, "Measurement: topology CSV (µm) or point cloud x_mm,y_mm,z_mm")->required();
+  cmd->add_option("--measured", opt->measured, "Measurement: topology CSV (µm), point cloud x_mm,y_mm,z_mm, or Klingelnberg export "
+                                                   "(docs/measurement-formats.md); told apart by content")->required();
   cmd->add_option("--out", opt->out, "Output directory: compare.json, residuals.csv")->required();
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated)")->check(CLI::Range(0.0, 1000.0));
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
-      const auto pts = diagnosis::read_any_measurement(opt->measured, wb.setup);
+      std::vector<std::string> warnings;
+      const auto pts = diagnosis::read_any_measurement(opt->measured, wb.setup, &warnings);
+      for (const auto& w : warnings) std::cerr << "geartopo: warning: " << w << "\n";
       const auto c = diagnosis::compare(wb.setup, wb.process(), pts, opt->noise);
 
       const std::filesystem::path out(opt->out);

@@ -4,6 +4,7 @@
 
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/klingelnberg.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
 #include "geartopo/diagnosis/synth.hpp"
 #include "geartopo/effects/registry.hpp"
@@ -49,7 +50,7 @@ nlohmann::json candidate_json(const diagnosis::Candidate& c) {
 
 void register_synth_command(CLI::App& app, Action& action) {
   struct Options {
-    std::string scene, out, teeth = "1,18";
+    std::string scene, out, teeth = "1,18", format = "csv";
     double noise = 0.5;
     std::uint64_t seed = 1;
   };
@@ -57,7 +58,12 @@ void register_synth_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("synth", "Synthetic CMM measurement (topology CSV, µm) of a truth scene, with "
                                               "Gaussian probe noise");
   cmd->add_option("TRUTH_SCENE", opt->scene, "Truth scene (YAML), possibly with effects the model scene lacks")->required();
-  cmd->add_option("--out", opt->out, "Topology CSV to write")->required();
+  cmd->add_option("--out", opt->out, "File to write: topology CSV, or a Klingelnberg export with --format klingelnberg")
+      ->required();
+  cmd->add_option("--format", opt->format,
+                  "csv (topology CSV, default) or klingelnberg (TOPOGRAFIE profile traces, transverse µm, raw sign: "
+                  "docs/measurement-formats.md)")
+      ->check(CLI::IsMember({"csv", "klingelnberg"}));
   cmd->add_option("--teeth", opt->teeth, "Measured teeth, e.g. 1,18 (default) or all");
   cmd->add_option("--noise-um", opt->noise, "Standard deviation of the probe noise, µm (default 0.5)")->check(CLI::Range(0.0, 1000.0));
   cmd->add_option("--seed", opt->seed, "Random seed (default 1)");
@@ -75,7 +81,10 @@ void register_synth_command(CLI::App& app, Action& action) {
       if (!parent.empty()) std::filesystem::create_directories(parent);
       std::ofstream out(opt->out);
       if (!out) throw std::runtime_error(opt->out + ": cannot write");
-      grinding::write_topology_rows(out, rows);
+      if (opt->format == "klingelnberg")
+        diagnosis::write_klingelnberg(out, wb.setup.geometry(), rows);
+      else
+        grinding::write_topology_rows(out, rows);
       std::cout << fmt::format("wrote {} ({} points, noise {} µm, seed {})\n", opt->out, rows.size(), opt->noise, opt->seed);
       return 0;
     };
@@ -92,7 +101,8 @@ void register_diagnose_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("diagnose", "Which physical effect is the model missing? Fits every library effect "
                                                  "to the residual and writes the scene with the best one added");
   cmd->add_option("SCENE", opt->scene, "Model scene (YAML)")->required();
-  cmd->add_option("--measured", opt->measured, "Measured topology CSV (µm)")->required();
+  cmd->add_option("--measured", opt->measured, "Measurement: topology CSV (µm), point cloud or Klingelnberg export")
+      ->required();
   cmd->add_option("--out", opt->out, "Output directory: diagnosis.json, scene_with_effect.yaml")->required();
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated from the residual)")
       ->check(CLI::Range(0.0, 1000.0));
@@ -105,7 +115,9 @@ void register_diagnose_command(CLI::App& app, Action& action) {
         if (!effects::make_effect(c))
           throw CLI::ValidationError("--candidates", fmt::format("'{}' is not an effect of the library ({})", c,
                                                                  fmt::join(effects::effect_types(), ", ")));
-      const auto pts = diagnosis::read_any_measurement(opt->measured, wb.setup);
+      std::vector<std::string> warnings;
+      const auto pts = diagnosis::read_any_measurement(opt->measured, wb.setup, &warnings);
+      for (const auto& w : warnings) std::cerr << "geartopo: warning: " << w << "\n";
       diagnosis::DiagnoseOptions o;
       o.noise_um = opt->noise;
       o.candidates = opt->candidates;

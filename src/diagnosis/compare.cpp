@@ -2,6 +2,7 @@
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/klingelnberg.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/surfaces/point_cloud.hpp"
 
@@ -89,9 +90,16 @@ std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file,
   return out;
 }
 
-std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup) {
-  std::ifstream in(file);
+std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
+                                                std::vector<std::string>* warnings) {
+  std::ifstream in(file, std::ios::binary);
   if (!in) throw std::runtime_error(file + ": cannot open");
+  // First: an export's header lines and trace heads are not numbers, so neither other reader would take it anyway.
+  if (looks_like_klingelnberg(in)) {
+    auto res = klingelnberg_points(read_klingelnberg(file), setup.geometry());
+    if (warnings) warnings->insert(warnings->end(), res.warnings.begin(), res.warnings.end());
+    return std::move(res.points);
+  }
   if (surfaces::starts_like_point_cloud(in)) return read_point_cloud_measurement(file, setup.flanks());
   return read_measurement(file, setup.geometry());
 }

@@ -43,6 +43,14 @@ void validate_inputs(const GearSpec& s) {
           fmt::format("{} mm must be > 0", s.tip_diameter_mm));
   require(finite(s.root_diameter_mm) && s.root_diameter_mm > 0.0, "gear.root_diameter_mm",
           fmt::format("{} mm must be > 0", s.root_diameter_mm));
+  require(finite(s.thickness_allowance_upper_mm), "gear.thickness_allowance_upper_um", "must be finite");
+  require(finite(s.thickness_allowance_lower_mm), "gear.thickness_allowance_lower_um", "must be finite");
+  require(s.thickness_allowance_upper_mm >= s.thickness_allowance_lower_mm, "gear.thickness_allowance_lower_um",
+          fmt::format("{} µm is above the upper allowance {} µm", units::um_from_mm(s.thickness_allowance_lower_mm),
+                      units::um_from_mm(s.thickness_allowance_upper_mm)));
+  if (s.ball_diameter_mm)
+    require(finite(*s.ball_diameter_mm) && *s.ball_diameter_mm > 0.0, "gear.ball_diameter_mm",
+            fmt::format("{} mm must be > 0", *s.ball_diameter_mm));
   require(s.root_diameter_mm < s.tip_diameter_mm, "gear.root_diameter_mm",
           fmt::format("{} mm must be below the tip diameter {} mm", s.root_diameter_mm, s.tip_diameter_mm));
 }
@@ -107,6 +115,22 @@ GearGeometry::GearGeometry(const GearSpec& spec) : spec_(spec) {
   const double cb = std::cos(beta_b_);
   const double k_real = z / kPi * (std::tan(alpha_m) / (cb * cb) - 2.0 * x * std::tan(an) / z - involute(alpha_t_)) + 0.5;
   k_ = std::clamp(static_cast<int>(std::lround(k_real)), 1, z - 1);
+
+  require(sn_ + spec_.thickness_allowance_lower_mm > 0.0, "gear.thickness_allowance_lower_um",
+          fmt::format("{} µm leaves no tooth: the normal tooth thickness is {:.4f} mm",
+                      units::um_from_mm(spec_.thickness_allowance_lower_mm), sn_));
+  ball_ = spec_.ball_diameter_mm ? *spec_.ball_diameter_mm : customary_ball_diameter_mm();
+  // Checks the ball at both ends of the tolerance band (throws when it drops inside the base cylinder) and warns
+  // when it touches outside the involute: the formula then describes no real measurement.
+  for (const double a : {spec_.thickness_allowance_upper_mm, spec_.thickness_allowance_lower_mm}) {
+    const double dc = ball_contact_diameter_mm(ball_, a);
+    if (dc < dFf_ || dc > spec_.tip_diameter_mm) {
+      warnings_.push_back(fmt::format("ball D_M = {:.4f} mm touches at d = {:.4f} mm (A_sn = {} µm), outside the "
+                                      "involute [{:.4f}, {:.4f}] mm: M_dK is not measurable with it",
+                                      ball_, dc, units::um_from_mm(a), dFf_, spec_.tip_diameter_mm));
+      break;
+    }
+  }
 }
 
 double GearGeometry::lead_mm() const {
@@ -135,10 +159,59 @@ double GearGeometry::roll_length_at(double dy) const {
 
 double GearGeometry::diameter_at_roll_length(double xi) const { return 2.0 * std::hypot(0.5 * db_, xi); }
 
-double GearGeometry::base_tangent_length_mm(int k) const {
+double GearGeometry::base_tangent_length_mm(int k, double thickness_allowance_mm) const {
   const double mn = spec_.normal_module_mm, an = spec_.normal_pressure_angle_rad;
   return mn * std::cos(an) * ((k - 0.5) * kPi + spec_.teeth * involute(alpha_t_)) +
-         2.0 * spec_.profile_shift * mn * std::sin(an);
+         2.0 * spec_.profile_shift * mn * std::sin(an) + thickness_allowance_mm * std::cos(an);
+}
+
+double GearGeometry::ball_centre_diameter_mm(double D, double a_sn) const {
+  const double mn = spec_.normal_module_mm, an = spec_.normal_pressure_angle_rad;
+  const int z = spec_.teeth;
+  const double inv_mt = involute(alpha_t_) + D / (mn * z * std::cos(an)) + (sn_ + a_sn) / (mn * z) - kPi / z;
+  require(std::isfinite(D) && D > 0.0 && inv_mt > 0.0, "gear.ball_diameter_mm",
+          fmt::format("{:.4f} mm is too small: the ball would sit inside the base circle (d_b = {:.4f} mm)", D, db_));
+  return db_ / std::cos(inverse_involute(inv_mt));
+}
+
+double GearGeometry::dimension_over_balls_mm(double D, double a_sn) const {
+  const double dk = ball_centre_diameter_mm(D, a_sn);
+  const int z = spec_.teeth;
+  return (z % 2 == 0 ? dk : dk * std::cos(0.5 * kPi / z)) + D;
+}
+
+double GearGeometry::ball_contact_diameter_mm(double D, double a_sn) const {
+  const double rb = 0.5 * db_;
+  const double xi_centre = std::sqrt(std::max(0.0, 0.25 * std::pow(ball_centre_diameter_mm(D, a_sn), 2) - rb * rb));
+  return diameter_at_roll_length(std::max(0.0, xi_centre - 0.5 * D * std::cos(beta_b_)));
+}
+
+double GearGeometry::ideal_ball_diameter_mm() const {
+  const double mn = spec_.normal_module_mm;
+  const double target = d_ + 2.0 * spec_.profile_shift * mn;
+  // The contact diameter grows monotonically with D_M; bracket generously around the tabled 1.7 m_n.
+  double lo = 0.2 * mn, hi = 4.0 * mn;
+  auto contact = [&](double D) {
+    // Below the smallest possible ball the formula has no solution: treat it as touching at the base circle.
+    try {
+      return ball_contact_diameter_mm(D, 0.0);
+    } catch (const FieldError&) {
+      return db_;
+    }
+  };
+  if (contact(lo) > target) return lo;
+  if (contact(hi) < target) return hi;
+  for (int i = 0; i < 100 && hi - lo > 1e-10 * mn; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (contact(mid) < target ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+double GearGeometry::customary_ball_diameter_mm() const {
+  const double ideal = ideal_ball_diameter_mm();
+  const double step = ideal < 1.0 ? 0.01 : 0.05;
+  return std::max(step, std::round(ideal / step) * step);
 }
 
 double GearGeometry::span_contact_diameter_mm(int k) const {

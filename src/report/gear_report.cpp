@@ -52,6 +52,20 @@ nlohmann::json gear_json(const scene::Scene& scene, const gears::GearGeometry& g
   j["k"] = k;
   j["Wk_mm"] = g.base_tangent_length_mm(k);
   j["dWk_mm"] = g.span_contact_diameter_mm(k);
+  // The tolerance band of the inspection dimensions: the gear is made to A_sni ≤ A_sn ≤ A_sne.
+  const double a_up = s.thickness_allowance_upper_mm, a_lo = s.thickness_allowance_lower_mm;
+  j["A_sne_um"] = units::um_from_mm(a_up);
+  j["A_sni_um"] = units::um_from_mm(a_lo);
+  j["Wk_upper_mm"] = g.base_tangent_length_mm(k, a_up);
+  j["Wk_lower_mm"] = g.base_tangent_length_mm(k, a_lo);
+  const double ball = g.ball_diameter_mm();
+  j["D_M_mm"] = ball;
+  j["D_M_source"] = s.ball_diameter_mm ? "given" : "customary";
+  j["MdK_mm"] = g.dimension_over_balls_mm(ball);
+  j["MdK_upper_mm"] = g.dimension_over_balls_mm(ball, a_up);
+  j["MdK_lower_mm"] = g.dimension_over_balls_mm(ball, a_lo);
+  j["dK_mm"] = g.ball_centre_diameter_mm(ball);
+  j["d_ball_contact_mm"] = g.ball_contact_diameter_mm(ball);
   j["x_min"] = g.minimum_profile_shift();
   j["d_pointed_mm"] = g.pointed_tip_diameter_mm();
   j["assumed"] = scene.assumed;
@@ -96,6 +110,18 @@ std::string gear_table(const scene::Scene& scene, const gears::GearGeometry& g) 
   row("teeth spanned", "k", std::to_string(k), "");
   row("base tangent length", "W_k", num(g.base_tangent_length_mm(k)), "mm",
       fmt::format("touches at d = {:.3f} mm", g.span_contact_diameter_mm(k)));
+  const double a_up = s.thickness_allowance_upper_mm, a_lo = s.thickness_allowance_lower_mm;
+  const double ball = g.ball_diameter_mm();
+  auto band = [&](double upper_mm, double lower_mm) {
+    return fmt::format("A_sne/A_sni = {:.1f}/{:.1f} µm: {:.4f} … {:.4f} mm", units::um_from_mm(a_up),
+                       units::um_from_mm(a_lo), lower_mm, upper_mm);
+  };
+  row("base tangent length, allowed", "W_k", "", "", band(g.base_tangent_length_mm(k, a_up), g.base_tangent_length_mm(k, a_lo)));
+  row("ball diameter", "D_M", num(ball), "mm", s.ball_diameter_mm ? "given" : "customary (ideal ball rounded)");
+  row("dimension over balls", "M_dK", num(g.dimension_over_balls_mm(ball)), "mm",
+      fmt::format("touches at d = {:.3f} mm", g.ball_contact_diameter_mm(ball)));
+  row("dimension over balls, allowed", "M_dK", "", "",
+      band(g.dimension_over_balls_mm(ball, a_up), g.dimension_over_balls_mm(ball, a_lo)));
   row("minimum profile shift (undercut)", "x_min", num(g.minimum_profile_shift()), "");
   row("pointed-tip diameter", "d_sa0", num(g.pointed_tip_diameter_mm()), "mm");
   for (const auto& w : g.warnings()) out += "warning: " + w + "\n";

@@ -52,6 +52,22 @@ gears::GearSpec read_gear(MapReader& g, Scene& scene) {
   s.root_form_diameter_mm = g.optional_number("root_form_diameter_mm", {0.0, 50000.0, true, false});
   if (auto v = g.optional_number("rack_dedendum_coef", {0.5, 2.0})) s.rack_dedendum_coef = *v;
   if (auto v = g.optional_number("rack_root_radius_coef", {0.0, 0.6})) s.rack_root_radius_coef = *v;
+  // Read in µm (the drawing's unit), kept in mm inside; the message quotes the values as written.
+  const double upper_um = g.optional_number("thickness_allowance_upper_um", {-100000.0, 100000.0}).value_or(0.0);
+  const double lower_um = g.optional_number("thickness_allowance_lower_um", {-100000.0, 100000.0}).value_or(0.0);
+  if (lower_um > upper_um) {
+    // Blame the key that is written: an absent lower allowance is 0 and the upper one is then the wrong one.
+    if (g.has("thickness_allowance_lower_um"))
+      g.context().fail_field(g.field("thickness_allowance_lower_um"),
+                             fmt::format("{} µm is above thickness_allowance_upper_um = {} µm (A_sni ≤ A_sne)",
+                                         lower_um, upper_um));
+    g.context().fail_field(g.field("thickness_allowance_upper_um"),
+                           fmt::format("{} µm is below the lower allowance {} µm (absent: 0; A_sni ≤ A_sne)", upper_um,
+                                       lower_um));
+  }
+  s.thickness_allowance_upper_mm = units::mm_from_um(upper_um);
+  s.thickness_allowance_lower_mm = units::mm_from_um(lower_um);
+  s.ball_diameter_mm = g.optional_number("ball_diameter_mm", {0.0, 1000.0, true, false});
   scene.assumed = g.optional_text_list("assumed");
   for (const auto& key : scene.assumed) {
     if (key == "assumed" || !g.has(key))

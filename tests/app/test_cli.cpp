@@ -52,8 +52,12 @@ TEST(Cli, GearJsonHasTheDocumentedKeys) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   for (const char* key : {"d_mm", "db_mm", "da_mm", "df_mm", "alpha_t_deg", "beta_b_deg", "lead_mm", "pbt_mm", "sn_mm",
-                          "k", "Wk_mm"})
+                          "k", "Wk_mm", "Wk_upper_mm", "Wk_lower_mm", "A_sne_um", "A_sni_um", "D_M_mm", "MdK_mm",
+                          "MdK_upper_mm", "MdK_lower_mm"})
     EXPECT_TRUE(j.contains(key)) << key;
+  // The default scene gives no allowance: the band collapses onto the nominal values.
+  EXPECT_EQ(j["Wk_upper_mm"].get<double>(), j["Wk_mm"].get<double>());
+  EXPECT_EQ(j["MdK_lower_mm"].get<double>(), j["MdK_mm"].get<double>());
   EXPECT_NEAR(j["d_mm"].get<double>(), 565.8033, 1e-4);
   EXPECT_NEAR(j["alpha_t_deg"].get<double>(), 22.7959, 1e-4);
   EXPECT_EQ(j["hand"], "right");
@@ -66,6 +70,8 @@ TEST(Cli, GearTableMarksAssumedValues) {
   EXPECT_NE(r.out.find("face width"), std::string::npos);
   EXPECT_NE(r.out.find("assumed"), std::string::npos);
   EXPECT_NE(r.out.find("W_k"), std::string::npos);
+  EXPECT_NE(r.out.find("M_dK"), std::string::npos);
+  EXPECT_NE(r.out.find("D_M"), std::string::npos);
 }
 
 TEST(Cli, GearMeshIsWritten) {
@@ -243,5 +249,25 @@ TEST(Cli, SynthCompareDiagnoseAndTheErrorFalls) {
   const CliResult bad = run("compare " + kScene + " --measured " + (dir / "bad.csv").string() + " --out " + (dir / "b").string());
   EXPECT_EQ(bad.code, 1);
   EXPECT_NE(bad.err.find("bad.csv:2: diameter_mm"), std::string::npos) << bad.err;
+  std::filesystem::remove_all(dir);
+}
+
+// A Klingelnberg export from synth is recognised by its content and compared like the topology CSV of the same data.
+TEST(Cli, CompareReadsAKlingelnbergExport) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_mka");
+  std::filesystem::create_directories(dir);
+  const std::string truth = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/truth-skmc1200w-mn14-z35.yaml";
+  const std::string mka = (dir / "m.mka").string(), csv = (dir / "m.csv").string();
+  ASSERT_EQ(run("synth " + truth + " --out " + mka + " --format klingelnberg --noise-um 0.5 --seed 3").code, 0);
+  ASSERT_EQ(run("synth " + truth + " --out " + csv + " --noise-um 0.5 --seed 3").code, 0);
+  const CliResult a = run("compare " + kScene + " --measured " + mka + " --out " + (dir / "a").string() + " --noise-um 0.5");
+  ASSERT_EQ(a.code, 0) << a.err;
+  const CliResult b = run("compare " + kScene + " --measured " + csv + " --out " + (dir / "b").string() + " --noise-um 0.5");
+  ASSERT_EQ(b.code, 0) << b.err;
+  std::ifstream ja(dir / "a" / "compare.json"), jb(dir / "b" / "compare.json");
+  // The export prints deviations to 0.001 µm (transverse): the RMS agrees to that.
+  EXPECT_NEAR(nlohmann::json::parse(ja)["overall"]["rms_um"].get<double>(),
+              nlohmann::json::parse(jb)["overall"]["rms_um"].get<double>(), 1e-3);
+  EXPECT_EQ(run("synth " + truth + " --out " + mka + " --format xml").code, 2);
   std::filesystem::remove_all(dir);
 }

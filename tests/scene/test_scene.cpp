@@ -239,3 +239,31 @@ TEST(SceneSections, WheelProcessAndMeasurementAreChecked) {
   const auto huge = error_as_default(replace(text, "helix_points: 150", "helix_points: 150\n  dense_rows: 10000\n  dense_cols: 10000"));
   EXPECT_NE(huge.find("measurement.dense_rows: 100000063 points per flank is more than the 4000000"), std::string::npos) << huge;
 }
+
+TEST(Scene, ThicknessAllowancesAndBallAreReadInTheirUnits) {
+  const auto sc = scene::parse_scene(kGood + "  thickness_allowance_upper_um: -80\n  thickness_allowance_lower_um: -160\n"
+                                              "  ball_diameter_mm: 24\n",
+                                     "mem");
+  EXPECT_NEAR(sc.gear.thickness_allowance_upper_mm, -0.080, 1e-15);
+  EXPECT_NEAR(sc.gear.thickness_allowance_lower_mm, -0.160, 1e-15);
+  ASSERT_TRUE(sc.gear.ball_diameter_mm.has_value());
+  EXPECT_DOUBLE_EQ(*sc.gear.ball_diameter_mm, 24.0);
+  const auto defaults = scene::parse_scene(kGood, "mem");
+  EXPECT_EQ(defaults.gear.thickness_allowance_upper_mm, 0.0);
+  EXPECT_EQ(defaults.gear.thickness_allowance_lower_mm, 0.0);
+  EXPECT_FALSE(defaults.gear.ball_diameter_mm.has_value());
+}
+
+TEST(Scene, LowerAllowanceAboveUpperIsLocated) {
+  EXPECT_EQ(error_of(kGood + "  thickness_allowance_upper_um: -100\n  thickness_allowance_lower_um: -50\n"),
+            "scenes/x.yaml:11:33: gear.thickness_allowance_lower_um: -50 µm is above thickness_allowance_upper_um = "
+            "-100 µm (A_sni ≤ A_sne)");
+  const auto ball = error_of(kGood + "  ball_diameter_mm: 0\n");
+  EXPECT_EQ(ball, "scenes/x.yaml:10:21: gear.ball_diameter_mm: 0 is outside (0, 1000]");
+}
+
+TEST(Scene, NegativeUpperAllowanceAloneIsBlamedOnTheUpperKey) {
+  EXPECT_EQ(error_of(kGood + "  thickness_allowance_upper_um: -40\n"),
+            "scenes/x.yaml:10:33: gear.thickness_allowance_upper_um: -40 µm is below the lower allowance 0 µm "
+            "(absent: 0; A_sni ≤ A_sne)");
+}

@@ -41,7 +41,9 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
 std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file, const gears::InvoluteHelicoid& flanks,
                                                         double max_offset_mm = 0.5);
 
-/// Topology CSV or point cloud, told apart by the header.
-std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup);
+/// Topology CSV, point cloud or Klingelnberg export (diagnosis/klingelnberg.hpp, default options), told apart by their
+/// content. Findings that are not errors (blocks a reader skipped, undefined points) go to `warnings` when given.
+std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
+                                                std::vector<std::string>* warnings = nullptr);
 
 } // namespace geartopo::diagnosis

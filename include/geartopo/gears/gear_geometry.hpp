@@ -54,11 +54,39 @@ public:
 
   /// Customary number of teeth spanned for W_k: the caliper touches the flanks near d + 2 x m_n (DIN 3960).
   int span_teeth() const { return k_; }
-  /// Base tangent length over k teeth: W_k = m_n cos α_n [(k − 0.5) π + z inv α_t] + 2 x m_n sin α_n.
-  double base_tangent_length_mm(int k) const;
+  /// Base tangent length over k teeth with a normal tooth-thickness allowance A_sn (mm, ISO 21771 / DIN 3960):
+  ///   W_k = m_n cos α_n [(k − 0.5) π + z inv α_t] + 2 x m_n sin α_n + A_sn cos α_n.
+  /// The allowance term is exact for helical gears too: A_sn moves each flank by A_sn cos α_n / 2 along its normal,
+  /// and W_k is the normal distance of two flanks (the caliper's common normal lies in the base tangent plane).
+  double base_tangent_length_mm(int k, double thickness_allowance_mm = 0.0) const;
   /// Diameter at which the W_k caliper touches the flanks. The caliper's common normal lies in the base tangent
   /// plane, inclined by β_b to the transverse plane, so each contact is at roll length ξ = W_k cos β_b / 2.
   double span_contact_diameter_mm(int k) const;
+
+  /// Dimension over balls M_dK (mm) with ball diameter D_M and normal tooth-thickness allowance A_sn
+  /// (ISO 21771 / DIN 3960; the DIN 21773 ball formulas use z m_n cos α_n = d_b cos β_b):
+  ///   s_n' = m_n (π/2 + 2 x tan α_n) + A_sn
+  ///   inv α_Mt = inv α_t + D_M / (m_n z cos α_n) + s_n' / (m_n z) − π / z
+  ///   d_K = d_b / cos α_Mt                          (diameter of the circle through the ball centres)
+  ///   even z: M_dK = d_K + D_M;  odd z: M_dK = d_K cos(90°/z) + D_M
+  /// Both balls lie in one transverse plane (for odd z, in the spaces nearest to opposite). M_rK = M_dK/2 for even z.
+  /// Throws FieldError("gear.ball_diameter_mm") when the ball would drop inside the base cylinder.
+  double dimension_over_balls_mm(double ball_diameter_mm, double thickness_allowance_mm = 0.0) const;
+  /// d_K of the formula above.
+  double ball_centre_diameter_mm(double ball_diameter_mm, double thickness_allowance_mm = 0.0) const;
+  /// Diameter where the ball touches the flanks. The contact normal lies in the base tangent plane, so in the
+  /// transverse projection the contact point lies D_M cos β_b / 2 nearer the base circle than the centre along the
+  /// line of action: ξ_c = (d_b/2) tan α_Mt − (D_M/2) cos β_b, d_c = 2 √((d_b/2)² + ξ_c²).
+  double ball_contact_diameter_mm(double ball_diameter_mm, double thickness_allowance_mm = 0.0) const;
+  /// The ball that touches exactly at d + 2 x m_n (the circle of the customary span rule; the reference circle
+  /// when x = 0), at zero allowance. Found by bisection: the contact diameter grows with D_M.
+  double ideal_ball_diameter_mm() const;
+  /// The customary ball: the ideal ball rounded to a 0.05 mm step (0.01 mm below 1 mm). For α_n = 20° this is
+  /// ≈ 1.68–1.73 m_n, the range of the usual tables (1.75 m_n tandwiel.info, 1.69 m_n drgears, 1.7 mm for m = 1
+  /// MESYS), but unlike a fixed factor it keeps the contact near mid-depth for any z, x and β.
+  double customary_ball_diameter_mm() const;
+  /// The spec's ball, or the customary one when the spec gives none.
+  double ball_diameter_mm() const { return ball_; }
 
   /// Smallest profile shift that avoids undercut by the basic rack (DIN 3960): x_min = h_Ff*/m_n − z sin² α_t / (2 cos β).
   double minimum_profile_shift() const { return x_min_; }
@@ -72,7 +100,7 @@ public:
 
 private:
   GearSpec spec_;
-  double mt_, alpha_t_, beta_b_, d_, db_, dFf_, twist_, pbt_, pt_, sn_, st_, psi_b_, x_min_, d_pointed_;
+  double mt_, alpha_t_, beta_b_, d_, db_, dFf_, twist_, pbt_, pt_, sn_, st_, psi_b_, x_min_, d_pointed_, ball_;
   int k_;
   std::vector<std::string> warnings_;
 };

@@ -26,6 +26,13 @@ struct GearSpec {
   double rack_dedendum_coef = 1.25;
   double rack_root_radius_coef = 0.38;
   std::optional<double> root_form_diameter_mm; ///< d_Ff; computed from the basic rack when absent
+  /// Normal tooth-thickness allowances at the reference cylinder (ISO 21771 / DIN 3967: A_sne upper, A_sni lower),
+  /// mm, usually ≤ 0 (less material than nominal, for backlash). Upper ≥ lower. The gear is made to s_n + A_sn with
+  /// A_sni ≤ A_sn ≤ A_sne.
+  double thickness_allowance_upper_mm = 0.0;
+  double thickness_allowance_lower_mm = 0.0;
+  /// Measuring-ball diameter D_M for the dimension over balls; absent: GearGeometry::customary_ball_diameter_mm().
+  std::optional<double> ball_diameter_mm;
 
   Hand hand() const { return helix_angle_rad > 0 ? Hand::Right : helix_angle_rad < 0 ? Hand::Left : Hand::Spur; }
 };

@@ -1,0 +1,540 @@
+#include "geartopo/diagnosis/klingelnberg.hpp"
+
+#include "geartopo/core/input_error.hpp"
+#include "geartopo/core/text_field.hpp"
+#include "geartopo/core/units.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <istream>
+#include <limits>
+#include <map>
+#include <optional>
+#include <ostream>
+#include <sstream>
+#include <tuple>
+
+namespace geartopo::diagnosis {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kSlackMm = 1e-3; // points within 1 µm of the active flank count as on it (as measured_points does)
+
+// Valid UTF-8 (so a file without BOM but with "ä" as two bytes is UTF-8); else the text is latin-1.
+bool is_utf8(std::string_view s) {
+  for (size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    const int n = c < 0x80 ? 0 : (c & 0xE0) == 0xC0 ? 1 : (c & 0xF0) == 0xE0 ? 2 : (c & 0xF8) == 0xF0 ? 3 : -1;
+    if (n < 0 || i + n >= s.size() + (n == 0 ? 1 : 0)) return false;
+    for (int k = 1; k <= n; ++k)
+      if (i + k >= s.size() || (static_cast<unsigned char>(s[i + k]) & 0xC0) != 0x80) return false;
+    i += static_cast<size_t>(n) + 1;
+  }
+  return true;
+}
+
+std::string latin1_to_utf8(std::string_view s) {
+  std::string out;
+  out.reserve(s.size() + s.size() / 8);
+  for (const char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c < 0x80) {
+      out += ch;
+    } else {
+      out += static_cast<char>(0xC0 | (c >> 6));
+      out += static_cast<char>(0x80 | (c & 0x3F));
+    }
+  }
+  return out;
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+
+std::vector<std::string_view> tokens(std::string_view s, std::string_view separators = " \t") {
+  std::vector<std::string_view> out;
+  size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && separators.find(s[i]) != std::string_view::npos) ++i;
+    const size_t start = i;
+    while (i < s.size() && separators.find(s[i]) == std::string_view::npos) ++i;
+    if (i > start) out.push_back(s.substr(start, i - start));
+  }
+  return out;
+}
+
+std::optional<double> number(std::string_view s) {
+  double v = 0.0;
+  if (text::parse_number(s, v) != std::errc() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+std::optional<int> whole(std::string_view s) {
+  int v = 0;
+  if (text::parse_number(s, v) != std::errc()) return std::nullopt;
+  return v;
+}
+
+// Every token of the line is a number (a value line of a trace, or of a block being skipped).
+bool all_numbers(std::string_view line) {
+  const auto t = tokens(line);
+  if (t.empty()) return false;
+  return std::all_of(t.begin(), t.end(), [](std::string_view s) { return number(s).has_value(); });
+}
+
+// "  21 :Normalmodul mn [mm]......: 2.5" → code 21.
+std::optional<int> header_code(std::string_view line, std::string_view& rest) {
+  const auto t = trim(line);
+  size_t i = 0;
+  while (i < t.size() && t[i] >= '0' && t[i] <= '9') ++i;
+  if (i == 0 || i > 4) return std::nullopt;
+  size_t j = i;
+  while (j < t.size() && t[j] == ' ') ++j;
+  if (j >= t.size() || t[j] != ':') return std::nullopt;
+  rest = t.substr(j + 1);
+  return whole(t.substr(0, i));
+}
+
+std::string strip_leaders(std::string_view label) {
+  std::string s(trim(label));
+  while (!s.empty() && (s.back() == '.' || s.back() == ' ')) s.pop_back();
+  // Dot leaders inside ("Messbereich.....da") become one space.
+  std::string out;
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '.' && i + 1 < s.size() && s[i + 1] == '.') {
+      while (i + 1 < s.size() && s[i + 1] == '.') ++i;
+      out += ' ';
+    } else {
+      out += s[i];
+    }
+  }
+  return out;
+}
+
+const char* kRangeSymbols[] = {"da", "de", "d1", "d2", "ba", "be", "b1", "b2"};
+
+// Only measuring ("Mess…") and evaluation ("Auswerte…") lines define ranges: line 27 may say "Kopfkreis … da".
+std::optional<std::string> range_symbol(std::string_view label) {
+  if (label.find("Mess") == std::string_view::npos && label.find("Auswert") == std::string_view::npos) return std::nullopt;
+  for (const auto t : tokens(label, " \t.[]")) {
+    for (const char* s : kRangeSymbols)
+      if (t == s) return std::string(s);
+  }
+  return std::nullopt;
+}
+
+[[noreturn]] void fail(const std::string& source, int line, const std::string& field, const std::string& message) {
+  throw InputError(source, line, 0, field, message);
+}
+
+const char* kind_name(TraceKind k) { return k == TraceKind::Profile ? "profile" : "helix"; }
+
+struct Head {
+  std::optional<TraceKind> kind;
+  std::string title;
+  int tooth = 0;
+  Flank flank = Flank::Left;
+  int count = 0;
+  char symbol = 0;
+  double position = 0.0;
+};
+
+// "Profil:  Zahn-Nr.: 1 links / 480 Werte / z= 12.5", "Flankenlinie: Zahn-Nr.: 1 rechts / 915 Werte / d= 47.82",
+// "TOPOGRAFIE: Zahn-Nr.: 26 /Profil:1 rechts / 480 Werte / z= 3.5", or a bare "Zahn-Nr.: 44 links / 480 Werte x= 8.742"
+// after a title line ("Profil:").
+Head parse_head(std::string_view line, std::optional<TraceKind> pending, const std::string& source, int ln) {
+  Head h;
+  const auto at = line.find("Zahn-Nr.");
+  std::string title = std::string(trim(line.substr(0, at)));
+  if (!title.empty() && title.back() == ':') title.pop_back();
+  h.title = title.empty() && pending ? (*pending == TraceKind::Profile ? "Profil" : "Flankenlinie") : title;
+  auto kind_of = [](std::string_view t) -> std::optional<TraceKind> {
+    if (t == "Profil") return TraceKind::Profile;
+    if (t == "Flankenlinie") return TraceKind::Helix;
+    return std::nullopt;
+  };
+  std::string_view rest = line.substr(at + 8); // after "Zahn-Nr."
+  if (!rest.empty() && rest.front() == ':') rest.remove_prefix(1);
+  rest = trim(rest);
+  // Tooth number: digits, possibly followed by a letter tag (twist traces: 1k, 1f, …), which marks a block we skip.
+  size_t i = 0;
+  while (i < rest.size() && rest[i] >= '0' && rest[i] <= '9') ++i;
+  const auto tooth = whole(rest.substr(0, i));
+  if (!tooth || *tooth < 1) fail(source, ln, "Zahn-Nr.", fmt::format("'{}' is not a tooth number", text::excerpt(rest.substr(0, rest.find(' ')))));
+  h.tooth = *tooth;
+  const bool tagged = i < rest.size() && rest[i] != ' ' && rest[i] != '/';
+  rest.remove_prefix(i);
+  if (title == "TOPOGRAFIE") {
+    // "/Profil:1 rechts" or "/Flankenlinie:3 links": the kind of line in the topography, its number.
+    const auto slash = rest.find('/');
+    const auto colon = rest.find(':');
+    if (slash == std::string_view::npos || colon == std::string_view::npos || colon < slash)
+      fail(source, ln, "TOPOGRAFIE", "expected '/Profil:n' or '/Flankenlinie:n' after the tooth number");
+    h.kind = kind_of(trim(rest.substr(slash + 1, colon - slash - 1)));
+    rest = rest.substr(colon + 1);
+    while (!rest.empty() && rest.front() >= '0' && rest.front() <= '9') rest.remove_prefix(1);
+  } else {
+    h.kind = title.empty() ? pending : kind_of(title);
+  }
+  if (tagged) h.kind.reset();
+  const auto t = tokens(rest, " \t/");
+  bool have_flank = false, have_count = false;
+  for (size_t k = 0; k < t.size(); ++k) {
+    if (t[k] == "links" || t[k] == "rechts") {
+      h.flank = t[k] == "links" ? Flank::Left : Flank::Right;
+      have_flank = true;
+    } else if (t[k] == "Werte" && k > 0) {
+      const auto n = whole(t[k - 1]);
+      if (!n || *n < 1) fail(source, ln, "Werte", fmt::format("'{}' is not a number of values", text::excerpt(t[k - 1])));
+      h.count = *n;
+      have_count = true;
+    } else if (t[k].size() >= 2 && t[k][1] == '=' && (t[k][0] == 'x' || t[k][0] == 'z' || t[k][0] == 'd')) {
+      h.symbol = t[k][0];
+      const std::string field(t[k].substr(0, 2));
+      const auto v = t[k].size() > 2 ? number(t[k].substr(2)) : (k + 1 < t.size() ? number(t[k + 1]) : std::nullopt);
+      if (!v) fail(source, ln, field, "expected a position in mm after it");
+      h.position = *v;
+    }
+  }
+  if (!have_flank) fail(source, ln, "Zahn-Nr.", "expected 'links' or 'rechts' after the tooth number");
+  if (!have_count) fail(source, ln, "Werte", "expected '<n> Werte' (the number of values) in the head");
+  if (h.kind && h.symbol == 0) fail(source, ln, "Zahn-Nr.", "expected the trace position 'z=', 'd=' or 'x=' in the head");
+  return h;
+}
+
+} // namespace
+
+KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& source) {
+  KlingelnbergFile f;
+  f.source = source;
+  std::string converted;
+  if (!text::strip_bom(raw) && !is_utf8(raw)) { // no BOM and not UTF-8: the older latin-1 exports
+    converted = latin1_to_utf8(raw);
+    raw = converted;
+  }
+  enum class State { Free, Values, Skip, PitchHead, PitchRows };
+  State state = State::Free;
+  std::optional<TraceKind> pending; // a title line "Profil:" announces the kind of the next bare head
+  Flank pitch_flank = Flank::Left;
+  std::vector<std::string> pitch_columns;
+  std::map<std::string, int> skipped_count;
+  bool skip_numbers_only = false; // a skipped trace ends at its last number line, an unknown block at a known line
+  auto skip_block = [&](const std::string& title, int ln) {
+    if (skipped_count[title]++ == 0) f.skipped_blocks.push_back(fmt::format("{} (line {})", title, ln));
+    state = State::Skip;
+  };
+  // A trace block ends at the first line that is not all numbers: it must have had the values its head announced.
+  auto end_trace = [&] {
+    const auto& t = f.traces.back();
+    if (static_cast<int>(t.values_um.size()) != t.announced_values)
+      fail(source, t.line, "Werte",
+           fmt::format("the head announces {} values, {} follow", t.announced_values, t.values_um.size()));
+  };
+
+  int ln = 0;
+  size_t pos = 0;
+  while (pos < raw.size()) {
+    const size_t nl = raw.find('\n', pos);
+    const std::string_view full = raw.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
+    pos = nl == std::string_view::npos ? raw.size() : nl + 1;
+    ++ln;
+    const std::string_view line = trim(full);
+    if (line.empty()) continue;
+
+    if (state == State::Values) {
+      if (all_numbers(line)) {
+        auto& t = f.traces.back();
+        for (const auto tok : tokens(line)) {
+          if (static_cast<int>(t.values_um.size()) == t.announced_values)
+            fail(source, ln, "Werte",
+                 fmt::format("more values than the {} announced by the head at line {}", t.announced_values, t.line));
+          const double v = *number(tok);
+          t.values_um.push_back(v <= kKlingelnbergUndefined + 1.0 ? kNaN : v);
+          t.value_lines.push_back(ln);
+        }
+        continue;
+      }
+      end_trace();
+      state = State::Free;
+    }
+    if (state == State::Skip) {
+      // A skipped block lasts until a line this reader knows starts something (its rows need not be numbers:
+      // "Teilung:" has "1   R  0.0000 …").
+      std::string_view unused;
+      const bool known = header_code(line, unused) || line.find("Zahn-Nr.") != std::string_view::npos ||
+                         line == "Profil:" || line == "Flankenlinie:" || line == "linke Zahnflanke" ||
+                         line == "rechte Zahnflanke";
+      if (!known && !(skip_numbers_only && !all_numbers(line))) continue;
+      state = State::Free;
+    }
+    if (state == State::PitchHead) {
+      const auto t = tokens(line);
+      if (t[0] != "Zahn-Nr.") fail(source, ln, "Zahn-Nr.", "expected the pitch table's column line 'Zahn-Nr. fp Fp Fr'");
+      pitch_columns.assign(t.begin() + 1, t.end());
+      for (const char* need : {"fp", "Fp", "Fr"})
+        if (std::find(pitch_columns.begin(), pitch_columns.end(), need) == pitch_columns.end())
+          fail(source, ln, "Zahn-Nr.", fmt::format("the pitch table has no column '{}' (expected 'Zahn-Nr. fp Fp Fr')", need));
+      state = State::PitchRows;
+      continue;
+    }
+    if (state == State::PitchRows) {
+      const auto t = tokens(line);
+      if (all_numbers(line) && whole(t[0])) {
+        if (t.size() != pitch_columns.size() + 1)
+          fail(source, ln, "Zahn-Nr.",
+               fmt::format("{} fields, the pitch table has {} columns", t.size(), pitch_columns.size() + 1));
+        KlingelnbergPitchRow r;
+        r.tooth = *whole(t[0]);
+        r.flank = pitch_flank;
+        r.line = ln;
+        for (size_t c = 0; c < pitch_columns.size(); ++c) {
+          const double v = *number(t[c + 1]);
+          if (pitch_columns[c] == "fp") r.fp_um = v;
+          if (pitch_columns[c] == "Fp") r.Fp_um = v;
+          if (pitch_columns[c] == "Fr") r.Fr_um = v;
+        }
+        f.pitch.push_back(r);
+        continue;
+      }
+      state = State::Free;
+    }
+
+    std::string_view rest;
+    if (const auto code = header_code(line, rest)) {
+      const auto colon = rest.find(':');
+      KlingelnbergHeaderLine h;
+      h.label = strip_leaders(rest.substr(0, colon));
+      h.line = ln;
+      if (colon != std::string_view::npos)
+        for (const auto t : tokens(rest.substr(colon + 1), " \t:"))
+          if (const auto v = number(t)) h.values.push_back(*v);
+      if (const auto sym = range_symbol(h.label)) f.ranges[*sym] = h;
+      f.codes[*code] = std::move(h);
+      continue;
+    }
+    if (line.find("Zahn-Nr.") != std::string_view::npos) {
+      const Head h = parse_head(line, pending, source, ln);
+      pending.reset();
+      if (!h.kind) { // e.g. "Verschränkung:" (twist) traces: listed, their values skipped
+        skip_block(h.title.empty() ? std::string("Zahn-Nr.") : h.title, ln);
+        skip_numbers_only = true;
+        continue;
+      }
+      KlingelnbergTrace t;
+      t.kind = *h.kind;
+      t.tooth = h.tooth;
+      t.flank = h.flank;
+      t.topography = h.title == "TOPOGRAFIE";
+      t.position_symbol = h.symbol;
+      t.position_mm = h.position;
+      t.announced_values = h.count;
+      t.line = ln;
+      f.traces.push_back(std::move(t));
+      state = State::Values;
+      continue;
+    }
+    if (line == "Profil:" || line == "Flankenlinie:") {
+      pending = line == "Profil:" ? TraceKind::Profile : TraceKind::Helix;
+      continue;
+    }
+    if (line == "linke Zahnflanke" || line == "rechte Zahnflanke") {
+      pitch_flank = line == "linke Zahnflanke" ? Flank::Left : Flank::Right;
+      state = State::PitchHead;
+      continue;
+    }
+    // Preamble ("HEADER KS.MK.FILE", "TYPE STI ! comment", …): settings of the export, not data.
+    const auto t = tokens(line);
+    const bool preamble = t[0].size() >= 2 && std::all_of(t[0].begin(), t[0].end(), [](char c) {
+      return (c >= 'A' && c <= 'Z') || c == '_' || c == '.';
+    });
+    if (preamble) continue;
+    // Anything else opens a block this reader does not know: skipped with the numbers that follow it, and listed.
+    std::string title(text::utf8_prefix(line, 40));
+    if (const auto c = title.find(':'); c != std::string::npos) title = std::string(trim(title.substr(0, c)));
+    skip_block(title, ln);
+    skip_numbers_only = false;
+  }
+  f.last_line = ln;
+  if (state == State::Values) end_trace();
+  for (const auto& t : f.traces)
+    f.undefined_points += static_cast<int>(std::count_if(t.values_um.begin(), t.values_um.end(), [](double v) { return std::isnan(v); }));
+  return f;
+}
+
+KlingelnbergFile read_klingelnberg(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file, 0, 0, "", "cannot open");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_klingelnberg(ss.str(), file);
+}
+
+bool looks_like_klingelnberg(std::istream& in) {
+  std::string head(64 * 1024, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(in.gcount()));
+  in.clear();
+  in.seekg(0);
+  return head.find("HEADER KS.") != std::string::npos || head.find("Zahn-Nr.") != std::string::npos;
+}
+
+namespace {
+
+const KlingelnbergHeaderLine* code_line(const KlingelnbergFile& f, int code) {
+  const auto it = f.codes.find(code);
+  return it == f.codes.end() || it->second.values.empty() ? nullptr : &it->second;
+}
+
+std::string code_field(int code, const KlingelnbergHeaderLine& h) { return fmt::format("{} {}", code, h.label); }
+
+// The range value for a flank: one number serves both flanks, two are left and right [M: the order].
+double range_value(const KlingelnbergFile& f, const std::string& symbol, Flank flank, const KlingelnbergTrace& t) {
+  const auto it = f.ranges.find(symbol);
+  if (it == f.ranges.end() || it->second.values.empty())
+    fail(f.source, t.line, symbol,
+         fmt::format("a {} trace needs the measuring range '{}' in the header, which is missing", kind_name(t.kind), symbol));
+  const auto& v = it->second.values;
+  return flank == Flank::Right && v.size() >= 2 ? v[1] : v[0];
+}
+
+double sign_factor(const KlingelnbergTrace& t, SignConvention s) {
+  if (s == SignConvention::Din) return 1.0;
+  if (t.kind == TraceKind::Helix) return -1.0;
+  return t.flank == Flank::Left ? -1.0 : 1.0;
+}
+
+} // namespace
+
+KlingelnbergPoints klingelnberg_points(const KlingelnbergFile& f, const gears::GearGeometry& g, const KlingelnbergOptions& o) {
+  KlingelnbergPoints out;
+  const auto& spec = g.spec();
+  if (const auto* h = code_line(f, 21)) {
+    if (std::abs(h->values[0] - spec.normal_module_mm) > 0.5e-4) // files print m_n to 4 decimals
+      fail(f.source, h->line, code_field(21, *h),
+           fmt::format("{} mm in the file, the scene's gear has m_n = {} mm", h->values[0], spec.normal_module_mm));
+  } else {
+    out.warnings.push_back(f.source + ": no normal module (header line 21): not checked against the scene");
+  }
+  if (const auto* h = code_line(f, 22)) {
+    if (h->values[0] != spec.teeth)
+      fail(f.source, h->line, code_field(22, *h),
+           fmt::format("{} in the file, the scene's gear has z = {}", h->values[0], spec.teeth));
+  } else {
+    out.warnings.push_back(f.source + ": no number of teeth (header line 22): not checked against the scene");
+  }
+  const double to_normal = o.direction == DeviationDirection::Transverse ? std::cos(g.base_helix_angle()) : 1.0;
+  const double d_lo = g.root_form_diameter_mm(), d_hi = g.tip_diameter_mm(), b = spec.face_width_mm;
+  int off_flank = 0;
+  for (const auto& t : f.traces) {
+    if (t.tooth > g.teeth())
+      fail(f.source, t.line, "Zahn-Nr.", fmt::format("tooth {} of a gear with {} teeth", t.tooth, g.teeth()));
+    const int n = static_cast<int>(t.values_um.size());
+    const double factor = sign_factor(t, o.signs) * to_normal;
+    for (int i = 0; i < n; ++i) {
+      if (std::isnan(t.values_um[static_cast<size_t>(i)])) continue;
+      const double u = n > 1 ? static_cast<double>(i) / (n - 1) : 0.0;
+      double dia = 0.0, z = 0.0;
+      if (t.kind == TraceKind::Profile) {
+        if (t.position_symbol != 'z')
+          fail(f.source, t.line, fmt::format("{}=", t.position_symbol), "a profile trace's position is its axial height 'z='");
+        const double da = range_value(f, "da", t.flank, t), de = range_value(f, "de", t.flank, t);
+        if (o.spacing == ProfileSpacing::RollLength) {
+          if (da < g.base_diameter_mm() || de < g.base_diameter_mm())
+            fail(f.source, f.ranges.at("da").line, "da", fmt::format("{} … {} mm reaches below the base circle {:.4f} mm", da, de, g.base_diameter_mm()));
+          const double xa = g.roll_length_at(da), xe = g.roll_length_at(de);
+          dia = g.diameter_at_roll_length(xa + u * (xe - xa));
+        } else {
+          dia = da + u * (de - da);
+        }
+        z = t.position_mm;
+      } else {
+        const double ba = range_value(f, "ba", t.flank, t), be = range_value(f, "be", t.flank, t);
+        z = ba + u * (be - ba);
+        if (t.position_symbol == 'd') dia = t.position_mm;
+        else if (t.position_symbol == 'x') dia = g.diameter_at_roll_length(t.position_mm);
+        else fail(f.source, t.line, "z=", "a helix trace's position is its diameter 'd=' or roll length 'x='");
+      }
+      if (dia < d_lo - kSlackMm || dia > d_hi + kSlackMm || z < -kSlackMm || z > b + kSlackMm) {
+        ++off_flank;
+        continue;
+      }
+      MeasuredPoint p;
+      p.tooth = t.tooth;
+      p.flank = t.flank;
+      p.diameter_mm = std::clamp(dia, d_lo, d_hi);
+      p.roll_length_mm = g.roll_length_at(p.diameter_mm);
+      p.z_mm = std::clamp(z, 0.0, b);
+      p.deviation_um = factor * t.values_um[static_cast<size_t>(i)];
+      p.line = t.value_lines[static_cast<size_t>(i)];
+      out.points.push_back(p);
+    }
+  }
+  if (!f.skipped_blocks.empty())
+    out.warnings.push_back(fmt::format("{}: blocks not read (this reader knows Profil, Flankenlinie, TOPOGRAFIE and the "
+                                       "pitch tables): {}",
+                                       f.source, fmt::join(f.skipped_blocks, ", ")));
+  if (f.undefined_points > 0)
+    out.warnings.push_back(fmt::format("{}: {} undefined values ({}) skipped", f.source, f.undefined_points, kKlingelnbergUndefined));
+  if (off_flank > 0)
+    out.warnings.push_back(fmt::format("{}: {} points off the active flank (d_Ff {:.4f} … d_a {:.4f} mm, z 0 … {} mm) skipped",
+                                       f.source, off_flank, d_lo, d_hi, b));
+  if (out.points.empty())
+    fail(f.source, f.last_line, "Zahn-Nr.",
+         fmt::format("nothing usable: {} profile/helix traces, no defined point on the active flank", f.traces.size()));
+  return out;
+}
+
+void write_klingelnberg(std::ostream& out, const gears::GearGeometry& g, const std::vector<grinding::TopologyRow>& rows,
+                        const KlingelnbergOptions& o) {
+  // One TOPOGRAFIE profile line per tooth, flank and grid column, its values from root to tip.
+  std::map<std::tuple<int, int, int>, std::vector<const grinding::TopologyRow*>> lines; // (tooth, flank, col)
+  for (const auto& r : rows) lines[{r.tooth, r.flank == Flank::Left ? 0 : 1, r.col}].push_back(&r);
+  if (lines.empty()) throw std::invalid_argument("write_klingelnberg: no rows");
+  double da = std::numeric_limits<double>::infinity(), de = -da, ba = da, be = -da;
+  for (const auto& r : rows) {
+    da = std::min(da, r.diameter_mm);
+    de = std::max(de, r.diameter_mm);
+    ba = std::min(ba, r.z_mm);
+    be = std::max(be, r.z_mm);
+  }
+  const auto& s = g.spec();
+  const double to_file = o.direction == DeviationDirection::Transverse ? 1.0 / std::cos(g.base_helix_angle()) : 1.0;
+  out << "HEADER KS.MK.FILE\r\n";
+  out << "TYPE    STI     ! written by geartopo synth\r\n";
+  out << fmt::format("  21 :Normalmodul mn [mm]..............: {:.4f}\r\n", s.normal_module_mm);
+  out << fmt::format("  22 :Zähnezahl z......................: {}\r\n", s.teeth);
+  out << fmt::format("  23 :Schrägungswinkel beta [Grad].....: {:.4f}\r\n", units::deg_from_rad(s.helix_angle_rad));
+  out << fmt::format("  24 :Eingriffswinkel alpha [Grad].....: {:.4f}\r\n", units::deg_from_rad(s.normal_pressure_angle_rad));
+  out << fmt::format("  25 :Profilverschiebungsfaktor x......: {:.4f}\r\n", s.profile_shift);
+  out << fmt::format("  26 :Zahnbreite b [mm]................: {:.4f}\r\n", s.face_width_mm);
+  out << fmt::format("  27 :Kopfkreisdurchmesser [mm]........: {:.4f}\r\n", s.tip_diameter_mm);
+  out << fmt::format(" 272 :Fußkreisdurchmesser [mm].........: {:.4f}\r\n", s.root_diameter_mm);
+  out << fmt::format("  41 :Start Messbereich.....da [mm]....: {:.6f} {:.6f}\r\n", da, da);
+  out << fmt::format("  44 :Ende der Messstrecke..de [mm]....: {:.6f} {:.6f}\r\n", de, de);
+  out << fmt::format("  61 :Messanfang............ba [mm]....: {:.6f} {:.6f}\r\n", ba, ba);
+  out << fmt::format("  64 :Messende..............be [mm]....: {:.6f} {:.6f}\r\n", be, be);
+  for (const auto& [key, pts] : lines) {
+    auto sorted = pts;
+    std::sort(sorted.begin(), sorted.end(), [](auto* a, auto* b) { return a->row < b->row; });
+    const int tooth = std::get<0>(key);
+    const Flank flank = std::get<1>(key) == 0 ? Flank::Left : Flank::Right;
+    KlingelnbergTrace probe; // for the sign factor
+    probe.kind = TraceKind::Profile;
+    probe.flank = flank;
+    const double factor = sign_factor(probe, o.signs) * to_file;
+    out << fmt::format("TOPOGRAFIE: Zahn-Nr.: {} /Profil:{} {} / {} Werte / z= {:.6f}\r\n", tooth, std::get<2>(key),
+                       flank == Flank::Left ? "links" : "rechts", sorted.size(), sorted.front()->z_mm);
+    for (size_t i = 0; i < sorted.size(); ++i) {
+      out << fmt::format("{:9.3f}", factor * sorted[i]->deviation_um);
+      out << ((i + 1) % 12 == 0 || i + 1 == sorted.size() ? "\r\n" : " ");
+    }
+  }
+}
+
+} // namespace geartopo::diagnosis

@@ -1,0 +1,231 @@
+// The Klingelnberg export reader (docs/measurement-formats.md) on a hand-written file whose values follow known
+// patterns, its error messages, and the round trip through the writer `synth --format klingelnberg` uses.
+#include "geartopo/core/input_error.hpp"
+#include "geartopo/diagnosis/klingelnberg.hpp"
+#include "geartopo/diagnosis/synth.hpp"
+#include "geartopo/gears/gear_geometry.hpp"
+#include "geartopo/workbench/workbench.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+using namespace geartopo;
+
+namespace {
+
+const std::string kExample = std::string(GEARTOPO_SOURCE_DIR) + "/tests/diagnosis/data/klingelnberg_example.mka";
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// The gear the example file describes: m_n = 2, z = 24, α_n = 20°, β = 15°, x = 0, b = 20, conventional d_a, d_f.
+gears::GearGeometry example_gear(double mn = 2.0, int z = 24) {
+  gears::GearSpec s;
+  s.normal_module_mm = mn;
+  s.teeth = z;
+  s.normal_pressure_angle_rad = 20.0 * kDeg;
+  s.helix_angle_rad = 15.0 * kDeg;
+  s.face_width_mm = 20.0;
+  s.tip_diameter_mm = gears::conventional_tip_diameter(s);
+  s.root_diameter_mm = gears::conventional_root_diameter(s);
+  return gears::GearGeometry(s);
+}
+
+std::string example_text() {
+  std::ifstream in(kExample, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+std::string points_error(const std::string& text, const gears::GearGeometry& g) {
+  try {
+    (void)diagnosis::klingelnberg_points(diagnosis::parse_klingelnberg(text, "x.mka"), g);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// cos β_b for β = 15°, α_n = 20°, written out: sin β_b = sin β cos α_n.
+const double kCosBetaB = std::cos(std::asin(std::sin(15.0 * kDeg) * std::cos(20.0 * kDeg)));
+
+} // namespace
+
+TEST(Klingelnberg, ExampleFileGivesTheKnownPattern) {
+  const auto g = example_gear();
+  const auto file = diagnosis::read_klingelnberg(kExample);
+  EXPECT_EQ(file.traces.size(), 5u);
+  EXPECT_EQ(file.undefined_points, 1);
+  EXPECT_TRUE(file.skipped_blocks.empty());
+  ASSERT_EQ(file.pitch.size(), 4u);
+  EXPECT_EQ(file.pitch[1].tooth, 2);
+  EXPECT_EQ(file.pitch[1].flank, Flank::Left);
+  EXPECT_DOUBLE_EQ(file.pitch[1].fp_um, -0.4);
+  EXPECT_DOUBLE_EQ(file.pitch[1].Fp_um, 0.262);
+  EXPECT_DOUBLE_EQ(file.pitch[1].Fr_um, 1.1);
+  EXPECT_EQ(file.pitch[2].flank, Flank::Right);
+  EXPECT_EQ(file.codes.at(22).label, "Zähnezahl z");
+  // Line 27 says "da" too, but only measuring/evaluation lines define the range: da is line 41's 47.5.
+  EXPECT_DOUBLE_EQ(file.ranges.at("da").values.at(0), 47.5);
+
+  const auto res = diagnosis::klingelnberg_points(file, g);
+  ASSERT_EQ(res.points.size(), 20u); // 5 + 5 + 3 (one undefined) + 4 + 3
+  ASSERT_EQ(res.warnings.size(), 1u);
+  EXPECT_EQ(res.warnings[0], kExample + ": 1 undefined values (-2147483.648) skipped");
+
+  const double rb = 0.5 * g.base_diameter_mm();
+  auto xi = [&](double d) { return std::sqrt(0.25 * d * d - rb * rb); };
+  // Profile, tooth 1 left: raw 0 1 2 3 4 µm, evenly in roll length over da 47.5 … de 53.2 at z = 10; the raw sign of a
+  // left profile is the opposite of DIN's, and transverse values are × cos β_b along the normal.
+  for (int i = 0; i < 5; ++i) {
+    const auto& p = res.points[static_cast<size_t>(i)];
+    EXPECT_EQ(p.tooth, 1);
+    EXPECT_EQ(p.flank, Flank::Left);
+    EXPECT_NEAR(p.roll_length_mm, xi(47.5) + i / 4.0 * (xi(53.2) - xi(47.5)), 1e-9);
+    EXPECT_NEAR(p.z_mm, 10.0, 1e-12);
+    EXPECT_NEAR(p.deviation_um, -1.0 * i * kCosBetaB, 1e-9);
+    EXPECT_EQ(p.line, 23);
+  }
+  // Profile, tooth 1 right: raw = DIN, slope −0.5 µm per step.
+  for (int i = 0; i < 5; ++i) {
+    const auto& p = res.points[static_cast<size_t>(5 + i)];
+    EXPECT_EQ(p.flank, Flank::Right);
+    EXPECT_NEAR(p.deviation_um, -0.5 * i * kCosBetaB, 1e-9);
+  }
+  EXPECT_NEAR(res.points[5].diameter_mm, 47.5, 1e-9);
+  EXPECT_NEAR(res.points[9].diameter_mm, 53.2, 1e-9);
+  // Helix, tooth 1 right at d = 50: 4 values evenly over ba 2 … be 18, the first undefined; helix raw × −1 = DIN.
+  for (int i = 1; i < 4; ++i) {
+    const auto& p = res.points[static_cast<size_t>(9 + i)];
+    EXPECT_EQ(p.tooth, 1);
+    EXPECT_NEAR(p.diameter_mm, 50.0, 1e-9);
+    EXPECT_NEAR(p.z_mm, 2.0 + i * 16.0 / 3.0, 1e-9);
+    EXPECT_NEAR(p.deviation_um, (i + 1.0) * kCosBetaB, 1e-9);
+  }
+  EXPECT_EQ(res.points[10].line, 27); // the value after the undefined one
+  EXPECT_EQ(res.points[12].line, 28); // on the next line
+  // Helix, tooth 2 left, title on its own line and the position as roll length x = 10 mm.
+  for (int i = 0; i < 4; ++i) {
+    const auto& p = res.points[static_cast<size_t>(13 + i)];
+    EXPECT_EQ(p.tooth, 2);
+    EXPECT_EQ(p.flank, Flank::Left);
+    EXPECT_NEAR(p.roll_length_mm, 10.0, 1e-9);
+    EXPECT_NEAR(p.deviation_um, (i + 1.0) * kCosBetaB, 1e-9);
+  }
+  // Topography line of tooth 2 right at z = 5: a constant +0.046 µm.
+  for (int i = 0; i < 3; ++i) {
+    const auto& p = res.points[static_cast<size_t>(17 + i)];
+    EXPECT_EQ(p.flank, Flank::Right);
+    EXPECT_NEAR(p.z_mm, 5.0, 1e-12);
+    EXPECT_NEAR(p.roll_length_mm, xi(47.5) + i / 2.0 * (xi(53.2) - xi(47.5)), 1e-9);
+    EXPECT_NEAR(p.deviation_um, 0.046 * kCosBetaB, 1e-12);
+  }
+}
+
+TEST(Klingelnberg, OptionsChangeSpacingDirectionAndSign) {
+  const auto g = example_gear();
+  diagnosis::KlingelnbergOptions o;
+  o.spacing = diagnosis::ProfileSpacing::Diameter;
+  o.direction = diagnosis::DeviationDirection::Normal;
+  o.signs = diagnosis::SignConvention::Din;
+  const auto res = diagnosis::klingelnberg_points(diagnosis::read_klingelnberg(kExample), g, o);
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_NEAR(res.points[static_cast<size_t>(i)].diameter_mm, 47.5 + i / 4.0 * 5.7, 1e-9);
+    EXPECT_NEAR(res.points[static_cast<size_t>(i)].deviation_um, 1.0 * i, 1e-12);
+  }
+}
+
+TEST(Klingelnberg, Latin1AndLfReadTheSame) {
+  std::string text = example_text().substr(3); // without the BOM
+  std::string latin1;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '\r') continue;
+    if (static_cast<unsigned char>(text[i]) == 0xC3) { // ä ß: two UTF-8 bytes → one latin-1 byte
+      latin1 += static_cast<char>(static_cast<unsigned char>(text[i + 1]) + 0x40);
+      ++i;
+    } else {
+      latin1 += text[i];
+    }
+  }
+  const auto g = example_gear();
+  const auto a = diagnosis::klingelnberg_points(diagnosis::parse_klingelnberg(latin1, "l.mka"), g);
+  const auto b = diagnosis::klingelnberg_points(diagnosis::read_klingelnberg(kExample), g);
+  ASSERT_EQ(a.points.size(), b.points.size());
+  for (size_t i = 0; i < a.points.size(); ++i) EXPECT_EQ(a.points[i].deviation_um, b.points[i].deviation_um);
+  EXPECT_EQ(diagnosis::parse_klingelnberg(latin1, "l.mka").codes.at(22).label, "Zähnezahl z");
+}
+
+TEST(Klingelnberg, HeaderMustMatchTheScene) {
+  EXPECT_EQ(points_error(example_text(), example_gear(2.5)),
+            "x.mka:6: 21 Normalmodul mn [mm]: 2 mm in the file, the scene's gear has m_n = 2.5 mm");
+  EXPECT_EQ(points_error(example_text(), example_gear(2.0, 25)),
+            "x.mka:7: 22 Zähnezahl z: 24 in the file, the scene's gear has z = 25");
+}
+
+TEST(Klingelnberg, UnknownBlocksAreListedNotUsed) {
+  const std::string text = example_text() +
+                           "Verschränkung: Zahn-Nr.: 1k /Flankenlinie:3 links / 2  Werte  x= 10.263\r\n  1.0  2.0\r\n"
+                           "Teilung:\r\nZ-Nr. Seite PHI X Y Z\r\n  1   R  0.0000  .1198  25.5249  87.2302\r\n";
+  const auto res = diagnosis::klingelnberg_points(diagnosis::parse_klingelnberg(text, "x.mka"), example_gear());
+  EXPECT_EQ(res.points.size(), 20u);
+  ASSERT_EQ(res.warnings.size(), 2u);
+  EXPECT_EQ(res.warnings[0], "x.mka: blocks not read (this reader knows Profil, Flankenlinie, TOPOGRAFIE and the pitch "
+                             "tables): Verschränkung (line 42), Teilung (line 44)");
+}
+
+TEST(Klingelnberg, CountsMustMatchTheHead) {
+  const auto few = replaced(example_text(), "  .000  1.000  2.000  3.000  4.000", "  .000  1.000  2.000  3.000");
+  EXPECT_EQ(points_error(few, example_gear()), "x.mka:22: Werte: the head announces 5 values, 4 follow");
+  const auto many = replaced(example_text(), "  .000  1.000  2.000  3.000  4.000", "  .000  1.000  2.000  3.000  4.000 5");
+  EXPECT_EQ(points_error(many, example_gear()), "x.mka:23: Werte: more values than the 5 announced by the head at line 22");
+  const auto word = replaced(example_text(), "/ 5 Werte / z= 10.0", "/ fünf Werte / z= 10.0");
+  EXPECT_EQ(points_error(word, example_gear()), "x.mka:22: Werte: 'fünf' is not a number of values");
+}
+
+TEST(Klingelnberg, NothingUsableIsAnError) {
+  const std::string header_only = example_text().substr(0, example_text().find("Profil:"));
+  EXPECT_EQ(points_error(header_only, example_gear()),
+            "x.mka:21: Zahn-Nr.: nothing usable: 0 profile/helix traces, no defined point on the active flank");
+  // A trace entirely off the flank (z beyond the face width) is not usable either.
+  const std::string off = header_only + "Profil:  Zahn-Nr.: 1 links / 2 Werte / z= 25.0\r\n 1.0 2.0\r\n";
+  EXPECT_EQ(points_error(off, example_gear()),
+            "x.mka:23: Zahn-Nr.: nothing usable: 1 profile/helix traces, no defined point on the active flank");
+}
+
+TEST(Klingelnberg, IsRecognisedByItsContent) {
+  std::ifstream in(kExample, std::ios::binary);
+  EXPECT_TRUE(diagnosis::looks_like_klingelnberg(in));
+  std::istringstream csv("tooth,flank,row,col,diameter_mm,z_mm,deviation_um\n");
+  EXPECT_FALSE(diagnosis::looks_like_klingelnberg(csv));
+}
+
+// Writer and reader are inverse to the printed precision: positions 1e-6 mm, deviations 0.001 µm (× 1/cos β_b in the
+// file, × cos β_b back).
+TEST(Klingelnberg, SynthesizedTopographyRoundTrips) {
+  const workbench::Workbench wb(std::string(GEARTOPO_SOURCE_DIR) + "/scenes/truth-skmc1200w-mn14-z35.yaml");
+  diagnosis::SynthOptions so;
+  so.teeth = {1, 18};
+  const auto rows = diagnosis::synthesize(wb.setup, wb.process(), so);
+  std::ostringstream out;
+  diagnosis::write_klingelnberg(out, wb.setup.geometry(), rows);
+  const auto res = diagnosis::klingelnberg_points(diagnosis::parse_klingelnberg(out.str(), "synth.mka"), wb.setup.geometry());
+  ASSERT_EQ(res.points.size(), rows.size());
+  EXPECT_TRUE(res.warnings.empty());
+  for (const auto& r : rows) {
+    const auto it = std::find_if(res.points.begin(), res.points.end(), [&](const diagnosis::MeasuredPoint& p) {
+      return p.tooth == r.tooth && p.flank == r.flank && std::abs(p.z_mm - r.z_mm) < 1e-5 &&
+             std::abs(p.diameter_mm - r.diameter_mm) < 1e-5;
+    });
+    ASSERT_NE(it, res.points.end()) << "tooth " << r.tooth << " row " << r.row << " col " << r.col;
+    EXPECT_NEAR(it->deviation_um, r.deviation_um, 0.5e-3);
+  }
+}
