@@ -1,4 +1,5 @@
 #include "app/commands.hpp"
+#include "geartopo/core/atomic_file.hpp"
 #include "geartopo/report/iso_report.hpp"
 #include "geartopo/core/units.hpp"
 #include "app/options.hpp"
@@ -41,10 +42,11 @@ void register_compensate_command(CLI::App& app, Action& action) {
                                                    "flank: minimise flank deviations) and the gear before/after");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
   cmd->add_option("--out", opt->out, "Output directory (created): corrections.csv, topology_before/after.csv, iso1328.json")
-      ->required();
+      ->required()
+      ->check(non_empty_path());
   cmd->add_option("--method", opt->method, "paper or flank (default)")->check(CLI::IsMember({"paper", "flank"}));
   cmd->add_option("--step", opt->step, "Correction table spacing along each stroke, mm (default 2)")
-      ->check(CLI::Range(0.05, 50.0));
+      ->check(finite_in(0.05, 50.0));
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
@@ -93,7 +95,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
                                                                {"after", qa[i].worst_value_um},
                                                                {"improvement_percent", improvement(qb[i].worst_value_um, qa[i].worst_value_um)}};
       j["improvement"] = imp;
-      std::ofstream(out / "iso1328.json") << j.dump(2) << "\n";
+      output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
 
       const auto [lb, hb] = range_of(before);
       const auto [la, ha] = range_of(after);

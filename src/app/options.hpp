@@ -8,7 +8,20 @@
 #include <utility>
 #include <vector>
 
+namespace CLI {
+class Validator;
+}
+
 namespace geartopo::app {
+
+/// A number within [lo, hi] and finite: CLI::Range lets NaN through (every comparison with NaN is false), so
+/// `--noise-um nan` or `--step nan` passed the check. Refuses NaN, ±inf and values outside the range (exit 2).
+CLI::Validator finite_in(double lo, double hi);
+/// A path that is not empty: `--out ""` wrote into the current folder's root ("" / "file" is "file"; "" as a folder
+/// was created as nothing) instead of being refused.
+CLI::Validator non_empty_path();
+/// A whole number ≥ 0 written with digits only: CLI11 reads "-1" into an unsigned seed as 2⁶⁴ − 1.
+CLI::Validator digits_only();
 
 using workbench::make_effects;
 using workbench::Workbench;

@@ -25,6 +25,7 @@ struct ParameterSpec {
   double typical;        ///< typical magnitude (file units): fitting scale and step
   bool fitted = true;    ///< identified by `diagnose`; false: a set-up value the user must know (e.g. arbor span)
   std::vector<double> starts{}; ///< start values for fitting a parameter the deviations depend on nonlinearly
+  bool whole = false;    ///< a count (e.g. strokes between dressings): the scene must give a whole number
 };
 
 class Effect {
