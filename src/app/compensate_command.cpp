@@ -95,6 +95,11 @@ void register_compensate_command(CLI::App& app, Action& action) {
                                                                {"after", qa[i].worst_value_um},
                                                                {"improvement_percent", improvement(qb[i].worst_value_um, qa[i].worst_value_um)}};
       j["improvement"] = imp;
+      j["warnings"] = nlohmann::json::array();
+      if (const std::string w = compensation_made_worse(max_b, max_a); !w.empty()) {
+        std::cerr << "geartopo: warning: " << w << "\n";
+        j["warnings"].push_back(w);
+      }
       output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
 
       const auto [lb, hb] = range_of(before);

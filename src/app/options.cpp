@@ -46,6 +46,13 @@ CLI::Validator digits_only() {
       "UINT");
 }
 
+std::string compensation_made_worse(double before_um, double after_um) {
+  if (!(after_um > before_um + kWorseToleranceUm)) return {};
+  return fmt::format("compensation made the gear worse: the largest |deviation| grows from {:.3f} to {:.3f} µm; do not "
+                     "apply these corrections (try the other --method)",
+                     before_um, after_um);
+}
+
 std::vector<int> parse_teeth(const std::string& text, int teeth) {
   // "" used to mean all teeth: an empty list is far more likely a script's empty variable than a wish for all.
   if (text.empty()) throw CLI::ValidationError("--teeth", "an empty list (use e.g. 1,18 or all)");

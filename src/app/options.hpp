@@ -26,6 +26,12 @@ CLI::Validator digits_only();
 using workbench::make_effects;
 using workbench::Workbench;
 
+/// When compensation made the gear worse — the largest |deviation| after is above the one before by more than
+/// kWorseToleranceUm — the sentence to warn with (stderr and iso1328.json "warnings"); otherwise empty. E.g. the paper
+/// method cancels a rotation that does not touch the flank (ε_yy, ε_ya) through the other axes and spoils the gear.
+inline constexpr double kWorseToleranceUm = 0.01; ///< far below any tolerance, far above the simulation's rounding
+std::string compensation_made_worse(double before_um, double after_um);
+
 /// "all" → {} (every tooth); "1,18" → {1, 18}. Throws CLI::ValidationError naming the option.
 std::vector<int> parse_teeth(const std::string& text, int teeth);
 /// "50x100" → (50, 100), at most grinding::kMaxPointsPerFlank points. Throws CLI::ValidationError.

@@ -38,6 +38,13 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
   iso["units"] = "µm; deviations along the flank normal, plus material positive";
   iso["before"] = report::iso_json(r.iso_before);
   iso["after"] = report::iso_json(r.iso_after);
+  iso["warnings"] = nlohmann::json::array();
+  const std::string worse = compensation_made_worse(grinding::largest_abs_deviation_um(r.before),
+                                                    grinding::largest_abs_deviation_um(r.after));
+  if (!worse.empty()) {
+    std::cerr << "geartopo: warning: " << worse << "\n";
+    iso["warnings"].push_back(worse);
+  }
   output::write_text_atomically(dir / "iso1328.json", iso.dump(2) + "\n");
   if (r.measurement && r.measurement->diagnosis.chosen) {
     std::vector<std::string> comments;

@@ -242,3 +242,32 @@ TEST(Cli, AFullDiskFailsNamingTheFileAndLeavesNoPartialFile) {
   EXPECT_NE(s.err.find(file.string() + ": cannot write"), std::string::npos) << s.err;
   EXPECT_FALSE(fs::exists(file));
 }
+
+// Issue 18, warnings: an angular error of the A axis about y (epsilon_ya, 200 µrad) leaves the flank untouched
+// (largest |deviation| 0.000 µm), but the paper's pseudo-inverse cancels it through the other axes and spoils the
+// gear (≈ 14 µm; the same mechanism as Compensation.SpinAboutTheWheelAxisIsNotFought).
+// `compensate` said "improvement" and nothing else; it now warns on stderr and in iso1328.json.
+TEST(Cli, CompensationThatMakesTheGearWorseIsWarnedAbout) {
+  const auto scene = temp_path("worse.yaml");
+  std::ofstream(scene) << "gear:\n  normal_module_mm: 14\n  teeth: 35\n  normal_pressure_angle_deg: 20\n"
+                          "  helix_angle_deg: 30\n  profile_shift: 0.274\n  face_width_mm: 150\n"
+                          "machine:\n  constants:\n    epsilon_ya_urad: 200\n";
+  const auto out = temp_path("cli_worse");
+  auto json = [&] {
+    std::ifstream in(out / "iso1328.json");
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  auto r = run("compensate " + scene.string() + " --method paper --out " + out.string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: compensation made the gear worse"), std::string::npos) << r.err;
+  EXPECT_NE(json().find("\"warnings\": [\n    \"compensation made the gear worse"), std::string::npos) << json();
+  // The flank method fixes the same gear: no warning, an empty list.
+  r = run("compensate " + scene.string() + " --method flank --out " + out.string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  EXPECT_NE(json().find("\"warnings\": []"), std::string::npos) << json();
+  fs::remove_all(out);
+  fs::remove(scene);
+}
