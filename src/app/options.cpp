@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdio>
+#include <unistd.h>
 #include <cmath>
 
 namespace geartopo::app {
@@ -51,6 +53,15 @@ std::string compensation_made_worse(double before_um, double after_um) {
   return fmt::format("compensation made the gear worse: the largest |deviation| grows from {:.3f} to {:.3f} µm; do not "
                      "apply these corrections (try the other --method)",
                      before_um, after_um);
+}
+
+void print_work_estimate(long long points, long long flanks, bool exact) {
+  if (points < kEstimateFromPoints || ::isatty(STDERR_FILENO) == 0) return;
+  const double rate = exact ? 260e3 : 1.7e6; // points/s, 2 cores (docs/performance.md, "Against the targets")
+  std::fprintf(stderr, "geartopo: %s\n",
+               fmt::format("{} points on {} flanks ({}): about {:.0f} s on 2 cores", points, flanks,
+                           exact ? "exact" : "linear", static_cast<double>(points) / rate)
+                   .c_str());
 }
 
 std::vector<int> parse_teeth(const std::string& text, int teeth) {

@@ -32,6 +32,12 @@ using workbench::Workbench;
 inline constexpr double kWorseToleranceUm = 0.01; ///< far below any tolerance, far above the simulation's rounding
 std::string compensation_made_worse(double before_um, double after_um);
 
+/// Before a long simulation (at least kEstimateFromPoints points), when stderr is a terminal: one line with the
+/// number of points and flanks and the expected wall time at the rates of docs/performance.md (exact ≈ 260 k,
+/// linear ≈ 1.7 M points/s on 2 cores). Nothing for scripts (stderr not a terminal), so their logs stay the same.
+inline constexpr long long kEstimateFromPoints = 1'000'000;
+void print_work_estimate(long long points, long long flanks, bool exact);
+
 /// "all" → {} (every tooth); "1,18" → {1, 18}. Throws CLI::ValidationError naming the option.
 std::vector<int> parse_teeth(const std::string& text, int teeth);
 /// "50x100" → (50, 100), at most grinding::kMaxPointsPerFlank points. Throws CLI::ValidationError.

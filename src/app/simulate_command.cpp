@@ -58,6 +58,13 @@ void register_simulate_command(CLI::App& app, Action& action) {
                                                             grinding::kMaxPointsPerSimulation));
       }
 
+      {
+        const long long flanks = 2LL * static_cast<long long>(so.teeth.empty() ? wb.setup.geometry().teeth() : so.teeth.size());
+        const long long per_flank = static_cast<long long>(so.rows) * so.cols +
+                                    static_cast<long long>(so.dense_rows) * so.dense_cols + so.profile_points +
+                                    so.helix_points;
+        print_work_estimate(per_flank * flanks, flanks, so.method == grinding::Method::Exact);
+      }
       const auto topo = grinding::simulate_topology(wb.setup, wb.process(), so);
       const std::filesystem::path out(opt->out);
       std::filesystem::create_directories(out / "meshes");
