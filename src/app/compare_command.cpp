@@ -1,5 +1,6 @@
 // geartopo compare: measured − model, where the model fails, and the residual's patterns.
 #include "app/commands.hpp"
+#include "geartopo/core/atomic_file.hpp"
 #include "app/options.hpp"
 
 #include "geartopo/diagnosis/compare.hpp"
@@ -41,8 +42,8 @@ void register_compare_command(CLI::App& app, Action& action) {
   cmd->add_option("SCENE", opt->scene, "Model scene (YAML)")->required();
   cmd->add_option("--measured", opt->measured, "Measurement: topology CSV (µm), point cloud x_mm,y_mm,z_mm, or Klingelnberg export "
                                                    "(docs/measurement-formats.md); told apart by content")->required();
-  cmd->add_option("--out", opt->out, "Output directory: compare.json, residuals.csv")->required();
-  cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated)")->check(CLI::Range(0.0, 1000.0));
+  cmd->add_option("--out", opt->out, "Output directory: compare.json, residuals.csv")->required()->check(non_empty_path());
+  cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated)")->check(finite_in(0.0, 1000.0));
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
@@ -53,14 +54,13 @@ void register_compare_command(CLI::App& app, Action& action) {
 
       const std::filesystem::path out(opt->out);
       std::filesystem::create_directories(out);
-      {
-        std::ofstream csv(out / "residuals.csv");
+      output::write_atomically(out / "residuals.csv", [&](std::ostream& csv) {
         csv << "tooth,flank,row,col,diameter_mm,z_mm,measured_um,model_um,residual_um\n";
         for (size_t i = 0; i < pts.size(); ++i)
           csv << fmt::format("{},{},{},{},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f}\n", pts[i].tooth, gears::to_string(pts[i].flank),
                              pts[i].row, pts[i].col, pts[i].diameter_mm, pts[i].z_mm, pts[i].deviation_um, c.model_um[i],
                              c.residual_um[i]);
-      }
+      });
       nlohmann::json j;
       j["scene"] = opt->scene;
       j["measured"] = opt->measured;
@@ -100,7 +100,7 @@ void register_compare_command(CLI::App& app, Action& action) {
       nlohmann::json regions = nlohmann::json::array();
       for (const auto& r : c.regions) regions.push_back(r.sentence);
       j["failing_regions"] = regions;
-      std::ofstream(out / "compare.json") << j.dump(2) << "\n";
+      output::write_text_atomically(out / "compare.json", j.dump(2) + "\n");
 
       std::cout << fmt::format("{} measured points on {} flanks; residual (measured − model) {:.2f} µm RMS, max |{:.2f}| µm; "
                                "noise {:.2f} µm{}\n",

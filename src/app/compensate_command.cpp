@@ -1,4 +1,5 @@
 #include "app/commands.hpp"
+#include "geartopo/core/atomic_file.hpp"
 #include "geartopo/report/iso_report.hpp"
 #include "geartopo/core/units.hpp"
 #include "app/options.hpp"
@@ -42,16 +43,18 @@ void register_compensate_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("compensate", "Axis corrections along the wheel path (paper: Jacobian pseudo-inverse; "
                                                    "flank: minimise flank deviations) and the gear before/after");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
-  cmd->add_option("--out", opt->out, "Output directory (created): corrections.csv, cycle_corrections.csv, topology_before/after.csv, iso1328.json")
-      ->required();
+  cmd->add_option("--out", opt->out,
+                  "Output directory (created): corrections.csv, cycle_corrections.csv, topology_before/after.csv, iso1328.json")
+      ->required()
+      ->check(non_empty_path());
   cmd->add_option("--method", opt->method,
                   "paper, flank (default; every axis at every pose) or cycle (X, Z, C per pose; Y and A per gear)")
       ->check(CLI::IsMember({"paper", "flank", "cycle"}));
   cmd->add_option("--step", opt->step, "Correction table spacing along each stroke, mm (default 2)")
-      ->check(CLI::Range(0.05, 50.0));
+      ->check(finite_in(0.05, 50.0));
   cmd->add_option("--lead-step", opt->lead_step,
                   "Largest Z step of the cycle table's lead corrections (cycle_corrections.csv), mm (default 5)")
-      ->check(CLI::Range(0.1, 100.0));
+      ->check(finite_in(0.1, 100.0));
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
@@ -118,7 +121,12 @@ void register_compensate_command(CLI::App& app, Action& action) {
                     {"not_carried_Y_um", units::um_from_mm(cycle.y_not_carried_mm)},
                     {"not_carried_A_urad", units::urad_from_rad(cycle.a_not_carried_rad)},
                     {"largest_abs_deviation_after_um", max_cycle}};
-      std::ofstream(out / "iso1328.json") << j.dump(2) << "\n";
+      j["warnings"] = nlohmann::json::array();
+      if (const std::string w = compensation_made_worse(max_b, max_a); !w.empty()) {
+        std::cerr << "geartopo: warning: " << w << "\n";
+        j["warnings"].push_back(w);
+      }
+      output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
 
       const auto [lb, hb] = range_of(before);
       const auto [la, ha] = range_of(after);

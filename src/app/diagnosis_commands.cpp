@@ -1,5 +1,6 @@
 // geartopo synth / diagnose: synthetic measurements with hidden effects, and finding what a model is missing.
 #include "app/commands.hpp"
+#include "geartopo/core/atomic_file.hpp"
 #include "app/options.hpp"
 
 #include "geartopo/diagnosis/compare.hpp"
@@ -59,14 +60,15 @@ void register_synth_command(CLI::App& app, Action& action) {
                                               "Gaussian probe noise");
   cmd->add_option("TRUTH_SCENE", opt->scene, "Truth scene (YAML), possibly with effects the model scene lacks")->required();
   cmd->add_option("--out", opt->out, "File to write: topology CSV, or a Klingelnberg export with --format klingelnberg")
-      ->required();
+      ->required()
+      ->check(non_empty_path());
   cmd->add_option("--format", opt->format,
                   "csv (topology CSV, default) or klingelnberg (TOPOGRAFIE profile traces, transverse µm, raw sign: "
                   "docs/measurement-formats.md)")
       ->check(CLI::IsMember({"csv", "klingelnberg"}));
   cmd->add_option("--teeth", opt->teeth, "Measured teeth, e.g. 1,18 (default) or all");
-  cmd->add_option("--noise-um", opt->noise, "Standard deviation of the probe noise, µm (default 0.5)")->check(CLI::Range(0.0, 1000.0));
-  cmd->add_option("--seed", opt->seed, "Random seed (default 1)");
+  cmd->add_option("--noise-um", opt->noise, "Standard deviation of the probe noise, µm (default 0.5)")->check(finite_in(0.0, 1000.0));
+  cmd->add_option("--seed", opt->seed, "Random seed, a whole number ≥ 0 (default 1)")->check(digits_only());
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
@@ -79,12 +81,12 @@ void register_synth_command(CLI::App& app, Action& action) {
       const auto rows = diagnosis::synthesize(wb.setup, wb.process(), so);
       const auto parent = std::filesystem::path(opt->out).parent_path();
       if (!parent.empty()) std::filesystem::create_directories(parent);
-      std::ofstream out(opt->out);
-      if (!out) throw std::runtime_error(opt->out + ": cannot write");
-      if (opt->format == "klingelnberg")
-        diagnosis::write_klingelnberg(out, wb.setup.geometry(), rows);
-      else
-        grinding::write_topology_rows(out, rows);
+      output::write_atomically(opt->out, [&](std::ostream& out) {
+        if (opt->format == "klingelnberg")
+          diagnosis::write_klingelnberg(out, wb.setup.geometry(), rows);
+        else
+          grinding::write_topology_rows(out, rows);
+      });
       std::cout << fmt::format("wrote {} ({} points, noise {} µm, seed {})\n", opt->out, rows.size(), opt->noise, opt->seed);
       return 0;
     };
@@ -103,9 +105,9 @@ void register_diagnose_command(CLI::App& app, Action& action) {
   cmd->add_option("SCENE", opt->scene, "Model scene (YAML)")->required();
   cmd->add_option("--measured", opt->measured, "Measurement: topology CSV (µm), point cloud or Klingelnberg export")
       ->required();
-  cmd->add_option("--out", opt->out, "Output directory: diagnosis.json, scene_with_effect.yaml")->required();
+  cmd->add_option("--out", opt->out, "Output directory: diagnosis.json, scene_with_effect.yaml")->required()->check(non_empty_path());
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated from the residual)")
-      ->check(CLI::Range(0.0, 1000.0));
+      ->check(finite_in(0.0, 1000.0));
   cmd->add_option("--candidates", opt->candidates, "Effect types to try (default: every library effect not in the scene)")
       ->delimiter(',');
   cmd->callback([&action, opt] {
@@ -146,7 +148,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
 
       const std::filesystem::path out(opt->out);
       std::filesystem::create_directories(out);
-      std::ofstream(out / "diagnosis.json") << j.dump(2) << "\n";
+      output::write_text_atomically(out / "diagnosis.json", j.dump(2) + "\n");
       std::cout << fmt::format("{} measured points; residual {:.2f} µm RMS; noise {:.2f} µm{}\n", d.points, d.rms_before_um,
                                d.noise_um, d.noise_estimated ? " (estimated)" : "");
       std::cout << fmt::format("  {:<4} {:<16} {:>9} {:>10} {:>10}  {}\n", "rank", "effect", "ΔBIC", "explained", "RMS after",

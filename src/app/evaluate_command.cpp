@@ -1,4 +1,5 @@
 #include "app/commands.hpp"
+#include "geartopo/core/atomic_file.hpp"
 #include "geartopo/report/iso_report.hpp"
 #include "app/options.hpp"
 
@@ -22,7 +23,7 @@ void register_evaluate_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("evaluate", "ISO 1328-1:2013 deviations (µm) and flank tolerance classes of the "
                                                  "simulated gear, or of measured traces");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
-  cmd->add_option("--out", opt->out, "Output directory (created): iso1328.json")->required();
+  cmd->add_option("--out", opt->out, "Output directory (created): iso1328.json")->required()->check(non_empty_path());
   cmd->add_option("--method", opt->method, "exact or linear simulation")->check(CLI::IsMember({"exact", "linear"}));
   cmd->add_option("--traces", opt->traces, "Evaluate measured traces instead (traces CSV: docs/grinding.md)");
   cmd->callback([&action, opt] {
@@ -50,7 +51,7 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       j["before"] = report::iso_json(iso);
       const std::filesystem::path out(opt->out);
       std::filesystem::create_directories(out);
-      std::ofstream(out / "iso1328.json") << j.dump(2) << "\n";
+      output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
       std::cout << "Source: " << source << "\n" << report::iso_table(iso) << "wrote " << (out / "iso1328.json").string() << "\n";
       return 0;
     };

@@ -1,4 +1,5 @@
 #include "app/commands.hpp"
+#include "app/options.hpp"
 #include "geartopo/report/gear_report.hpp"
 
 #include "geartopo/scene/scene.hpp"
@@ -22,7 +23,8 @@ void register_gear_command(CLI::App& app, Action& action) {
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML; units named in its keys)")->required();
   cmd->add_flag("--json", opt->json, "Print one JSON object (lengths mm, angles deg) instead of a table");
   cmd->add_option("--mesh", opt->mesh, "Write all teeth, flanks, tip, root and end faces as a triangle mesh "
-                                       "(.ply, .obj, .stl or .off; mm)");
+                                       "(.ply, .obj, .stl or .off; mm)")
+      ->check(non_empty_path());
   cmd->callback([&action, opt] {
     action = [opt] {
       if (!opt->mesh.empty() && !surfaces::is_mesh_extension(opt->mesh))

@@ -61,7 +61,8 @@ void register_machine_command(CLI::App& app, Action& action) {
   cmd->add_option("--pose", opt->pose, "Machine axes X_mm,Y_mm,Z_mm,A_deg,C_deg (machine coordinates)")
       ->required()
       ->expected(5)
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(finite_in(-1e5, 1e5)); // mm and deg: a machine's strokes are metres, its angles a few turns
   cmd->add_flag("--json", opt->json, "One JSON object: 4×4 poses (mm), twists (µm, µrad; workpiece frame), jacobian");
   cmd->callback([&action, opt] {
     action = [opt] {

@@ -5,7 +5,11 @@
 
 #include "geartopo/grinding/topology.hpp"
 
+#include <algorithm>
 #include <charconv>
+#include <cstdio>
+#include <unistd.h>
+#include <cmath>
 
 namespace geartopo::app {
 
@@ -16,8 +20,54 @@ bool parse_int(const std::string& s, int& v) {
 }
 } // namespace
 
+CLI::Validator finite_in(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        double v = 0.0;
+        const char* end = text.data() + text.size();
+        const auto [p, ec] = std::from_chars(text.data(), end, v);
+        if (ec != std::errc() || p != end) return fmt::format("'{}' is not a number", text);
+        if (!std::isfinite(v)) return fmt::format("'{}' is not a finite number", text);
+        if (v < lo || v > hi) return fmt::format("{} is outside [{}, {}]", text, lo, hi);
+        return {};
+      },
+      fmt::format("FINITE in [{}, {}]", lo, hi));
+}
+
+CLI::Validator non_empty_path() {
+  return CLI::Validator([](std::string& text) -> std::string { return text.empty() ? "an empty path" : ""; }, "PATH");
+}
+
+CLI::Validator digits_only() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+          return fmt::format("'{}' is not a whole number ≥ 0", text);
+        return {};
+      },
+      "UINT");
+}
+
+std::string compensation_made_worse(double before_um, double after_um) {
+  if (!(after_um > before_um + kWorseToleranceUm)) return {};
+  return fmt::format("compensation made the gear worse: the largest |deviation| grows from {:.3f} to {:.3f} µm; do not "
+                     "apply these corrections (try the other --method)",
+                     before_um, after_um);
+}
+
+void print_work_estimate(long long points, long long flanks, bool exact) {
+  if (points < kEstimateFromPoints || ::isatty(STDERR_FILENO) == 0) return;
+  const double rate = exact ? 260e3 : 1.7e6; // points/s, 2 cores (docs/performance.md, "Against the targets")
+  std::fprintf(stderr, "geartopo: %s\n",
+               fmt::format("{} points on {} flanks ({}): about {:.0f} s on 2 cores", points, flanks,
+                           exact ? "exact" : "linear", static_cast<double>(points) / rate)
+                   .c_str());
+}
+
 std::vector<int> parse_teeth(const std::string& text, int teeth) {
-  if (text.empty() || text == "all") return {};
+  // "" used to mean all teeth: an empty list is far more likely a script's empty variable than a wish for all.
+  if (text.empty()) throw CLI::ValidationError("--teeth", "an empty list (use e.g. 1,18 or all)");
+  if (text == "all") return {};
   std::vector<int> out;
   size_t start = 0;
   for (;;) {
@@ -26,6 +76,8 @@ std::vector<int> parse_teeth(const std::string& text, int teeth) {
     int v = 0;
     if (!parse_int(item, v) || v < 1 || v > teeth)
       throw CLI::ValidationError("--teeth", fmt::format("'{}' is not a tooth number of 1..{} (use e.g. 1,18 or all)", item, teeth));
+    if (std::find(out.begin(), out.end(), v) != out.end())
+      throw CLI::ValidationError("--teeth", fmt::format("tooth {} is listed twice", v));
     out.push_back(v);
     if (comma == std::string::npos) break;
     start = comma + 1;

@@ -1,5 +1,6 @@
 // geartopo report / run: the report, and the main job (everything, with a short summary).
 #include "app/commands.hpp"
+#include "geartopo/core/atomic_file.hpp"
 #include "geartopo/report/html_report.hpp"
 #include "geartopo/report/iso_report.hpp"
 #include "geartopo/pipeline/pipeline.hpp"
@@ -37,7 +38,14 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
   iso["units"] = "µm; deviations along the flank normal, plus material positive";
   iso["before"] = report::iso_json(r.iso_before);
   iso["after"] = report::iso_json(r.iso_after);
-  std::ofstream(dir / "iso1328.json") << iso.dump(2) << "\n";
+  iso["warnings"] = nlohmann::json::array();
+  const std::string worse = compensation_made_worse(grinding::largest_abs_deviation_um(r.before),
+                                                    grinding::largest_abs_deviation_um(r.after));
+  if (!worse.empty()) {
+    std::cerr << "geartopo: warning: " << worse << "\n";
+    iso["warnings"].push_back(worse);
+  }
+  output::write_text_atomically(dir / "iso1328.json", iso.dump(2) + "\n");
   if (r.measurement && r.measurement->diagnosis.chosen) {
     std::vector<std::string> comments;
     for (const auto& e : r.measurement->diagnosis.chosen->effects)
@@ -76,7 +84,7 @@ void register_report_command(CLI::App& app, Action& action) {
                                                "traces, pitch, machine errors, before/after, measured vs model, diagnosis");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
   cmd->add_option("--measured", opt->measured, "Measurement (topology CSV or point cloud); default: the scene's measurement.measured");
-  cmd->add_option("--out", opt->out, "Output directory")->required();
+  cmd->add_option("--out", opt->out, "Output directory")->required()->check(non_empty_path());
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
@@ -99,7 +107,7 @@ void register_run_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("run", "The main job: simulate, evaluate (ISO 1328-1), compensate, compare and diagnose "
                                             "when the scene names a measurement, and write the report");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
-  cmd->add_option("--out", opt->out, "Output directory")->required();
+  cmd->add_option("--out", opt->out, "Output directory")->required()->check(non_empty_path());
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);

@@ -24,25 +24,47 @@ void register_simulate_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("simulate", "Simulate line-contact profile grinding with the scene's machine "
                                                  "errors; write topology (µm), traces and flank meshes (mm)");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
-  cmd->add_option("--out", opt->out, "Output directory (created)")->required();
+  cmd->add_option("--out", opt->out, "Output directory (created)")->required()->check(non_empty_path());
   cmd->add_option("--method", opt->method, "exact (envelope of the actual wheel poses) or linear (first order)")
       ->check(CLI::IsMember({"exact", "linear"}));
-  cmd->add_option("--teeth", opt->teeth, "Teeth to simulate: all (default, or the scene's list) or e.g. 1,18");
+  CLI::Option* teeth = cmd->add_option("--teeth", opt->teeth, "Teeth to simulate: all (default, or the scene's list) or e.g. 1,18");
   cmd->add_option("--dense", opt->dense, "Also a dense grid per flank, ROWSxCOLS (e.g. 50x100) → dense.csv");
-  cmd->callback([&action, opt] {
-    action = [opt] {
+  cmd->callback([&action, opt, teeth] {
+    const bool teeth_given = teeth->count() > 0;
+    action = [opt, teeth_given] {
       const Workbench wb(opt->scene);
       grinding::SimulationOptions so;
       so.method = opt->method == "linear" ? grinding::Method::Linear : grinding::Method::Exact;
-      so.teeth = opt->teeth.empty() ? wb.scene.grid.teeth : parse_teeth(opt->teeth, wb.setup.geometry().teeth());
+      // Given but empty (`--teeth ""`) is refused by parse_teeth, not taken as "not given".
+      so.teeth = teeth_given ? parse_teeth(opt->teeth, wb.setup.geometry().teeth()) : wb.scene.grid.teeth;
       so.rows = wb.scene.grid.rows;
       so.cols = wb.scene.grid.cols;
       so.profile_points = wb.scene.grid.profile_points;
       so.helix_points = wb.scene.grid.helix_points;
       so.dense_rows = wb.scene.grid.dense_rows;
       so.dense_cols = wb.scene.grid.dense_cols;
-      if (!opt->dense.empty()) std::tie(so.dense_rows, so.dense_cols) = parse_grid_size(opt->dense);
+      if (!opt->dense.empty()) {
+        std::tie(so.dense_rows, so.dense_cols) = parse_grid_size(opt->dense);
+        // The flag's own bound is per flank; over all flanks the simulator's bound decides. Checked here, so that
+        // `--dense 2000x2000` on 70 flanks is bad usage of the flag (exit 2), not a failure of the simulation.
+        const long long flanks = 2LL * static_cast<long long>(so.teeth.empty() ? wb.setup.geometry().teeth() : so.teeth.size());
+        const long long per_flank = static_cast<long long>(so.rows) * so.cols +
+                                    static_cast<long long>(so.dense_rows) * so.dense_cols + so.profile_points +
+                                    so.helix_points;
+        if (per_flank * flanks > grinding::kMaxPointsPerSimulation)
+          throw CLI::ValidationError("--dense", fmt::format("'{}' makes {} points on {} flanks, more than the {} a "
+                                                            "simulation may hold: choose a coarser grid or fewer --teeth",
+                                                            opt->dense, per_flank * flanks, flanks,
+                                                            grinding::kMaxPointsPerSimulation));
+      }
 
+      {
+        const long long flanks = 2LL * static_cast<long long>(so.teeth.empty() ? wb.setup.geometry().teeth() : so.teeth.size());
+        const long long per_flank = static_cast<long long>(so.rows) * so.cols +
+                                    static_cast<long long>(so.dense_rows) * so.dense_cols + so.profile_points +
+                                    so.helix_points;
+        print_work_estimate(per_flank * flanks, flanks, so.method == grinding::Method::Exact);
+      }
       const auto topo = grinding::simulate_topology(wb.setup, wb.process(), so);
       const std::filesystem::path out(opt->out);
       std::filesystem::create_directories(out / "meshes");

@@ -1,4 +1,5 @@
 #include "geartopo/compensation/correction_table.hpp"
+#include "geartopo/core/atomic_file.hpp"
 #include "geartopo/core/units.hpp"
 
 #include <fmt/format.h>
@@ -56,9 +57,7 @@ void CorrectionTable::write_csv(std::ostream& out) const {
 }
 
 void CorrectionTable::write_csv(const std::filesystem::path& file) const {
-  std::ofstream out(file);
-  if (!out) throw std::runtime_error(file.string() + ": cannot write");
-  write_csv(out);
+  output::write_atomically(file, [&](std::ostream& out) { write_csv(out); });
 }
 
 } // namespace geartopo::compensation

@@ -1,4 +1,5 @@
 #include "geartopo/diagnosis/compare.hpp"
+#include "geartopo/core/input_file.hpp"
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/diagnosis/diagnose.hpp"
@@ -16,6 +17,14 @@ namespace geartopo::diagnosis {
 Comparison compare(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
                    const std::vector<MeasuredPoint>& pts, double noise_um) {
   if (pts.empty()) throw std::invalid_argument("compare: no measured points");
+  // estimate_noise_um uses flanks of 10 points or more and otherwise falls back to a fixed 0.1 µm: with fewer points
+  // in all, the "estimate" would be that constant, printed as if measured (issue 18: one point gave "noise 0.10 µm
+  // (estimated)").
+  constexpr std::size_t kMinPointsToEstimateNoise = 10;
+  if (noise_um <= 0.0 && pts.size() < kMinPointsToEstimateNoise)
+    throw std::invalid_argument(fmt::format("compare: estimating the probe noise needs at least {} measured points, the "
+                                            "measurement has {}: give the noise (--noise-um)",
+                                            kMinPointsToEstimateNoise, pts.size()));
   Comparison c;
   c.model_um = predict(setup, model, pts, grinding::Method::Exact);
   c.residual_um.resize(pts.size());
@@ -92,8 +101,7 @@ std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file,
 
 std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
                                                 std::vector<std::string>* warnings) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file + ": cannot open");
+  auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "measurement");
   // First: an export's header lines and trace heads are not numbers, so neither other reader would take it anyway.
   if (looks_like_klingelnberg(in)) {
     auto res = klingelnberg_points(read_klingelnberg(file), setup.geometry());

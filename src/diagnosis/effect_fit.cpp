@@ -15,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <utility>
 
 namespace geartopo::diagnosis {
@@ -160,6 +161,11 @@ LmResult best_of_starts(EffectFit& f, const std::vector<Eigen::VectorXd>& inits,
     const LmResult r = f.minimise(init, box.lo, box.hi);
     if (r.rss < best.rss) best = r;
   }
+  // Every start gave a non-finite RSS (a non-finite residual or prediction): there is no fit, and `best.x` is empty —
+  // reading it was the crash of issue 18. Readers bound their inputs; this guards the fit itself.
+  if (!std::isfinite(best.rss) || best.x.size() != static_cast<long>(f.size()))
+    throw std::runtime_error("diagnose: no start of the fit gave a finite residual (a non-finite measurement or "
+                             "prediction reached the fit)");
   return best;
 }
 

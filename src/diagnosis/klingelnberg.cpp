@@ -1,6 +1,7 @@
 #include "geartopo/diagnosis/klingelnberg.hpp"
 
 #include "geartopo/core/input_error.hpp"
+#include "geartopo/core/input_file.hpp"
 #include "geartopo/core/text_field.hpp"
 #include "geartopo/core/units.hpp"
 
@@ -368,8 +369,9 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
 }
 
 KlingelnbergFile read_klingelnberg(const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file, 0, 0, "", "cannot open");
+  // An export of a few gears is a few MB; it is read whole.
+  constexpr std::uintmax_t kMaxExportBytes = 64 * input::kMiB;
+  auto in = input::open_input_file(file, kMaxExportBytes, "Klingelnberg export");
   std::ostringstream ss;
   ss << in.rdbuf();
   return parse_klingelnberg(ss.str(), file);

@@ -1,4 +1,6 @@
 #include "geartopo/diagnosis/scene_writer.hpp"
+#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/core/input_file.hpp"
 #include <fstream>
 
 #include "geartopo/effects/registry.hpp"
@@ -115,14 +117,9 @@ std::string rebase_scene_paths(const std::string& text, const std::filesystem::p
 
 void write_scene_with_effects(const std::filesystem::path& scene_file, const std::vector<scene::EffectSpec>& effects,
                               const std::vector<std::string>& comments, const std::filesystem::path& out_file) {
-  std::ifstream in(scene_file, std::ios::binary);
-  if (!in) throw std::runtime_error(scene_file.string() + ": cannot read the scene to complete it");
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string completed = scene_with_effects(text.str(), effects, comments);
-  std::ofstream out(out_file, std::ios::binary);
-  out << rebase_scene_paths(completed, scene_file.parent_path(), out_file.parent_path());
-  if (!out) throw std::runtime_error(out_file.string() + ": cannot write");
+  const std::string completed =
+      scene_with_effects(input::read_input_file(scene_file, input::kMaxSceneBytes, "scene file"), effects, comments);
+  output::write_text_atomically(out_file, rebase_scene_paths(completed, scene_file.parent_path(), out_file.parent_path()));
 }
 
 } // namespace geartopo::diagnosis

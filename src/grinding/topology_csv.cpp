@@ -1,4 +1,6 @@
 #include "geartopo/grinding/topology_csv.hpp"
+#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/core/input_file.hpp"
 
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/core/text_field.hpp"
@@ -59,6 +61,17 @@ double number(const Field& f, const std::string& src, int line, const char* name
   return v;
 }
 
+// A deviation beyond 1 mm is not a deviation of a ground flank (the grinding stock is a few tenths of a mm): it is a
+// wrong unit or a broken file, and a value such as 1e300 µm would overflow every sum of squares downstream (issue 18).
+double deviation(const Field& f, const std::string& src, int line) {
+  const double v = number(f, src, line, "deviation_um");
+  if (std::abs(v) > kMaxDeviationUm)
+    fail(src, line, f.column, "deviation_um",
+         fmt::format("{} µm is beyond ±{} µm, more than a ground flank can deviate (a wrong unit?)", excerpt(f.text),
+                     kMaxDeviationUm));
+  return v;
+}
+
 int whole(const Field& f, const std::string& src, int line, const char* name) {
   int v = 0;
   if (text::parse_number(f.text, v) != std::errc())
@@ -110,15 +123,11 @@ void write_traces_csv(std::ostream& out, const std::vector<FlankTopology>& topo)
 }
 
 void write_topology_csv(const std::filesystem::path& file, const std::vector<FlankTopology>& topo, GridKind kind) {
-  std::ofstream out(file);
-  if (!out) throw std::runtime_error(file.string() + ": cannot write");
-  write_topology_csv(out, topo, kind);
+  output::write_atomically(file, [&](std::ostream& out) { write_topology_csv(out, topo, kind); });
 }
 
 void write_traces_csv(const std::filesystem::path& file, const std::vector<FlankTopology>& topo) {
-  std::ofstream out(file);
-  if (!out) throw std::runtime_error(file.string() + ": cannot write");
-  write_traces_csv(out, topo);
+  output::write_atomically(file, [&](std::ostream& out) { write_traces_csv(out, topo); });
 }
 
 std::vector<TopologyRow> read_topology_csv(std::istream& in, const std::string& src, int teeth) {
@@ -155,7 +164,7 @@ std::vector<TopologyRow> read_topology_csv(std::istream& in, const std::string& 
     r.diameter_mm = number(f[4], src, lineno, "diameter_mm");
     if (!(r.diameter_mm > 0.0)) fail(src, lineno, f[4].column, "diameter_mm", fmt::format("{} must be > 0", f[4].text));
     r.z_mm = number(f[5], src, lineno, "z_mm");
-    r.deviation_um = number(f[6], src, lineno, "deviation_um");
+    r.deviation_um = deviation(f[6], src, lineno);
     if (!seen.insert({r.tooth, static_cast<int>(r.flank), r.row, r.col}).second)
       fail(src, lineno, f[0].column, "row", fmt::format("duplicate point: tooth {} {} row {} col {}", r.tooth,
                                                          gears::to_string(r.flank), r.row, r.col));
@@ -192,7 +201,7 @@ std::vector<FlankTopology> read_traces_csv(std::istream& in, const std::string& 
     const bool profile = f[2].text == "profile";
     if (!profile && f[2].text != "helix") fail(src, lineno, f[2].column, "trace", fmt::format("'{}' is neither profile nor helix", excerpt(f[2].text)));
     TracePoint p{number(f[3], src, lineno, "roll_length_mm"), number(f[4], src, lineno, "diameter_mm"),
-                 number(f[5], src, lineno, "z_mm"), number(f[6], src, lineno, "deviation_um")};
+                 number(f[5], src, lineno, "z_mm"), deviation(f[6], src, lineno)};
     if (!(p.diameter_mm > 0.0)) fail(src, lineno, f[4].column, "diameter_mm", fmt::format("{} must be > 0", f[4].text));
     if (!(p.roll_length_mm >= 0.0)) fail(src, lineno, f[3].column, "roll_length_mm", fmt::format("{} must be >= 0", f[3].text));
     FlankTopology& ft = flanks[{tooth, static_cast<int>(*flank)}];
@@ -217,14 +226,12 @@ std::vector<FlankTopology> read_traces_csv(std::istream& in, const std::string& 
 }
 
 std::vector<FlankTopology> read_traces_csv(const std::filesystem::path& file, int teeth) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open");
+  auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "traces file");
   return read_traces_csv(in, file.string(), teeth);
 }
 
 std::vector<TopologyRow> read_topology_csv(const std::filesystem::path& file, int teeth) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open");
+  auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "topology file");
   return read_topology_csv(in, file.string(), teeth);
 }
 

@@ -1,5 +1,6 @@
 // geartopo — CSV error-table reader with located messages. Units: file units in, mm and rad out.
 #include "geartopo/machine/error_table.hpp"
+#include "geartopo/core/input_file.hpp"
 
 #include "geartopo/core/text_field.hpp"
 
@@ -42,6 +43,7 @@ struct Column {
   std::string field;
   double scale; // file unit → internal
   std::vector<double> values;
+  bool length;   // δ (mm inside) or ε (rad inside): which physical bound applies
 };
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
@@ -140,7 +142,7 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
         }
         for (const Column& other : columns)
           if (other.id == *id) throw fail(line_no, f.column, name, fmt::format("second column for {}", c.name));
-        columns.push_back({*id, name, *vs, {}});
+        columns.push_back({*id, name, *vs, {}, c.quantity == Quantity::Length});
       }
       if (nl == text.size()) break;
       continue;
@@ -172,6 +174,13 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
         positions.push_back(v);
         row_lines.push_back(line_no);
       } else {
+        const Column& c = columns[k - 1];
+        const double limit = c.length ? kMaxTableLengthMm : kMaxTableAngleRad;
+        if (std::abs(v * c.scale) > limit)
+          throw fail(line_no, f.column, fname,
+                     fmt::format("'{}' is beyond ±{} (in the column's unit: ±{:g}), more than a geometric error of an "
+                                 "axis can be (a wrong unit?)",
+                                 excerpt(f.text), c.length ? "1 mm" : "10 mrad", limit / c.scale));
         columns[k - 1].values.push_back(v);
       }
     }
@@ -226,11 +235,7 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
 }
 
 std::vector<ErrorSource> load_error_tables(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), 0, 0, "", "cannot open the error table");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_error_tables(ss.str(), path.string());
+  return parse_error_tables(input::read_input_file(path, input::kMaxErrorTableBytes, "error table"), path.string());
 }
 
 ErrorSource load_error_table(const std::filesystem::path& path, ComponentId expected) {

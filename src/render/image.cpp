@@ -1,6 +1,7 @@
 // PNG input/output as plain pixels, and image statistics for checks.
 
 #include "geartopo/render/image.hpp"
+#include "geartopo/core/atomic_file.hpp"
 #include "detail/offscreen.hpp"
 
 #include <vtkImageData.h>
@@ -19,16 +20,19 @@ namespace geartopo::render {
 namespace detail {
 
 void write_vtk_png(vtkImageData* image, const std::filesystem::path& png) {
-  {
-    // vtkPNGWriter only logs when it cannot open the file: find out first, with a clear message.
-    std::ofstream probe(png, std::ios::binary | std::ios::trunc);
-    if (!probe) throw std::runtime_error("render: cannot write " + png.string());
-  }
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(png.c_str());
-  writer->SetInputData(image);
-  writer->Write();
-  if (writer->GetErrorCode() != 0) throw std::runtime_error("render: writing " + png.string() + " failed");
+  // Written to a temporary beside it and renamed when complete: a full disk leaves no half PNG under the final name.
+  output::write_atomically_via_path(png, [&](const std::filesystem::path& tmp) {
+    {
+      // vtkPNGWriter only logs when it cannot open the file: find out first, with a clear message.
+      std::ofstream probe(tmp, std::ios::binary | std::ios::trunc);
+      if (!probe) throw output::OutputError(png, "cannot create a temporary file beside it");
+    }
+    vtkNew<vtkPNGWriter> writer;
+    writer->SetFileName(tmp.c_str());
+    writer->SetInputData(image);
+    writer->Write();
+    if (writer->GetErrorCode() != 0) throw output::OutputError(png, "the PNG writer failed (a full disk?)");
+  });
 }
 
 } // namespace detail

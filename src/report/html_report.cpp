@@ -1,4 +1,5 @@
 #include "geartopo/report/html_report.hpp"
+#include "geartopo/core/atomic_file.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/report/iso_report.hpp"
 
@@ -149,7 +150,7 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
   h += "<p class=note>Made by geartopo. Files in this folder: the PNGs above, figures.json";
   h += r.measurement ? ", and with <code>geartopo run</code> the data files (CSV, JSON).</p>" : ".</p>";
   h += "</body></html>\n";
-  std::ofstream(dir / "index.html") << h;
+  output::write_text_atomically(dir / "index.html", h);
 }
 
 std::vector<Figure> write_report(const std::filesystem::path& dir, const workbench::Workbench& wb, const pipeline::PipelineResult& r) {
@@ -163,7 +164,7 @@ std::vector<Figure> write_report(const std::filesystem::path& dir, const workben
     j["colour_range_um"] = f.colour_range_um ? nlohmann::json{f.colour_range_um->first, f.colour_range_um->second} : nlohmann::json(nullptr);
     man.push_back(j);
   }
-  std::ofstream(dir / "figures.json") << man.dump(2) << "\n";
+  output::write_text_atomically(dir / "figures.json", man.dump(2) + "\n");
   return figs;
 }
 

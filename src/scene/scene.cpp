@@ -1,4 +1,5 @@
 #include "geartopo/scene/scene.hpp"
+#include "geartopo/core/input_file.hpp"
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/core/field_error.hpp"
@@ -183,7 +184,10 @@ grinding::WheelSpec read_wheel(MapReader& w) {
 
 grinding::ProcessSpec read_process(MapReader& p) {
   grinding::ProcessSpec s;
-  if (auto v = p.optional_number("feed_mm_per_min", {0.0, 1e5, true, false})) s.feed_mm_per_min = *v;
+  // A grinding feed is a few hundred to a few thousand mm/min. Below 1 mm/min a stroke would take days, and a feed
+  // such as 1e-320 (inside a bare "> 0") makes every stroke time infinite: the times reach the effects and the fits
+  // as inf/NaN (issue 18).
+  if (auto v = p.optional_number("feed_mm_per_min", {1.0, 1e5})) s.feed_mm_per_min = *v;
   if (auto v = p.optional_number("overtravel_mm", {0.0, 500.0})) s.overtravel_mm = *v;
   if (auto v = p.optional_number("indexing_time_s", {0.0, 3600.0})) s.indexing_time_s = *v;
   if (p.has("index_step")) s.index_step = static_cast<int>(p.integer("index_step", 1, 10000));
@@ -212,8 +216,16 @@ std::vector<EffectSpec> read_effects(MapReader& top, ReadContext& ctx) {
       if (other.type == type) ctx.fail_field(m.field("type"), fmt::format("'{}' is listed twice", type));
     EffectSpec spec{type, effect->values()};
     const auto& params = effect->parameters();
-    for (size_t k = 0; k < params.size(); ++k)
-      if (auto v = m.optional_number(params[k].key, {params[k].lo, params[k].hi})) spec.values[k] = *v;
+    for (size_t k = 0; k < params.size(); ++k) {
+      if (params[k].whole) {
+        // A count: 2.5 strokes between dressings is not a set-up anyone can run (issue 18).
+        if (m.has(params[k].key))
+          spec.values[k] = static_cast<double>(m.integer(params[k].key, static_cast<long long>(params[k].lo),
+                                                         static_cast<long long>(params[k].hi)));
+      } else if (auto v = m.optional_number(params[k].key, {params[k].lo, params[k].hi})) {
+        spec.values[k] = *v;
+      }
+    }
     m.finish();
     out.push_back(std::move(spec));
   }
@@ -243,7 +255,11 @@ MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& 
       m.context().fail_field(m.field("teeth"), fmt::format("'{}' is not a tooth number of 1..{}", text::excerpt(t), teeth));
     g.teeth.push_back(v);
   }
-  if (auto f = m.optional_text("measured")) g.measured_file = (base / *f).lexically_normal().string();
+  if (auto f = m.optional_text("measured")) {
+    // '' would name the scene's own folder (base / "" is base): refused here rather than read as a directory.
+    if (f->empty()) m.context().fail_field(m.field("measured"), "an empty file name");
+    g.measured_file = (base / *f).lexically_normal().string();
+  }
   m.finish();
   return g;
 }
@@ -265,7 +281,11 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   ReadContext ctx{source, {}};
   YAML::Node root;
   try {
-    root = YAML::Load(text);
+    // LoadAll, not Load: Load reads the first document and silently drops the rest of a file holding two ("---").
+    const std::vector<YAML::Node> docs = YAML::LoadAll(text);
+    if (docs.size() > 1)
+      ctx.fail(docs[1].Mark(), "", "a second YAML document ('---'): a scene is one document (merge them or split the file)");
+    if (!docs.empty()) root = docs[0];
   } catch (const YAML::DeepRecursion& e) {
     // yaml-cpp stops at a fixed depth and reports it only as "bad file".
     ctx.fail(e.mark, "", fmt::format("YAML nested deeper than {} levels, the parser's limit", e.depth()));
@@ -305,11 +325,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
 }
 
 Scene load_scene(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file.string(), 0, 0, "", "cannot open the scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_scene(text.str(), file.string());
+  return parse_scene(input::read_input_file(file, input::kMaxSceneBytes, "scene file"), file.string());
 }
 
 } // namespace geartopo::scene

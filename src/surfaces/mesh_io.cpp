@@ -1,5 +1,6 @@
 // OpenMesh is confined to this file (its headers are heavy and its IO registers writers globally).
 #include "geartopo/surfaces/triangle_mesh.hpp"
+#include "geartopo/core/atomic_file.hpp"
 
 // MeshIO must come before the mesh kernel header (OpenMesh requirement).
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -56,13 +57,16 @@ void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& file) {
       om.property(values, vh[static_cast<size_t>(i)]) = static_cast<float>(mesh.vertex_values(i));
     opts += OpenMesh::IO::Options::Custom;
   }
-  // OpenMesh reports progress on its own streams (stdout for some writers): keep our stdout for our output.
-  omout().disable();
-  omlog().disable();
-  const bool ok = OpenMesh::IO::write_mesh(om, file.string(), opts);
-  omout().enable();
-  omlog().enable();
-  if (!ok) throw std::runtime_error(file.string() + ": could not write the mesh (is the directory writable?)");
+  // OpenMesh writes to a path: a temporary beside the file (same extension, so the same format), renamed when complete.
+  output::write_atomically_via_path(file, [&](const std::filesystem::path& tmp) {
+    // OpenMesh reports progress on its own streams (stdout for some writers): keep our stdout for our output.
+    omout().disable();
+    omlog().disable();
+    const bool ok = OpenMesh::IO::write_mesh(om, tmp.string(), opts);
+    omout().enable();
+    omlog().enable();
+    if (!ok) throw output::OutputError(file, "OpenMesh could not write the mesh (is the folder writable? a full disk?)");
+  });
 }
 
 } // namespace geartopo::surfaces

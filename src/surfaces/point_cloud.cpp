@@ -1,4 +1,5 @@
 #include "geartopo/surfaces/point_cloud.hpp"
+#include "geartopo/core/input_file.hpp"
 
 #include "geartopo/gears/involute_helicoid.hpp"
 #include "geartopo/core/input_error.hpp"
@@ -273,8 +274,7 @@ bool starts_like_point_cloud(std::istream& in) {
 }
 
 std::vector<CloudPoint> read_point_cloud(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open");
+  auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "point cloud");
   return read_point_cloud(in, file.string());
 }
 

@@ -1,6 +1,7 @@
 // Model vs measurement on data with hidden effects (issue: diagnosis). Each truth scene is the default scene plus
 // effects; it is "measured" on teeth 1 and 18 (7×9 grid) with 0.5 µm Gaussian probe noise; `diagnose` works on the
 // default scene, which lacks them.
+#include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
 #include "geartopo/diagnosis/synth.hpp"
@@ -246,4 +247,34 @@ TEST(Diagnosis, NoiseEstimateWithTooFewPointsPerFlankIsNotZero) {
   pts.resize(9); // one flank, 9 points
   const std::vector<double> r(pts.size(), 1.0);
   EXPECT_DOUBLE_EQ(diagnosis::estimate_noise_um(pts, r), 0.1);
+}
+
+// Issue 18: one deviation of 1e300 µm (made in memory, past the readers' bound) made every start of the fit non-finite;
+// the fit then read its empty best parameter vector (SIGSEGV). It now throws, naming the cause.
+TEST(Diagnosis, ANonFiniteResidualStopsTheFitInsteadOfCrashing) {
+  auto pts = measure({}, 7);
+  pts[3].deviation_um = 1e300;
+  diagnosis::DiagnoseOptions o;
+  o.noise_um = kNoise;
+  o.candidates = {"thermal_drift"};
+  try {
+    (void)diagnosis::diagnose(model_scene().setup, model_scene().process(), pts, {}, o);
+    FAIL() << "a fit on a 1e300 µm deviation was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("finite"), std::string::npos) << e.what();
+  }
+}
+
+// Issue 18: one measured point gave "noise 0.10 µm (estimated)" — the fallback constant, not an estimate.
+TEST(Diagnosis, CompareRefusesToEstimateTheNoiseFromTooFewPoints) {
+  auto pts = measure({}, 8);
+  pts.resize(1);
+  try {
+    (void)diagnosis::compare(model_scene().setup, model_scene().process(), pts, 0.0);
+    FAIL() << "a noise estimate from one point";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("needs at least 10 measured points, the measurement has 1"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_NO_THROW((void)diagnosis::compare(model_scene().setup, model_scene().process(), pts, kNoise)); // noise given
 }

@@ -90,7 +90,7 @@ TEST(RenderErrors, UnwritableOutputIsARuntimeError) {
   LineChart line;
   line.series = {{"s", {0.0, 1.0}, {0.0, 1.0}, {}, 2.0, Marker::none, 7.0, false}};
   line.size = {300, 200};
-  expect_error<std::runtime_error>([&] { render_line_chart(line, nowhere); }, "cannot write /nonexistent-directory");
+  expect_error<std::runtime_error>([&] { render_line_chart(line, nowhere); }, "/nonexistent-directory/figure.png: cannot write: its folder does not exist");
   Image img;
   img.width = img.height = 2;
   img.pixels.assign(4, colours::white);

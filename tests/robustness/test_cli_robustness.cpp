@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 using namespace geartopo::robustness;
@@ -19,12 +20,16 @@ struct CliResult {
   std::string out, err;
 };
 
-CliResult run(const std::string& args) {
+// `shell_prefix` runs first in the same shell (e.g. a file-size limit that the program inherits).
+CliResult run(const std::string& args, const std::string& shell_prefix = "") {
   static int calls = 0;
   const std::string tag = std::to_string(calls++);
   const auto out = temp_path("cli_out_" + tag), err = temp_path("cli_err_" + tag);
   // `timeout` turns a hang into exit 124 instead of stalling the suite.
-  const std::string cmd = "timeout 120 " + std::string(GEARTOPO_BINARY) + " " + args + " >" + out.string() + " 2>" + err.string();
+  std::string cmd = shell_prefix;
+  cmd += "timeout 120 ";
+  cmd += GEARTOPO_BINARY;
+  cmd += " " + args + " >" + out.string() + " 2>" + err.string();
   const int status = std::system(cmd.c_str());
   auto slurp = [](const fs::path& p) {
     std::ifstream in(p);
@@ -69,7 +74,8 @@ INSTANTIATE_TEST_SUITE_P(Corpus, CliScene,
                          ::testing::Values("syntax_unclosed_bracket.yaml", "nan_module.yaml", "inf_face_width.yaml",
                                            "empty.yaml", "binary_junk.yaml", "deeply_nested_lists.yaml",
                                            "long_line_number.yaml", "undercut.yaml", "pointed_tip.yaml",
-                                           "grid_huge_1e10.yaml", "unknown_key_typo.yaml", "module_0.yaml"),
+                                           "grid_huge_1e10.yaml", "unknown_key_typo.yaml", "module_0.yaml",
+                                           "process_feed_denormal.yaml", "process_feed_tiny.yaml"),
                          [](const auto& info) {
                            std::string n = info.param.substr(0, info.param.find('.'));
                            for (char& ch : n)
@@ -95,6 +101,30 @@ TEST(Cli, DiagnoseRefusesABrokenPointCloud) {
   const auto out = temp_path("cli_diagnose");
   expect_bad_input(run("diagnose " + kDefaultScene.string() + " --measured " + file + " --out " + out.string()), file);
   fs::remove_all(out);
+}
+
+// Issue 18: a 1e300 µm deviation crashed `diagnose` (SIGSEGV in the effect fit); a denormal feed crashed
+// `run`, `report` and `diagnose` and wrote inf into `compensate`'s time_s.
+TEST(Cli, DiagnoseRefusesAnAbsurdDeviationAtItsLine) {
+  const std::string file = corpus("topology/huge_deviation.csv");
+  const auto out = temp_path("cli_diagnose_huge");
+  const auto r = run("diagnose " + kDefaultScene.string() + " --measured " + file + " --out " + out.string());
+  expect_bad_input(r, file);
+  EXPECT_NE(r.err.find("huge_deviation.csv:4:"), std::string::npos) << r.err;
+  fs::remove_all(out);
+}
+
+TEST(Cli, EveryCommandRefusesADenormalFeed) {
+  const std::string scene = corpus("scenes/process_feed_denormal.yaml");
+  const auto out = temp_path("cli_feed");
+  for (const std::string cmd : {"run", "report", "compensate", "diagnose"}) {
+    std::string args = cmd + " " + scene + " --out " + out.string();
+    if (cmd == "diagnose") args += " --measured " + corpus("topology/nan_deviation.csv");
+    const auto r = run(args);
+    EXPECT_EQ(r.code, 1) << cmd << ": " << r.err;
+    EXPECT_NE(r.err.find("process_feed_denormal.yaml:9:"), std::string::npos) << cmd << ": " << r.err;
+    fs::remove_all(out);
+  }
 }
 
 TEST(Cli, EvaluateRefusesABrokenTracesFile) {
@@ -127,4 +157,139 @@ TEST(Cli, SimulateRefusesAGridTooLargeForAllFlanksBeforeAllocating) {
   EXPECT_NE(r.err.find("is more than a simulation may hold"), std::string::npos) << r.err;
   fs::remove_all(out);
   fs::remove(scene);
+}
+
+// Issue 18: a directory as the scene gave "empty scene", as the measurement "1:1: header: missing header";
+// /dev/zero or a FIFO hung the program. Each is now refused by name at once (exit 1).
+TEST(Cli, SpecialFilesAsSceneOrMeasurementAreRefusedByName) {
+  const auto dir = temp_path("cli_dir");
+  const auto fifo = temp_path("cli_fifo");
+  const auto out = temp_path("cli_special_out");
+  fs::create_directories(dir);
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  auto r = run("gear " + dir.string());
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find(dir.string() + ": is a directory, not a scene file"), std::string::npos) << r.err;
+  r = run("gear " + fifo.string());
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("is a FIFO"), std::string::npos) << r.err;
+  for (const std::string& measured : {dir.string(), fifo.string(), std::string("/dev/zero"), std::string("/dev/urandom")}) {
+    r = run("diagnose " + kDefaultScene.string() + " --measured " + measured + " --out " + out.string());
+    EXPECT_EQ(r.code, 1) << measured << ": " << r.err;
+    EXPECT_NE(r.err.find(measured + ": is a"), std::string::npos) << r.err;
+    fs::remove_all(out);
+  }
+  fs::remove(fifo);
+  fs::remove_all(dir);
+}
+
+// Issue 18, numeric flags: CLI::Range let NaN through; inf and 1e308 poses, empty and duplicate tooth lists and a
+// negative seed were accepted. Each is bad usage (exit 2) naming its flag.
+TEST(Cli, NonFiniteOrOutOfRangeFlagsAreBadUsageNamingTheFlag) {
+  const std::string scene = kDefaultScene.string();
+  const auto out = temp_path("cli_flags");
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"synth " + scene + " --out " + out.string() + "/m.csv --noise-um nan", "--noise-um"},
+      {"diagnose " + scene + " --measured " + corpus("topology/nan_deviation.csv") + " --out " + out.string() + " --noise-um nan", "--noise-um"},
+      {"compare " + scene + " --measured " + corpus("topology/nan_deviation.csv") + " --out " + out.string() + " --noise-um inf", "--noise-um"},
+      {"compensate " + scene + " --out " + out.string() + " --step nan", "--step"},
+      {"machine " + scene + " --pose nan,0,0,0,0", "--pose"},
+      {"machine " + scene + " --pose 500,0,inf,0,0", "--pose"},
+      {"machine " + scene + " --pose 1e308,0,0,0,0", "--pose"},
+      {"synth " + scene + " --out " + out.string() + "/m.csv --teeth \"\"", "--teeth"},
+      {"synth " + scene + " --out " + out.string() + "/m.csv --teeth 1,1", "--teeth"},
+      {"simulate " + scene + " --out " + out.string() + " --teeth 1,1", "--teeth"},
+      {"simulate " + scene + " --out " + out.string() + " --teeth \"\"", "--teeth"},
+      {"synth " + scene + " --out " + out.string() + "/m.csv --seed -1", "--seed"},
+      {"simulate " + scene + " --out " + out.string() + " --dense 2000x2000", "--dense"},
+      {"simulate " + scene + " --out \"\"", "--out"},
+      {"evaluate " + scene + " --out \"\"", "--out"},
+      {"synth " + scene + " --out \"\"", "--out"},
+  };
+  for (const auto& [args, flag] : cases) {
+    const auto r = run(args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(flag), std::string::npos) << args << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(out / "m.csv"));
+  fs::remove_all(out);
+}
+
+// Issue 18, outputs: `synth --out /dev/full` "succeeded"; a full disk left half-written files under their final
+// names. The file-size limit (SIGXFSZ ignored, so write() fails with EFBIG as on a full disk) works for root too.
+TEST(Cli, SynthRefusesADeviceAsItsOutput) {
+  const auto r = run("synth " + kDefaultScene.string() + " --out /dev/full --teeth 1");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("/dev/full: cannot write"), std::string::npos) << r.err;
+}
+
+TEST(Cli, AFullDiskFailsNamingTheFileAndLeavesNoPartialFile) {
+  const auto out = temp_path("cli_full_disk");
+  fs::remove_all(out);
+  const auto r = run("simulate " + kDefaultScene.string() + " --teeth 1 --method linear --out " + out.string(),
+                     "trap '' XFSZ; ulimit -f 2; ");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("topology.csv: cannot write"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out / "topology.csv"));
+  for (const auto& e : fs::recursive_directory_iterator(out))
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << "temporary left: " << e.path();
+  fs::remove_all(out);
+
+  const auto file = temp_path("cli_full_disk.csv");
+  const auto s = run("synth " + kDefaultScene.string() + " --teeth 1 --out " + file.string(), "trap '' XFSZ; ulimit -f 2; ");
+  EXPECT_EQ(s.code, 1) << s.err;
+  EXPECT_NE(s.err.find(file.string() + ": cannot write"), std::string::npos) << s.err;
+  EXPECT_FALSE(fs::exists(file));
+}
+
+// Issue 18, warnings: an angular error of the A axis about y (epsilon_ya, 200 µrad) leaves the flank untouched
+// (largest |deviation| 0.000 µm), but the paper's pseudo-inverse cancels it through the other axes and spoils the
+// gear (≈ 14 µm; the same mechanism as Compensation.SpinAboutTheWheelAxisIsNotFought).
+// `compensate` said "improvement" and nothing else; it now warns on stderr and in iso1328.json.
+TEST(Cli, CompensationThatMakesTheGearWorseIsWarnedAbout) {
+  const auto scene = temp_path("worse.yaml");
+  std::ofstream(scene) << "gear:\n  normal_module_mm: 14\n  teeth: 35\n  normal_pressure_angle_deg: 20\n"
+                          "  helix_angle_deg: 30\n  profile_shift: 0.274\n  face_width_mm: 150\n"
+                          "machine:\n  constants:\n    epsilon_ya_urad: 200\n";
+  const auto out = temp_path("cli_worse");
+  auto json = [&] {
+    std::ifstream in(out / "iso1328.json");
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  auto r = run("compensate " + scene.string() + " --method paper --out " + out.string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: compensation made the gear worse"), std::string::npos) << r.err;
+  EXPECT_NE(json().find("\"warnings\": [\n    \"compensation made the gear worse"), std::string::npos) << json();
+  // The flank method fixes the same gear: no warning, an empty list.
+  r = run("compensate " + scene.string() + " --method flank --out " + out.string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  EXPECT_NE(json().find("\"warnings\": []"), std::string::npos) << json();
+  fs::remove_all(out);
+  fs::remove(scene);
+}
+
+// Issue 18, work estimate: a long simulation announces itself when stderr is a terminal (run under `script`, which
+// gives the program a pseudo-terminal), and stays silent for scripts (stderr a file).
+TEST(Cli, ALongSimulationPrintsAnEstimateOnATerminalOnly) {
+  const auto out = temp_path("cli_estimate");
+  const std::string args = "simulate " + kDefaultScene.string() + " --teeth 1 --method linear --dense 710x710 --out " + out.string();
+  const auto plain = run(args);
+  EXPECT_EQ(plain.code, 0) << plain.err;
+  EXPECT_EQ(plain.err.find("points on 2 flanks"), std::string::npos) << plain.err;
+  const auto log = temp_path("cli_estimate.log");
+  if (std::system("command -v script >/dev/null 2>&1") != 0) GTEST_SKIP() << "no `script` (util-linux) to make a terminal";
+  std::string cmd = "script -qec '";
+  cmd += GEARTOPO_BINARY;
+  cmd += " " + args + "' /dev/null >" + log.string() + " 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0);
+  std::ifstream in(log);
+  std::stringstream s;
+  s << in.rdbuf();
+  EXPECT_NE(s.str().find("geartopo: 1008826 points on 2 flanks (linear): about 1 s on 2 cores"), std::string::npos) << s.str();
+  fs::remove(log);
+  fs::remove_all(out);
 }

@@ -139,7 +139,7 @@ TEST(Scene, MissingFileNamesTheFile) {
     scene::load_scene("/nonexistent/scene.yaml");
     FAIL();
   } catch (const geartopo::InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "/nonexistent/scene.yaml: cannot open the scene file");
+    EXPECT_EQ(std::string(e.what()), "/nonexistent/scene.yaml: cannot open the scene file: it does not exist");
   }
 }
 
@@ -233,7 +233,10 @@ TEST(SceneSections, WheelProcessAndMeasurementAreChecked) {
   EXPECT_NE(error_as_default(replace(text, "helix_points: 150", "helix_points: 150\n  dense_rows: 50"))
                 .find("measurement.dense_cols: missing"),
             std::string::npos);
-  EXPECT_NE(error_as_default(replace(text, "feed_mm_per_min: 1200", "feed_mm_per_min: 0")).find("process.feed_mm_per_min: 0 is outside (0, 100000]"),
+  EXPECT_NE(error_as_default(replace(text, "feed_mm_per_min: 1200", "feed_mm_per_min: 0")).find("process.feed_mm_per_min: 0 is outside [1, 100000]"),
+            std::string::npos);
+  // Issue 18: a denormal feed passed "> 0" and made every stroke time infinite (crashes in diagnose, inf in time_s).
+  EXPECT_NE(error_as_default(replace(text, "feed_mm_per_min: 1200", "feed_mm_per_min: 1e-320")).find("process.feed_mm_per_min: 1e-320 is outside [1, 100000]"),
             std::string::npos);
   // A 10⁸-point grid per flank (10⁹ and more for the gear) is refused before anything is allocated.
   const auto huge = error_as_default(replace(text, "helix_points: 150", "helix_points: 150\n  dense_rows: 10000\n  dense_cols: 10000"));

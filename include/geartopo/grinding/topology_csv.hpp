@@ -22,6 +22,9 @@ namespace geartopo::grinding {
 inline constexpr const char* kTopologyHeader = "tooth,flank,row,col,diameter_mm,z_mm,deviation_um";
 inline constexpr const char* kTracesHeader = "tooth,flank,trace,roll_length_mm,diameter_mm,z_mm,deviation_um";
 
+/// The largest |deviation_um| a topology or traces file may hold (1 mm): beyond it the readers refuse the value.
+inline constexpr double kMaxDeviationUm = 1000.0;
+
 /// One row of a topology file.
 struct TopologyRow {
   int tooth = 0;
@@ -43,7 +46,7 @@ void write_traces_csv(const std::filesystem::path& file, const std::vector<Flank
 
 /// Reads a topology file. `teeth` bounds the tooth numbers (1..teeth). Throws std::runtime_error
 /// "file:line:column: field: message" on the first problem: missing or reordered columns, a non-number, NaN or inf,
-/// an unknown flank, a tooth outside 1..teeth, a row or column < 1, a non-positive diameter, a duplicate
+/// |deviation_um| > kMaxDeviationUm, an unknown flank, a tooth outside 1..teeth, a row or column < 1, a non-positive diameter, a duplicate
 /// (tooth, flank, row, col). Comment lines ('#'), blank lines, CRLF line ends and a UTF-8 byte-order mark are accepted.
 std::vector<TopologyRow> read_topology_csv(std::istream& in, const std::string& source, int teeth);
 std::vector<TopologyRow> read_topology_csv(const std::filesystem::path& file, int teeth);

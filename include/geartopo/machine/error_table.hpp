@@ -24,6 +24,12 @@
 
 namespace geartopo::machine {
 
+/// The largest geometric error a table may hold, in internal units: 1 mm for a length (δ), 10 mrad for an angle (ε).
+/// Real axes err by µm and µrad; a value beyond these is a wrong unit (µm written as nm, mm as µm) or a broken file,
+/// refused at its row and column (issue 18: 1e12 µm used to be accepted and ruined every simulation).
+inline constexpr double kMaxTableLengthMm = 1.0;
+inline constexpr double kMaxTableAngleRad = 0.01;
+
 /// Every component column of one table file, in column order. Throws InputError.
 std::vector<ErrorSource> load_error_tables(const std::filesystem::path& path);
 /// The column of `expected` in a table file (the file may hold other components of the same axis).

@@ -125,6 +125,13 @@ write(S, "grid_dense_one_side.yaml", GEAR + "measurement:\n  dense_rows: 50\n", 
 write(S, "grid_tooth_36.yaml", GEAR + "measurement:\n  teeth: [1, 36]\n", ("InputError", 9, "measurement.teeth"))
 write(S, "process_first_space_36.yaml", GEAR + "process:\n  first_space: 36\n", ("InputError", -1, "first_space"))
 write(S, "process_index_step_not_coprime.yaml", GEAR + "process:\n  index_step: 5\n", ("InputError", -1, "index_step"))
+# Issue 18: a denormal feed is inside (0, 1e5] but makes every stroke time infinite (crashed run/report/diagnose).
+write(S, "process_feed_denormal.yaml", GEAR + "process:\n  feed_mm_per_min: 1e-320\n", ("InputError", 9, "process.feed_mm_per_min"))
+write(S, "process_feed_tiny.yaml", GEAR + "process:\n  feed_mm_per_min: 1e-308\n", ("InputError", 9, "process.feed_mm_per_min"))
+write(S, "two_documents.yaml", GEAR + "---\n" + GEAR.replace("teeth: 35", "teeth: 36"), ("InputError", -1, "second YAML document"))
+write(S, "measured_empty.yaml", GEAR + "measurement:\n  measured: ''\n", ("InputError", 9, "measurement.measured"))
+write(S, "dressing_fraction.yaml", GEAR + "effects:\n  - type: wheel_wear\n    dressing_interval_strokes: 2.5\n",
+      ("InputError", 10, "not a whole number"))
 write(S, "process_feed_0.yaml", GEAR + "process:\n  feed_mm_per_min: 0\n", ("InputError", 9, "process.feed_mm_per_min"))
 write(S, "process_stroke_sideways.yaml", GEAR + "process:\n  stroke: sideways\n", ("InputError", 9, "process.stroke"))
 write(S, "effect_unknown.yaml", GEAR + "effects:\n  - type: gremlins\n", ("InputError", 9, "effects[0].type"))
@@ -153,6 +160,9 @@ write(E, "nan_value.csv", HX + xrows(2) + "200,nan,0\n", ("InputError", 4, "delt
 write(E, "inf_value.csv", HX + xrows(2) + "200,0,-inf\n", ("InputError", 4, "delta_yx_um"))
 write(E, "nan_position.csv", HX + "0,0,0\nNaN,1,1\n", ("InputError", 3, "x_mm"))
 write(E, "huge_value.csv", HX + "0,0,0\n100,1e400,0\n", ("InputError", 3, "delta_xx_um"))
+# Issue 18: finite but not a geometric error of an axis (a wrong unit): |δ| ≤ 1 mm, |ε| ≤ 10 mrad.
+write(E, "value_1e12_um.csv", HX + "0,0,0\n100,1e12,0\n", ("InputError", 3, "delta_xx_um"))
+write(E, "angle_20_mrad.csv", "a_deg,epsilon_xa_urad\n-30,0\n30,20000\n", ("InputError", 3, "beyond ±10 mrad"))
 write(E, "wrong_header.csv", "q_mm,delta_xx_um\n0,0\n100,1\n", ("InputError", 1, "q_mm"))
 write(E, "no_header_numbers_first.csv", "0,0,0\n100,1,1\n", ("InputError", 1, ""))
 write(E, "unknown_component.csv", "x_mm,delta_qq_um\n0,0\n100,1\n", ("InputError", 1, "delta_qq"))
@@ -185,6 +195,10 @@ write(T, "truncated_line.csv", TH + trows(2) + "1,left,2,1,562.0\n", ("InputErro
 # told from a complete file unless a final newline is required: docs/performance.md, robustness findings.)
 write(T, "truncated_file.csv", TH + trows(2) + "1,left,2,1,562.0,1", ("InputError", 4, "fields"))
 write(T, "nan_deviation.csv", TH + trows(2) + "1,left,2,1,562.0,10.0,nan\n", ("InputError", 4, "deviation_um"))
+# Issue 18: a finite but absurd deviation (1e300 µm crashed diagnose; 1e12 µm is a wrong unit) is refused at its line.
+write(T, "huge_deviation.csv", TH + trows(2) + "1,left,2,1,562.0,10.0,1e300\n", ("InputError", 4, "deviation_um"))
+write(T, "traces_huge_deviation.csv", "tooth,flank,trace,roll_length_mm,diameter_mm,z_mm,deviation_um\n1,left,helix,10,560,75,1e12\n",
+      ("InputError", 2, "deviation_um"))
 write(T, "inf_z.csv", TH + trows(2) + "1,left,2,1,562.0,inf,0.1\n", ("InputError", 4, "z_mm"))
 write(T, "negative_diameter.csv", TH + "1,left,1,1,-560,10,0.1\n", ("InputError", 2, "diameter_mm"))
 write(T, "duplicate_point.csv", TH + trows(3) + "1,left,1,1,560.0,10.0,0.7\n", ("InputError", 5, "duplicate"))
