@@ -21,7 +21,7 @@ public:
     static const std::vector<ParameterSpec> p{
         {"wear_um_per_stroke", "wear (normal to the wheel surface) per stroke (one tooth space)", 0.0, -50.0, 50.0, 0.3, true, {}, -5.0, 5.0},
         {"dressing_interval_strokes", "strokes between dressings (0: not dressed during the gear)", 0.0, 0.0, 1e5, 1.0,
-         false, {}, true}};
+         false, {}, NAN, NAN, true}};
     return p;
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<WheelWear>(*this); }

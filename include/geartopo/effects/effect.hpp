@@ -26,11 +26,11 @@ struct ParameterSpec {
   double typical;        ///< typical magnitude (file units): fitting scale and step
   bool fitted = true;    ///< identified by `diagnose`; false: a set-up value the user must know (e.g. arbor span)
   std::vector<double> starts{}; ///< start values for fitting a parameter the deviations depend on nonlinearly
-  bool whole = false;    ///< a count (e.g. strokes between dressings): the scene must give a whole number
-  /// Where a real machine's value lies (file units; engineering judgement, listed in docs/diagnosis.md). A fit outside
-  /// it, or on the allowed range's ends, is no explanation (diagnosis rejects it). NaN: the allowed range [lo, hi].
+  /// Where a real machine's value lies (file units; engineering judgement, listed in docs/diagnosis.md). A fit that
+  /// needs a value beyond it by more than 2σ is no explanation (diagnosis rejects it). NaN: the allowed range [lo, hi].
   double plausible_lo = std::numeric_limits<double>::quiet_NaN();
   double plausible_hi = std::numeric_limits<double>::quiet_NaN();
+  bool whole = false;    ///< a count (e.g. strokes between dressings): the scene must give a whole number
 };
 
 class Effect {
