@@ -35,6 +35,7 @@ void register_compare_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, measured, out;
     double noise = 0.0;
+    diagnosis::KlingelnbergOptions mka;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("compare", "Measured − model (µm) at every measured point: statistics, where the model "
@@ -44,11 +45,12 @@ void register_compare_command(CLI::App& app, Action& action) {
                                                    "(docs/measurement-formats.md); told apart by content")->required();
   cmd->add_option("--out", opt->out, "Output directory: compare.json, residuals.csv")->required()->check(non_empty_path());
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated)")->check(finite_in(0.0, 1000.0));
+  add_klingelnberg_options(cmd, opt->mka);
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
       std::vector<std::string> warnings;
-      const auto pts = diagnosis::read_any_measurement(opt->measured, wb.setup, &warnings);
+      const auto pts = diagnosis::read_any_measurement(opt->measured, wb.setup, &warnings, opt->mka);
       for (const auto& w : warnings) std::cerr << "geartopo: warning: " << w << "\n";
       const auto c = diagnosis::compare(wb.setup, wb.process(), pts, opt->noise);
 

@@ -98,6 +98,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
     std::string scene, measured, out;
     double noise = 0.0;
     std::vector<std::string> candidates;
+    diagnosis::KlingelnbergOptions mka;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("diagnose", "Which physical effect is the model missing? Fits every library effect "
@@ -110,6 +111,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       ->check(finite_in(0.0, 1000.0));
   cmd->add_option("--candidates", opt->candidates, "Effect types to try (default: every library effect not in the scene)")
       ->delimiter(',');
+  add_klingelnberg_options(cmd, opt->mka);
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
@@ -118,7 +120,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
           throw CLI::ValidationError("--candidates", fmt::format("'{}' is not an effect of the library ({})", c,
                                                                  fmt::join(effects::effect_types(), ", ")));
       std::vector<std::string> warnings;
-      const auto pts = diagnosis::read_any_measurement(opt->measured, wb.setup, &warnings);
+      const auto pts = diagnosis::read_any_measurement(opt->measured, wb.setup, &warnings, opt->mka);
       for (const auto& w : warnings) std::cerr << "geartopo: warning: " << w << "\n";
       diagnosis::DiagnoseOptions o;
       o.noise_um = opt->noise;

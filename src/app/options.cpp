@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <unistd.h>
 #include <cmath>
+#include <map>
 
 namespace geartopo::app {
 
@@ -93,6 +94,27 @@ std::pair<int, int> parse_grid_size(const std::string& text) {
     throw CLI::ValidationError("--dense", fmt::format("'{}' is not ROWSxCOLS with 2 ≤ each and at most {} points per flank",
                                                       text, grinding::kMaxPointsPerFlank));
   return {r, c};
+}
+
+void add_klingelnberg_options(CLI::App* cmd, diagnosis::KlingelnbergOptions& o) {
+  using diagnosis::DeviationDirection;
+  using diagnosis::ProfileSpacing;
+  using diagnosis::SignConvention;
+  cmd->add_option("--mka-spacing", o.spacing,
+                  "Klingelnberg export: profile points evenly in roll-length (default) or diameter")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, ProfileSpacing>{{"roll-length", ProfileSpacing::RollLength},
+                                                                                {"diameter", ProfileSpacing::Diameter}}))
+      ->option_text("roll-length|diameter");
+  cmd->add_option("--mka-direction", o.direction,
+                  "Klingelnberg export: deviations transverse (default; × cos β_b to the normal) or normal")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, DeviationDirection>{
+          {"transverse", DeviationDirection::Transverse}, {"normal", DeviationDirection::Normal}}))
+      ->option_text("transverse|normal");
+  cmd->add_option("--mka-signs", o.signs,
+                  "Klingelnberg export: raw probe sign (default; profile left and helix × −1) or din (plus material)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, SignConvention>{{"raw", SignConvention::Raw},
+                                                                                {"din", SignConvention::Din}}))
+      ->option_text("raw|din");
 }
 
 } // namespace geartopo::app

@@ -2,6 +2,7 @@
 // the options that several commands take.
 #pragma once
 
+#include "geartopo/diagnosis/klingelnberg.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
 #include <string>
@@ -9,6 +10,7 @@
 #include <vector>
 
 namespace CLI {
+class App;
 class Validator;
 }
 
@@ -42,5 +44,9 @@ void print_work_estimate(long long points, long long flanks, bool exact);
 std::vector<int> parse_teeth(const std::string& text, int teeth);
 /// "50x100" → (50, 100), at most grinding::kMaxPointsPerFlank points. Throws CLI::ValidationError.
 std::pair<int, int> parse_grid_size(const std::string& text);
+
+/// The Klingelnberg reader's options as flags of a command that reads measurements (docs/measurement-formats.md):
+/// --mka-spacing roll-length|diameter, --mka-direction transverse|normal, --mka-signs raw|din.
+void add_klingelnberg_options(CLI::App* cmd, diagnosis::KlingelnbergOptions& options);
 
 } // namespace geartopo::app

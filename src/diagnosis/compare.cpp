@@ -100,11 +100,11 @@ std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file,
 }
 
 std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
-                                                std::vector<std::string>* warnings) {
+                                                std::vector<std::string>* warnings, const KlingelnbergOptions& mka) {
   auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "measurement");
   // First: an export's header lines and trace heads are not numbers, so neither other reader would take it anyway.
   if (looks_like_klingelnberg(in)) {
-    auto res = klingelnberg_points(read_klingelnberg(file), setup.geometry());
+    auto res = klingelnberg_points(read_klingelnberg(file), setup.geometry(), mka);
     if (warnings) warnings->insert(warnings->end(), res.warnings.begin(), res.warnings.end());
     return std::move(res.points);
   }

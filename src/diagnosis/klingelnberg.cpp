@@ -29,7 +29,7 @@ bool is_utf8(std::string_view s) {
   for (size_t i = 0; i < s.size();) {
     const auto c = static_cast<unsigned char>(s[i]);
     const int n = c < 0x80 ? 0 : (c & 0xE0) == 0xC0 ? 1 : (c & 0xF0) == 0xE0 ? 2 : (c & 0xF8) == 0xF0 ? 3 : -1;
-    if (n < 0 || i + n >= s.size() + (n == 0 ? 1 : 0)) return false;
+    if (n < 0) return false;
     for (int k = 1; k <= n; ++k)
       if (i + k >= s.size() || (static_cast<unsigned char>(s[i + k]) & 0xC0) != 0x80) return false;
     i += static_cast<size_t>(n) + 1;
@@ -430,6 +430,14 @@ KlingelnbergPoints klingelnberg_points(const KlingelnbergFile& f, const gears::G
   } else {
     out.warnings.push_back(f.source + ": no number of teeth (header line 22): not checked against the scene");
   }
+  // The angles are compared as a warning only: how an export signs β for the hand is not known [M], so |β| is compared.
+  const std::pair<int, double> angles[] = {{23, std::abs(units::deg_from_rad(spec.helix_angle_rad))},
+                                           {24, units::deg_from_rad(spec.normal_pressure_angle_rad)}};
+  for (const auto& [code, scene_deg] : angles)
+    if (const auto* h = code_line(f, code); h && std::abs(std::abs(h->values[0]) - scene_deg) > 0.5e-4)
+      out.warnings.push_back(fmt::format("{}:{}: {}: {:.6g}° in the file, {:.6g}° in the scene (|β| and α_n are "
+                                         "compared)",
+                                         f.source, h->line, code_field(code, *h), h->values[0], scene_deg));
   const double to_normal = o.direction == DeviationDirection::Transverse ? std::cos(g.base_helix_angle()) : 1.0;
   const double d_lo = g.root_form_diameter_mm(), d_hi = g.tip_diameter_mm(), b = spec.face_width_mm;
   int off_flank = 0;

@@ -269,5 +269,13 @@ TEST(Cli, CompareReadsAKlingelnbergExport) {
   EXPECT_NEAR(nlohmann::json::parse(ja)["overall"]["rms_um"].get<double>(),
               nlohmann::json::parse(jb)["overall"]["rms_um"].get<double>(), 1e-3);
   EXPECT_EQ(run("synth " + truth + " --out " + mka + " --format xml").code, 2);
+  // The reader's options are flags: read with the DIN sign, the raw left profiles come back inverted.
+  const CliResult din = run("compare " + kScene + " --measured " + mka + " --out " + (dir / "d").string() +
+                            " --noise-um 0.5 --mka-signs din --mka-direction transverse --mka-spacing roll-length");
+  ASSERT_EQ(din.code, 0) << din.err;
+  std::ifstream jd(dir / "d" / "compare.json"), jb2(dir / "b" / "compare.json");
+  EXPECT_GT(nlohmann::json::parse(jd)["overall"]["rms_um"].get<double>(),
+            nlohmann::json::parse(jb2)["overall"]["rms_um"].get<double>() + 0.1);
+  EXPECT_EQ(run("compare " + kScene + " --measured " + mka + " --out " + (dir / "e").string() + " --mka-signs plus").code, 2);
   std::filesystem::remove_all(dir);
 }

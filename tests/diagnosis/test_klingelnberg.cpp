@@ -229,3 +229,12 @@ TEST(Klingelnberg, SynthesizedTopographyRoundTrips) {
     EXPECT_NEAR(it->deviation_um, r.deviation_um, 0.5e-3);
   }
 }
+
+TEST(Klingelnberg, DifferentAnglesAreAWarning) {
+  const auto text = replaced(example_text(), "beta [Grad]......: 15.0000", "beta [Grad]......: -20.0000");
+  const auto res = diagnosis::klingelnberg_points(diagnosis::parse_klingelnberg(text, "x.mka"), example_gear());
+  ASSERT_EQ(res.warnings.size(), 2u);
+  EXPECT_EQ(res.warnings[0], "x.mka:8: 23 Schrägungswinkel beta [Grad]: -20° in the file, 15° in the scene (|β| and α_n "
+                             "are compared)");
+  // The example's own angles agree: only the undefined point is reported (ExampleFileGivesTheKnownPattern).
+}

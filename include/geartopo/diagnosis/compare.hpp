@@ -3,6 +3,7 @@
 // Units: µm, mm.
 #pragma once
 
+#include "geartopo/diagnosis/klingelnberg.hpp"
 #include "geartopo/diagnosis/measured_points.hpp"
 #include "geartopo/diagnosis/residuals/failing_regions.hpp"
 #include "geartopo/diagnosis/residuals/flank_patterns.hpp"
@@ -41,9 +42,10 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
 std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file, const gears::InvoluteHelicoid& flanks,
                                                         double max_offset_mm = 0.5);
 
-/// Topology CSV, point cloud or Klingelnberg export (diagnosis/klingelnberg.hpp, default options), told apart by their
-/// content. Findings that are not errors (blocks a reader skipped, undefined points) go to `warnings` when given.
+/// Topology CSV, point cloud or Klingelnberg export (read with `mka`), told apart by their content. Findings that are
+/// not errors (blocks a reader skipped, undefined points) go to `warnings` when given.
 std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
-                                                std::vector<std::string>* warnings = nullptr);
+                                                std::vector<std::string>* warnings = nullptr,
+                                                const KlingelnbergOptions& mka = {});
 
 } // namespace geartopo::diagnosis
