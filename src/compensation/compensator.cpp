@@ -43,7 +43,7 @@ PoseResult paper_at(const grinding::GrindingProcess& process, const grinding::Pa
     e = error_g(process.actual_wMg(c), ideal);
     const machine::Matrix65 J = machine::J_twistg_q(c.q);
     // Eq. 29: pinv(J) = (JᵀJ)⁻¹Jᵀ for a full-column-rank J, here through an orthogonal decomposition.
-    const Vector5d step = J.completeOrthogonalDecomposition().solve(e);
+    const Vector5d step = Eigen::MatrixXd(J).completeOrthogonalDecomposition().solve(Eigen::VectorXd(e));
     r.dq -= step;
     if (step.head<3>().norm() < 1e-9 && step.tail<2>().norm() < 1e-12) break;
   }
@@ -107,21 +107,17 @@ PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::Grindi
   //     touch the contact lines) is spent on the wheel's pose error without its spin about the wheel axis, which no
   //     axis can correct and which does not change the surface — so a pure C offset gets a pure C correction;
   // (3) what is still free is resolved by minimum norm.
-  // M = A·J_w·D⁻¹ (m×5) = Q·R by Householder QR, and R (5×5) = U_R·Σ·Vᵀ by SVD, so M = (Q U_R)·Σ·Vᵀ: the SVD of M
-  // with fixed-size 5×5 factors (m = both contact lines' points is only known at run time).
-  using MatrixX5d = Eigen::Matrix<double, Eigen::Dynamic, 5>;
-  using Matrix5d = Eigen::Matrix<double, 5, 5>;
+  // Every decomposition in this file runs on dynamic matrices (MatrixXd): one instantiation of each algorithm
+  // instead of one per fixed shape — at -O3 each fixed-size instantiation costs seconds of compile time, more than the
+  // SVD of an m×5 matrix costs at run time.
   // Held axes get zero columns: their directions fall into the null space and keep their start value.
-  const MatrixX5d M = A * machine::J_twistw_q(pp.q) * D.cwiseInverse().asDiagonal() * free.asDiagonal(); // m×5
-  const Eigen::HouseholderQR<MatrixX5d> qr(M);
-  const Matrix5d R = qr.matrixQR().topRows<5>().triangularView<Eigen::Upper>();
-  const Eigen::JacobiSVD<Matrix5d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Vector5d sv = svd.singularValues();
+  const Eigen::MatrixXd M = A * machine::J_twistw_q(pp.q) * D.cwiseInverse().asDiagonal() * free.asDiagonal(); // m×5
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd sv = svd.singularValues();
   int rank = 0;
-  while (rank < 5 && sv(rank) > 1e-9 * sv(0)) ++rank;
-  const Matrix5d& V = svd.matrixV();
-  // Directions that leave every contact point in place: the last 5 − rank columns of V (5×(5−rank)).
-  const Eigen::Matrix<double, 5, Eigen::Dynamic, 0, 5, 5> N = V.rightCols(5 - rank);
+  while (rank < sv.size() && sv(rank) > 1e-9 * sv(0)) ++rank;
+  const Eigen::MatrixXd V = svd.matrixV();
+  const Eigen::MatrixXd N = V.rightCols(5 - rank); // 5×(5−rank): directions that leave every contact point in place
   // Wheel-frame pose error weights: translations 1, rotations L, spin about the wheel axis (g's y) 0.
   const Vector6d S = (Vector6d() << 1.0, 1.0, 1.0, L, 0.0, L).finished();
   const machine::Matrix65 G =
@@ -131,15 +127,13 @@ PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::Grindi
   r.dq = start;
   Eigen::VectorXd d = deviations(r.dq);
   for (int it = 0; it < o.max_iterations; ++it) {
-    // Level 1: u = V Σ⁺ (Q U_R)ᵀ d over the first `rank` singular directions; (Q U_R)ᵀ d = U_Rᵀ (Qᵀ d)[0..5).
-    const Eigen::VectorXd qtd = qr.householderQ().transpose() * d;
-    const Vector5d urtd = svd.matrixU().transpose() * qtd.head<5>();
+    // Level 1: u = V Σ⁺ Uᵀ d over the first `rank` singular directions.
     Vector5d u = Vector5d::Zero();
-    for (int k = 0; k < rank; ++k) u += V.col(k) * (urtd(k) / sv(k));
+    for (int k = 0; k < rank; ++k) u += V.col(k) * (svd.matrixU().col(k).dot(d) / sv(k));
     if (N.cols() > 0) {
       const Vector6d e = S.cwiseProduct(error_g(process.actual_wMg(with_correction(pp, r.dq)), ideal));
-      const Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 5> GN = G * N; // 6×(5−rank)
-      u += N * GN.completeOrthogonalDecomposition().solve(e - G * u);
+      const Eigen::MatrixXd GN = G * N; // 6×(5−rank)
+      u += N * GN.completeOrthogonalDecomposition().solve(Eigen::VectorXd(e - G * u));
     }
     const Vector5d step = D.cwiseInverse().cwiseProduct(u);
     r.dq -= step;
@@ -180,7 +174,7 @@ GearTerms gear_terms_at(const grinding::GrindingSetup& setup, const grinding::Gr
   Eigen::Matrix<double, Eigen::Dynamic, 2> MG(m, 2);
   MG << M.col(1), M.col(3);
   // P⊥ x = x − Q (Qᵀ x) over the rank of M_P (Z and C are nearly the same motion on a helicoid: rank-revealing QR).
-  const Eigen::ColPivHouseholderQR<Eigen::Matrix<double, Eigen::Dynamic, 3>> qr(MP);
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr{Eigen::MatrixXd(MP)};
   const Eigen::Index rank = qr.rank();
   const Eigen::MatrixXd Q = Eigen::MatrixXd(qr.householderQ()).leftCols(rank);
   const Eigen::Matrix<double, Eigen::Dynamic, 2> PG = MG - Q * (Q.transpose() * MG);
@@ -205,7 +199,7 @@ CorrectionTable compute_corrections(const grinding::GrindingSetup& setup, const 
     });
     GearTerms sum; // summed in path order: the same result at any thread count
     for (const auto& t : terms) sum.H += t.H, sum.b += t.b;
-    const Eigen::Vector2d u = -sum.H.completeOrthogonalDecomposition().solve(sum.b);
+    const Eigen::Vector2d u = -Eigen::MatrixXd(sum.H).completeOrthogonalDecomposition().solve(Eigen::VectorXd(sum.b));
     const double L = 0.5 * setup.geometry().reference_diameter_mm();
     gear_start(1) = u(0);     // Y (mm)
     gear_start(3) = u(1) / L; // A (rad)

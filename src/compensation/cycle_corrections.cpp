@@ -1,12 +1,12 @@
 #include "geartopo/compensation/cycle_corrections.hpp"
 
+#include "geartopo/core/atomic_file.hpp"
 #include "geartopo/core/units.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <stdexcept>
 
@@ -105,11 +105,7 @@ void CycleCorrections::write_csv(std::ostream& out) const {
 }
 
 void CycleCorrections::write_csv(const std::filesystem::path& file) const {
-  std::ofstream out(file);
-  if (!out) throw std::runtime_error(file.string() + ": cannot write");
-  write_csv(out);
-  out.close();
-  if (!out) throw std::runtime_error(file.string() + ": write failed");
+  output::write_atomically(file, [this](std::ostream& out) { write_csv(out); });
 }
 
 } // namespace geartopo::compensation
