@@ -20,12 +20,12 @@ function(geartopo_reuse_pch target kind)
   endif()
 endfunction()
 
-# geartopo_add_library(<name> SOURCES … [PUBLIC …] [PRIVATE …] [PCH <header> …])
+# geartopo_add_library(<name> SOURCES … [PUBLIC …] [PRIVATE …] [PCH <header> …] [UNITY])
 # One library of geartopo: target geartopo_<name>, alias geartopo::<name>, public headers under
 # include/geartopo/<name>/ (included as "geartopo/<name>/x.hpp"), sources and private headers under src/<name>/.
 # Every library is exported for find_package(geartopo) (cmake/geartopoConfig.cmake.in).
 function(geartopo_add_library name)
-  cmake_parse_arguments(arg "" "" "SOURCES;PUBLIC;PRIVATE;PCH" ${ARGN})
+  cmake_parse_arguments(arg "UNITY" "" "SOURCES;PUBLIC;PRIVATE;PCH" ${ARGN})
   set(target geartopo_${name})
   add_library(${target} STATIC ${arg_SOURCES})
   add_library(geartopo::${name} ALIAS ${target})
@@ -40,6 +40,10 @@ function(geartopo_add_library name)
     target_precompile_headers(${target} PRIVATE ${arg_PCH})
   else()
     geartopo_reuse_pch(${target} library)
+  endif()
+  # UNITY: the library's files compiled as one translation unit (many small files sharing heavy templates).
+  if(arg_UNITY)
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 0)
   endif()
   install(TARGETS ${target} EXPORT geartopoTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
   set_property(GLOBAL APPEND PROPERTY GEARTOPO_LIBRARIES ${target})
