@@ -78,29 +78,51 @@ std::vector<ContactPoint> contact_points(const grinding::GrindingSetup& setup, i
 /// Axes a method may move at every pose: all five, or (cycle) X, Z and C with Y and A held at the gear's values.
 using AxisMask = Eigen::Matrix<double, 5, 1>; // 1 free, 0 held
 
-PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
-                    const grinding::PathPoint& pp, const CompensationOptions& o, const Vector5d& start = Vector5d::Zero(),
-                    const AxisMask& free = AxisMask::Ones()) {
-  const auto pts = contact_points(setup, pp.space, pp.z_stroke_mm, o.contact_points);
-  const long m = static_cast<long>(pts.size());
-  Eigen::Matrix<double, Eigen::Dynamic, 6> A(m, 6);
-  for (long i = 0; i < m; ++i) A.row(i) = pts[static_cast<size_t>(i)].a;
-  const Pose ideal = machine::ideal_wMg(pp.q);
-  const Pose gMw = ideal.inverse();
-  // Rotary corrections weigh like a displacement at the reference radius.
-  const double L = 0.5 * setup.geometry().reference_diameter_mm();
-  const Vector5d D = (Vector5d() << 1.0, 1.0, 1.0, L, L).finished();
+/// The flank objective at one pose: the nominal contact points of both flanks of the space, their normal-deviation
+/// rows A (m×6, per unit twist in w) and the scaling D of the corrections (rotary ones weigh like a displacement at
+/// the reference radius, so mm and rad weigh alike).
+struct FlankObjective {
+  FlankObjective(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
+                 const grinding::PathPoint& pp, const CompensationOptions& o)
+      : setup(setup), process(process), pp(pp), pts(contact_points(setup, pp.space, pp.z_stroke_mm, o.contact_points)),
+        A(static_cast<long>(pts.size()), 6), ideal(machine::ideal_wMg(pp.q)), gMw(ideal.inverse()),
+        L(0.5 * setup.geometry().reference_diameter_mm()), D((Vector5d() << 1.0, 1.0, 1.0, L, L).finished()) {
+    for (long i = 0; i < A.rows(); ++i) A.row(i) = pts[static_cast<size_t>(i)].a;
+  }
 
-  auto deviations = [&](const Vector5d& dq) {
+  /// Predicted normal deviations at the contact points (m, mm) with the corrections dq: the pose error and the wheel
+  /// radius error of the process at the corrected command.
+  Eigen::VectorXd deviations(const Vector5d& dq) const {
     const grinding::PathPoint c = with_correction(pp, dq);
     const Vector6d t = error_w(process.actual_wMg(c), ideal);
     Eigen::VectorXd d = A * t;
-    for (long i = 0; i < m; ++i) {
+    for (long i = 0; i < A.rows(); ++i) {
       const double v = (gMw * pts[static_cast<size_t>(i)].p).y();
       d(i) -= process.wheel_radius_error_mm(v, c) * setup.wheel().normal_per_radial(v);
     }
     return d;
-  };
+  }
+
+  const grinding::GrindingSetup& setup;
+  const grinding::GrindingProcess& process;
+  const grinding::PathPoint& pp;
+  std::vector<ContactPoint> pts;
+  Eigen::Matrix<double, Eigen::Dynamic, 6> A; // m×6
+  Pose ideal, gMw;
+  double L;
+  Vector5d D;
+};
+
+PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
+                    const grinding::PathPoint& pp, const CompensationOptions& o, const Vector5d& start = Vector5d::Zero(),
+                    const AxisMask& free = AxisMask::Ones()) {
+  const FlankObjective f(setup, process, pp, o);
+  const auto& A = f.A;
+  const auto& D = f.D;
+  const double L = f.L;
+  const Pose& ideal = f.ideal;
+  const long m = A.rows();
+  auto deviations = [&f](const Vector5d& dq) { return f.deviations(dq); };
   // Gauss–Newton in the scaled variables u = D·Δq with the ideal Jacobians (the errors are small), in two levels:
   // (1) the step removes the predicted flank deviations (least squares over both contact lines);
   // (2) the freedom that leaves the flanks unchanged (null space of level 1: the screw, and whatever else does not
@@ -154,21 +176,10 @@ struct GearTerms {
 
 GearTerms gear_terms_at(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
                         const grinding::PathPoint& pp, const CompensationOptions& o) {
-  const auto pts = contact_points(setup, pp.space, pp.z_stroke_mm, o.contact_points);
-  const long m = static_cast<long>(pts.size());
-  Eigen::Matrix<double, Eigen::Dynamic, 6> A(m, 6);
-  for (long i = 0; i < m; ++i) A.row(i) = pts[static_cast<size_t>(i)].a;
-  const Pose ideal = machine::ideal_wMg(pp.q);
-  const Pose gMw = ideal.inverse();
-  const double L = 0.5 * setup.geometry().reference_diameter_mm();
-  const Vector5d D = (Vector5d() << 1.0, 1.0, 1.0, L, L).finished();
-  const Vector6d t = error_w(process.actual_wMg(pp), ideal);
-  Eigen::VectorXd d0 = A * t;
-  for (long i = 0; i < m; ++i) {
-    const double v = (gMw * pts[static_cast<size_t>(i)].p).y();
-    d0(i) -= process.wheel_radius_error_mm(v, pp) * setup.wheel().normal_per_radial(v);
-  }
-  const Eigen::Matrix<double, Eigen::Dynamic, 5> M = A * machine::J_twistw_q(pp.q) * D.cwiseInverse().asDiagonal();
+  const FlankObjective f(setup, process, pp, o);
+  const long m = f.A.rows();
+  const Eigen::VectorXd d0 = f.deviations(Vector5d::Zero());
+  const Eigen::Matrix<double, Eigen::Dynamic, 5> M = f.A * machine::J_twistw_q(pp.q) * f.D.cwiseInverse().asDiagonal();
   Eigen::Matrix<double, Eigen::Dynamic, 3> MP(m, 3);
   MP << M.col(0), M.col(2), M.col(4);
   Eigen::Matrix<double, Eigen::Dynamic, 2> MG(m, 2);
