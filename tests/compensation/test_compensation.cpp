@@ -3,6 +3,7 @@
 
 #include "../grinding/grinding_fixture.hpp"
 #include "geartopo/scene/scene.hpp"
+#include "geartopo/workbench/workbench.hpp"
 
 #include <sstream>
 
@@ -90,31 +91,47 @@ TEST(Compensation, SpinAboutTheWheelAxisIsNotFought) {
   EXPECT_GT(paper.after_um, 0.5); // µm created by the paper's compromise
 }
 
-// The default scene's representative machine, errors known to the model: the flank method leaves < 5 % of the
-// largest uncompensated |deviation|; the paper's method, reported beside it, does less well.
+// The default scene with its representative machine (errors known to the model), built once for the tests below, and
+// its largest uncompensated |deviation| on a 20-point trace grid.
+struct DefaultScene {
+  workbench::Workbench wb{std::filesystem::path(GEARTOPO_SOURCE_DIR) / "scenes/skmc1200w-mn14-z35.yaml"};
+  grinding::SimulationOptions so = [] {
+    grinding::SimulationOptions o;
+    o.profile_points = o.helix_points = 20;
+    return o;
+  }();
+  double before = largest_abs(grinding::simulate_topology(wb.setup, wb.machine_process, so));
+
+  double after(const compensation::CorrectionTable& table) const {
+    const compensation::CompensatedProcess corrected(wb.machine_process, table);
+    return largest_abs(grinding::simulate_topology(wb.setup, corrected, so));
+  }
+  compensation::StrokeCheck strokes() const { return {wb.machine, wb.scene.machine.datum_face_z_mm}; }
+};
+
+const DefaultScene& default_scene() {
+  static const DefaultScene s;
+  return s;
+}
+
+// The flank method leaves < 5 % of the largest uncompensated |deviation|; the paper's method, reported beside it,
+// does less well.
 TEST(Compensation, DefaultSceneFlankBeatsFivePercentAndPaperIsReported) {
-  const auto sc = scene::load_scene(std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35.yaml");
-  const auto model = sc.machine.model();
-  const grinding::GrindingSetup setup(sc.gear, sc.wheel, sc.process);
-  const grinding::MachineProcess process(model, sc.machine.datum_face_z_mm);
-  grinding::SimulationOptions so;
-  so.profile_points = so.helix_points = 20;
-  const double before = largest_abs(grinding::simulate_topology(setup, process, so));
+  const DefaultScene& d = default_scene();
   double after[2];
   for (Method m : {Method::Flank, Method::Paper}) {
     compensation::CompensationOptions o;
     o.method = m;
-    const auto table = compensation::compute_corrections(setup, process, {model, sc.machine.datum_face_z_mm}, o);
+    const auto table = compensation::compute_corrections(d.wb.setup, d.wb.machine_process, d.strokes(), o);
     EXPECT_EQ(table.rows_outside_strokes(), 0);
-    const compensation::CompensatedProcess corrected(process, table);
-    after[m == Method::Flank ? 0 : 1] = largest_abs(grinding::simulate_topology(setup, corrected, so));
+    after[m == Method::Flank ? 0 : 1] = d.after(table);
   }
-  RecordProperty("before_um", std::to_string(before));
+  RecordProperty("before_um", std::to_string(d.before));
   RecordProperty("flank_after_um", std::to_string(after[0]));
   RecordProperty("paper_after_um", std::to_string(after[1]));
-  EXPECT_GT(before, 5.0);
-  EXPECT_LT(after[0], 0.05 * before);
-  EXPECT_LT(after[1], before);
+  EXPECT_GT(d.before, 5.0);
+  EXPECT_LT(after[0], 0.05 * d.before);
+  EXPECT_LT(after[1], d.before);
   EXPECT_GT(after[1], after[0]);
 }
 
@@ -123,27 +140,20 @@ TEST(Compensation, DefaultSceneFlankBeatsFivePercentAndPaperIsReported) {
 // Y straightness of the Z slide (δ_yz, varying along the stroke) is in the default tables: the unconstrained flank
 // method answers it with Y pose by pose, which the cycle cannot do.
 TEST(Compensation, CycleMethodHoldsYAndAPerGearAndStillCorrects) {
-  const auto sc = scene::load_scene(std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35.yaml");
-  const auto model = sc.machine.model();
-  const grinding::GrindingSetup setup(sc.gear, sc.wheel, sc.process);
-  const grinding::MachineProcess process(model, sc.machine.datum_face_z_mm);
-  grinding::SimulationOptions so;
-  so.profile_points = so.helix_points = 20;
-  const double before = largest_abs(grinding::simulate_topology(setup, process, so));
+  const DefaultScene& d = default_scene();
   compensation::CompensationOptions o;
   o.method = Method::Cycle;
   o.step_mm = 4.0;
-  const auto table = compensation::compute_corrections(setup, process, {model, sc.machine.datum_face_z_mm}, o);
+  const auto table = compensation::compute_corrections(d.wb.setup, d.wb.machine_process, d.strokes(), o);
   const auto& first = table.rows().front().correction;
   for (const auto& r : table.rows()) {
     EXPECT_EQ(r.correction(1), first(1)) << "Y must be one value for the gear";
     EXPECT_EQ(r.correction(3), first(3)) << "A must be one value for the gear";
   }
-  const compensation::CompensatedProcess corrected(process, table);
-  const double after = largest_abs(grinding::simulate_topology(setup, corrected, so));
+  const double after = d.after(table);
   RecordProperty("cycle_after_um", std::to_string(after));
-  EXPECT_GT(before, 5.0);
-  EXPECT_LT(after, 0.05 * before);
+  EXPECT_GT(d.before, 5.0);
+  EXPECT_LT(after, 0.05 * d.before);
 }
 
 // A tilt of the wheel about the tangential axis through its centre (ε_yz with Y = 0) is a pose error no axis can
