@@ -55,7 +55,7 @@ void register_compare_command(CLI::App& app, Action& action) {
       const auto c = diagnosis::compare(wb.setup, wb.process(), pts, opt->noise);
 
       const std::filesystem::path out(opt->out);
-      std::filesystem::create_directories(out);
+      output::OutputFolder folder(out);
       output::write_atomically(out / "residuals.csv", [&](std::ostream& csv) {
         csv << "tooth,flank,row,col,diameter_mm,z_mm,measured_um,model_um,residual_um\n";
         for (size_t i = 0; i < pts.size(); ++i)
@@ -125,6 +125,7 @@ void register_compare_command(CLI::App& app, Action& action) {
         for (const auto& t : s.trends)
           if (!t.sentence.empty()) std::cout << "  " << t.sentence << "\n";
       std::cout << "wrote " << (out / "compare.json").string() << ", residuals.csv\n";
+      finish_output_folder(folder);
       return 0;
     };
   });

@@ -84,7 +84,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
       const double max_cycle = grinding::largest_abs_deviation_um(grinding::simulate_topology(wb.setup, cycle_corrected, so));
 
       const std::filesystem::path out(opt->out);
-      std::filesystem::create_directories(out);
+      output::OutputFolder folder(out);
       table.write_csv(out / "corrections.csv");
       cycle.write_csv(out / "cycle_corrections.csv");
       grinding::write_topology_csv(out / "topology_before.csv", before);
@@ -154,6 +154,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
                                  evaluation::class_label(*ca.overall));
       std::cout << "wrote " << out.string() << "/corrections.csv, cycle_corrections.csv, topology_before.csv, topology_after.csv, "
                    "iso1328.json\n";
+      finish_output_folder(folder);
       return 0;
     };
   });

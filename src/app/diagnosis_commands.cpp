@@ -149,7 +149,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       j["verdict"] = d.verdict;
 
       const std::filesystem::path out(opt->out);
-      std::filesystem::create_directories(out);
+      output::OutputFolder folder(out);
       output::write_text_atomically(out / "diagnosis.json", j.dump(2) + "\n");
       std::cout << fmt::format("{} measured points; residual {:.2f} µm RMS; noise {:.2f} µm{}\n", d.points, d.rms_before_um,
                                d.noise_um, d.noise_estimated ? " (estimated)" : "");
@@ -178,6 +178,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       } else {
         std::cout << "wrote " << (out / "diagnosis.json").string() << "\n";
       }
+      finish_output_folder(folder);
       return 0;
     };
   });

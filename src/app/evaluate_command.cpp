@@ -50,9 +50,10 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       j["units"] = "µm; deviations along the flank normal, plus material positive";
       j["before"] = report::iso_json(iso);
       const std::filesystem::path out(opt->out);
-      std::filesystem::create_directories(out);
+      output::OutputFolder folder(out);
       output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
       std::cout << "Source: " << source << "\n" << report::iso_table(iso) << "wrote " << (out / "iso1328.json").string() << "\n";
+      finish_output_folder(folder);
       return 0;
     };
   });

@@ -1,5 +1,7 @@
 // geartopo — command-line entry. Exit codes: 0 success, 1 bad input, 2 bad usage.
 #include "app/commands.hpp"
+#include "app/options.hpp"
+#include "geartopo/core/atomic_file.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -9,6 +11,13 @@ int main(int argc, char** argv) {
   CLI::App app{"geartopo — tooth-flank topology of profile-ground helical gears (units: mm, µm, deg)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "geartopo 0.1.0");
+  // --quiet belongs to the program but is accepted after any subcommand (`geartopo run SCENE --out D --quiet`):
+  // subcommands created after fallthrough() pass options they do not know up to the program.
+  app.fallthrough();
+  bool quiet = false;
+  app.add_flag("--quiet,-q", quiet, "No progress, work estimates or notes on stderr (warnings and errors stay)");
+  // An interrupted run (Ctrl-C, kill, a closed terminal) leaves no temporary output file behind (atomic_file.hpp).
+  geartopo::output::remove_temporaries_on_termination_signals();
   geartopo::app::Action action;
   geartopo::app::register_run_command(app, action);
   geartopo::app::register_gear_command(app, action);
@@ -33,6 +42,7 @@ int main(int argc, char** argv) {
     app.exit(e); // prints the message and the usage hint
     return 2;
   }
+  geartopo::app::set_quiet(quiet);
   try {
     return action ? action() : 2;
   } catch (const CLI::ValidationError& e) {

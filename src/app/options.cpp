@@ -6,15 +6,20 @@
 #include "geartopo/grinding/topology.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <charconv>
-#include <cstdio>
-#include <unistd.h>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <map>
+#include <mutex>
+#include <unistd.h>
 
 namespace geartopo::app {
 
 namespace {
+std::atomic<bool> quiet_flag{false};
+
 bool parse_int(const std::string& s, int& v) {
   const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   return ec == std::errc() && p == s.data() + s.size();
@@ -51,13 +56,90 @@ CLI::Validator digits_only() {
 
 std::string compensation_made_worse(double before_um, double after_um) {
   if (!(after_um > before_um + kWorseToleranceUm)) return {};
-  return fmt::format("compensation made the gear worse: the largest |deviation| grows from {:.3f} to {:.3f} µm; do not "
-                     "apply these corrections (try the other --method)",
-                     before_um, after_um);
+  // A percentage of a "before" that is zero within the simulation's rounding is meaningless (finding 20).
+  const std::string growth = before_um > kWorseToleranceUm
+                                 ? fmt::format("{:+.3f} µm, {:+.1f} %", after_um - before_um, 100.0 * (after_um - before_um) / before_um)
+                                 : fmt::format("{:+.3f} µm from a gear that was perfect", after_um - before_um);
+  return fmt::format("compensation made the gear worse: the largest |deviation| grows from {:.3f} to {:.3f} µm ({}); "
+                     "do not apply these corrections (try the other --method)",
+                     before_um, after_um, growth);
+}
+
+void set_quiet(bool q) { quiet_flag = q; }
+bool quiet() { return quiet_flag; }
+
+struct Progress::State {
+  std::string what, unit;
+  long long total = 0;
+  std::atomic<long long> done{0};
+  bool shown = false, active = false;
+  std::mutex mutex;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), last;
+};
+
+Progress::Progress(std::string what, long long total, std::string unit) : state_(std::make_unique<State>()) {
+  state_->what = std::move(what);
+  state_->unit = std::move(unit);
+  state_->total = total;
+  state_->active = !quiet() && ::isatty(STDERR_FILENO) != 0;
+  if (state_->active && total <= 0) { // a stage without a count: its name, until the next line replaces it
+    std::fputs(fmt::format("\rgeartopo: {} …\033[K", state_->what).c_str(), stderr);
+    std::fflush(stderr);
+    state_->shown = true;
+    state_->active = false;
+  }
+}
+
+Progress::~Progress() { finish(); }
+
+void Progress::finish() {
+  const std::lock_guard lock(state_->mutex);
+  if (state_->shown) std::fputs("\r\033[K", stderr);
+  state_->shown = false;
+  state_->active = false;
+}
+
+void Progress::advance(long long n) {
+  const long long done = state_->done += n;
+  if (!state_->active) return;
+  const auto now = std::chrono::steady_clock::now();
+  const std::unique_lock lock(state_->mutex, std::try_to_lock);
+  if (!lock.owns_lock()) return; // another worker is printing
+  if (state_->shown && now - state_->last < std::chrono::milliseconds(200) && done < state_->total) return;
+  state_->last = now;
+  state_->shown = true;
+  const double s = std::chrono::duration<double>(now - state_->start).count();
+  std::fputs(fmt::format("\rgeartopo: {} {}/{} {}, {:.0f} s\033[K", state_->what, std::min(done, state_->total),
+                         state_->total, state_->unit, s)
+                 .c_str(),
+             stderr);
+  std::fflush(stderr);
+}
+
+std::function<void(long long, long long)> Progress::callback() {
+  return [this](long long done, long long /*total*/) {
+    const long long before = state_->done.load();
+    if (done > before) advance(done - before);
+  };
+}
+
+void finish_output_folder(output::OutputFolder& folder) {
+  const auto removed = folder.finish();
+  if (quiet()) return;
+  for (const auto& t : folder.removed_temporaries())
+    std::fprintf(stderr, "geartopo: removed %s, left by an interrupted geartopo run\n", (folder.path() / t).c_str());
+  if (!removed.empty()) {
+    std::vector<std::string> names;
+    for (const auto& r : removed) names.push_back(r.generic_string());
+    std::fputs(fmt::format("geartopo: removed {} file(s) an earlier run wrote into {} and this one did not: {}\n",
+                           removed.size(), folder.path().string(), fmt::join(names, ", "))
+                   .c_str(),
+               stderr);
+  }
 }
 
 void print_work_estimate(long long points, long long flanks, bool exact) {
-  if (points < kEstimateFromPoints || ::isatty(STDERR_FILENO) == 0) return;
+  if (points < kEstimateFromPoints || quiet() || ::isatty(STDERR_FILENO) == 0) return;
   const double rate = exact ? 260e3 : 1.7e6; // points/s, 2 cores (docs/performance.md, "Against the targets")
   std::fprintf(stderr, "geartopo: %s\n",
                fmt::format("{} points on {} flanks ({}): about {:.0f} s on 2 cores", points, flanks,

@@ -2,9 +2,12 @@
 // the options that several commands take.
 #pragma once
 
+#include "geartopo/core/output_folder.hpp"
 #include "geartopo/diagnosis/klingelnberg.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
+#include <functional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -25,11 +28,40 @@ CLI::Validator non_empty_path();
 /// A whole number ≥ 0 written with digits only: CLI11 reads "-1" into an unsigned seed as 2⁶⁴ − 1.
 CLI::Validator digits_only();
 
+/// `--quiet` (any subcommand): no progress, work estimates or notes on stderr; warnings and errors stay.
+void set_quiet(bool quiet);
+bool quiet();
+
+/// Progress of long work on stderr: one line rewritten in place ("geartopo: simulate 35/70 flanks, 12 s"), only when
+/// stderr is a terminal and --quiet is not given, at most every 0.2 s; scripts and logs see nothing. Thread-safe:
+/// `advance` may be called from parallel_for's workers. The line is cleared when the object goes.
+class Progress {
+public:
+  Progress(std::string what, long long total, std::string unit);
+  ~Progress();
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+  void advance(long long done_now = 1);
+  /// Clears the line (before the command prints its results); the destructor does it too.
+  void finish();
+  /// A callback for libraries that report (done, total) themselves.
+  std::function<void(long long, long long)> callback();
+
+private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+/// Closes a command's output folder (output_folder.hpp): removes what an earlier run wrote and this one did not, and
+/// says so on stderr (unless --quiet).
+void finish_output_folder(output::OutputFolder& folder);
+
 using workbench::make_effects;
 using workbench::Workbench;
 
 /// When compensation made the gear worse — the largest |deviation| after is above the one before by more than
-/// kWorseToleranceUm — the sentence to warn with (stderr and iso1328.json "warnings"); otherwise empty. E.g. the paper
+/// kWorseToleranceUm — the sentence to warn with (stderr and iso1328.json "warnings"), with the growth in µm and, when
+/// the gear before was not already within kWorseToleranceUm of perfect, in percent; otherwise empty. E.g. the paper
 /// method cancels a rotation that does not touch the flank (ε_yy, ε_ya) through the other axes and spoils the gear.
 inline constexpr double kWorseToleranceUm = 0.01; ///< far below any tolerance, far above the simulation's rounding
 std::string compensation_made_worse(double before_um, double after_um);

@@ -89,11 +89,12 @@ void register_report_command(CLI::App& app, Action& action) {
     action = [opt] {
       const Workbench wb(opt->scene);
       const fs::path dir(opt->out);
-      fs::create_directories(dir);
+      output::OutputFolder folder(dir);
       const auto r = pipeline::run_pipeline(wb, measured_of(wb, opt->measured));
       write_data_files(dir, opt->scene, wb, r); // the page names them (corrections.csv, scene_with_effect.yaml …)
       const auto figs = report::write_report(dir, wb, r);
       std::cout << fmt::format("wrote {} figures and {}\n", figs.size(), (dir / "index.html").string());
+      finish_output_folder(folder);
       return 0;
     };
   });
@@ -101,23 +102,59 @@ void register_report_command(CLI::App& app, Action& action) {
 
 void register_run_command(CLI::App& app, Action& action) {
   struct Options {
-    std::string scene, out;
+    std::string scene, out, measured, teeth, method = "flank", simulation = "exact";
+    double step = 2.0, noise = 0.0;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("run", "The main job: simulate, evaluate (ISO 1328-1), compensate, compare and diagnose "
-                                            "when the scene names a measurement, and write the report");
+                                            "when there is a measurement, and write the report");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
-  cmd->add_option("--out", opt->out, "Output directory")->required()->check(non_empty_path());
-  cmd->callback([&action, opt] {
-    action = [opt] {
+  cmd->add_option("--out", opt->out, "Output directory (created; what an earlier run wrote there and this one does not is removed)")
+      ->required()
+      ->check(non_empty_path());
+  cmd->add_option("--measured", opt->measured,
+                  "Measurement to compare and diagnose: topology CSV, point cloud or Klingelnberg export "
+                  "(default: the scene's measurement.measured; none: no comparison)");
+  cmd->add_option("--teeth", opt->teeth, "Teeth to simulate: all (default, or the scene's list) or e.g. 1,18");
+  cmd->add_option("--method", opt->method, "Compensation: paper, flank (default) or cycle (as `geartopo compensate`)")
+      ->check(CLI::IsMember({"paper", "flank", "cycle"}));
+  cmd->add_option("--simulation", opt->simulation, "Simulation of the topology: exact (default) or linear (first order)")
+      ->check(CLI::IsMember({"exact", "linear"}));
+  cmd->add_option("--step", opt->step, "Correction table spacing along each stroke, mm (default 2)")->check(finite_in(0.05, 50.0));
+  cmd->add_option("--noise-um", opt->noise, "Probe noise σ of the measurement, µm (default: estimated from the residual)")
+      ->check(finite_in(0.0, 1000.0));
+  CLI::Option* teeth = cmd->get_option("--teeth");
+  cmd->callback([&action, opt, teeth] {
+    const bool teeth_given = teeth->count() > 0;
+    action = [opt, teeth_given] {
       const Workbench wb(opt->scene);
+      pipeline::PipelineOptions po;
+      po.method = opt->simulation == "linear" ? grinding::Method::Linear : grinding::Method::Exact;
+      if (teeth_given) po.teeth = parse_teeth(opt->teeth, wb.setup.geometry().teeth());
+      po.compensation = opt->method == "paper"   ? compensation::Method::Paper
+                        : opt->method == "cycle" ? compensation::Method::Cycle
+                                                 : compensation::Method::Flank;
+      po.step_mm = opt->step;
+      po.noise_um = opt->noise;
+      po.measured_file = measured_of(wb, opt->measured);
       const fs::path dir(opt->out);
-      fs::create_directories(dir);
-      std::cout << "geartopo run: " << (wb.scene.name.empty() ? opt->scene : wb.scene.name) << "\n";
-      const auto r = pipeline::run_pipeline(wb, wb.scene.grid.measured_file);
+      output::OutputFolder folder(dir);
+      if (!quiet()) std::cerr << "geartopo run: " << (wb.scene.name.empty() ? opt->scene : wb.scene.name) << "\n";
+      std::unique_ptr<Progress> progress;
+      po.stage = [&progress](const std::string& stage, long long flanks) {
+        progress = std::make_unique<Progress>(stage, flanks, "flanks");
+      };
+      po.progress = [&progress](long long done, long long total) {
+        if (progress) progress->callback()(done, total);
+      };
+      const auto r = pipeline::run_pipeline(wb, po);
+      progress.reset();
+      if (r.measurement)
+        for (const auto& w : r.measurement->warnings) std::cerr << "geartopo: warning: " << w << "\n";
       write_data_files(dir, opt->scene, wb, r);
       report::write_report(dir, wb, r);
       print_summary(dir, r);
+      finish_output_folder(folder);
       return 0;
     };
   });

@@ -43,30 +43,24 @@ void register_simulate_command(CLI::App& app, Action& action) {
       so.helix_points = wb.scene.grid.helix_points;
       so.dense_rows = wb.scene.grid.dense_rows;
       so.dense_cols = wb.scene.grid.dense_cols;
-      if (!opt->dense.empty()) {
-        std::tie(so.dense_rows, so.dense_cols) = parse_grid_size(opt->dense);
-        // The flag's own bound is per flank; over all flanks the simulator's bound decides. Checked here, so that
-        // `--dense 2000x2000` on 70 flanks is bad usage of the flag (exit 2), not a failure of the simulation.
-        const long long flanks = 2LL * static_cast<long long>(so.teeth.empty() ? wb.setup.geometry().teeth() : so.teeth.size());
-        const long long per_flank = static_cast<long long>(so.rows) * so.cols +
-                                    static_cast<long long>(so.dense_rows) * so.dense_cols + so.profile_points +
-                                    so.helix_points;
-        if (per_flank * flanks > grinding::kMaxPointsPerSimulation)
-          throw CLI::ValidationError("--dense", fmt::format("'{}' makes {} points on {} flanks, more than the {} a "
-                                                            "simulation may hold: choose a coarser grid or fewer --teeth",
-                                                            opt->dense, per_flank * flanks, flanks,
-                                                            grinding::kMaxPointsPerSimulation));
-      }
-
-      {
-        const long long flanks = 2LL * static_cast<long long>(so.teeth.empty() ? wb.setup.geometry().teeth() : so.teeth.size());
-        const long long per_flank = static_cast<long long>(so.rows) * so.cols +
-                                    static_cast<long long>(so.dense_rows) * so.dense_cols + so.profile_points +
-                                    so.helix_points;
-        print_work_estimate(per_flank * flanks, flanks, so.method == grinding::Method::Exact);
-      }
+      if (!opt->dense.empty()) std::tie(so.dense_rows, so.dense_cols) = parse_grid_size(opt->dense);
+      const long long flanks = 2LL * static_cast<long long>(so.teeth.empty() ? wb.setup.geometry().teeth() : so.teeth.size());
+      const long long points = flanks * (static_cast<long long>(so.rows) * so.cols +
+                                         static_cast<long long>(so.dense_rows) * so.dense_cols + so.profile_points +
+                                         so.helix_points);
+      // The flag's own bound is per flank; over all flanks the simulator's bound decides. Checked here, so that
+      // `--dense 2000x2000` on 70 flanks is bad usage of the flag (exit 2), not a failure of the simulation.
+      if (!opt->dense.empty() && points > grinding::kMaxPointsPerSimulation)
+        throw CLI::ValidationError("--dense", fmt::format("'{}' makes {} points on {} flanks, more than the {} a "
+                                                          "simulation may hold: choose a coarser grid or fewer --teeth",
+                                                          opt->dense, points, flanks, grinding::kMaxPointsPerSimulation));
+      print_work_estimate(points, flanks, so.method == grinding::Method::Exact);
+      Progress progress("simulate", flanks, "flanks");
+      so.progress = progress.callback();
       const auto topo = grinding::simulate_topology(wb.setup, wb.process(), so);
+      progress.finish();
       const std::filesystem::path out(opt->out);
+      output::OutputFolder folder(out);
       std::filesystem::create_directories(out / "meshes");
       grinding::write_topology_csv(out / "topology.csv", topo);
       grinding::write_traces_csv(out / "traces.csv", topo);
@@ -88,6 +82,7 @@ void register_simulate_command(CLI::App& app, Action& action) {
       }
       std::cout << fmt::format("all flanks: {:.2f} … {:.2f} µm\nwrote {}/topology.csv, traces.csv{}, meshes/*.ply\n", lo, hi,
                                out.string(), so.dense_rows > 0 ? ", dense.csv" : "");
+      finish_output_folder(folder);
       return 0;
     };
   });

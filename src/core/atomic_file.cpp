@@ -1,10 +1,14 @@
 #include "geartopo/core/atomic_file.hpp"
 
+#include <array>
 #include <atomic>
 #include <cerrno>
+#include <climits>
+#include <csignal>
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
+#include <mutex>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -28,6 +32,66 @@ std::string with_errno(std::string text, int err) {
   text += ": ";
   text += std::strerror(err);
   return text;
+}
+
+// The final files written so far (files_written).
+std::mutex written_mutex;
+std::vector<fs::path>& written_list() {
+  static std::vector<fs::path> list;
+  return list;
+}
+
+void record_written(const fs::path& file) {
+  std::error_code ec;
+  fs::path p = fs::absolute(file, ec);
+  if (ec) p = file;
+  const std::lock_guard lock(written_mutex);
+  written_list().push_back(p.lexically_normal());
+}
+
+// The temporaries being written, for the signal handler: a fixed table (no allocation, no lock in the handler). A
+// slot is claimed by compare-exchange, filled, then published; the handler unlinks the published ones. When every
+// slot is taken the temporary goes unregistered (OutputFolder's clean-up of dead processes' leftovers still
+// removes it later).
+struct TemporarySlot {
+  std::atomic<int> state{0}; // 0 free, 1 being filled or emptied, 2 published
+  char path[PATH_MAX] = {};
+};
+std::array<TemporarySlot, 64> temporary_slots;
+
+class RegisteredTemporary {
+public:
+  explicit RegisteredTemporary(const fs::path& tmp) {
+    const std::string& text = tmp.native();
+    if (text.size() >= PATH_MAX) return;
+    for (auto& s : temporary_slots) {
+      int expected = 0;
+      if (s.state.compare_exchange_strong(expected, 1)) {
+        std::memcpy(s.path, text.c_str(), text.size() + 1);
+        s.state.store(2);
+        slot_ = &s;
+        return;
+      }
+    }
+  }
+  ~RegisteredTemporary() {
+    if (slot_ != nullptr) {
+      slot_->state.store(1);
+      slot_->path[0] = '\0';
+      slot_->state.store(0);
+    }
+  }
+  RegisteredTemporary(const RegisteredTemporary&) = delete;
+  RegisteredTemporary& operator=(const RegisteredTemporary&) = delete;
+
+private:
+  TemporarySlot* slot_ = nullptr;
+};
+
+extern "C" void remove_temporaries_and_reraise(int sig) {
+  remove_temporaries_in_progress();
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
 }
 
 // Refuses what must never be replaced by a rename, and a folder that is not there (the temporary could not be made).
@@ -78,6 +142,7 @@ void sync_and_rename(const fs::path& tmp, const fs::path& file) {
     fs::remove(tmp, ec);
     throw OutputError(file, errno_text(err));
   }
+  record_written(file);
 }
 
 } // namespace
@@ -88,6 +153,7 @@ OutputError::OutputError(const fs::path& file, const std::string& reason)
 void write_atomically(const fs::path& file, const std::function<void(std::ostream&)>& write) {
   check_target(file);
   const fs::path tmp = temporary_for(file);
+  const RegisteredTemporary registered(tmp);
   std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
   if (!out) throw OutputError(file, with_errno("cannot create a temporary file beside it", errno));
   try {
@@ -116,6 +182,7 @@ void write_atomically(const fs::path& file, const std::function<void(std::ostrea
 void write_atomically_via_path(const fs::path& file, const std::function<void(const fs::path&)>& write) {
   check_target(file);
   const fs::path tmp = temporary_for(file);
+  const RegisteredTemporary registered(tmp);
   try {
     write(tmp);
   } catch (...) {
@@ -134,6 +201,20 @@ void write_atomically_via_path(const fs::path& file, const std::function<void(co
 
 void write_text_atomically(const fs::path& file, std::string_view text) {
   write_atomically(file, [&](std::ostream& out) { out.write(text.data(), static_cast<std::streamsize>(text.size())); });
+}
+
+std::vector<fs::path> files_written() {
+  const std::lock_guard lock(written_mutex);
+  return written_list();
+}
+
+void remove_temporaries_in_progress() noexcept {
+  for (auto& s : temporary_slots)
+    if (s.state.load() == 2) ::unlink(s.path);
+}
+
+void remove_temporaries_on_termination_signals() {
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, remove_temporaries_and_reraise);
 }
 
 } // namespace geartopo::output

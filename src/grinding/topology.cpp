@@ -1,4 +1,6 @@
 #include "geartopo/grinding/topology.hpp"
+
+#include <atomic>
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/core/parallel.hpp"
@@ -70,6 +72,7 @@ std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const G
   const FlankDeviation dev(setup.flanks(), setup.wheel(), setup.path(), process);
 
   std::vector<FlankTopology> out(2 * teeth.size());
+  std::atomic<long long> flanks_done{0};
   parallel_for(static_cast<int>(out.size()), o.threads, [&](int i) {
     FlankTopology& ft = out[static_cast<size_t>(i)];
     ft.tooth = teeth[static_cast<size_t>(i / 2)];
@@ -84,6 +87,7 @@ std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const G
     if (o.dense_rows > 0 && o.dense_cols > 0)
       ft.dense = grid(dev, g, ft.tooth, ft.flank, grid_roll_lengths(r, o.dense_rows),
                       grid_axial_positions(r, o.dense_cols), o.method);
+    if (o.progress) o.progress(++flanks_done, static_cast<long long>(out.size()));
   });
   for (const auto& ft : out) {
     for (const auto& p : ft.grid) require_reached(p.deviation_um, ft.tooth, ft.flank, p.diameter_mm, p.z_mm);

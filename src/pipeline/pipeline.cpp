@@ -9,32 +9,45 @@
 
 namespace geartopo::pipeline {
 
-PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file) {
+PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOptions& o) {
+  const auto stage = [&](const std::string& name, long long flanks) {
+    if (o.stage) o.stage(name, flanks);
+  };
   PipelineResult r;
   grinding::SimulationOptions so;
+  so.method = o.method;
+  so.teeth = o.teeth.empty() ? wb.scene.grid.teeth : o.teeth;
   so.rows = wb.scene.grid.rows;
   so.cols = wb.scene.grid.cols;
   so.profile_points = wb.scene.grid.profile_points;
   so.helix_points = wb.scene.grid.helix_points;
+  so.progress = o.progress;
   const auto& g = wb.setup.geometry();
+  const long long flanks = 2LL * static_cast<long long>(so.teeth.empty() ? g.teeth() : so.teeth.size());
 
+  stage("simulate", flanks);
   r.before = grinding::simulate_topology(wb.setup, wb.process(), so);
   r.iso_before = workbench::evaluate_iso(g, wb.setup.ranges(), r.before);
+  stage("compensate", 0);
   compensation::CompensationOptions co;
-  co.method = compensation::Method::Flank;
+  co.method = o.compensation;
+  co.step_mm = o.step_mm;
   r.corrections = std::make_unique<compensation::CorrectionTable>(
       compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm}, co));
   const compensation::CompensatedProcess corrected(wb.process(), *r.corrections);
+  stage("simulate compensated", flanks);
   r.after = grinding::simulate_topology(wb.setup, corrected, so);
   r.iso_after = workbench::evaluate_iso(g, wb.setup.ranges(), r.after);
   r.largest_before_um = grinding::largest_abs_deviation_um(r.before);
   r.largest_after_um = grinding::largest_abs_deviation_um(r.after);
 
-  if (!measured_file.empty()) {
+  if (!o.measured_file.empty()) {
     MeasurementResult m;
-    m.file = measured_file;
-    m.points = diagnosis::read_any_measurement(measured_file, wb.setup);
-    m.before = diagnosis::compare(wb.setup, wb.process(), m.points, 0.0);
+    m.file = o.measured_file;
+    m.points = diagnosis::read_any_measurement(o.measured_file, wb.setup, &m.warnings);
+    stage("compare", 0);
+    m.before = diagnosis::compare(wb.setup, wb.process(), m.points, o.noise_um);
+    stage("diagnose", 0);
     diagnosis::DiagnoseOptions d;
     d.noise_um = m.before.noise_um;
     m.diagnosis = diagnosis::diagnose(wb.setup, wb.process(), m.points, wb.effect_types(), d);
@@ -46,6 +59,12 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& m
     r.measurement = std::move(m);
   }
   return r;
+}
+
+PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file) {
+  PipelineOptions o;
+  o.measured_file = measured_file;
+  return run_pipeline(wb, o);
 }
 
 std::string grid_label(const PipelineResult& r) {

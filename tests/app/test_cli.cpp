@@ -135,6 +135,30 @@ TEST(Cli, SimulateWritesTopologyTracesAndMeshes) {
   std::filesystem::remove_all(out);
 }
 
+// Issue 17/18: re-running into a folder leaves nothing of the earlier run that this run did not write (a stale
+// dense.csv or mesh would be mistaken for this run's); the user's own files stay. --quiet is taken after the subcommand.
+TEST(Cli, ARerunRemovesWhatOnlyTheEarlierRunWrote) {
+  namespace fs = std::filesystem;
+  const auto out = fs::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_rerun");
+  fs::remove_all(out);
+  ASSERT_EQ(run("simulate " + kScene + " --out " + out.string() + " --teeth 1,18 --method linear --dense 5x6").code, 0);
+  ASSERT_TRUE(fs::exists(out / "dense.csv"));
+  ASSERT_TRUE(fs::exists(out / "meshes" / "tooth18_left.ply"));
+  std::ofstream(out / "my_notes.txt") << "mine\n";
+  const CliResult again = run("simulate " + kScene + " --out " + out.string() + " --teeth 1 --method linear");
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_FALSE(fs::exists(out / "dense.csv"));
+  EXPECT_FALSE(fs::exists(out / "meshes" / "tooth18_left.ply"));
+  EXPECT_TRUE(fs::exists(out / "meshes" / "tooth01_left.ply"));
+  EXPECT_TRUE(fs::exists(out / "my_notes.txt"));
+  EXPECT_NE(again.err.find("dense.csv"), std::string::npos) << again.err; // said, not silent
+  const CliResult quiet = run("simulate " + kScene + " --out " + out.string() + " --teeth 18 --method linear --quiet");
+  ASSERT_EQ(quiet.code, 0) << quiet.err;
+  EXPECT_TRUE(quiet.err.empty()) << quiet.err;
+  EXPECT_FALSE(fs::exists(out / "meshes" / "tooth01_left.ply"));
+  fs::remove_all(out);
+}
+
 TEST(Cli, MachineReportsPoseTwistsAndJacobian) {
   const CliResult r = run("machine " + kScene + " --pose 444,0,350,-30,90 --json");
   ASSERT_EQ(r.code, 0) << r.err;

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace geartopo::output {
 
@@ -38,5 +39,18 @@ void write_atomically_via_path(const std::filesystem::path& file,
 
 /// write_atomically of a text.
 void write_text_atomically(const std::filesystem::path& file, std::string_view text);
+
+/// Every final file this process has written through write_atomically*, in order (absolute, lexically normal
+/// paths). OutputFolder uses it to know what a command produced. Thread-safe.
+std::vector<std::filesystem::path> files_written();
+
+/// Removes the temporaries being written right now. Async-signal-safe (unlink only): for the SIGINT/SIGTERM/SIGHUP
+/// handler of the program, so that an interrupted run leaves no ".name.tmp-PID-N" file behind. A SIGKILL cannot be
+/// handled: OutputFolder removes such leftovers of dead processes the next time a command writes into the folder.
+void remove_temporaries_in_progress() noexcept;
+
+/// Installs remove_temporaries_in_progress as the handler of SIGINT, SIGTERM and SIGHUP; the handler then restores
+/// the default action and re-raises the signal, so the exit status still says what killed the process.
+void remove_temporaries_on_termination_signals();
 
 } // namespace geartopo::output

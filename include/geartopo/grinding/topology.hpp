@@ -11,6 +11,7 @@
 #include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
 
+#include <functional>
 #include <vector>
 
 namespace geartopo::grinding {
@@ -46,6 +47,9 @@ struct SimulationOptions {
   int profile_points = 100, helix_points = 150;
   int dense_rows = 0, dense_cols = 0; ///< 0: no dense grid
   int threads = 0;               ///< 0: all hardware threads
+  /// Called after each flank with (flanks done, flanks in all), from the worker threads: must be thread-safe and
+  /// cheap. For progress display only; the result does not depend on it.
+  std::function<void(long long, long long)> progress;
 };
 
 /// One entry per requested tooth and flank, ordered by tooth then left, right. Throws std::runtime_error naming the

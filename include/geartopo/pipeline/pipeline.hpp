@@ -5,11 +5,13 @@
 
 #include "geartopo/workbench/iso_evaluation.hpp"
 #include "geartopo/workbench/workbench.hpp"
+#include "geartopo/compensation/compensator.hpp"
 #include "geartopo/compensation/correction_table.hpp"
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/grinding/topology.hpp"
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -23,6 +25,7 @@ struct MeasurementResult {
   diagnosis::Comparison before;             ///< against the scene's model
   diagnosis::Diagnosis diagnosis;
   std::optional<diagnosis::Comparison> after; ///< against the model with the chosen effect(s) added
+  std::vector<std::string> warnings;        ///< the reader's (blocks of an export it did not use, …)
 };
 
 struct PipelineResult {
@@ -33,6 +36,25 @@ struct PipelineResult {
   std::optional<MeasurementResult> measurement;
 };
 
+/// What the main job does, as `geartopo run`'s flags choose it (defaults: the scene's grid, every tooth, the flank
+/// method at a 2 mm step, the noise estimated from the residual).
+struct PipelineOptions {
+  grinding::Method method = grinding::Method::Exact; ///< simulation of the topology (exact envelope or first order)
+  std::vector<int> teeth;                            ///< empty: the scene's measurement.teeth (empty there: all)
+  compensation::Method compensation = compensation::Method::Flank;
+  double step_mm = 2.0;                              ///< correction table spacing along each stroke
+  double noise_um = 0.0;                             ///< probe noise σ of the measurement; 0: estimated
+  std::string measured_file;                         ///< empty: no comparison or diagnosis
+  /// Told when a stage starts ("simulate", "compensate", "simulate compensated", "compare", "diagnose"), with the
+  /// stage's size in flanks (0 when it has no flank count); for progress display only.
+  std::function<void(const std::string& stage, long long flanks)> stage;
+  /// Flanks done within the current simulation stage (grinding::SimulationOptions::progress).
+  std::function<void(long long, long long)> progress;
+};
+
+PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOptions& options);
+
+/// The defaults with a measurement (the report command).
 PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file);
 
 /// "7×9": the topological grid's rows × columns as simulated (the scene's measurement.rows, cols).
