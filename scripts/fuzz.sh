@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzes the four strict readers with libFuzzer (clang-14 from Debian, ASan + UBSan) for SECONDS each, seeded with the
+# Fuzzes the five strict readers with libFuzzer (clang-14 from Debian, ASan + UBSan) for SECONDS each, seeded with the
 # broken-input corpus (tests/robustness/corpus) and the shipped scenes and error tables. Optional: not part of either
 # README command or CI. Anything libFuzzer finds is left in build-fuzz/findings/<reader>/ — turn it into a corpus file
 # (tests/robustness/corpus/make_corpus.py) and fix the reader. Results of the last run: docs/performance.md, "Fuzzing".
@@ -17,15 +17,15 @@ bash scripts/install-deps.sh clang-14 libclang-rt-14-dev
 cmake -S . -B "$build_dir" -G Ninja -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGEARTOPO_FUZZ=ON -DGEARTOPO_BUILD_BENCH=OFF -DGEARTOPO_BUILD_TESTS=ON \
   -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined" >/dev/null
-cmake --build "$build_dir" --target fuzz_scene fuzz_error_table fuzz_topology fuzz_point_cloud
+cmake --build "$build_dir" --target fuzz_scene fuzz_error_table fuzz_topology fuzz_point_cloud fuzz_klingelnberg
 
-declare -A corpus=([scene]=scenes [error_table]=error_tables [topology]=topology [point_cloud]=point_clouds)
-declare -A shipped=([scene]="scenes/*.yaml" [error_table]="scenes/machine/*.csv" [topology]="" [point_cloud]="")
+declare -A corpus=([scene]=scenes [error_table]=error_tables [topology]=topology [point_cloud]=point_clouds [klingelnberg]=klingelnberg)
+declare -A shipped=([scene]="scenes/*.yaml" [error_table]="scenes/machine/*.csv" [topology]="" [point_cloud]="" [klingelnberg]="tests/diagnosis/data/*.mka")
 status=0
-for reader in scene error_table topology point_cloud; do
+for reader in scene error_table topology point_cloud klingelnberg; do
   work="$build_dir/corpus/$reader" findings="$build_dir/findings/$reader"
   rm -rf "$work" "$findings" && mkdir -p "$work" "$findings"
-  cp tests/robustness/corpus/"${corpus[$reader]}"/* "$work"/
+  if [ -d tests/robustness/corpus/"${corpus[$reader]}" ]; then cp tests/robustness/corpus/"${corpus[$reader]}"/* "$work"/; fi
   rm -f "$work"/expected.tsv
   for f in ${shipped[$reader]}; do cp "$f" "$work"/; done
   echo "fuzz_$reader: $seconds s"

@@ -138,6 +138,11 @@ void finish_output_folder(output::OutputFolder& folder) {
   }
 }
 
+void print_notes(const workbench::Workbench& wb) {
+  if (quiet()) return;
+  for (const auto& n : wb.notes) std::fprintf(stderr, "geartopo: note: %s\n", n.c_str());
+}
+
 void print_work_estimate(long long points, long long flanks, bool exact) {
   if (points < kEstimateFromPoints || quiet() || ::isatty(STDERR_FILENO) == 0) return;
   const double rate = exact ? 260e3 : 1.7e6; // points/s, 2 cores (docs/performance.md, "Against the targets")

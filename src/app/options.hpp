@@ -56,6 +56,9 @@ private:
 /// says so on stderr (unless --quiet).
 void finish_output_folder(output::OutputFolder& folder);
 
+/// The workbench's notes (what was chosen for the user, e.g. a wheel diameter) on stderr, unless --quiet.
+void print_notes(const workbench::Workbench& wb);
+
 using workbench::make_effects;
 using workbench::Workbench;
 

@@ -60,8 +60,11 @@ void print_summary(const fs::path& dir, const pipeline::PipelineResult& r) {
   const auto& ca = r.iso_after.evaluation.classification;
   std::cout << fmt::format("Largest |deviation| ({} grids, all teeth): {:.2f} µm before, {:.2f} µm after compensation\n",
                            pipeline::grid_label(r), r.largest_before_um, r.largest_after_um);
-  std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before, {} after{}\n", evaluation::class_label(cb.overall), evaluation::class_label(ca.overall),
-                           cb.governing ? fmt::format(" (before: set by {})", evaluation::symbol(*cb.governing)) : "");
+  std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before, {} after{}\n", evaluation::class_label(cb.overall),
+                           evaluation::class_label(ca.overall),
+                           cb.refusal     ? fmt::format(" (no class: ISO 1328-1:2013 does not apply to this gear: {})", *cb.refusal)
+                           : cb.governing ? fmt::format(" (before: set by {})", evaluation::symbol(*cb.governing))
+                                          : std::string());
   if (r.measurement) {
     const auto& m = *r.measurement;
     std::cout << fmt::format("Measurement {}: residual {:.2f} µm RMS against the model\n", m.file, m.before.summary.overall.rms_um);
@@ -140,6 +143,7 @@ void register_run_command(CLI::App& app, Action& action) {
       const fs::path dir(opt->out);
       output::OutputFolder folder(dir);
       if (!quiet()) std::cerr << "geartopo run: " << (wb.scene.name.empty() ? opt->scene : wb.scene.name) << "\n";
+      print_notes(wb);
       std::unique_ptr<Progress> progress;
       po.stage = [&progress](const std::string& stage, long long flanks) {
         progress = std::make_unique<Progress>(stage, flanks, "flanks");

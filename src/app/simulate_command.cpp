@@ -33,6 +33,7 @@ void register_simulate_command(CLI::App& app, Action& action) {
     const bool teeth_given = teeth->count() > 0;
     action = [opt, teeth_given] {
       const Workbench wb(opt->scene);
+      print_notes(wb);
       grinding::SimulationOptions so;
       so.method = opt->method == "linear" ? grinding::Method::Linear : grinding::Method::Exact;
       // Given but empty (`--teeth ""`) is refused by parse_teeth, not taken as "not given".

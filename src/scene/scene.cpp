@@ -25,6 +25,12 @@ namespace {
 gears::GearSpec read_gear(MapReader& g, Scene& scene) {
   gears::GearSpec s;
   s.normal_module_mm = g.number("normal_module_mm", {0.0, 100.0, true, false});
+  // ISO 21771 writes an internal gear's number of teeth negative; geartopo grinds external gears only: say so rather
+  // than "-35 is outside [5, 10000]".
+  if (const YAML::Node z = g.raw("teeth"); z.IsScalar() && !z.Scalar().empty() && z.Scalar().front() == '-')
+    g.context().fail_field(g.field("teeth"), fmt::format("{} is an internal gear (z < 0, ISO 21771): geartopo models "
+                                                         "external gears ground with a form wheel only",
+                                                         text::excerpt(z.Scalar())));
   s.teeth = static_cast<int>(g.integer("teeth", 5, 10000));
   s.normal_pressure_angle_rad = g.number("normal_pressure_angle_deg", {5.0, 45.0, true, true}) * units::kRadPerDeg;
   const double beta_deg = g.number("helix_angle_deg", {-45.0, 45.0});

@@ -7,6 +7,7 @@
 #include "geartopo/grinding/wheel_setting.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <utility>
@@ -49,6 +50,40 @@ grinding::GrindingSetup located_setup(const scene::Scene& s) {
   }
 }
 
+/// A wheel too large for a small gear (m_n 1, β 30° with 350 mm) cannot be synthesised: its envelope folds or its tip
+/// stays above the root form circle. When the scene gives no diameter, the largest of kWheelDiametersToTryMm that
+/// works is taken and said in `notes`; when the scene gives one that does not work, the error says which would.
+grinding::GrindingSetup setup_with_a_wheel_that_fits(scene::Scene& s, std::vector<std::string>& notes) {
+  try {
+    return located_setup(s);
+  } catch (const InputError& first) {
+    if (std::string_view(first.what()).find("form wheel:") == std::string_view::npos) throw;
+    const bool given = s.positions.count("wheel.outer_diameter_mm") != 0;
+    const double asked = s.wheel.outer_diameter_mm;
+    for (const double d : kWheelDiametersToTryMm) {
+      if (d >= asked) continue;
+      scene::Scene trial = s;
+      trial.wheel.outer_diameter_mm = d;
+      try {
+        auto setup = located_setup(trial);
+        if (given)
+          s.fail_at("wheel.outer_diameter_mm",
+                    fmt::format("{} mm does not fit this gear ({}); a {} mm wheel does (the largest of {} mm that does)",
+                                asked, std::string_view(first.what()).substr(std::string_view(first.what()).find("form wheel:")),
+                                d, fmt::join(kWheelDiametersToTryMm, ", ")));
+        s.wheel.outer_diameter_mm = d;
+        notes.push_back(fmt::format("wheel.outer_diameter_mm is not given and the default {} mm does not fit this gear: "
+                                    "using {} mm, the largest of {} mm that does",
+                                    asked, d, fmt::join(kWheelDiametersToTryMm, ", ")));
+        return setup;
+      } catch (const InputError& e) {
+        if (given && std::string_view(e.what()).find("does not fit this gear") != std::string_view::npos) throw;
+      }
+    }
+    throw;
+  }
+}
+
 /// Every stroke's Z travel (datum face at machine Z = datum_face_z_mm) against the Z stroke.
 void check_strokes(const scene::Scene& s, const grinding::GrindingSetup& setup) {
   const auto& z_stroke = s.machine.strokes.z_mm;
@@ -65,7 +100,7 @@ void check_strokes(const scene::Scene& s, const grinding::GrindingSetup& setup) 
 } // namespace
 
 Workbench::Workbench(scene::Scene s)
-    : scene(std::move(s)), setup(located_setup(scene)), machine(scene.machine.model()),
+    : scene(std::move(s)), setup(setup_with_a_wheel_that_fits(scene, notes)), machine(scene.machine.model()),
       machine_process(machine, scene.machine.datum_face_z_mm), effects(make_effects(scene.effects, setup)) {
   check_strokes(scene, setup);
   if (!effects.empty()) effects_process = std::make_unique<effects::EffectsProcess>(machine_process, effects);

@@ -159,6 +159,31 @@ TEST(Cli, ARerunRemovesWhatOnlyTheEarlierRunWrote) {
   fs::remove_all(out);
 }
 
+// Issue 17: an ordinary small gear (m_n 1, β 30°) with no wheel given gets a wheel that fits, said in a note; given
+// a 350 mm wheel it is refused with the diameter that would work; an internal gear is refused as such.
+TEST(Cli, SmallGearsGetAWheelThatFitsAndInternalGearsAreNamed) {
+  const std::string gear = "gear:\n  normal_module_mm: 1\n  teeth: 30\n  normal_pressure_angle_deg: 20\n"
+                           "  helix_angle_deg: 30\n  face_width_mm: 10\n  profile_shift: 0\n";
+  const auto out = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_small");
+  const auto no_wheel = write_temp("small.yaml", gear);
+  const CliResult chosen = run("simulate " + no_wheel.string() + " --out " + out.string() + " --teeth 1 --method linear");
+  ASSERT_EQ(chosen.code, 0) << chosen.err;
+  EXPECT_NE(chosen.err.find("note: wheel.outer_diameter_mm is not given"), std::string::npos) << chosen.err;
+  const auto big = write_temp("small350.yaml", gear + "wheel:\n  outer_diameter_mm: 350\n");
+  const CliResult refused = run("simulate " + big.string() + " --out " + out.string() + " --teeth 1 --method linear");
+  EXPECT_EQ(refused.code, 1);
+  EXPECT_NE(refused.err.find("wheel.outer_diameter_mm: 350 mm does not fit this gear"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("mm wheel does"), std::string::npos) << refused.err;
+  std::string internal_text = gear;
+  internal_text.replace(internal_text.find("teeth: 30"), 9, "teeth: -35");
+  const auto internal = write_temp("internal.yaml", internal_text);
+  const CliResult inner = run("gear " + internal.string());
+  EXPECT_EQ(inner.code, 1);
+  EXPECT_NE(inner.err.find("internal gear"), std::string::npos) << inner.err;
+  for (const auto& p : {no_wheel, big, internal}) std::filesystem::remove(p);
+  std::filesystem::remove_all(out);
+}
+
 TEST(Cli, MachineReportsPoseTwistsAndJacobian) {
   const CliResult r = run("machine " + kScene + " --pose 444,0,350,-30,90 --json");
   ASSERT_EQ(r.code, 0) << r.err;

@@ -27,6 +27,9 @@ struct Workbench {
   Workbench(const Workbench&) = delete;
   Workbench& operator=(const Workbench&) = delete;
 
+  /// What was chosen for the user and must be said (e.g. a wheel diameter when the scene gives none and the default
+  /// 350 mm does not fit the gear). Commands print them; the report lists them.
+  std::vector<std::string> notes;
   scene::Scene scene;
   grinding::GrindingSetup setup;
   machine::MachineModel machine;
@@ -41,6 +44,9 @@ struct Workbench {
   /// The types of the scene's effects, in scene order ("thermal_drift", …): what diagnosis must not propose again.
   std::vector<std::string> effect_types() const;
 };
+
+/// Wheel diameters tried, largest first, when the scene gives none and the default does not fit the gear (mm).
+inline constexpr double kWheelDiametersToTryMm[] = {350, 300, 250, 200, 160, 125, 100, 80, 63, 50};
 
 /// Instances of effects with their values, bound to a set-up.
 std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<scene::EffectSpec>& specs,

@@ -97,7 +97,7 @@ write(S, "long_line_number.yaml", gear(normal_module_mm="1" * 65_536), ("InputEr
 # YAML limits implicit keys to 1024 characters: a syntax error.
 write(S, "long_line_key.yaml", GEAR + "x" * 65_536 + ": 1\n", ("InputError", 8, "YAML syntax error"))
 write(S, "teeth_4.yaml", gear(teeth="4"), ("InputError", 3, "gear.teeth"))
-write(S, "teeth_negative.yaml", gear(teeth="-35"), ("InputError", 3, "gear.teeth"))
+write(S, "teeth_negative.yaml", gear(teeth="-35"), ("InputError", 3, "internal gear"))
 write(S, "helix_45.yaml", gear(helix_angle_deg="45"), ("InputError", -1, "helix"))
 write(S, "helix_minus_50.yaml", gear(helix_angle_deg="-50"), ("InputError", 5, "gear.helix_angle_deg"))
 write(S, "hand_contradicts_helix.yaml", gear(hand="left"), ("InputError", 8, "gear.hand"))
