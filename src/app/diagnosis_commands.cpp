@@ -59,7 +59,9 @@ void register_synth_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("synth", "Synthetic CMM measurement (topology CSV, µm) of a truth scene, with "
                                               "Gaussian probe noise");
   cmd->add_option("TRUTH_SCENE", opt->scene, "Truth scene (YAML), possibly with effects the model scene lacks")->required();
-  cmd->add_option("--out", opt->out, "File to write: topology CSV, or a Klingelnberg export with --format klingelnberg")
+  cmd->add_option("--out", opt->out,
+                  "File to write (topology CSV, or a Klingelnberg export with --format klingelnberg); an existing folder "
+                  "or a path ending in '/' is a folder like every other --out: measured.csv (measured.mka) inside it")
       ->required()
       ->check(non_empty_path());
   cmd->add_option("--format", opt->format,
@@ -79,15 +81,18 @@ void register_synth_command(CLI::App& app, Action& action) {
       so.noise_um = opt->noise;
       so.seed = opt->seed;
       const auto rows = diagnosis::synthesize(wb.setup, wb.process(), so);
-      const auto parent = std::filesystem::path(opt->out).parent_path();
-      if (!parent.empty()) std::filesystem::create_directories(parent);
-      output::write_atomically(opt->out, [&](std::ostream& out) {
+      // Every other command's --out is a folder: a folder here gets the measurement under a fixed name.
+      std::filesystem::path file(opt->out);
+      if (std::filesystem::is_directory(file) || opt->out.back() == '/')
+        file /= opt->format == "klingelnberg" ? "measured.mka" : "measured.csv";
+      if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
+      output::write_atomically(file, [&](std::ostream& out) {
         if (opt->format == "klingelnberg")
           diagnosis::write_klingelnberg(out, wb.setup.geometry(), rows);
         else
           grinding::write_topology_rows(out, rows);
       });
-      std::cout << fmt::format("wrote {} ({} points, noise {} µm, seed {})\n", opt->out, rows.size(), opt->noise, opt->seed);
+      std::cout << fmt::format("wrote {} ({} points, noise {} µm, seed {})\n", file.string(), rows.size(), opt->noise, opt->seed);
       return 0;
     };
   });

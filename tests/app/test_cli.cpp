@@ -184,6 +184,20 @@ TEST(Cli, SmallGearsGetAWheelThatFitsAndInternalGearsAreNamed) {
   std::filesystem::remove_all(out);
 }
 
+// Issue 17: synth's --out may be a folder like every other --out (measured.csv inside), or a file as before.
+TEST(Cli, SynthWritesIntoAFolderOrAFile) {
+  namespace fs = std::filesystem;
+  const auto dir = fs::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_synth_dir");
+  fs::remove_all(dir);
+  const CliResult to_folder = run("synth " + kScene + " --teeth 1 --out " + dir.string() + "/");
+  ASSERT_EQ(to_folder.code, 0) << to_folder.err;
+  EXPECT_TRUE(fs::is_regular_file(dir / "measured.csv"));
+  const CliResult to_file = run("synth " + kScene + " --teeth 1 --out " + (dir / "m.csv").string());
+  ASSERT_EQ(to_file.code, 0) << to_file.err;
+  EXPECT_TRUE(fs::is_regular_file(dir / "m.csv"));
+  fs::remove_all(dir);
+}
+
 TEST(Cli, MachineReportsPoseTwistsAndJacobian) {
   const CliResult r = run("machine " + kScene + " --pose 444,0,350,-30,90 --json");
   ASSERT_EQ(r.code, 0) << r.err;
