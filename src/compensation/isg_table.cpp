@@ -91,7 +91,14 @@ AxisGrid axis_grid(const machine::MachineModel& model, Axis axis, const IsgOptio
     if (s.kind() == machine::ErrorSource::Kind::Table) tables.push_back(&s);
     if (s.kind() == machine::ErrorSource::Kind::Polynomial) polynomial = true;
   }
-  if (tables.empty() && !polynomial) return {{lo, hi}, "all its components are constant: two records, the ends of the stroke"};
+  // A rotary axis' δ and ε across the axis (in its turning plane) are given in the turning body's axes; in the fixed
+  // axes of the table they turn with the axis, so even constants must be sampled.
+  bool turning = false;
+  if (machine::is_rotary(axis))
+    for (const int k : axis == Axis::A ? std::array<int, 4>{1, 2, 4, 5} : std::array<int, 4>{0, 1, 3, 4})
+      turning = turning || !model.source(machine::motion_component(axis, k)).is_zero();
+  if (tables.empty() && !polynomial && !turning)
+    return {{lo, hi}, "all its components are constant: two records, the ends of the stroke"};
 
   if (!tables.empty() && !polynomial) {
     const auto& knots = tables.front()->spline()->knots();
@@ -124,7 +131,8 @@ AxisGrid axis_grid(const machine::MachineModel& model, Axis axis, const IsgOptio
   std::string sources;
   for (const auto* t : tables) sources += (sources.empty() ? "" : ", ") + t->describe();
   g.how = tables.empty()
-              ? fmt::format("sampled from its polynomials every {:g} {}", span / (n - 1), unit)
+              ? fmt::format("sampled every {:g} {} ({})", span / (n - 1), unit,
+                            polynomial ? "polynomials" : "constants in the turning body's axes, turned into fixed axes")
               : fmt::format("RESAMPLED every {:g} {} over the stroke from the splines of {} (its knots are not one "
                             "equidistant grid{}): ISG GRID interpolation needs equidistant arguments",
                             span / (n - 1), unit, sources, polynomial ? ", or polynomials share the axis" : "");
