@@ -144,6 +144,13 @@ double require_positive(double v, const char* what) {
   return v;
 }
 
+/// A number with `decimals` places, left-aligned in `width`; a value that rounds to zero is written "0.000…", never "-0.000…".
+std::string fixed(double v, int decimals, int width) {
+  std::string t = fmt::format("{:.{}f}", v, decimals);
+  if (t.front() == '-' && t.find_first_not_of("-0.") == std::string::npos) t.erase(0, 1);
+  return fmt::format("{:<{}}", t, width);
+}
+
 std::string block_name(const IsgBlock& b, std::size_t i) {
   std::string header = b.argument;
   for (const auto& p : b.parameters) header += (header.empty() ? "" : " ") + p;
@@ -283,10 +290,9 @@ void write_isg_table(std::ostream& out, const IsgTable& table, const IsgLimits& 
     while (!header.empty() && header.back() == ' ') header.pop_back();
     out << header << "\n";
     for (std::size_t r = 0; r < b.values.size(); ++r) {
-      std::string row = b.argument.empty() ? "" : fmt::format("{:<16.9f}", b.arguments[r]);
+      std::string row = b.argument.empty() ? "" : fixed(b.arguments[r], 9, 16);
       for (std::size_t k = 0; k < b.parameters.size(); ++k)
-        row += is_length_parameter(b.parameters[k]) ? fmt::format("{:<18.9f}", b.values[r][k])
-                                                    : fmt::format("{:<18.12f}", b.values[r][k]);
+        row += fixed(b.values[r][k], is_length_parameter(b.parameters[k]) ? 9 : 12, 18);
       while (!row.empty() && row.back() == ' ') row.pop_back();
       out << row << "\n";
     }

@@ -12,12 +12,19 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <cmath>
 #include <iostream>
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <sys/wait.h>
+#include <unistd.h>
 
 using namespace geartopo;
 using machine::ComponentId;
@@ -292,4 +299,61 @@ TEST(IsgTable, PositionOnlyTableLeavesTheOrientationErrorsFlankDeviation) {
   const double v_max = std::max(std::abs(w.v_min()), std::abs(w.v_max()));
   EXPECT_LE(left, eps_urad * 1e-6 * std::hypot(r_max, v_max) * 1e3 + 0.01);
   EXPECT_GT(left, 0.1); // and it is not nothing: the orientation error is not carried
+}
+
+namespace {
+
+struct IsgCliRun {
+  int code;
+  std::string out, err;
+};
+
+IsgCliRun run_geartopo_for_isg(const std::string& args, const std::filesystem::path& dir) {
+  const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const int status = std::system((std::string(GEARTOPO_BINARY) + " " + args + " >" + out.string() + " 2>" + err.string()).c_str());
+  const auto slurp = [](const std::filesystem::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+}
+
+} // namespace
+
+TEST(IsgTable, CompensateWritesTheTableAndReportsWhatItLeaves) {
+  const auto dir = std::filesystem::temp_directory_path() / ("geartopo_isg_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string scene = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35.yaml";
+
+  const auto ok = run_geartopo_for_isg("compensate " + scene + " --out " + (dir / "comp").string() + " --isg-table", dir);
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  EXPECT_NE(ok.out.find("left after the table"), std::string::npos) << ok.out;
+  std::ifstream in(dir / "comp" / "isg_compensation.csv");
+  std::stringstream text;
+  text << in.rdbuf();
+  const auto blocks = read_isg_csv(text.str());
+  ASSERT_EQ(blocks.size(), 6u);
+  std::size_t records = 0;
+  for (const auto& b : blocks) {
+    records += b.records.size();
+    if (b.header.front().size() == 1) expect_equidistant(b);
+  }
+  EXPECT_LE(records, 2000u);
+  const auto j = nlohmann::json::parse(std::ifstream(dir / "comp" / "iso1328.json"));
+  EXPECT_EQ(j["isg_table"]["records"].get<std::size_t>(), records);
+  const double left = j["isg_table"]["left_after_table"]["largest_abs_deviation_um"].get<double>();
+  const double before = j["improvement"]["largest_abs_deviation_um"]["before"].get<double>();
+  EXPECT_GT(left, 0.0); // the scene's machine has orientation errors
+  EXPECT_LT(left, before);
+
+  // A controller limit the table does not fit: refused, named, and nothing written.
+  const auto refused = run_geartopo_for_isg(
+      "compensate " + scene + " --out " + (dir / "refused").string() + " --isg-table --isg-max-records 50", dir);
+  EXPECT_EQ(refused.code, 1);
+  EXPECT_NE(refused.err.find("max_records = 50"), std::string::npos) << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "refused"));
+  std::filesystem::remove_all(dir);
 }
