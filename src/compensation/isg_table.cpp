@@ -273,7 +273,7 @@ void check_isg_table(const IsgTable& table, const IsgLimits& limits) {
       if (table.blocks[i].values.size() > table.blocks[largest].values.size()) largest = i;
     throw std::invalid_argument(fmt::format(
         "ISG table: {} records exceed the controller's limit max_records = {} (vol_comp[i].max_records); the longest "
-        "is {} with {} records: use a coarser step or raise the controller's limit",
+        "is {} with {} records: use coarser error tables or sampling steps, or raise the controller's limit",
         table.records(), limits.max_records, block_name(table.blocks[largest], largest), table.blocks[largest].values.size()));
   }
 }
