@@ -5,6 +5,7 @@
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/machine/chain.hpp"
+#include "geartopo/machine/transforms.hpp"
 
 #include <fmt/format.h>
 
@@ -43,11 +44,6 @@ bool is_iso_parameter(const std::string& name) {
   const bool component = name[0] == 'E' && axes.find(name[1]) != std::string_view::npos;
   const bool position = axes.find(name[0]) != std::string_view::npos && name[1] == '0';
   return (component || position) && axes.find(name[2]) != std::string_view::npos;
-}
-
-/// (u, v) turned by angle t in its plane: the in-plane part of Rx(t) (y, z) or Rz(t) (x, y).
-Eigen::Vector2d turned(double t, double u, double v) {
-  return {u * std::cos(t) - v * std::sin(t), u * std::sin(t) + v * std::cos(t)};
 }
 
 /// The axis' range in internal units (mm or rad): its stroke; C one turn.
@@ -168,16 +164,12 @@ int IsgTable::records() const {
 Eigen::Matrix<double, 6, 1> iso_component_errors(const machine::MachineModel& model, Axis axis, double position) {
   Eigen::Matrix<double, 6, 1> own;
   for (int k = 0; k < 6; ++k) own(k) = model.source(machine::motion_component(axis, k)).value(position);
-  Eigen::Matrix<double, 6, 1> iso = own;
-  if (axis == Axis::A) {
-    // δ and ε of A are in the A body's axes; ISO 230-7 gives them in the fixed axes of the Z frame: turn by Rx(α).
-    iso.segment<2>(1) = turned(position, own(1), own(2));
-    iso.segment<2>(4) = turned(position, own(4), own(5));
-  } else if (axis == Axis::C) {
-    // δ and ε of C are in the table's axes; in the fixed frame F they are turned by Rz(γ).
-    iso.segment<2>(0) = turned(position, own(0), own(1));
-    iso.segment<2>(3) = turned(position, own(3), own(4));
-  }
+  if (!machine::is_rotary(axis)) return own;
+  // δ and ε of a rotary axis are in the turning body's axes (A body: ZMA = S_A·Rx(α)·T(δ)·R(ε)·S_A⁻¹; table:
+  // FMC = S_C·Rz(γ)·T(δ)·R(ε)); ISO 230-7 gives error motions in fixed axes: turn them by Rx(α) or Rz(γ).
+  const Eigen::Matrix3d wRbody = axis == Axis::A ? machine::rot_x(position) : machine::rot_z(position);
+  Eigen::Matrix<double, 6, 1> iso;
+  iso << wRbody * own.head<3>(), wRbody * own.tail<3>();
   return iso;
 }
 
