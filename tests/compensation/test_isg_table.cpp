@@ -34,7 +34,7 @@ namespace {
 
 // --- an independent reader of ISG CSV ---------------------------------------------------------------------------
 
-struct ReadBlock {
+struct IsgReadBlock {
   std::vector<std::string> header;               // argument (if any) and parameter names
   std::vector<std::vector<double>> records;      // one per data line
   std::vector<std::string> comments;             // `//` lines seen in this block
@@ -46,8 +46,8 @@ struct ReadBlock {
   double at(const std::string& name, std::size_t record) const { return records.at(record).at(static_cast<std::size_t>(column(name))); }
 };
 
-std::vector<ReadBlock> read_isg_csv(const std::string& text) {
-  std::vector<ReadBlock> blocks(1);
+std::vector<IsgReadBlock> read_isg_csv(const std::string& text) {
+  std::vector<IsgReadBlock> blocks(1);
   std::istringstream in(text);
   std::string line;
   while (std::getline(in, line)) {
@@ -65,7 +65,7 @@ std::vector<ReadBlock> read_isg_csv(const std::string& text) {
     std::string f;
     std::vector<std::string> tokens;
     while (fields >> f) tokens.push_back(f);
-    ReadBlock& b = blocks.back();
+    IsgReadBlock& b = blocks.back();
     if (b.header.empty()) {
       b.header = tokens;
       continue;
@@ -82,27 +82,27 @@ std::vector<ReadBlock> read_isg_csv(const std::string& text) {
   return blocks;
 }
 
-std::string written(const compensation::IsgTable& t, const compensation::IsgLimits& limits = {}) {
+std::string isg_text(const compensation::IsgTable& t, const compensation::IsgLimits& limits = {}) {
   std::ostringstream out;
   compensation::write_isg_table(out, t, limits);
   return out.str();
 }
 
 /// The block whose header starts with `first` ("X", "A", "X0C", …).
-const ReadBlock& block_of(const std::vector<ReadBlock>& blocks, const std::string& first) {
+const IsgReadBlock& isg_block(const std::vector<IsgReadBlock>& blocks, const std::string& first) {
   for (const auto& b : blocks)
     if (!b.header.empty() && b.header.front() == first) return b;
   throw std::runtime_error("no block " + first);
 }
 
 /// Row index whose argument equals `arg` (to 1e-9).
-std::size_t row_at(const ReadBlock& b, double arg) {
+std::size_t isg_row_at(const IsgReadBlock& b, double arg) {
   for (std::size_t r = 0; r < b.records.size(); ++r)
     if (std::abs(b.records[r][0] - arg) < 1e-9) return r;
   throw std::runtime_error("no record at " + std::to_string(arg));
 }
 
-void expect_equidistant(const ReadBlock& b) {
+void expect_isg_equidistant(const IsgReadBlock& b) {
   ASSERT_GE(b.records.size(), 2u);
   const double h = b.records[1][0] - b.records[0][0];
   EXPECT_GT(h, 0.0);
@@ -110,50 +110,50 @@ void expect_equidistant(const ReadBlock& b) {
 }
 
 // The file's resolution: 9 decimals of mm (1 pm) and 12 of rad (1 prad); rounding is half of that.
-constexpr double kFileMm = 1e-9;
-constexpr double kFileRad = 1e-12;
+constexpr double kIsgFileMm = 1e-9;
+constexpr double kIsgFileRad = 1e-12;
 
-std::vector<ErrorSource> table_sources(const std::string& csv) { return machine::parse_error_tables(csv, "hand.csv"); }
+std::vector<ErrorSource> isg_sources(const std::string& csv) { return machine::parse_error_tables(csv, "hand.csv"); }
 
 
 } // namespace
 
 TEST(IsgTable, UnitsArgumentsAndCommentsReadBack) {
   // X straightness δ_yx measured every 100 mm: 5 µm at 100 mm; a constant 10 µrad yaw ε_zx; A with a polynomial.
-  auto sources = table_sources("x_mm,delta_yx_um\n0,0\n100,5\n200,3\n300,0\n400,-2\n500,0\n600,1\n700,0\n800,0\n900,0\n");
+  auto sources = isg_sources("x_mm,delta_yx_um\n0,0\n100,5\n200,3\n300,0\n400,-2\n500,0\n600,1\n700,0\n800,0\n900,0\n");
   sources.push_back(ErrorSource::constant(ComponentId::epsilon_zx, 10.0, "urad"));
   sources.push_back(ErrorSource::polynomial(ComponentId::delta_xa, {0.0, 0.1}, "um", "deg")); // 0.1 µm per degree
   const auto model = test::machine_with(sources);
-  const auto text = written(compensation::make_isg_table(model));
+  const auto text = isg_text(compensation::make_isg_table(model));
   const auto blocks = read_isg_csv(text);
 
   ASSERT_EQ(blocks.size(), 6u); // X, Y, Z, A, C, constants
   EXPECT_FALSE(blocks.front().comments.empty());
-  const auto& x = block_of(blocks, "X");
+  const auto& x = isg_block(blocks, "X");
   EXPECT_EQ(x.header, (std::vector<std::string>{"X", "EXX", "EYX", "EZX", "EAX", "EBX", "ECX"}));
   ASSERT_EQ(x.records.size(), 10u); // the table's own equidistant knots, not resampled
-  expect_equidistant(x);
+  expect_isg_equidistant(x);
   EXPECT_NEAR(x.records.front()[0], 0.0, 1e-9);
   EXPECT_NEAR(x.records.back()[0], 900.0, 1e-9);
-  EXPECT_NEAR(x.at("EYX", row_at(x, 100.0)), 0.005, kFileMm);   // 5 µm = 0.005 mm
-  EXPECT_NEAR(x.at("EYX", row_at(x, 400.0)), -0.002, kFileMm);
-  for (std::size_t r = 0; r < x.records.size(); ++r) EXPECT_NEAR(x.at("ECX", r), 1e-5, kFileRad); // 10 µrad = 1e-5 rad
+  EXPECT_NEAR(x.at("EYX", isg_row_at(x, 100.0)), 0.005, kIsgFileMm);   // 5 µm = 0.005 mm
+  EXPECT_NEAR(x.at("EYX", isg_row_at(x, 400.0)), -0.002, kIsgFileMm);
+  for (std::size_t r = 0; r < x.records.size(); ++r) EXPECT_NEAR(x.at("ECX", r), 1e-5, kIsgFileRad); // 10 µrad = 1e-5 rad
 
   // A: argument in degrees over the stroke [−45, 45] deg, every degree; δ_xa = 0.1 µm/deg · α = 1e-4 mm/deg · α.
-  const auto& a = block_of(blocks, "A");
-  expect_equidistant(a);
+  const auto& a = isg_block(blocks, "A");
+  expect_isg_equidistant(a);
   EXPECT_NEAR(a.records.front()[0], -45.0, 1e-9);
   EXPECT_NEAR(a.records.back()[0], 45.0, 1e-9);
   EXPECT_NEAR(a.records[1][0] - a.records[0][0], 1.0, 1e-9);
-  EXPECT_NEAR(a.at("EXA", row_at(a, 30.0)), 30.0 * 1e-4, kFileMm);
+  EXPECT_NEAR(a.at("EXA", isg_row_at(a, 30.0)), 30.0 * 1e-4, kIsgFileMm);
 
   // C: nothing given, two records, 0 and 360 deg.
-  const auto& c = block_of(blocks, "C");
+  const auto& c = isg_block(blocks, "C");
   ASSERT_EQ(c.records.size(), 2u);
   EXPECT_NEAR(c.records[0][0], 0.0, 1e-12);
   EXPECT_NEAR(c.records[1][0], 360.0, 1e-12);
   // Constants block: one record, no argument.
-  const auto& k = block_of(blocks, "X0C");
+  const auto& k = isg_block(blocks, "X0C");
   EXPECT_EQ(k.records.size(), 1u);
 }
 
@@ -172,50 +172,50 @@ TEST(IsgTable, SignsFollowTheDerivedIso230Convention) {
       ErrorSource::constant(ComponentId::E_XOC, 6.0, "um"),        // C axis line at +6 µm x: X0C = 0.006 mm
       ErrorSource::constant(ComponentId::E_BOA, -9.0, "urad"),     // A axis line tilt: B0A = −9e-6
   });
-  const auto blocks = read_isg_csv(written(compensation::make_isg_table(model)));
-  const auto& x = block_of(blocks, "X");
-  EXPECT_NEAR(x.at("EXX", 0), 0.002, kFileMm);
-  EXPECT_NEAR(x.at("EXX", x.records.size() - 1), 0.002, kFileMm);
-  EXPECT_NEAR(block_of(blocks, "Z").at("EBZ", 0), -4e-6, kFileRad);
+  const auto blocks = read_isg_csv(isg_text(compensation::make_isg_table(model)));
+  const auto& x = isg_block(blocks, "X");
+  EXPECT_NEAR(x.at("EXX", 0), 0.002, kIsgFileMm);
+  EXPECT_NEAR(x.at("EXX", x.records.size() - 1), 0.002, kIsgFileMm);
+  EXPECT_NEAR(isg_block(blocks, "Z").at("EBZ", 0), -4e-6, kIsgFileRad);
 
   const double deg = std::numbers::pi / 180.0;
-  const auto& a = block_of(blocks, "A");
-  expect_equidistant(a); // constants across a turning axis are sampled, not two records
+  const auto& a = isg_block(blocks, "A");
+  expect_isg_equidistant(a); // constants across a turning axis are sampled, not two records
   for (const double alpha : {-45.0, -20.0, 0.0, 30.0, 45.0}) {
-    const std::size_t r = row_at(a, alpha);
-    EXPECT_NEAR(a.at("EYA", r), 0.004 * std::cos(alpha * deg), kFileMm) << alpha;
-    EXPECT_NEAR(a.at("EZA", r), 0.004 * std::sin(alpha * deg), kFileMm) << alpha;
-    EXPECT_NEAR(a.at("EBA", r), -8e-6 * std::sin(alpha * deg), kFileRad) << alpha;
-    EXPECT_NEAR(a.at("ECA", r), 8e-6 * std::cos(alpha * deg), kFileRad) << alpha;
+    const std::size_t r = isg_row_at(a, alpha);
+    EXPECT_NEAR(a.at("EYA", r), 0.004 * std::cos(alpha * deg), kIsgFileMm) << alpha;
+    EXPECT_NEAR(a.at("EZA", r), 0.004 * std::sin(alpha * deg), kIsgFileMm) << alpha;
+    EXPECT_NEAR(a.at("EBA", r), -8e-6 * std::sin(alpha * deg), kIsgFileRad) << alpha;
+    EXPECT_NEAR(a.at("ECA", r), 8e-6 * std::cos(alpha * deg), kIsgFileRad) << alpha;
   }
-  const auto& c = block_of(blocks, "C");
-  expect_equidistant(c);
+  const auto& c = isg_block(blocks, "C");
+  expect_isg_equidistant(c);
   EXPECT_NEAR(c.records.front()[0], 0.0, 1e-12);
   EXPECT_NEAR(c.records.back()[0], 360.0, 1e-9);
   for (const double gamma : {0.0, 90.0, 135.0, 270.0}) {
-    const std::size_t r = row_at(c, gamma);
-    EXPECT_NEAR(c.at("EXC", r), 0.005 * std::cos(gamma * deg), kFileMm) << gamma;
-    EXPECT_NEAR(c.at("EYC", r), 0.005 * std::sin(gamma * deg), kFileMm) << gamma;
-    EXPECT_NEAR(c.at("ECC", r), 3e-6, kFileRad) << gamma;
+    const std::size_t r = isg_row_at(c, gamma);
+    EXPECT_NEAR(c.at("EXC", r), 0.005 * std::cos(gamma * deg), kIsgFileMm) << gamma;
+    EXPECT_NEAR(c.at("EYC", r), 0.005 * std::sin(gamma * deg), kIsgFileMm) << gamma;
+    EXPECT_NEAR(c.at("ECC", r), 3e-6, kIsgFileRad) << gamma;
   }
-  const auto& k = block_of(blocks, "X0C");
-  EXPECT_NEAR(k.at("X0C", 0), 0.006, kFileMm);
-  EXPECT_NEAR(k.at("C0Y", 0), 12e-6, kFileRad);
-  EXPECT_NEAR(k.at("A0Y", 0), -7e-6, kFileRad);
-  EXPECT_NEAR(k.at("B0Z", 0), -3e-6, kFileRad);
-  EXPECT_NEAR(k.at("B0A", 0), -9e-6, kFileRad);
-  EXPECT_NEAR(k.at("Y0C", 0), 0.0, kFileMm);
+  const auto& k = isg_block(blocks, "X0C");
+  EXPECT_NEAR(k.at("X0C", 0), 0.006, kIsgFileMm);
+  EXPECT_NEAR(k.at("C0Y", 0), 12e-6, kIsgFileRad);
+  EXPECT_NEAR(k.at("A0Y", 0), -7e-6, kIsgFileRad);
+  EXPECT_NEAR(k.at("B0Z", 0), -3e-6, kIsgFileRad);
+  EXPECT_NEAR(k.at("B0A", 0), -9e-6, kIsgFileRad);
+  EXPECT_NEAR(k.at("Y0C", 0), 0.0, kIsgFileMm);
 }
 
 TEST(IsgTable, NonEquidistantSourceIsResampledAndSaidSo) {
   // Knots at 0, 100, 250, 900 mm: not equidistant. The block is resampled every 10 mm from the table's spline
   // (a straight line here: 2 knots would be a line too; 4 knots on a line give the line exactly).
-  const auto model = test::machine_with(table_sources("x_mm,delta_xx_um\n0,0\n100,1\n250,2.5\n900,9\n"));
-  const auto blocks = read_isg_csv(written(compensation::make_isg_table(model)));
-  const auto& x = block_of(blocks, "X");
-  expect_equidistant(x);
+  const auto model = test::machine_with(isg_sources("x_mm,delta_xx_um\n0,0\n100,1\n250,2.5\n900,9\n"));
+  const auto blocks = read_isg_csv(isg_text(compensation::make_isg_table(model)));
+  const auto& x = isg_block(blocks, "X");
+  expect_isg_equidistant(x);
   EXPECT_EQ(x.records.size(), 91u);
-  EXPECT_NEAR(x.at("EXX", row_at(x, 370.0)), 0.0037, kFileMm); // 0.01 µm/mm · 370 mm
+  EXPECT_NEAR(x.at("EXX", isg_row_at(x, 370.0)), 0.0037, kIsgFileMm); // 0.01 µm/mm · 370 mm
   const bool said = std::any_of(x.comments.begin(), x.comments.end(),
                                 [](const std::string& c) { return c.find("RESAMPLED") != std::string::npos; });
   EXPECT_TRUE(said);
@@ -256,7 +256,7 @@ TEST(IsgTable, RefusesNonEquidistantAndTooLongTables) {
   compensation::IsgOptions small;
   small.limits.max_records = 50;
   try {
-    (void)compensation::make_isg_table(test::machine_with(table_sources(csv)), small);
+    (void)compensation::make_isg_table(test::machine_with(isg_sources(csv)), small);
     FAIL() << "a 91-record table was accepted under max_records = 50";
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), "hand.csv");
@@ -339,7 +339,7 @@ TEST(IsgTable, CompensateWritesTheTableAndReportsWhatItLeaves) {
   std::size_t records = 0;
   for (const auto& b : blocks) {
     records += b.records.size();
-    if (b.header.front().size() == 1) expect_equidistant(b);
+    if (b.header.front().size() == 1) expect_isg_equidistant(b);
   }
   EXPECT_LE(records, 2000u);
   const auto j = nlohmann::json::parse(std::ifstream(dir / "comp" / "iso1328.json"));
