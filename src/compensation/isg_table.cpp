@@ -121,7 +121,13 @@ AxisGrid axis_grid(const machine::MachineModel& model, Axis axis, const IsgOptio
   }
 
   const double span = argument_from_position(axis, hi) - argument_from_position(axis, lo);
-  const int n = std::max(2, static_cast<int>(std::ceil(span / step - 1e-9)) + 1);
+  const double records = std::max(2.0, std::ceil(span / step - 1e-9) + 1.0);
+  if (records > options.limits.max_records)
+    throw std::invalid_argument(fmt::format("ISG table: sampling {} every {:g} {} over {:g} {} needs {:.0f} records, more than "
+                                            "max_records = {} (vol_comp[i].max_records): use a coarser step",
+                                            machine::axis_name(axis), step, unit, span, unit, records,
+                                            options.limits.max_records));
+  const int n = static_cast<int>(records);
   AxisGrid g;
   for (int i = 0; i < n; ++i) g.positions.push_back(lo + (hi - lo) * i / (n - 1));
   std::string sources;
@@ -135,9 +141,8 @@ AxisGrid axis_grid(const machine::MachineModel& model, Axis axis, const IsgOptio
   return g;
 }
 
-double require_positive(double v, const char* what) {
+void require_positive(double v, const char* what) {
   if (!(std::isfinite(v) && v > 0.0)) throw std::invalid_argument(fmt::format("ISG table: {} must be positive and finite, got {}", what, v));
-  return v;
 }
 
 /// A number with `decimals` places, left-aligned in `width`; a value that rounds to zero is written "0.000…", never "-0.000…".

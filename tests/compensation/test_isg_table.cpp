@@ -250,6 +250,16 @@ TEST(IsgTable, RefusesNonEquidistantAndTooLongTables) {
   }
   EXPECT_NO_THROW(compensation::write_isg_table(out, t, {}));
 
+  // Sampling finer than the limit allows is refused before anything is sampled (0.001 mm over the 900 mm X stroke).
+  compensation::IsgOptions fine;
+  fine.linear_step_mm = 0.001;
+  try {
+    (void)compensation::make_isg_table(test::machine_with({ErrorSource::polynomial(ComponentId::delta_xx, {0.0, 0.01}, "um", "mm")}), fine);
+    FAIL() << "900001 records were accepted under max_records = 2000";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("max_records = 2000"), std::string::npos) << e.what();
+  }
+
   // A source table whose own equidistant grid is longer than the limit is refused at its file and column.
   std::string csv = "x_mm,delta_xx_um\n";
   for (int i = 0; i <= 90; ++i) csv += std::to_string(10 * i) + ",0.5\n";
