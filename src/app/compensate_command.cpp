@@ -6,6 +6,7 @@
 
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/compensation/cycle_corrections.hpp"
+#include "geartopo/compensation/isg_table.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 
 #include <CLI/CLI.hpp>
@@ -16,6 +17,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace geartopo::app {
 namespace {
@@ -38,6 +40,8 @@ void register_compensate_command(CLI::App& app, Action& action) {
     std::string scene, out, method = "flank";
     double step = 2.0;
     double lead_step = 5.0;
+    bool isg_table = false;      // issue 15: the machine's errors as an ISG/TF5280 volumetric table
+    int isg_max_records = 2000;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("compensate", "Axis corrections along the wheel path (paper: Jacobian pseudo-inverse; "
@@ -55,6 +59,12 @@ void register_compensate_command(CLI::App& app, Action& action) {
   cmd->add_option("--lead-step", opt->lead_step,
                   "Largest Z step of the cycle table's lead corrections (cycle_corrections.csv), mm (default 5)")
       ->check(finite_in(0.1, 100.0));
+  cmd->add_flag("--isg-table", opt->isg_table,
+                "Also write isg_compensation.csv: the machine's error components as an ISG/Beckhoff TF5280 volumetric "
+                "compensation table (ISO 230-1 names, mm/rad), and report the flank deviation it leaves (orientation)");
+  cmd->add_option("--isg-max-records", opt->isg_max_records,
+                  "The controller's vol_comp[i].max_records for --isg-table (default 2000)")
+      ->check(CLI::Range(2, 1000000));
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
@@ -64,6 +74,15 @@ void register_compensate_command(CLI::App& app, Action& action) {
       so.helix_points = wb.scene.grid.helix_points;
       so.rows = wb.scene.grid.rows;
       so.cols = wb.scene.grid.cols;
+
+      // ISG table first: a table the controller would refuse stops the command before any file is written.
+      std::optional<compensation::IsgTable> isg;
+      compensation::IsgOptions isg_options;
+      isg_options.limits.max_records = opt->isg_max_records;
+      if (opt->isg_table) {
+        isg = compensation::make_isg_table(wb.machine, isg_options);
+        compensation::check_isg_table(*isg, isg_options.limits);
+      }
 
       compensation::CompensationOptions co;
       co.method = opt->method == "paper"   ? compensation::Method::Paper
@@ -121,6 +140,27 @@ void register_compensate_command(CLI::App& app, Action& action) {
                     {"not_carried_Y_um", units::um_from_mm(cycle.y_not_carried_mm)},
                     {"not_carried_A_urad", units::urad_from_rad(cycle.a_not_carried_rad)},
                     {"largest_abs_deviation_after_um", max_cycle}};
+      std::string isg_summary;
+      if (isg) {
+        // What the position-only table leaves: the machine's geometric errors with the wheel centre put back.
+        compensation::write_isg_table(out / "isg_compensation.csv", *isg, isg_options.limits);
+        const compensation::PositionCompensatedProcess position_only(wb.machine_process, Eigen::Vector3d::Zero());
+        const auto left = grinding::simulate_topology(wb.setup, position_only, so);
+        const auto iso_left = workbench::evaluate_iso(g, wb.setup.ranges(), left);
+        const double max_left = grinding::largest_abs_deviation_um(left);
+        nlohmann::json left_json = {{"largest_abs_deviation_um", max_left}};
+        isg_summary = fmt::format("left after the table: largest |dev| {:.2f} µm", max_left);
+        for (const auto& q : iso_left.evaluation.classification.quantities) {
+          left_json[std::string(evaluation::symbol(q.quantity))] = q.worst_value_um;
+          isg_summary += fmt::format(", {} {:.2f} µm", evaluation::symbol(q.quantity), q.worst_value_um);
+        }
+        j["isg_table"] = {{"file", "isg_compensation.csv"},
+                          {"records", isg->records()},
+                          {"max_records", isg_options.limits.max_records},
+                          {"tool_centre_point", "wheel centre"},
+                          {"scope", "geometric machine errors only (the scene's effects are not in the table)"},
+                          {"left_after_table", left_json}};
+      }
       j["warnings"] = nlohmann::json::array();
       if (const std::string w = compensation_made_worse(max_b, max_a); !w.empty()) {
         std::cerr << "geartopo: warning: " << w << "\n";
@@ -152,8 +192,12 @@ void register_compensate_command(CLI::App& app, Action& action) {
       if (cb.overall && ca.overall)
         std::cout << fmt::format("  overall flank tolerance class: {} → {}\n", evaluation::class_label(*cb.overall),
                                  evaluation::class_label(*ca.overall));
+      if (isg)
+        std::cout << fmt::format("  ISG volumetric table (isg_compensation.csv, {} records; corrects the wheel position, "
+                                 "not its orientation): {}\n",
+                                 isg->records(), isg_summary);
       std::cout << "wrote " << out.string() << "/corrections.csv, cycle_corrections.csv, topology_before.csv, topology_after.csv, "
-                   "iso1328.json\n";
+                   "iso1328.json" << (isg ? ", isg_compensation.csv" : "") << "\n";
       finish_output_folder(folder);
       return 0;
     };

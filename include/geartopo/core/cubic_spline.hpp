@@ -32,6 +32,8 @@ public:
   double back() const { return x_.back(); }
   bool periodic() const { return periodic_; }
   std::size_t size() const { return x_.size(); }
+  /// The knots x_0 … x_{n−1} (to tell whether a table is equidistant, e.g. for a controller's compensation table).
+  const std::vector<double>& knots() const { return x_; }
 
 private:
   struct Local { std::size_t i; double t; bool below, above; };
