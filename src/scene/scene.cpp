@@ -283,10 +283,45 @@ void Scene::fail_at(const std::string& field, const std::string& message) const 
   throw InputError(SourcePosition{source, 0, 0}, field, message);
 }
 
+/// yaml-cpp 0.7 (Debian 12) never returns from LoadAll when a document's first token is a ',' (found by fuzz_scene:
+/// ",` !" hung `geartopo gear` for ever; docs/performance.md, finding 22). A ',' is a flow indicator and cannot start a
+/// document, so such a text is refused here, before the parser sees it, at the comma's line and column.
+void refuse_a_document_starting_with_a_comma(const std::string& text, const ReadContext& ctx) {
+  bool at_start = true;
+  int line = 0;
+  size_t begin = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+  while (begin <= text.size()) {
+    size_t end = text.find('\n', begin);
+    if (end == std::string::npos) end = text.size();
+    std::string_view l(text.data() + begin, end - begin);
+    if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+    const bool marker = (l.substr(0, 3) == "---" || l.substr(0, 3) == "...") && (l.size() == 3 || l[3] == ' ' || l[3] == '\t');
+    size_t col = 0;
+    if (marker) {
+      at_start = true;
+      col = 3;
+    }
+    if (at_start) {
+      while (col < l.size() && (l[col] == ' ' || l[col] == '\t')) ++col;
+      if (col < l.size() && l[col] == ',') {
+        YAML::Mark mark;
+        mark.line = line;
+        mark.column = static_cast<int>(col);
+        mark.pos = static_cast<int>(begin + col);
+        ctx.fail(mark, "", "YAML syntax error: a document cannot start with ',' (a flow indicator)");
+      }
+      if (col < l.size() && l[col] != '#' && !(l[col] == '%' && !marker)) at_start = false;
+    }
+    ++line;
+    begin = end + 1;
+  }
+}
+
 Scene parse_scene(const std::string& text, const std::string& source) {
   ReadContext ctx{source, {}};
   YAML::Node root;
   try {
+    refuse_a_document_starting_with_a_comma(text, ctx);
     // LoadAll, not Load: Load reads the first document and silently drops the rest of a file holding two ("---").
     const std::vector<YAML::Node> docs = YAML::LoadAll(text);
     if (docs.size() > 1)

@@ -58,6 +58,9 @@ write(S, "syntax_unclosed_bracket.yaml", GEAR + "measurement:\n  teeth: [1, 2\n"
 write(S, "syntax_bad_indent.yaml", "gear:\n  normal_module_mm: 14\n teeth: 35\n", ("InputError", -1, "YAML syntax error"))
 write(S, "syntax_tab_indent.yaml", "gear:\n\tnormal_module_mm: 14\n", ("InputError", -1, "YAML syntax error"))
 # yaml-cpp 0.7 lets an unterminated double quote run to the end of the file: refused, but as "gear: missing".
+# Found by fuzz_scene (finding 22): yaml-cpp 0.7 hangs for ever when a document's first token is ','.
+write(S, "syntax_leading_comma_hang.yaml", ",` ! \n\n  \n", ("InputError", 1, "cannot start with ','"))
+write(S, "syntax_leading_comma_second_document.yaml", GEAR + "---\n, x\n", ("InputError", -1, "cannot start with ','"))
 write(S, "syntax_unclosed_quote.yaml", 'name: "unterminated\n' + GEAR, ("InputError", -1, "gear"))
 write(S, "wrong_type_teeth_text.yaml", gear(teeth="many"), ("InputError", 3, "gear.teeth"))
 write(S, "wrong_type_teeth_fraction.yaml", gear(teeth="35.5"), ("InputError", 3, "not a whole number"))
