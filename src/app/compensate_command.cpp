@@ -96,7 +96,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
       const double max_b = grinding::largest_abs_deviation_um(before), max_a = grinding::largest_abs_deviation_um(after);
       nlohmann::json j;
       j["scene"] = wb.scene.name;
-      j["units"] = "µm; deviations along the flank normal, plus material positive";
+      j["units"] = "µm; plus material positive; profile/helix values in the direction each section names (iso_direction)";
       j["before"] = report::iso_json(iso_b);
       j["after"] = report::iso_json(iso_a);
       const auto cmax = table.max_abs();

@@ -35,7 +35,7 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
   r.corrections->write_csv(dir / "corrections.csv");
   nlohmann::json iso;
   iso["scene"] = wb.scene.name;
-  iso["units"] = "µm; deviations along the flank normal, plus material positive";
+  iso["units"] = "µm; plus material positive; profile/helix values in the direction each section names (iso_direction)";
   iso["before"] = report::iso_json(r.iso_before);
   iso["after"] = report::iso_json(r.iso_after);
   iso["warnings"] = nlohmann::json::array();
