@@ -184,6 +184,25 @@ TEST(IsoSigns, ProfileSlopeIsPositiveWhenMaterialIncreasesTowardsTheTip) {
   }
 }
 
+// A base circle larger than designed by the factor (1 + ε): at radius r the involute's polar angle inv α changes by
+// d(inv α) = tan²α dα with cos α = r_b/r, i.e. Δ inv α = −ε tan α = −ε ξ / r_b, so the half tooth angle
+// ψ = ψ_b − inv α grows by ε ξ / r_b and each flank stands out by r_b Δψ = ε ξ along the transverse base tangent
+// (plus a constant from ψ_b): δn = ε ξ cos β_b. Expected: f_Hα = ε L_α > 0 transverse on both flanks of both hands.
+TEST(IsoSigns, LargerBaseCircleGivesPositiveProfileSlope) {
+  const double eps = 2e-5;
+  for (const double beta_deg : {30.0, -30.0}) {
+    const TestGear g(35, 14.0, 20.0, beta_deg, 0.274, 150.0);
+    const Trace profile = sampled([&](double xi) { return 1000.0 * eps * xi * std::cos(g.beta_b) - 0.7; }, kProfileStart,
+                                  kProfileEnd, 41);
+    for (const Flank side : {Flank::Left, Flank::Right}) {
+      const auto r = evaluate_gear(
+          conv_one_flank(side, profile, conv_flat_helix(), {IsoDirection::Transverse, HelixSlopeSign::HelixAngle, g.beta_b}),
+          g.parameters());
+      EXPECT_NEAR(r.flanks[0].profile.slope_um, 1000.0 * eps * (kProfileEnd - kProfileStart), 1e-9);
+    }
+  }
+}
+
 TEST(IsoConventionWords, ParseAndPrint) {
   EXPECT_EQ(parse_iso_direction("transverse"), IsoDirection::Transverse);
   EXPECT_EQ(parse_iso_direction("normal"), IsoDirection::Normal);
