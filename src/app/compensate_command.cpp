@@ -38,6 +38,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
     std::string scene, out, method = "flank";
     double step = 2.0;
     double lead_step = 5.0;
+    workbench::IsoOptions iso;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("compensate", "Axis corrections along the wheel path (paper: Jacobian pseudo-inverse; "
@@ -55,6 +56,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
   cmd->add_option("--lead-step", opt->lead_step,
                   "Largest Z step of the cycle table's lead corrections (cycle_corrections.csv), mm (default 5)")
       ->check(finite_in(0.1, 100.0));
+  add_iso_options(cmd, opt->iso);
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
@@ -92,7 +94,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
       grinding::write_traces_csv(out / "traces_before.csv", before);
       grinding::write_traces_csv(out / "traces_after.csv", after);
 
-      const workbench::IsoResult iso_b = workbench::evaluate_iso(g, wb.setup.ranges(), before), iso_a = workbench::evaluate_iso(g, wb.setup.ranges(), after);
+      const workbench::IsoResult iso_b = workbench::evaluate_iso(g, wb.setup.ranges(), before, opt->iso), iso_a = workbench::evaluate_iso(g, wb.setup.ranges(), after, opt->iso);
       const double max_b = grinding::largest_abs_deviation_um(before), max_a = grinding::largest_abs_deviation_um(after);
       nlohmann::json j;
       j["scene"] = wb.scene.name;

@@ -78,19 +78,21 @@ void print_summary(const fs::path& dir, const pipeline::PipelineResult& r) {
 void register_report_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, measured, out;
+    workbench::IsoOptions iso;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("report", "Figures (PNG, rendered off-screen) and an offline index.html: topology, "
                                                "traces, pitch, machine errors, before/after, measured vs model, diagnosis");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
-  cmd->add_option("--measured", opt->measured, "Measurement (topology CSV or point cloud); default: the scene's measurement.measured");
+  cmd->add_option("--measured", opt->measured, "Measurement (topology or traces CSV, point cloud, Klingelnberg export); default: the scene's measurement.measured");
   cmd->add_option("--out", opt->out, "Output directory")->required()->check(non_empty_path());
+  add_iso_options(cmd, opt->iso);
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
       const fs::path dir(opt->out);
       fs::create_directories(dir);
-      const auto r = pipeline::run_pipeline(wb, measured_of(wb, opt->measured));
+      const auto r = pipeline::run_pipeline(wb, measured_of(wb, opt->measured), opt->iso);
       write_data_files(dir, opt->scene, wb, r); // the page names them (corrections.csv, scene_with_effect.yaml …)
       const auto figs = report::write_report(dir, wb, r);
       std::cout << fmt::format("wrote {} figures and {}\n", figs.size(), (dir / "index.html").string());
@@ -102,19 +104,21 @@ void register_report_command(CLI::App& app, Action& action) {
 void register_run_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, out;
+    workbench::IsoOptions iso;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("run", "The main job: simulate, evaluate (ISO 1328-1), compensate, compare and diagnose "
                                             "when the scene names a measurement, and write the report");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
   cmd->add_option("--out", opt->out, "Output directory")->required()->check(non_empty_path());
+  add_iso_options(cmd, opt->iso);
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
       const fs::path dir(opt->out);
       fs::create_directories(dir);
       std::cout << "geartopo run: " << (wb.scene.name.empty() ? opt->scene : wb.scene.name) << "\n";
-      const auto r = pipeline::run_pipeline(wb, wb.scene.grid.measured_file);
+      const auto r = pipeline::run_pipeline(wb, wb.scene.grid.measured_file, opt->iso);
       write_data_files(dir, opt->scene, wb, r);
       report::write_report(dir, wb, r);
       print_summary(dir, r);

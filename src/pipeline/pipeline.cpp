@@ -9,7 +9,8 @@
 
 namespace geartopo::pipeline {
 
-PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file) {
+PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file,
+                            const workbench::IsoOptions& iso) {
   PipelineResult r;
   grinding::SimulationOptions so;
   so.rows = wb.scene.grid.rows;
@@ -19,14 +20,14 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& m
   const auto& g = wb.setup.geometry();
 
   r.before = grinding::simulate_topology(wb.setup, wb.process(), so);
-  r.iso_before = workbench::evaluate_iso(g, wb.setup.ranges(), r.before);
+  r.iso_before = workbench::evaluate_iso(g, wb.setup.ranges(), r.before, iso);
   compensation::CompensationOptions co;
   co.method = compensation::Method::Flank;
   r.corrections = std::make_unique<compensation::CorrectionTable>(
       compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm}, co));
   const compensation::CompensatedProcess corrected(wb.process(), *r.corrections);
   r.after = grinding::simulate_topology(wb.setup, corrected, so);
-  r.iso_after = workbench::evaluate_iso(g, wb.setup.ranges(), r.after);
+  r.iso_after = workbench::evaluate_iso(g, wb.setup.ranges(), r.after, iso);
   r.largest_before_um = grinding::largest_abs_deviation_um(r.before);
   r.largest_after_um = grinding::largest_abs_deviation_um(r.after);
 

@@ -33,7 +33,9 @@ struct PipelineResult {
   std::optional<MeasurementResult> measurement;
 };
 
-PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file);
+/// `iso`: how the ISO 1328-1 values are reported (default: the standard's transverse direction, docs/iso1328.md).
+PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file,
+                            const workbench::IsoOptions& iso = {});
 
 /// "7×9": the topological grid's rows × columns as simulated (the scene's measurement.rows, cols).
 std::string grid_label(const PipelineResult& r);
