@@ -250,3 +250,35 @@ TEST(MeasuredTraces, KlingelnbergExportTracesAreEvaluatedToIso) {
   }
   EXPECT_GT(f_Hb, 1.0); // a visible value, not a vacuous check
 }
+
+// A Klingelnberg export goes through compare and diagnose like a topology CSV: the model's grid of teeth 1 and 18,
+// plus a known offset, written as an export (TOPOGRAFIE profile lines) and read back by content: the residual is the
+// offset at every point (the export's 3 decimals of transverse values: 1e-3 µm), and diagnose takes it as the set-up
+// thickness term, naming no effect.
+TEST(MeasuredTraces, KlingelnbergExportGoesThroughCompareAndDiagnose) {
+  const auto& wb = traces_model();
+  grinding::SimulationOptions so;
+  so.teeth = {1, 18};
+  auto rows = grinding::topology_rows(grinding::simulate_topology(wb.setup, wb.process(), so));
+  const double offset_um = 1.5;
+  for (auto& r : rows) r.deviation_um += offset_um;
+  TracesTempFile file("grid.mka");
+  {
+    std::ofstream out(file.path);
+    diagnosis::write_klingelnberg(out, wb.setup.geometry(), rows);
+  }
+  std::vector<std::string> warnings;
+  const auto pts = diagnosis::read_any_measurement(file.path.string(), wb.setup, &warnings);
+  ASSERT_EQ(pts.size(), rows.size());
+  EXPECT_TRUE(warnings.empty());
+  const auto c = diagnosis::compare(wb.setup, wb.process(), pts, 0.5);
+  for (std::size_t i = 0; i < pts.size(); ++i) ASSERT_NEAR(c.residual_um[i], offset_um, 1e-3) << "point " << i;
+  EXPECT_EQ(c.flanks.size(), 4u);
+
+  diagnosis::DiagnoseOptions o;
+  o.noise_um = 0.5;
+  o.candidates = {"thermal_drift"};
+  const auto d = diagnosis::diagnose(wb.setup, wb.process(), pts, {}, o);
+  EXPECT_NEAR(d.setup.thickness_um, offset_um, 0.01);
+  EXPECT_FALSE(d.chosen.has_value());
+}
