@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -41,7 +42,7 @@ void register_compare_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("compare", "Measured − model (µm) at every measured point: statistics, where the model "
                                                 "fails, and the residual's patterns");
   cmd->add_option("SCENE", opt->scene, "Model scene (YAML)")->required();
-  cmd->add_option("--measured", opt->measured, "Measurement: topology CSV (µm), point cloud x_mm,y_mm,z_mm, or Klingelnberg export "
+  cmd->add_option("--measured", opt->measured, "Measurement: topology CSV (µm), traces CSV, point cloud x_mm,y_mm,z_mm, or Klingelnberg export "
                                                    "(docs/measurement-formats.md); told apart by content")->required();
   cmd->add_option("--out", opt->out, "Output directory: compare.json, residuals.csv")->required()->check(non_empty_path());
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated)")->check(finite_in(0.0, 1000.0));
@@ -66,7 +67,10 @@ void register_compare_command(CLI::App& app, Action& action) {
       nlohmann::json j;
       j["scene"] = opt->scene;
       j["measured"] = opt->measured;
-      j["units"] = "µm; residual = measured − model, along the flank normal, plus material positive";
+      j["units"] = "µm; residual = measured − model, along the flank normal, plus material positive; the model's nominal "
+                   "flank is at the mean tooth-thickness allowance";
+      j["nominal_offset_at_mean_allowance_um"] = c.allowance_offset_um;
+      j["points_without_grid_indices"] = std::count_if(pts.begin(), pts.end(), [](const auto& p) { return p.row == 0; });
       j["noise_um"] = c.noise_um;
       j["noise_estimated"] = c.noise_estimated;
       j["overall"] = stats_json(c.summary.overall);
@@ -108,6 +112,8 @@ void register_compare_command(CLI::App& app, Action& action) {
                                "noise {:.2f} µm{}\n",
                                pts.size(), c.flanks.size(), c.summary.overall.rms_um, c.summary.overall.max_abs_um, c.noise_um,
                                c.noise_estimated ? " (estimated)" : "");
+      std::cout << fmt::format("Model: nominal flank at mean allowance {:+.2f} µm (along the normal, every flank)\n",
+                               c.allowance_offset_um);
       for (size_t f = 0; f < c.flanks.size(); ++f)
         std::cout << fmt::format("  tooth {:>3} {:<5}  RMS {:6.2f} µm  max {:6.2f} µm\n", c.flanks[f].tooth,
                                  diagnosis::to_string(c.flanks[f].side), c.summary.flanks[f].stats.rms_um,

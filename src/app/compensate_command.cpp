@@ -42,6 +42,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
     double lead_step = 5.0;
     bool isg_table = false;      // issue 15: the machine's errors as an ISG/TF5280 volumetric table
     int isg_max_records = 2000;
+    workbench::IsoOptions iso;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("compensate", "Axis corrections along the wheel path (paper: Jacobian pseudo-inverse; "
@@ -65,6 +66,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
   cmd->add_option("--isg-max-records", opt->isg_max_records,
                   "The controller's vol_comp[i].max_records for --isg-table (default 2000)")
       ->check(CLI::Range(2, 1000000));
+  add_iso_options(cmd, opt->iso);
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
@@ -111,11 +113,11 @@ void register_compensate_command(CLI::App& app, Action& action) {
       grinding::write_traces_csv(out / "traces_before.csv", before);
       grinding::write_traces_csv(out / "traces_after.csv", after);
 
-      const workbench::IsoResult iso_b = workbench::evaluate_iso(g, wb.setup.ranges(), before), iso_a = workbench::evaluate_iso(g, wb.setup.ranges(), after);
+      const workbench::IsoResult iso_b = workbench::evaluate_iso(g, wb.setup.ranges(), before, opt->iso), iso_a = workbench::evaluate_iso(g, wb.setup.ranges(), after, opt->iso);
       const double max_b = grinding::largest_abs_deviation_um(before), max_a = grinding::largest_abs_deviation_um(after);
       nlohmann::json j;
       j["scene"] = wb.scene.name;
-      j["units"] = "µm; deviations along the flank normal, plus material positive";
+      j["units"] = "µm; plus material positive; profile/helix values in the direction each section names (iso_direction)";
       j["before"] = report::iso_json(iso_b);
       j["after"] = report::iso_json(iso_a);
       const auto cmax = table.max_abs();
@@ -146,7 +148,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
         compensation::write_isg_table(out / "isg_compensation.csv", *isg, isg_options.limits);
         const compensation::PositionCompensatedProcess position_only(wb.machine_process, Eigen::Vector3d::Zero());
         const auto left = grinding::simulate_topology(wb.setup, position_only, so);
-        const auto iso_left = workbench::evaluate_iso(g, wb.setup.ranges(), left);
+        const auto iso_left = workbench::evaluate_iso(g, wb.setup.ranges(), left, opt->iso);
         const double max_left = grinding::largest_abs_deviation_um(left);
         nlohmann::json left_json = {{"largest_abs_deviation_um", max_left}};
         isg_summary = fmt::format("left after the table: largest |dev| {:.2f} µm", max_left);

@@ -6,6 +6,7 @@
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/klingelnberg.hpp"
+#include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
 #include "geartopo/diagnosis/synth.hpp"
 #include "geartopo/effects/registry.hpp"
@@ -109,7 +110,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("diagnose", "Which physical effect is the model missing? Fits every library effect "
                                                  "to the residual and writes the scene with the best one added");
   cmd->add_option("SCENE", opt->scene, "Model scene (YAML)")->required();
-  cmd->add_option("--measured", opt->measured, "Measurement: topology CSV (µm), point cloud or Klingelnberg export")
+  cmd->add_option("--measured", opt->measured, "Measurement: topology CSV (µm), traces CSV, point cloud or Klingelnberg export")
       ->required();
   cmd->add_option("--out", opt->out, "Output directory: diagnosis.json, scene_with_effect.yaml")->required()->check(non_empty_path());
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated from the residual)")
@@ -136,6 +137,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       j["scene"] = opt->scene;
       j["measured"] = opt->measured;
       j["points"] = d.points;
+      j["nominal_offset_at_mean_allowance_um"] = diagnosis::mean_allowance_offset_um(wb.setup.geometry());
       j["noise_um"] = d.noise_um;
       j["noise_estimated"] = d.noise_estimated;
       j["rms_before_um"] = d.rms_before_um;
@@ -158,6 +160,8 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       output::write_text_atomically(out / "diagnosis.json", j.dump(2) + "\n");
       std::cout << fmt::format("{} measured points; residual {:.2f} µm RMS; noise {:.2f} µm{}\n", d.points, d.rms_before_um,
                                d.noise_um, d.noise_estimated ? " (estimated)" : "");
+      std::cout << fmt::format("Model: nominal flank at mean allowance {:+.2f} µm (along the normal, every flank)\n",
+                               diagnosis::mean_allowance_offset_um(wb.setup.geometry()));
       std::cout << fmt::format("  {:<4} {:<16} {:>9} {:>10} {:>10}  {}\n", "rank", "effect", "ΔBIC", "explained", "RMS after",
                                "parameters (± 1σ)");
       int rank = 1;

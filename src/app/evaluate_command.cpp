@@ -3,6 +3,8 @@
 #include "geartopo/report/iso_report.hpp"
 #include "app/options.hpp"
 
+#include "geartopo/core/input_file.hpp"
+#include "geartopo/diagnosis/klingelnberg.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 
 #include <CLI/CLI.hpp>
@@ -18,6 +20,8 @@ namespace geartopo::app {
 void register_evaluate_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, out, method = "exact", traces;
+    workbench::IsoOptions iso;
+    diagnosis::KlingelnbergOptions mka;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("evaluate", "ISO 1328-1:2013 deviations (µm) and flank tolerance classes of the "
@@ -25,7 +29,10 @@ void register_evaluate_command(CLI::App& app, Action& action) {
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
   cmd->add_option("--out", opt->out, "Output directory (created): iso1328.json")->required()->check(non_empty_path());
   cmd->add_option("--method", opt->method, "exact or linear simulation")->check(CLI::IsMember({"exact", "linear"}));
-  cmd->add_option("--traces", opt->traces, "Evaluate measured traces instead (traces CSV: docs/grinding.md)");
+  cmd->add_option("--traces", opt->traces, "Evaluate measured traces instead: traces CSV (docs/grinding.md) or Klingelnberg "
+                                           "export (docs/measurement-formats.md), told apart by content");
+  add_iso_options(cmd, opt->iso);
+  add_klingelnberg_options(cmd, opt->mka);
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
@@ -33,8 +40,16 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       std::vector<grinding::FlankTopology> topo;
       std::string source;
       if (!opt->traces.empty()) {
-        topo = grinding::read_traces_csv(opt->traces, g.teeth());
-        source = "measured traces " + opt->traces;
+        auto in = input::open_input_file(opt->traces, input::kMaxMeasurementBytes, "traces file");
+        if (diagnosis::looks_like_klingelnberg(in)) {
+          std::vector<std::string> warnings;
+          topo = diagnosis::klingelnberg_traces(diagnosis::read_klingelnberg(opt->traces), g, opt->mka, &warnings);
+          for (const auto& w : warnings) std::cerr << "geartopo: warning: " << w << "\n";
+          source = "measured traces (Klingelnberg export) " + opt->traces;
+        } else {
+          topo = grinding::read_traces_csv(opt->traces, g.teeth());
+          source = "measured traces " + opt->traces;
+        }
       } else {
         grinding::SimulationOptions so;
         so.method = opt->method == "linear" ? grinding::Method::Linear : grinding::Method::Exact;
@@ -43,11 +58,12 @@ void register_evaluate_command(CLI::App& app, Action& action) {
         topo = grinding::simulate_topology(wb.setup, wb.process(), so); // pitch and runout need every tooth
         source = "simulation (" + opt->method + ")";
       }
-      const workbench::IsoResult iso = workbench::evaluate_iso(g, wb.setup.ranges(), topo);
+      const workbench::IsoResult iso = workbench::evaluate_iso(g, wb.setup.ranges(), topo, opt->iso);
       nlohmann::json j;
       j["scene"] = wb.scene.name;
       j["source"] = source;
-      j["units"] = "µm; deviations along the flank normal, plus material positive";
+      j["units"] = "µm; plus material positive";
+      j["iso_direction"] = std::string(evaluation::to_string(opt->iso.direction));
       j["before"] = report::iso_json(iso);
       const std::filesystem::path out(opt->out);
       output::OutputFolder folder(out);

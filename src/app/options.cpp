@@ -204,4 +204,20 @@ void add_klingelnberg_options(CLI::App* cmd, diagnosis::KlingelnbergOptions& o) 
       ->option_text("raw|din");
 }
 
+void add_iso_options(CLI::App* cmd, workbench::IsoOptions& o) {
+  // Through the words (evaluation's parse_… functions): CLI11 cannot bind these enums directly, their to_string
+  // overloads (string_view) confuse its default-value printing.
+  cmd->add_option_function<std::string>(
+         "--iso-direction", [&o](const std::string& w) { o.direction = *evaluation::parse_iso_direction(w); },
+         "ISO 1328-1 profile/helix deviations transverse (default: the standard's, normal / cos β_b) or normal")
+      ->check(CLI::IsMember({"transverse", "normal"}))
+      ->option_text("transverse|normal");
+  cmd->add_option_function<std::string>(
+         "--helix-slope-sign", [&o](const std::string& w) { o.helix_slope_sign = *evaluation::parse_helix_slope_sign(w); },
+         "Sign of f_Hβ: helix-angle (default; > 0 when the helix angle is larger than designed) or "
+         "rise-towards-plus-z (> 0 when material rises away from the datum face)")
+      ->check(CLI::IsMember({"helix-angle", "rise-towards-plus-z"}))
+      ->option_text("helix-angle|rise-towards-plus-z");
+}
+
 } // namespace geartopo::app

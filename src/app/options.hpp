@@ -4,6 +4,7 @@
 
 #include "geartopo/core/output_folder.hpp"
 #include "geartopo/diagnosis/klingelnberg.hpp"
+#include "geartopo/workbench/iso_evaluation.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
 #include <functional>
@@ -83,5 +84,9 @@ std::pair<int, int> parse_grid_size(const std::string& text);
 /// The Klingelnberg reader's options as flags of a command that reads measurements (docs/measurement-formats.md):
 /// --mka-spacing roll-length|diameter, --mka-direction transverse|normal, --mka-signs raw|din.
 void add_klingelnberg_options(CLI::App* cmd, diagnosis::KlingelnbergOptions& options);
+
+/// How a command that prints ISO 1328-1 values reports them (docs/iso1328.md): --iso-direction transverse|normal
+/// (default transverse, the standard's), --helix-slope-sign helix-angle|rise-towards-plus-z (default helix-angle).
+void add_iso_options(CLI::App* cmd, workbench::IsoOptions& options);
 
 } // namespace geartopo::app

@@ -35,7 +35,7 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
   r.corrections->write_csv(dir / "corrections.csv");
   nlohmann::json iso;
   iso["scene"] = wb.scene.name;
-  iso["units"] = "µm; deviations along the flank normal, plus material positive";
+  iso["units"] = "µm; plus material positive; profile/helix values in the direction each section names (iso_direction)";
   iso["before"] = report::iso_json(r.iso_before);
   iso["after"] = report::iso_json(r.iso_after);
   iso["warnings"] = nlohmann::json::array();
@@ -81,19 +81,21 @@ void print_summary(const fs::path& dir, const pipeline::PipelineResult& r) {
 void register_report_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, measured, out;
+    workbench::IsoOptions iso;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("report", "Figures (PNG, rendered off-screen) and an offline index.html: topology, "
                                                "traces, pitch, machine errors, before/after, measured vs model, diagnosis");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
-  cmd->add_option("--measured", opt->measured, "Measurement (topology CSV or point cloud); default: the scene's measurement.measured");
+  cmd->add_option("--measured", opt->measured, "Measurement (topology or traces CSV, point cloud, Klingelnberg export); default: the scene's measurement.measured");
   cmd->add_option("--out", opt->out, "Output directory")->required()->check(non_empty_path());
+  add_iso_options(cmd, opt->iso);
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
       const fs::path dir(opt->out);
       output::OutputFolder folder(dir);
-      const auto r = pipeline::run_pipeline(wb, measured_of(wb, opt->measured));
+      const auto r = pipeline::run_pipeline(wb, measured_of(wb, opt->measured), opt->iso);
       write_data_files(dir, opt->scene, wb, r); // the page names them (corrections.csv, scene_with_effect.yaml …)
       const auto figs = report::write_report(dir, wb, r);
       std::cout << fmt::format("wrote {} figures and {}\n", figs.size(), (dir / "index.html").string());
@@ -107,6 +109,7 @@ void register_run_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, out, measured, teeth, method = "flank", simulation = "exact";
     double step = 2.0, noise = 0.0;
+    workbench::IsoOptions iso;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("run", "The main job: simulate, evaluate (ISO 1328-1), compensate, compare and diagnose "
@@ -126,6 +129,7 @@ void register_run_command(CLI::App& app, Action& action) {
   cmd->add_option("--step", opt->step, "Correction table spacing along each stroke, mm (default 2)")->check(finite_in(0.05, 50.0));
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ of the measurement, µm (default: estimated from the residual)")
       ->check(finite_in(0.0, 1000.0));
+  add_iso_options(cmd, opt->iso);
   CLI::Option* teeth = cmd->get_option("--teeth");
   cmd->callback([&action, opt, teeth] {
     const bool teeth_given = teeth->count() > 0;
@@ -140,6 +144,7 @@ void register_run_command(CLI::App& app, Action& action) {
       po.step_mm = opt->step;
       po.noise_um = opt->noise;
       po.measured_file = measured_of(wb, opt->measured);
+      po.iso = opt->iso;
       const fs::path dir(opt->out);
       output::OutputFolder folder(dir);
       if (!quiet()) std::cerr << "geartopo run: " << (wb.scene.name.empty() ? opt->scene : wb.scene.name) << "\n";

@@ -27,6 +27,7 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
                                             kMinPointsToEstimateNoise, pts.size()));
   Comparison c;
   c.model_um = predict(setup, model, pts, grinding::Method::Exact);
+  c.allowance_offset_um = mean_allowance_offset_um(setup.geometry());
   c.residual_um.resize(pts.size());
   for (size_t i = 0; i < pts.size(); ++i) c.residual_um[i] = pts[i].deviation_um - c.model_um[i];
   c.noise_estimated = noise_um <= 0.0;
@@ -108,6 +109,7 @@ std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const g
     if (warnings) warnings->insert(warnings->end(), res.warnings.begin(), res.warnings.end());
     return std::move(res.points);
   }
+  if (grinding::starts_like_traces_csv(in)) return read_traces_measurement(file, setup.geometry());
   if (surfaces::starts_like_point_cloud(in)) return read_point_cloud_measurement(file, setup.flanks());
   return read_measurement(file, setup.geometry());
 }

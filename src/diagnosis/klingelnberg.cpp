@@ -483,6 +483,7 @@ KlingelnbergPoints klingelnberg_points(const KlingelnbergFile& f, const gears::G
       p.deviation_um = factor * t.values_um[static_cast<size_t>(i)];
       p.line = t.value_lines[static_cast<size_t>(i)];
       out.points.push_back(p);
+      out.trace_of_point.push_back(static_cast<std::size_t>(&t - f.traces.data()));
     }
   }
   if (!f.skipped_blocks.empty())
@@ -497,6 +498,62 @@ KlingelnbergPoints klingelnberg_points(const KlingelnbergFile& f, const gears::G
   if (out.points.empty())
     fail(f.source, f.last_line, "Zahn-Nr.",
          fmt::format("nothing usable: {} profile/helix traces, no defined point on the active flank", f.traces.size()));
+  return out;
+}
+
+std::vector<grinding::FlankTopology> klingelnberg_traces(const KlingelnbergFile& f, const gears::GearGeometry& g,
+                                                         const KlingelnbergOptions& o, std::vector<std::string>* warnings) {
+  auto res = klingelnberg_points(f, g, o);
+  if (warnings) warnings->insert(warnings->end(), res.warnings.begin(), res.warnings.end());
+  // Points per trace, in file order.
+  std::map<std::size_t, std::vector<const MeasuredPoint*>> by_trace;
+  for (std::size_t i = 0; i < res.points.size(); ++i) by_trace[res.trace_of_point[i]].push_back(&res.points[i]);
+  const double mid_z = 0.5 * g.spec().face_width_mm;
+  const double mid_xi = 0.5 * (g.roll_length_at(g.root_form_diameter_mm()) + g.roll_length_at(g.tip_diameter_mm()));
+  // Per flank, the chosen trace of each kind: (topography?, distance from the middle) is the ranking, smaller wins.
+  struct Choice {
+    std::size_t trace = 0;
+    std::pair<bool, double> rank{true, std::numeric_limits<double>::infinity()};
+    bool found = false;
+  };
+  std::map<std::pair<int, int>, std::pair<Choice, Choice>> chosen; // (tooth, flank) → (profile, helix)
+  for (const auto& [ti, pts] : by_trace) {
+    if (pts.size() < 2) continue;
+    const auto& t = f.traces[ti];
+    const bool profile = t.kind == TraceKind::Profile;
+    const double distance = profile ? std::abs(pts.front()->z_mm - mid_z) : std::abs(pts.front()->roll_length_mm - mid_xi);
+    auto& c = profile ? chosen[{t.tooth, static_cast<int>(t.flank)}].first : chosen[{t.tooth, static_cast<int>(t.flank)}].second;
+    const std::pair<bool, double> rank{t.topography, distance};
+    if (!c.found || rank < c.rank) c = {ti, rank, true};
+  }
+  std::vector<grinding::FlankTopology> out;
+  std::vector<std::string> incomplete;
+  for (const auto& [key, pair] : chosen) {
+    if (!pair.first.found || !pair.second.found) {
+      incomplete.push_back(fmt::format("tooth {} {} (no {} trace)", key.first, to_string(static_cast<Flank>(key.second)),
+                                       pair.first.found ? "helix" : "profile"));
+      continue;
+    }
+    grinding::FlankTopology ft;
+    ft.tooth = key.first;
+    ft.flank = static_cast<Flank>(key.second);
+    for (const auto* c : {&pair.first, &pair.second}) {
+      auto& trace = c == &pair.first ? ft.profile : ft.helix;
+      for (const auto* p : by_trace.at(c->trace))
+        trace.push_back({p->roll_length_mm, p->diameter_mm, p->z_mm, p->deviation_um, p->line});
+      // The evaluator wants increasing positions: roll length for a profile, z for a helix (a range may run downwards).
+      const bool by_xi = c == &pair.first;
+      std::sort(trace.begin(), trace.end(), [by_xi](const auto& a, const auto& b) {
+        return by_xi ? a.roll_length_mm < b.roll_length_mm : a.z_mm < b.z_mm;
+      });
+    }
+    out.push_back(std::move(ft));
+  }
+  if (!incomplete.empty() && warnings)
+    warnings->push_back(fmt::format("{}: flanks without both a profile and a helix trace are not evaluated: {}", f.source,
+                                    fmt::join(incomplete, ", ")));
+  if (out.empty())
+    fail(f.source, f.last_line, "Zahn-Nr.", "no flank has both a profile and a helix trace: nothing to evaluate to ISO 1328-1");
   return out;
 }
 

@@ -41,4 +41,18 @@ std::vector<MeasuredPoint> read_measurement(const std::string& file, const gears
   return measured_points(grinding::read_topology_csv(std::filesystem::path(file), g.teeth()), g, file);
 }
 
+std::vector<MeasuredPoint> trace_points(const std::vector<grinding::FlankTopology>& traces, const gears::GearGeometry& g,
+                                        const std::string& source) {
+  // As topology rows without grid indices: one set of flank checks for every format.
+  std::vector<grinding::TopologyRow> rows;
+  for (const auto& ft : traces)
+    for (const auto* trace : {&ft.profile, &ft.helix})
+      for (const auto& p : *trace) rows.push_back({ft.tooth, ft.flank, 0, 0, p.diameter_mm, p.z_mm, p.deviation_um, p.line});
+  return measured_points(rows, g, source);
+}
+
+std::vector<MeasuredPoint> read_traces_measurement(const std::string& file, const gears::GearGeometry& g) {
+  return trace_points(grinding::read_traces_csv(std::filesystem::path(file), g.teeth()), g, file);
+}
+
 } // namespace geartopo::diagnosis

@@ -36,12 +36,67 @@ struct Worst {
   }
 };
 
+/// Scales every value of a trace evaluation (all are linear in the deviations).
+void scale(TraceDeviations& t, double k) {
+  t.total_um *= k;
+  t.form_um *= k;
+  t.slope_um *= k;
+  t.mean_line_mid_um *= k;
+  t.mean_line_slope_um_per_mm *= k;
+}
+
 } // namespace
+
+std::string_view to_string(IsoDirection d) { return d == IsoDirection::Transverse ? "transverse" : "normal"; }
+
+std::optional<IsoDirection> parse_iso_direction(std::string_view w) {
+  if (w == "transverse") return IsoDirection::Transverse;
+  if (w == "normal") return IsoDirection::Normal;
+  return std::nullopt;
+}
+
+std::string_view to_string(HelixSlopeSign s) {
+  return s == HelixSlopeSign::HelixAngle ? "helix-angle" : "rise-towards-plus-z";
+}
+
+std::optional<HelixSlopeSign> parse_helix_slope_sign(std::string_view w) {
+  if (w == "helix-angle") return HelixSlopeSign::HelixAngle;
+  if (w == "rise-towards-plus-z") return HelixSlopeSign::RiseTowardsPlusZ;
+  return std::nullopt;
+}
+
+std::string describe(const IsoConventions& c) {
+  const std::string dir = c.direction == IsoDirection::Transverse
+                              ? fmt::format("transverse (ISO 1328-1: profile ⟂ involute and helix along the base-circle "
+                                            "tangent, in the transverse plane; = normal / cos β_b = normal × {:.4f})",
+                                            reported_per_normal(c))
+                              : std::string("normal (along the flank normal)");
+  const std::string sign = c.helix_slope_sign == HelixSlopeSign::HelixAngle
+                               ? "f_Hβ > 0 when the actual helix angle is larger than designed"
+                               : "f_Hβ > 0 when material increases away from the datum face";
+  return "deviations " + dir + "; plus material positive; f_Hα > 0 when material increases towards the tip; " + sign;
+}
+
+double reported_per_normal(const IsoConventions& c) {
+  if (c.direction == IsoDirection::Normal) return 1.0;
+  const double cb = std::cos(c.base_helix_angle_rad);
+  if (!std::isfinite(cb) || !(cb > 0.0))
+    throw std::invalid_argument(fmt::format("base helix angle {} rad is not in (−π/2, π/2)", c.base_helix_angle_rad));
+  return 1.0 / cb;
+}
+
+double helix_slope_factor(const IsoConventions& c, Flank side) {
+  if (c.helix_slope_sign == HelixSlopeSign::RiseTowardsPlusZ) return 1.0;
+  const double hand = c.base_helix_angle_rad < 0.0 ? -1.0 : 1.0; // spur counts as right hand [M]
+  return hand * side_sign(side);
+}
 
 GearEvaluation evaluate_gear(const GearMeasurement& m, const GearParameters& p) {
   const int z = p.teeth;
   if (z < 1) throw std::invalid_argument(fmt::format("gear evaluation: {} teeth", z));
   GearEvaluation out;
+  out.conventions = m.conventions;
+  const double k_reported = reported_per_normal(m.conventions);
   Worst worst;
 
   // Flanks: traces.
@@ -64,6 +119,9 @@ GearEvaluation evaluate_gear(const GearMeasurement& m, const GearParameters& p) 
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(fmt::format("{} flank, helix: {}", flank_name(f.tooth, f.side), e.what()));
     }
+    scale(fe.profile, k_reported);
+    scale(fe.helix, k_reported);
+    fe.helix.slope_um *= helix_slope_factor(m.conventions, f.side);
     const int i = f.side == Flank::Right ? 1 : 0;
     sum_Ha[i] += fe.profile.slope_um;
     sum_Hb[i] += fe.helix.slope_um;

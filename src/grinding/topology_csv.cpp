@@ -201,7 +201,7 @@ std::vector<FlankTopology> read_traces_csv(std::istream& in, const std::string& 
     const bool profile = f[2].text == "profile";
     if (!profile && f[2].text != "helix") fail(src, lineno, f[2].column, "trace", fmt::format("'{}' is neither profile nor helix", excerpt(f[2].text)));
     TracePoint p{number(f[3], src, lineno, "roll_length_mm"), number(f[4], src, lineno, "diameter_mm"),
-                 number(f[5], src, lineno, "z_mm"), deviation(f[6], src, lineno)};
+                 number(f[5], src, lineno, "z_mm"), deviation(f[6], src, lineno), lineno};
     if (!(p.diameter_mm > 0.0)) fail(src, lineno, f[4].column, "diameter_mm", fmt::format("{} must be > 0", f[4].text));
     if (!(p.roll_length_mm >= 0.0)) fail(src, lineno, f[3].column, "roll_length_mm", fmt::format("{} must be >= 0", f[3].text));
     FlankTopology& ft = flanks[{tooth, static_cast<int>(*flank)}];
@@ -223,6 +223,20 @@ std::vector<FlankTopology> read_traces_csv(std::istream& in, const std::string& 
   std::vector<FlankTopology> out;
   for (auto& [key, ft] : flanks) out.push_back(std::move(ft));
   return out;
+}
+
+bool starts_like_traces_csv(std::istream& in) {
+  std::string line;
+  bool traces = false;
+  for (int lineno = 1; std::getline(in, line); ++lineno) {
+    line = clean_line(std::move(line), lineno);
+    if (line.empty() || line[0] == '#') continue;
+    traces = line == kTracesHeader;
+    break;
+  }
+  in.clear();
+  in.seekg(0);
+  return traces;
 }
 
 std::vector<FlankTopology> read_traces_csv(const std::filesystem::path& file, int teeth) {

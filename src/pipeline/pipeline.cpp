@@ -27,7 +27,7 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
 
   stage("simulate", flanks);
   r.before = grinding::simulate_topology(wb.setup, wb.process(), so);
-  r.iso_before = workbench::evaluate_iso(g, wb.setup.ranges(), r.before);
+  r.iso_before = workbench::evaluate_iso(g, wb.setup.ranges(), r.before, o.iso);
   stage("compensate", 0);
   compensation::CompensationOptions co;
   co.method = o.compensation;
@@ -37,7 +37,7 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
   const compensation::CompensatedProcess corrected(wb.process(), *r.corrections);
   stage("simulate compensated", flanks);
   r.after = grinding::simulate_topology(wb.setup, corrected, so);
-  r.iso_after = workbench::evaluate_iso(g, wb.setup.ranges(), r.after);
+  r.iso_after = workbench::evaluate_iso(g, wb.setup.ranges(), r.after, o.iso);
   r.largest_before_um = grinding::largest_abs_deviation_um(r.before);
   r.largest_after_um = grinding::largest_abs_deviation_um(r.after);
 
@@ -61,9 +61,11 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
   return r;
 }
 
-PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file) {
+PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file,
+                            const workbench::IsoOptions& iso) {
   PipelineOptions o;
   o.measured_file = measured_file;
+  o.iso = iso;
   return run_pipeline(wb, o);
 }
 

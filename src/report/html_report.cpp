@@ -74,8 +74,10 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
        ".box{background:#f6f8fa;border:1px solid #ccd;padding:.8em 1.2em}.note{color:#666;font-size:.9em}pre{background:#f6f6f6;"
        "padding:.6em;overflow-x:auto}</style></head><body>\n";
   h += "<h1>geartopo report — " + esc(wb.scene.name) + "</h1>\n";
-  h += "<p class=note>Deviations in µm along the flank normal, plus material positive; teeth numbered clockwise seen from "
-       "the datum face; ISO 1328-1:2013 flank tolerance classes. Every figure is a PNG in this folder.</p>\n";
+  h += "<p class=note>Deviations in µm, plus material positive: topology grids along the flank normal, ISO 1328-1 values " +
+       esc(evaluation::describe(r.iso_before.evaluation.conventions)) +
+       " (docs/iso1328.md); teeth numbered clockwise seen from the datum face; ISO 1328-1:2013 flank tolerance classes. "
+       "Every figure is a PNG in this folder.</p>\n";
 
   h += "<div class=box><h3>Summary</h3><ul>";
   const auto& cb = r.iso_before.evaluation.classification;

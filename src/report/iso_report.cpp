@@ -39,6 +39,9 @@ nlohmann::json iso_json(const IsoResult& res) {
   const auto& p = res.parameters;
   const bool refused = e.classification.refusal.has_value();
   nlohmann::json j;
+  j["iso_direction"] = std::string(evaluation::to_string(e.conventions.direction));
+  j["helix_slope_sign"] = std::string(evaluation::to_string(e.conventions.helix_slope_sign));
+  j["conventions"] = evaluation::describe(e.conventions);
 
   // Per-flank pitch values: f_p of the pitch that starts at this flank, its index deviation, and the runout of the
   // space that follows it (right flank) or precedes it (left flank).
@@ -120,7 +123,8 @@ nlohmann::json iso_json(const IsoResult& res) {
 
 std::string iso_table(const IsoResult& res) {
   const auto& e = res.evaluation;
-  std::string out = "ISO 1328-1:2013 — deviations in µm (plus material positive), class of each value\n";
+  std::string out = fmt::format("ISO 1328-1:2013 — deviations in µm, {} direction, class of each value\n  ({})\n",
+                                evaluation::to_string(e.conventions.direction), evaluation::describe(e.conventions));
   out += fmt::format("  {:>5} {:<5} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}\n", "tooth", "flank", "F_α", "f_fα", "f_Hα", "F_β",
                      "f_fβ", "f_Hβ");
   for (const auto& f : e.flanks)

@@ -1,3 +1,4 @@
+// geartopo — topologies into the ISO 1328-1 evaluator. Units: µm (deviations, along the normal in, as asked out), mm.
 #include "geartopo/workbench/iso_evaluation.hpp"
 
 #include <numbers>
@@ -23,9 +24,14 @@ evaluation::GearParameters gear_parameters(const gears::GearGeometry& g) {
   return {g.teeth(), g.reference_diameter_mm(), g.spec().normal_module_mm, g.spec().face_width_mm, g.spec().helix_angle_rad};
 }
 
+evaluation::IsoConventions iso_conventions(const gears::GearGeometry& g, const IsoOptions& o) {
+  return {o.direction, o.helix_slope_sign, g.base_helix_angle()};
+}
+
 evaluation::GearMeasurement gear_measurement(const gears::GearGeometry& g, const gears::EvaluationRanges& r,
-                                             const std::vector<grinding::FlankTopology>& topo) {
+                                             const std::vector<grinding::FlankTopology>& topo, const IsoOptions& o) {
   evaluation::GearMeasurement m;
+  m.conventions = iso_conventions(g, o);
   double d_m = 0.0;
   for (const auto& ft : topo) {
     evaluation::FlankMeasurement fm;
@@ -54,9 +60,9 @@ evaluation::GearMeasurement gear_measurement(const gears::GearGeometry& g, const
 }
 
 IsoResult evaluate_iso(const gears::GearGeometry& g, const gears::EvaluationRanges& r,
-                       const std::vector<grinding::FlankTopology>& topo) {
+                       const std::vector<grinding::FlankTopology>& topo, const IsoOptions& o) {
   IsoResult res{gear_parameters(g), {}};
-  res.evaluation = evaluation::evaluate_gear(gear_measurement(g, r, topo), res.parameters);
+  res.evaluation = evaluation::evaluate_gear(gear_measurement(g, r, topo, o), res.parameters);
   return res;
 }
 

@@ -254,6 +254,42 @@ TEST(Cli, EvaluateWritesIsoJsonAndMeasuredTracesGiveTheSameAnswer) {
   std::filesystem::remove_all(dir);
 }
 
+// ISO values in the standard's transverse direction by default, the normal one on request (docs/iso1328.md): every
+// trace value of the default gear (β = 30°, α_n = 20°) is 1/cos β_b = 1/cos(asin(sin 30° cos 20°)) = 1.1328 times the
+// normal one; the JSON says which. A traces CSV goes through compare as a measurement.
+TEST(Cli, EvaluateReportsItsIsoDirectionAndCompareTakesTraces) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_isodir");
+  ASSERT_EQ(run("simulate " + kScene + " --out " + (dir / "s").string() + " --method linear --teeth 1,18").code, 0);
+  const std::string traces = (dir / "s" / "traces.csv").string();
+  const CliResult t = run("evaluate " + kScene + " --out " + (dir / "t").string() + " --traces " + traces);
+  const CliResult n = run("evaluate " + kScene + " --out " + (dir / "n").string() + " --traces " + traces +
+                          " --iso-direction normal");
+  ASSERT_EQ(t.code, 0) << t.err;
+  ASSERT_EQ(n.code, 0) << n.err;
+  EXPECT_NE(t.out.find("transverse direction"), std::string::npos) << t.out;
+  EXPECT_NE(n.out.find("normal direction"), std::string::npos) << n.out;
+  std::ifstream it(dir / "t" / "iso1328.json"), in(dir / "n" / "iso1328.json");
+  const auto jt = nlohmann::json::parse(it), jn = nlohmann::json::parse(in);
+  EXPECT_EQ(jt["iso_direction"], "transverse");
+  EXPECT_EQ(jn["before"]["iso_direction"], "normal");
+  const double pi = std::acos(-1.0), k = 1.0 / std::cos(std::asin(std::sin(pi / 6) * std::cos(pi / 9)));
+  ASSERT_EQ(jt["before"]["flanks"].size(), 4u);
+  for (size_t i = 0; i < 4; ++i)
+    for (const char* key : {"F_alpha_um", "f_Halpha_um", "F_beta_um", "f_Hbeta_um"})
+      EXPECT_NEAR(jt["before"]["flanks"][i][key].get<double>(), k * jn["before"]["flanks"][i][key].get<double>(), 1e-9)
+          << i << key;
+  EXPECT_EQ(run("evaluate " + kScene + " --out " + (dir / "x").string() + " --iso-direction axial").code, 2);
+
+  const CliResult c = run("compare " + kScene + " --measured " + traces + " --out " + (dir / "c").string() + " --noise-um 0.5");
+  ASSERT_EQ(c.code, 0) << c.err;
+  EXPECT_NE(c.out.find("nominal flank at mean allowance +0.00 µm"), std::string::npos) << c.out;
+  std::ifstream ic(dir / "c" / "compare.json");
+  const auto jc = nlohmann::json::parse(ic);
+  EXPECT_GT(jc["points_without_grid_indices"].get<int>(), 0);
+  EXPECT_LT(jc["overall"]["rms_um"].get<double>(), 0.05); // linear traces against the exact model: a few nm
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Cli, CompensateWritesCorrectionsAndBeforeAfter) {
   const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_comp");
   const CliResult r = run("compensate " + kScene + " --out " + dir.string() + " --method flank --step 5");

@@ -36,6 +36,9 @@ GearMeasurement full_gear(const TestGear& g) {
       m.pitch_points.push_back({t, s, (t == 7 && s == Flank::Right) ? 1.0 : 0.0});
     }
   m.pitch_geometry = g.pitch_geometry();
+  // These tests are about means, availability and classes: the values as given (normal, rise towards +z). The
+  // direction and the sign rules have their own tests (test_iso_conventions.cpp).
+  m.conventions = {IsoDirection::Normal, HelixSlopeSign::RiseTowardsPlusZ, g.beta_b};
   return m;
 }
 

@@ -46,6 +46,9 @@ protected:
     f.helix = kind() == Kind::Helix ? t : flat(kHelixStart, kHelixEnd);
     GearMeasurement m;
     m.flanks.push_back(f);
+    // The trace's own values (normal, rise towards increasing position): direction and sign rules are tested in
+    // test_iso_conventions.cpp.
+    m.conventions = {IsoDirection::Normal, HelixSlopeSign::RiseTowardsPlusZ, scene_gear().beta_b};
     const GearEvaluation r = evaluate_gear(m, scene_gear().parameters());
     EXPECT_EQ(r.flanks.size(), 1u);
     EXPECT_EQ(r.flanks[0].side, side());

@@ -20,7 +20,8 @@
 namespace geartopo::diagnosis {
 
 struct Comparison {
-  std::vector<double> model_um, residual_um;             ///< per measured point
+  std::vector<double> model_um, residual_um;             ///< per measured point (model at the mean allowance)
+  double allowance_offset_um = 0.0;                      ///< the model's nominal flank: mean_allowance_offset_um
   double noise_um = 0.0;
   bool noise_estimated = false;
   std::vector<FlankResiduals> flanks;                    ///< one per measured flank (tooth, then left, right)
@@ -42,7 +43,7 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
 std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file, const gears::InvoluteHelicoid& flanks,
                                                         double max_offset_mm = 0.5);
 
-/// Topology CSV, point cloud or Klingelnberg export (read with `mka`), told apart by their content. Findings that are
+/// Topology CSV, traces CSV, point cloud or Klingelnberg export (read with `mka`), told apart by their content. Findings that are
 /// not errors (blocks a reader skipped, undefined points) go to `warnings` when given.
 std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
                                                 std::vector<std::string>* warnings = nullptr,

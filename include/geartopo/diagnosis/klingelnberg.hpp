@@ -87,6 +87,7 @@ bool looks_like_klingelnberg(std::istream& in);
 
 struct KlingelnbergPoints {
   std::vector<MeasuredPoint> points;
+  std::vector<std::size_t> trace_of_point; ///< per point: its trace, an index into KlingelnbergFile::traces
   std::vector<std::string> warnings; ///< skipped blocks, undefined and off-flank points, unchecked header values
 };
 
@@ -97,6 +98,15 @@ struct KlingelnbergPoints {
 /// left: InputError.
 KlingelnbergPoints klingelnberg_points(const KlingelnbergFile& file, const gears::GearGeometry& g,
                                        const KlingelnbergOptions& options = {});
+
+/// The export as one profile and one helix trace per flank, for the ISO 1328-1 evaluator (`geartopo evaluate
+/// --traces`): of each flank's profile traces the one nearest mid face width, of its helix traces the one nearest the
+/// middle of the active profile in roll length; Profil/Flankenlinie traces are preferred to TOPOGRAFIE lines.
+/// Deviations along the flank normal with the DIN sign, as klingelnberg_points. Flanks with only one kind are left
+/// out and named in `warnings`; no flank with both: InputError.
+std::vector<grinding::FlankTopology> klingelnberg_traces(const KlingelnbergFile& file, const gears::GearGeometry& g,
+                                                         const KlingelnbergOptions& options = {},
+                                                         std::vector<std::string>* warnings = nullptr);
 
 /// Writes topology rows (a full rows × cols grid per flank, evenly in roll length and in z as geartopo's grids are)
 /// as an export of TOPOGRAFIE profile traces, one per column, in the given convention: the inverse of the reader.

@@ -15,7 +15,7 @@ namespace geartopo::diagnosis {
 struct MeasuredPoint {
   int tooth = 1;
   geartopo::Flank flank = geartopo::Flank::Left;
-  int row = 0, col = 0;          ///< grid indices if the file has them (topology CSV), else 0
+  int row = 0, col = 0;          ///< grid indices if the file has them (topology CSV), else 0 (traces, clouds, exports)
   double roll_length_mm = 0.0;
   double diameter_mm = 0.0;
   double z_mm = 0.0;
@@ -30,5 +30,13 @@ std::vector<MeasuredPoint> measured_points(const std::vector<grinding::TopologyR
 
 /// The same for a whole topology file.
 std::vector<MeasuredPoint> read_measurement(const std::string& file, const gears::GearGeometry& g);
+
+/// Points of measured traces (profile and helix traces per flank, grinding/topology_csv.hpp) on the gear, in file
+/// order per flank, row = col = 0; the same checks as measured_points (a point off the flank names its line).
+std::vector<MeasuredPoint> trace_points(const std::vector<grinding::FlankTopology>& traces, const gears::GearGeometry& g,
+                                        const std::string& source);
+
+/// The same for a whole traces CSV file.
+std::vector<MeasuredPoint> read_traces_measurement(const std::string& file, const gears::GearGeometry& g);
 
 } // namespace geartopo::diagnosis

@@ -10,6 +10,16 @@
 
 namespace geartopo::diagnosis {
 
+/// The plus-material offset (µm, along the flank normal, the same on every flank) of the flank a gear is ground to at
+/// the mean of its normal tooth-thickness allowances, against the zero-allowance nominal flank (docs/conventions.md,
+/// "Nominal flank of a gear ground to an allowance"):
+///   Δn = (A_sne + A_sni)/2 · cos α_n / 2
+/// Negative for the usual negative allowances; 0 without allowances.
+double mean_allowance_offset_um(const gears::GearGeometry& g);
+
+/// The model's deviation at each point, referred to the nominal flank at the mean allowance: the simulated deviation
+/// from the zero-allowance flank plus mean_allowance_offset_um, so that a gear ground to its allowances compares
+/// without a constant offset.
 /// Exact: throws std::runtime_error naming the first point (in input order) the wheel never reaches.
 std::vector<double> predict(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
                             const std::vector<MeasuredPoint>& points, grinding::Method method, int threads = 0);

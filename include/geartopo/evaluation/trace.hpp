@@ -2,7 +2,8 @@
 // docs/iso1328.md for the rules, their sources and confidence labels).
 //
 // Units: positions in mm (roll length ξ for a profile trace, axial position z from the datum face for a helix
-// trace); deviations in µm, along the flank normal, plus material positive.
+// trace); deviations in µm, plus material positive, in whatever direction they are given (evaluate_gear passes the
+// normal deviations and scales the results to the reported direction).
 #pragma once
 
 #include "geartopo/core/flank.hpp"
@@ -44,9 +45,9 @@ struct TraceDeviations {
 /// densely any part of the range is sampled). Extremes are taken over the polyline's vertices, which is exact for a
 /// polyline.
 ///
-/// Slope sign (named rule "rise towards increasing position"): f_H > 0 when material increases towards the tip
-/// (profile: increasing ξ) or away from the datum face (helix: increasing z). The standard's own sign rule for f_Hβ
-/// could not be verified (docs/iso1328.md).
+/// Slope sign of one trace: f_H > 0 when material increases towards increasing position (profile: the tip; helix: away
+/// from the datum face). evaluate_gear turns the helix value into the standard's f_Hβ per flank and hand and scales
+/// every value to the reported direction (gear_evaluation.hpp, IsoConventions; docs/iso1328.md).
 ///
 /// Throws std::invalid_argument (with the reason) for: position/deviation size mismatch, non-finite values, positions
 /// not strictly increasing, an empty or non-finite range, a range not covered by the points (a shortfall up to

@@ -25,6 +25,7 @@ struct GridPoint {
 struct TracePoint {
   double roll_length_mm = 0.0, diameter_mm = 0.0, z_mm = 0.0;
   double deviation_um = 0.0;
+  int line = 0; ///< 1-based line in the traces file it was read from (0 when simulated)
 };
 
 struct FlankTopology {

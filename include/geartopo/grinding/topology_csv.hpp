@@ -57,6 +57,10 @@ std::vector<TopologyRow> read_topology_csv(const std::filesystem::path& file, in
 std::vector<FlankTopology> read_traces_csv(std::istream& in, const std::string& source, int teeth);
 std::vector<FlankTopology> read_traces_csv(const std::filesystem::path& file, int teeth);
 
+/// True when the first line that is neither blank nor a comment is the traces header (a UTF-8 byte-order mark and
+/// CRLF are allowed). Reads from the stream's start and rewinds it.
+bool starts_like_traces_csv(std::istream& in);
+
 /// Topology rows of simulated flanks (the 7×9 grid), for comparison and files.
 std::vector<TopologyRow> topology_rows(const std::vector<FlankTopology>& topo, GridKind kind = GridKind::Topology);
 

@@ -45,6 +45,8 @@ struct PipelineOptions {
   double step_mm = 2.0;                              ///< correction table spacing along each stroke
   double noise_um = 0.0;                             ///< probe noise σ of the measurement; 0: estimated
   std::string measured_file;                         ///< empty: no comparison or diagnosis
+  /// How the ISO 1328-1 values are reported (default: the standard's transverse direction, docs/iso1328.md).
+  workbench::IsoOptions iso;
   /// Told when a stage starts ("simulate", "compensate", "simulate compensated", "compare", "diagnose"), with the
   /// stage's size in flanks (0 when it has no flank count); for progress display only.
   std::function<void(const std::string& stage, long long flanks)> stage;
@@ -54,8 +56,9 @@ struct PipelineOptions {
 
 PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOptions& options);
 
-/// The defaults with a measurement (the report command).
-PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file);
+/// The defaults with a measurement and ISO options (the report command).
+PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file,
+                            const workbench::IsoOptions& iso = {});
 
 /// "7×9": the topological grid's rows × columns as simulated (the scene's measurement.rows, cols).
 std::string grid_label(const PipelineResult& r);

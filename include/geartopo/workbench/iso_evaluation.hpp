@@ -15,15 +15,26 @@ namespace geartopo::workbench {
 
 evaluation::GearParameters gear_parameters(const gears::GearGeometry& g);
 
+/// How ISO values are reported (docs/iso1328.md): the direction and the f_Hβ sign rule; β_b comes from the gear.
+struct IsoOptions {
+  evaluation::IsoDirection direction = evaluation::IsoDirection::Transverse;
+  evaluation::HelixSlopeSign helix_slope_sign = evaluation::HelixSlopeSign::HelixAngle;
+};
+
+/// The conventions of `o` for this gear (β_b signed by hand).
+evaluation::IsoConventions iso_conventions(const gears::GearGeometry& g, const IsoOptions& o);
+
+/// The evaluator's input: topology deviations are along the flank normal; `o` says how they are to be reported.
 evaluation::GearMeasurement gear_measurement(const gears::GearGeometry& g, const gears::EvaluationRanges& r,
-                                             const std::vector<grinding::FlankTopology>& topo);
+                                             const std::vector<grinding::FlankTopology>& topo, const IsoOptions& o = {});
 
 struct IsoResult {
   evaluation::GearParameters parameters;
   evaluation::GearEvaluation evaluation;
 };
 
+/// ISO 1328-1 values of the flanks, by default in the standard's (transverse) direction and sign rules.
 IsoResult evaluate_iso(const gears::GearGeometry& g, const gears::EvaluationRanges& r,
-                       const std::vector<grinding::FlankTopology>& topo);
+                       const std::vector<grinding::FlankTopology>& topo, const IsoOptions& o = {});
 
 } // namespace geartopo::workbench
