@@ -3,6 +3,7 @@
 #include "effect_fit.hpp"
 #include "setup_terms.hpp"
 
+#include "geartopo/core/flank.hpp"
 #include "geartopo/core/statistics.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/effects/effects_process.hpp"
@@ -36,6 +37,24 @@ void check_options(const DiagnoseOptions& o) {
   if (o.profile_walk_steps < 0) refuse("profile_walk_steps", o.profile_walk_steps, "≥ 0");
   if (!(std::isfinite(o.profile_min_step) && o.profile_min_step > 0.0))
     refuse("profile_min_step", o.profile_min_step, "finite and > 0");
+}
+
+/// The recommendation in words: the best few teeth with their expected separation and where on them it is largest.
+std::string plan_sentence(const MeasurementPlan& plan, std::size_t named) {
+  if (plan.teeth.empty()) return "Every tooth is measured already; more rows or columns per flank would be needed.";
+  std::string teeth;
+  for (size_t k = 0; k < std::min(named, plan.teeth.size()); ++k) {
+    const auto& t = plan.teeth[k];
+    teeth += fmt::format("{}tooth {} ({:.1f}σ; largest {:.2f} µm on its {} flank, row {}, column {})", k ? ", " : "",
+                         t.tooth, t.separation_sigma, t.max_difference_um, t.flank == Flank::Left ? "left" : "right",
+                         t.row, t.col);
+  }
+  const auto best = [](const std::vector<double>& v) {
+    return static_cast<int>(std::max_element(v.begin(), v.end()) - v.begin()) + 1;
+  };
+  return fmt::format("To decide, measure {} — expected separation in units of the {:.2f} µm noise; the profile row "
+                     "{} and face-width column {} carry most of it over the unmeasured teeth.",
+                     teeth, plan.noise_um, best(plan.row_separation_sigma), best(plan.col_separation_sigma));
 }
 
 } // namespace
@@ -109,6 +128,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   }
 
   std::map<std::string, std::vector<double>> fitted_values;
+  std::vector<Candidate> pairs; // every pair fitted, taken or not
   for (const auto& t : types) {
     Candidate c = fit_effects(setup, pts, d.residual_before_um, {t}, {}, setup_terms, o);
     c.significant = c.delta_bic < -o.bic_threshold && c.rejected.empty();
@@ -140,9 +160,42 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     for (size_t b = 1; b < top.size(); ++b) {
       Candidate c = fit_effects(setup, pts, d.residual_before_um, {top[0], top[b]}, fitted_values, setup_terms, o);
       c.significant = c.delta_bic < d.ranked.front().delta_bic - o.bic_threshold && c.rejected.empty();
+      pairs.push_back(c);
       if (c.significant && (!d.combination || c.delta_bic < d.combination->delta_bic)) d.combination = std::move(c);
     }
     if (d.combination) d.chosen = d.combination;
+  }
+
+  // Ambiguity: a plausible explanation whose ΔBIC is within the threshold of the chosen one's is not told apart from it
+  // by these data (the same rule that makes an effect significant against none). The verdict names both and the plan
+  // says where they part.
+  // A nested explanation (the chosen effect with one more, or the chosen pair's half) is a rival only when it is the
+  // better fit without being better by the threshold: a worse superset is just the chosen one plus a partner the data do
+  // not ask for, and the smaller half of a taken pair lost by the threshold already.
+  if (d.chosen) {
+    const auto nested = [&](const Candidate& c) {
+      for (const auto& small : {c.effects, d.chosen->effects})
+        for (const auto& big : {c.effects, d.chosen->effects})
+          if (small.size() < big.size() &&
+              std::all_of(small.begin(), small.end(), [&](const scene::EffectSpec& e) {
+                return std::any_of(big.begin(), big.end(), [&](const scene::EffectSpec& f) { return f.type == e.type; });
+              }))
+            return true;
+      return false;
+    };
+    const auto rival = [&](const Candidate& c) {
+      if (!c.rejected.empty() || c.name() == d.chosen->name() || c.delta_bic >= -o.bic_threshold) return false;
+      if (nested(c)) return c.effects.size() > d.chosen->effects.size() && c.delta_bic < d.chosen->delta_bic;
+      return c.delta_bic < d.chosen->delta_bic + o.bic_threshold;
+    };
+    for (const auto& c : d.ranked)
+      if (rival(c)) d.rivals.push_back(c);
+    for (const auto& c : pairs)
+      if (rival(c)) d.rivals.push_back(c);
+    std::stable_sort(d.rivals.begin(), d.rivals.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.delta_bic < b.delta_bic; });
+    if (!d.rivals.empty())
+      d.plan = plan_measurement(setup, pts, d.residual_before_um, *d.chosen, d.rivals.front(), d.noise_um, o);
   }
 
   // The residual with the chosen effects, by the exact simulation, and the set-up terms that go with it.
@@ -181,10 +234,19 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
                             d.ranked.empty() ? 0.0 : d.ranked.front().delta_bic, d.rms_before_setup_um, d.noise_um);
 
   } else {
-    d.verdict = setup_text +
-                fmt::format("Missing: {}. Adding it takes the residual (set-up removed) from {:.2f} to {:.2f} µm RMS "
+    std::string names = d.chosen->name();
+    for (const auto& r : d.rivals) names += " and " + r.name();
+    if (!d.rivals.empty())
+      d.verdict = setup_text +
+                  fmt::format("Ambiguous between {} (ΔBIC {:.1f} vs {:.1f}, within {:g}): these data cannot tell them "
+                              "apart. {} ",
+                              names, d.chosen->delta_bic, d.rivals.front().delta_bic, o.bic_threshold,
+                              d.plan ? plan_sentence(*d.plan, o.plan_teeth_named) : "");
+    d.verdict += (d.rivals.empty() ? setup_text : std::string()) +
+                fmt::format("{}: {}. Adding it takes the residual (set-up removed) from {:.2f} to {:.2f} µm RMS "
                             "(noise {:.2f} µm{}).",
-                            d.chosen->name(), d.rms_before_setup_um, rms_after, d.noise_um,
+                            d.rivals.empty() ? "Missing" : "Best of them", d.chosen->name(), d.rms_before_setup_um,
+                            rms_after, d.noise_um,
                             d.noise_estimated ? ", estimated" : "");
     // Partly unexplained when what is left is not noise: Σ r²/σ² beyond the χ² quantile of its degrees of freedom at
     // the false-alarm probability (unit-free).
