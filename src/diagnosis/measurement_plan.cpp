@@ -110,6 +110,13 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
   std::stable_sort(plan.teeth.begin(), plan.teeth.end(), [](const ToothSuggestion& x, const ToothSuggestion& y) {
     return x.separation_sigma > y.separation_sigma;
   });
+  double chi2 = 0.0;
+  for (const auto& t : plan.teeth) {
+    if (std::sqrt(chi2) >= o.plan_target_sigma) break;
+    plan.recommended_teeth.push_back(t.tooth);
+    chi2 += t.separation_sigma * t.separation_sigma;
+  }
+  plan.recommended_separation_sigma = std::sqrt(chi2);
   return plan;
 }
 
