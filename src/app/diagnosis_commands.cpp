@@ -127,6 +127,8 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       j["rivals"] = rivals;
       j["plan"] = d.plan ? measurement_plan_json(*d.plan) : nlohmann::json(nullptr);
       j["assumed"] = d.assumed; // set-up values not fitted and not given: the effect's default
+      // scene_with_effect.yaml is written only for an accepted explanation; otherwise why not.
+      j["scene_with_effect_withheld"] = d.withheld.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.withheld);
       j["verdict"] = d.verdict;
 
       const std::filesystem::path out(opt->out);
@@ -148,7 +150,10 @@ void register_diagnose_command(CLI::App& app, Action& action) {
         std::cout << fmt::format("  combination: {} (ΔBIC {:.1f}, RMS after {:.2f} µm)\n", d.combination->name(),
                                  d.combination->delta_bic, d.combination->rms_after_um);
       std::cout << d.verdict << "\n";
-      if (d.chosen) {
+      if (d.chosen && !d.withheld.empty()) {
+        std::cout << "scene_with_effect.yaml not written: " << d.withheld << "\n";
+        std::cout << "wrote " << (out / "diagnosis.json").string() << "\n";
+      } else if (d.chosen) {
         std::vector<std::string> comments;
         for (const auto& e : d.chosen->effects)
           comments.push_back(fmt::format("{}: identified by geartopo diagnose from {} (ΔBIC {:.1f})", e.type,

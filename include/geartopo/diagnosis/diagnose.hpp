@@ -144,6 +144,10 @@ struct Diagnosis {
   /// interval, a runout frequency): the effect's default was assumed. One line each, e.g. "deflection.arbor_span_mm =
   /// 600 (assumed: the effect's default; the scene gives none and the flanks cannot identify it)".
   std::vector<std::string> assumed;
+  /// Why `chosen` is not to be added to the scene (scene_with_effect.yaml is then not written): ambiguous, or a fitted
+  /// parameter at the end of its allowed range (the fit pushed against its box: the value is no measurement). Empty:
+  /// accepted, add it.
+  std::string withheld;
   /// Per point (µm): measured − model as measured; after: measured − model with `chosen` (exact simulation) with the
   /// set-up terms removed.
   std::vector<double> residual_before_um, residual_after_um;
