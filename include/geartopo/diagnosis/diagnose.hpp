@@ -9,7 +9,9 @@
 // registration: SetupTerms), which are reported on their own and never credited to an effect. Candidates are ranked
 // by ΔBIC; an effect is significant when ΔBIC < −threshold. When two or more are significant, pairs are fitted
 // jointly and one is taken when it beats the best single effect by the threshold again. What is left is judged
-// against the noise by a χ² test. Units: µm, and each parameter's own unit (its key).
+// against the noise by two χ² tests (all of it; its smooth part per flank). Explanations within the threshold of the
+// chosen one are rivals: the verdict says "ambiguous" and a measurement plan names the unmeasured teeth where they
+// differ most, in units of the noise. Units: µm, and each parameter's own unit (its key).
 #pragma once
 
 #include "geartopo/diagnosis/measured_points.hpp"
@@ -99,9 +101,11 @@ struct DiagnoseOptions {
   /// degrees of freedom at this upper-tail probability (unit-free): the verdict then says part of the residual
   /// remains unexplained. 0.001: one false "unexplained" in a thousand pure-noise measurements.
   double unexplained_false_alarm = 1e-3;
-  /// Single effects taken into pairs (count): whenever one is significant, the best with each of the next ones the
-  /// evidence favours (ΔBIC below −threshold, also those rejected alone as implausible), up to this many in all. 4 (three pairs): each joint fit costs as much as several single fits, and an effect ranked below fourth has
-  /// not explained enough alone to be the needed partner.
+  /// Single effects taken into pairs (count): whenever one is significant, every pair among the best ones the evidence
+  /// favours (ΔBIC below −threshold, also those rejected alone as implausible), up to this many. 4 (six pairs): each
+  /// joint fit costs as much as several single fits, and an effect ranked below fourth has not explained enough alone
+  /// to be a needed partner. Every pair, not only the best with the others: a stand-in ranked first (thermal drift
+  /// mimicking wear) would otherwise keep the true pair (wear + eccentricity) from ever being fitted.
   std::size_t pair_candidates = 4;
   /// Ridge added to the diagonal of JᵀJ before inverting it for the covariance, relative to max(1, trace) (unit-free,
   /// parameters scaled by their typical size). 1e-12: negligible for identifiable parameters, but a direction the data
