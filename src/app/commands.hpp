@@ -26,6 +26,8 @@ void register_compensate_command(CLI::App& app, Action& action);
 void register_synth_command(CLI::App& app, Action& action);
 /// `geartopo diagnose SCENE --measured FILE --out DIR [--noise-um S] [--candidates a,b]`
 void register_diagnose_command(CLI::App& app, Action& action);
+/// `geartopo plan SCENE --measured FILE [--out DIR] [--noise-um S]` — what to measure next when ambiguous
+void register_plan_command(CLI::App& app, Action& action);
 /// `geartopo compare SCENE --measured FILE --out DIR [--noise-um S]`
 void register_compare_command(CLI::App& app, Action& action);
 /// `geartopo report SCENE [--measured FILE] --out DIR`

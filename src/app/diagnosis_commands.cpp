@@ -2,6 +2,7 @@
 #include "app/commands.hpp"
 #include "geartopo/core/atomic_file.hpp"
 #include "app/options.hpp"
+#include "app/plan_json.hpp"
 
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
@@ -22,33 +23,6 @@
 #include <sstream>
 
 namespace geartopo::app {
-namespace {
-
-nlohmann::json candidate_json(const diagnosis::Candidate& c) {
-  nlohmann::json j;
-  j["effect"] = c.name();
-  nlohmann::json params = nlohmann::json::object();
-  for (size_t e = 0; e < c.effects.size(); ++e)
-    for (const auto& p : c.parameters[e]) {
-      const auto us = p.key.rfind('_');
-      const std::string key = c.effects.size() > 1 ? c.effects[e].type + "." + p.key : p.key;
-      params[key] = {{"value", p.value},
-                     {"uncertainty", p.fitted ? nlohmann::json(p.uncertainty) : nlohmann::json(nullptr)},
-                     {"unit", us == std::string::npos ? "" : p.key.substr(us + 1)},
-                     {"fitted", p.fitted}};
-    }
-  j["parameters"] = params;
-  j["explained_fraction"] = c.explained_fraction;
-  j["rejected"] = c.rejected.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.rejected);
-  j["rms_before_um"] = c.rms_before_um;
-  j["rms_after_um"] = c.rms_after_um;
-  j["delta_bic"] = c.delta_bic;
-  j["significant"] = c.significant;
-  j["explanation"] = c.explanations;
-  return j;
-}
-
-} // namespace
 
 void register_synth_command(CLI::App& app, Action& action) {
   struct Options {
@@ -153,6 +127,15 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       j["candidates"] = cands;
       j["combination"] = d.combination ? candidate_json(*d.combination) : nlohmann::json(nullptr);
       j["chosen"] = d.chosen ? candidate_json(*d.chosen) : nlohmann::json(nullptr);
+      // Within the ΔBIC threshold of the chosen one: the verdict says "ambiguous" and the plan what to measure next.
+      j["ambiguous"] = !d.rivals.empty();
+      nlohmann::json rivals = nlohmann::json::array();
+      for (const auto& r : d.rivals) rivals.push_back(candidate_json(r));
+      j["rivals"] = rivals;
+      j["plan"] = d.plan ? measurement_plan_json(*d.plan) : nlohmann::json(nullptr);
+      j["assumed"] = d.assumed; // set-up values not fitted and not given: the effect's default
+      // scene_with_effect.yaml is written only for an accepted explanation; otherwise why not.
+      j["scene_with_effect_withheld"] = d.withheld.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.withheld);
       j["verdict"] = d.verdict;
 
       const std::filesystem::path out(opt->out);
@@ -176,7 +159,10 @@ void register_diagnose_command(CLI::App& app, Action& action) {
         std::cout << fmt::format("  combination: {} (ΔBIC {:.1f}, RMS after {:.2f} µm)\n", d.combination->name(),
                                  d.combination->delta_bic, d.combination->rms_after_um);
       std::cout << d.verdict << "\n";
-      if (d.chosen) {
+      if (d.chosen && !d.withheld.empty()) {
+        std::cout << "scene_with_effect.yaml not written: " << d.withheld << "\n";
+        std::cout << "wrote " << (out / "diagnosis.json").string() << "\n";
+      } else if (d.chosen) {
         std::vector<std::string> comments;
         for (const auto& e : d.chosen->effects)
           comments.push_back(fmt::format("{}: identified by geartopo diagnose from {} (ΔBIC {:.1f})", e.type,

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   geartopo::app::register_synth_command(app, action);
   geartopo::app::register_compare_command(app, action);
   geartopo::app::register_diagnose_command(app, action);
+  geartopo::app::register_plan_command(app, action);
   geartopo::app::register_report_command(app, action);
 
   try {

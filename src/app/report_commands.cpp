@@ -46,7 +46,8 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
     iso["warnings"].push_back(worse);
   }
   output::write_text_atomically(dir / "iso1328.json", iso.dump(2) + "\n");
-  if (r.measurement && r.measurement->diagnosis.chosen) {
+  // Only an accepted explanation is added (docs/diagnosis.md: not ambiguous, no value at the end of its range).
+  if (r.measurement && r.measurement->diagnosis.chosen && r.measurement->diagnosis.withheld.empty()) {
     std::vector<std::string> comments;
     for (const auto& e : r.measurement->diagnosis.chosen->effects)
       comments.push_back(e.type + ": identified by geartopo from " + r.measurement->file);

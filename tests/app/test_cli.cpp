@@ -310,6 +310,31 @@ TEST(Cli, CompensateWritesCorrectionsAndBeforeAfter) {
   EXPECT_EQ(run("compensate " + kScene + " --out " + dir.string() + " --step 0").code, 2);
 }
 
+// Issue 14: the truth scene's thermal drift at 1.5 µm noise on teeth 1 and 18 cannot be told from wheel wear; `plan`
+// says so and names teeth to measure (truth: the ΔBIC gap is within 10, and the plan's teeth are not measured ones).
+TEST(Cli, PlanNamesTheTeethThatSeparateAmbiguousExplanations) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_plan");
+  std::filesystem::create_directories(dir);
+  const std::string truth = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/truth-skmc1200w-mn14-z35.yaml";
+  const std::string measured = (dir / "m.csv").string();
+  ASSERT_EQ(run("synth " + truth + " --out " + measured + " --teeth 1,18 --noise-um 1.5 --seed 3").code, 0);
+  const CliResult plan = run("plan " + kScene + " --measured " + measured + " --noise-um 1.5 --out " + (dir / "p").string());
+  ASSERT_EQ(plan.code, 0) << plan.err;
+  std::ifstream pj(dir / "p" / "plan.json");
+  const auto p = nlohmann::json::parse(pj);
+  ASSERT_TRUE(p["ambiguous"].get<bool>()) << p["verdict"];
+  const auto& between = p["plan"]["between"];
+  EXPECT_TRUE(between[0] == "thermal_drift" || between[1] == "thermal_drift") << between;
+  EXPECT_LT(p["plan"]["delta_bic_gap"].get<double>(), 10.0);
+  ASSERT_FALSE(p["plan"]["recommended_teeth"].empty());
+  for (int tooth : p["plan"]["recommended_teeth"].get<std::vector<int>>()) {
+    EXPECT_NE(tooth, 1);
+    EXPECT_NE(tooth, 18);
+  }
+  EXPECT_NE(plan.out.find("Measure teeth"), std::string::npos) << plan.out;
+  std::filesystem::remove_all(dir);
+}
+
 // The story users care about: measure a truth scene with a hidden effect, compare, diagnose, add it, compare again.
 TEST(Cli, SynthCompareDiagnoseAndTheErrorFalls) {
   const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_story");
@@ -332,6 +357,13 @@ TEST(Cli, SynthCompareDiagnoseAndTheErrorFalls) {
   for (const char* key : {"effect", "parameters", "explained_fraction", "rms_before_um", "rms_after_um"})
     EXPECT_TRUE(d["candidates"][0].contains(key)) << key;
   EXPECT_EQ(d["candidates"][0]["parameters"]["x_growth_um"]["unit"], "um");
+  for (const auto& c : d["candidates"]) // the unit is everything from the first unit token: µm per stroke, not "stroke"
+    if (c["effect"] == "wheel_wear") {
+      EXPECT_EQ(c["parameters"]["wear_um_per_stroke"]["unit"], "um_per_stroke");
+    }
+  for (const char* key : {"ambiguous", "rivals", "plan", "assumed", "scene_with_effect_withheld"})
+    EXPECT_TRUE(d.contains(key)) << key;
+  EXPECT_FALSE(d["ambiguous"].get<bool>()) << d["verdict"];
   for (const char* key : {"thickness_um", "thickness_sd_um", "rotation_urad", "rotation_sd_urad", "rotation_identified"})
     EXPECT_TRUE(d["setup"].contains(key)) << key;
 

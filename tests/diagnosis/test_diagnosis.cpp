@@ -173,6 +173,18 @@ TEST(Diagnosis, AnEffectFarBeyondItsPlausibleRangeIsRejectedNotNamed) {
   EXPECT_NE(d.verdict.find("plausible range"), std::string::npos) << d.verdict;
 }
 
+// Issue 14: a set-up value the flanks cannot identify (the arbor span: ParameterSpec::fitted false) is the effect's
+// default (600 mm, its documented default) when the scene gives none — said in the verdict and listed, never silent.
+TEST(Diagnosis, AssumedSetUpValuesAreSaid) {
+  const auto d = run(measure({spec("deflection", {{"deflection_um", 6.0}})}, 34));
+  ASSERT_TRUE(d.chosen.has_value()) << d.verdict;
+  ASSERT_EQ(d.chosen->name(), "deflection") << d.verdict;
+  ASSERT_EQ(d.assumed.size(), 1u) << d.verdict;
+  EXPECT_EQ(d.assumed.front().rfind("deflection.arbor_span_mm = 600 (assumed", 0), 0u) << d.assumed.front();
+  EXPECT_NE(d.verdict.find("Set-up values assumed, not measured: deflection.arbor_span_mm = 600"), std::string::npos)
+      << d.verdict;
+}
+
 TEST(Diagnosis, NoHiddenEffectMeansNothingSignificant) {
   const auto d = run(measure({}, 21));
   for (const auto& c : d.ranked) EXPECT_FALSE(c.significant) << c.name() << " ΔBIC " << c.delta_bic;

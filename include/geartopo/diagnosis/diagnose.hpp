@@ -9,7 +9,9 @@
 // registration: SetupTerms), which are reported on their own and never credited to an effect. Candidates are ranked
 // by ΔBIC; an effect is significant when ΔBIC < −threshold. When two or more are significant, pairs are fitted
 // jointly and one is taken when it beats the best single effect by the threshold again. What is left is judged
-// against the noise by a χ² test. Units: µm, and each parameter's own unit (its key).
+// against the noise by two χ² tests (all of it; its smooth part per flank). Explanations within the threshold of the
+// chosen one are rivals: the verdict says "ambiguous" and a measurement plan names the unmeasured teeth where they
+// differ most, in units of the noise. Units: µm, and each parameter's own unit (its key).
 #pragma once
 
 #include "geartopo/diagnosis/measured_points.hpp"
@@ -54,6 +56,35 @@ struct Candidate {
   std::string name() const;        ///< "thermal_drift" or "thermal_drift + wheel_wear"
 };
 
+/// One unmeasured tooth as a place to measure next: how far apart two competing explanations predict it
+/// (docs/diagnosis.md, "Ambiguity and what to measure next").
+struct ToothSuggestion {
+  int tooth = 0;
+  /// Expected separation in noise units: √(Σ Δ²)/σ over the tooth's grid (both flanks, rows × cols), Δ the difference
+  /// of the two explanations' predictions (effects and their set-up terms). Its square is the χ² by which measuring the
+  /// tooth would tell them apart, before both are refitted.
+  double separation_sigma = 0.0;
+  double max_difference_um = 0.0; ///< largest |Δ| on the tooth (µm)
+  Flank flank = Flank::Left;      ///< where that largest |Δ| is: flank, grid row (1 root … rows tip), column (1 … cols
+  int row = 0, col = 0;           ///< along the face width)
+};
+
+/// What to measure to tell two explanations apart, whose ΔBIC are within the threshold of each other.
+struct MeasurementPlan {
+  std::string first, second;         ///< Candidate::name() of the best and its rival ("none": no effect)
+  double delta_bic_gap = 0.0;        ///< ΔBIC(second) − ΔBIC(first), ≥ 0 and < the threshold (unit-free)
+  double noise_um = 0.0;             ///< σ the separations are counted in (µm)
+  int rows = 0, cols = 0;            ///< the grid of every tooth and flank (ISO evaluation ranges, as `simulate`)
+  std::vector<ToothSuggestion> teeth; ///< every unmeasured tooth, largest separation first
+  /// The recommendation: the fewest of `teeth` (best first) whose combined separation √(Σ separation²) reaches
+  /// DiagnoseOptions::plan_target_sigma (all of them when none does), and that combined separation (noise units).
+  std::vector<int> recommended_teeth;
+  double recommended_separation_sigma = 0.0;
+  /// Separation (noise units) by grid row (profile position) and column (face-width position), over all unmeasured
+  /// teeth and both flanks: which profile row / helix column of a scan carries the difference.
+  std::vector<double> row_separation_sigma, col_separation_sigma;
+};
+
 /// What diagnose does and when; the defaults are the documented behaviour (docs/diagnosis.md).
 struct DiagnoseOptions {
   double noise_um = 0.0;            ///< probe noise σ (µm); ≤ 0: estimated from the residual (quadratic surface per flank)
@@ -70,9 +101,11 @@ struct DiagnoseOptions {
   /// degrees of freedom at this upper-tail probability (unit-free): the verdict then says part of the residual
   /// remains unexplained. 0.001: one false "unexplained" in a thousand pure-noise measurements.
   double unexplained_false_alarm = 1e-3;
-  /// Single effects taken into pairs (count): whenever one is significant, the best with each of the next ones the
-  /// evidence favours (ΔBIC below −threshold, also those rejected alone as implausible), up to this many in all. 4 (three pairs): each joint fit costs as much as several single fits, and an effect ranked below fourth has
-  /// not explained enough alone to be the needed partner.
+  /// Single effects taken into pairs (count): whenever one is significant, every pair among the best ones the evidence
+  /// favours (ΔBIC below −threshold, also those rejected alone as implausible), up to this many. 4 (six pairs): each
+  /// joint fit costs as much as several single fits, and an effect ranked below fourth has not explained enough alone
+  /// to be a needed partner. Every pair, not only the best with the others: a stand-in ranked first (thermal drift
+  /// mimicking wear) would otherwise keep the true pair (wear + eccentricity) from ever being fitted.
   std::size_t pair_candidates = 4;
   /// Ridge added to the diagonal of JᵀJ before inverting it for the covariance, relative to max(1, trace) (unit-free,
   /// parameters scaled by their typical size). 1e-12: negligible for identifiable parameters, but a direction the data
@@ -81,6 +114,16 @@ struct DiagnoseOptions {
   /// Profile-likelihood walk of a nonlinear parameter: the largest number of steps on each side (count), the step
   /// doubling from the linearised σ. 8 steps reach 2⁷ = 128 σ, beyond which the bound is a box limit anyway.
   int profile_walk_steps = 8;
+  /// Grid of the measurement plan on every unmeasured tooth and flank (count): rows along the profile, columns along
+  /// the face width — the simulator's default topological grid (docs/grinding.md).
+  int plan_rows = 7, plan_cols = 9;
+  /// Expected separation (noise units) the recommended teeth must reach together. Both explanations are refitted on
+  /// the new teeth, which absorbs part of the predicted difference, and the ΔBIC gap must then exceed bic_threshold
+  /// (a χ² of about 2·10): 8σ (χ² 64) leaves room for that. Too few teeth at 1.5 µm noise left thermal drift vs wear
+  /// undecided in the independent hidden-effect tests.
+  double plan_target_sigma = 8.0;
+  /// Teeth described one by one in the verdict (count): the best few; the plan lists them all.
+  std::size_t plan_teeth_named = 3;
   /// Smallest first step of that walk (unit-free, in units of the parameter's typical size): a parameter whose
   /// linearised σ is 0 still moves.
   double profile_min_step = 1e-6;
@@ -96,6 +139,19 @@ struct Diagnosis {
   std::vector<Candidate> ranked;       ///< single effects, best ΔBIC first
   std::optional<Candidate> combination; ///< a significant pair, when one effect leaves too much
   std::optional<Candidate> chosen;      ///< what to add: the combination, else the best significant single effect
+  /// Explanations (single effects or pairs, plausible) whose ΔBIC lies within the threshold of the chosen one's (or, when
+  /// nothing is chosen, significant ones): the data cannot tell them from `chosen`. Non-empty: the verdict says
+  /// "ambiguous between …", `chosen` is only the best of them and the plan says what to measure to decide.
+  std::vector<Candidate> rivals;
+  std::optional<MeasurementPlan> plan;  ///< between `chosen` and the best rival, when there is one
+  /// Set-up values the named explanations need and nobody gave (ParameterSpec::fitted false: an arbor span, a dressing
+  /// interval, a runout frequency): the effect's default was assumed. One line each, e.g. "deflection.arbor_span_mm =
+  /// 600 (assumed: the effect's default; the scene gives none and the flanks cannot identify it)".
+  std::vector<std::string> assumed;
+  /// Why `chosen` is not to be added to the scene (scene_with_effect.yaml is then not written): ambiguous, or a fitted
+  /// parameter at the end of its allowed range (the fit pushed against its box: the value is no measurement). Empty:
+  /// accepted, add it.
+  std::string withheld;
   /// Per point (µm): measured − model as measured; after: measured − model with `chosen` (exact simulation) with the
   /// set-up terms removed.
   std::vector<double> residual_before_um, residual_after_um;
@@ -106,6 +162,13 @@ struct Diagnosis {
 Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
                    const std::vector<MeasuredPoint>& points, const std::vector<std::string>& in_scene,
                    const DiagnoseOptions& options);
+
+/// The plan that separates explanations a and b (each fitted to `points`; `residual_um` = measured − model there):
+/// both explanations' predictions — their effects' first-order deviation plus their own set-up terms, refitted on the
+/// measured points — on the grid of every tooth not measured, and their difference in units of noise_um.
+MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& points,
+                                 const std::vector<double>& residual_um, const Candidate& a, const Candidate& b,
+                                 double noise_um, const DiagnoseOptions& options);
 
 /// Noise σ (µm) estimated from residuals: a quadratic surface in (roll length, z) fitted per flank, the pooled
 /// residual standard deviation. Flanks with fewer than 10 points are skipped; if none is left, 0.1 µm — a
