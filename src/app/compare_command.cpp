@@ -4,6 +4,7 @@
 #include "app/options.hpp"
 
 #include "geartopo/diagnosis/compare.hpp"
+#include "geartopo/report/measurement_report.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -16,21 +17,6 @@
 #include <memory>
 
 namespace geartopo::app {
-namespace {
-
-nlohmann::json estimate_json(const diagnosis::Estimate& e) { return {{"value", e.value}, {"standard_error", e.standard_error}}; }
-
-nlohmann::json stats_json(const diagnosis::ResidualStats& s) {
-  return {{"points", s.points}, {"rms_um", s.rms_um}, {"max_abs_um", s.max_abs_um}, {"extreme_um", s.extreme_um}};
-}
-
-nlohmann::json wave_json(const diagnosis::WavinessScan& w) {
-  if (!w.wave) return nullptr;
-  return {{"amplitude_um", estimate_json(w.wave->amplitude_um)}, {"wavelength_mm", w.wave->wavelength_mm},
-          {"first_crest_mm", w.wave->first_crest_mm}};
-}
-
-} // namespace
 
 void register_compare_command(CLI::App& app, Action& action) {
   struct Options {
@@ -57,56 +43,8 @@ void register_compare_command(CLI::App& app, Action& action) {
 
       const std::filesystem::path out(opt->out);
       output::OutputFolder folder(out);
-      output::write_atomically(out / "residuals.csv", [&](std::ostream& csv) {
-        csv << "tooth,flank,row,col,diameter_mm,z_mm,measured_um,model_um,residual_um\n";
-        for (size_t i = 0; i < pts.size(); ++i)
-          csv << fmt::format("{},{},{},{},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f}\n", pts[i].tooth, gears::to_string(pts[i].flank),
-                             pts[i].row, pts[i].col, pts[i].diameter_mm, pts[i].z_mm, pts[i].deviation_um, c.model_um[i],
-                             c.residual_um[i]);
-      });
-      nlohmann::json j;
-      j["scene"] = opt->scene;
-      j["measured"] = opt->measured;
-      j["units"] = "µm; residual = measured − model, along the flank normal, plus material positive; the model's nominal "
-                   "flank is at the mean tooth-thickness allowance";
-      j["nominal_offset_at_mean_allowance_um"] = c.allowance_offset_um;
-      j["points_without_grid_indices"] = std::count_if(pts.begin(), pts.end(), [](const auto& p) { return p.row == 0; });
-      j["noise_um"] = c.noise_um;
-      j["noise_estimated"] = c.noise_estimated;
-      j["overall"] = stats_json(c.summary.overall);
-      nlohmann::json flanks = nlohmann::json::array();
-      for (size_t f = 0; f < c.flanks.size(); ++f) {
-        nlohmann::json fj;
-        fj["tooth"] = c.flanks[f].tooth;
-        fj["flank"] = diagnosis::to_string(c.flanks[f].side);
-        fj["stats"] = stats_json(c.summary.flanks[f].stats);
-        if (c.has_patterns[f]) {
-          const auto& p = c.patterns[f];
-          fj["patterns"] = {{"offset_um", estimate_json(p.offset_um)},
-                            {"profile_slope_um", estimate_json(p.profile_slope_um)},
-                            {"helix_slope_um", estimate_json(p.helix_slope_um)},
-                            {"twist_um", estimate_json(p.twist_um)},
-                            {"profile_crowning_um", estimate_json(p.profile_crowning_um)},
-                            {"helix_crowning_um", estimate_json(p.helix_crowning_um)},
-                            {"waviness_along_profile", wave_json(p.waviness_profile)},
-                            {"waviness_along_helix", wave_json(p.waviness_helix)},
-                            {"rms_unexplained_um", p.rms_unexplained_um}};
-          fj["description"] = diagnosis::describe_patterns(p);
-        }
-        flanks.push_back(fj);
-      }
-      j["flanks"] = flanks;
-      nlohmann::json teeth = nlohmann::json::array();
-      for (const auto& t : c.summary.teeth) teeth.push_back({{"tooth", t.tooth}, {"stats", stats_json(t.stats)}});
-      j["teeth"] = teeth;
-      nlohmann::json trends = nlohmann::json::array();
-      for (const auto& s : c.trends)
-        for (const auto& t : s.trends) trends.push_back({{"flank", diagnosis::to_string(s.side)}, {"sentence", t.sentence}});
-      j["tooth_to_tooth"] = trends;
-      nlohmann::json regions = nlohmann::json::array();
-      for (const auto& r : c.regions) regions.push_back(r.sentence);
-      j["failing_regions"] = regions;
-      output::write_text_atomically(out / "compare.json", j.dump(2) + "\n");
+      report::write_residuals_csv(out / "residuals.csv", pts, c);
+      output::write_text_atomically(out / "compare.json", report::compare_json(opt->scene, opt->measured, pts, c).dump(2) + "\n");
 
       std::cout << fmt::format("{} measured points on {} flanks; residual (measured − model) {:.2f} µm RMS, max |{:.2f}| µm; "
                                "noise {:.2f} µm{}\n",

@@ -2,7 +2,7 @@
 #include "app/commands.hpp"
 #include "geartopo/core/atomic_file.hpp"
 #include "app/options.hpp"
-#include "app/plan_json.hpp"
+#include "geartopo/report/measurement_report.hpp"
 
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
@@ -107,36 +107,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       o.candidates = opt->candidates;
       const auto d = diagnosis::diagnose(wb.setup, wb.process(), pts, wb.effect_types(), o);
 
-      nlohmann::json j;
-      j["scene"] = opt->scene;
-      j["measured"] = opt->measured;
-      j["points"] = d.points;
-      j["nominal_offset_at_mean_allowance_um"] = diagnosis::mean_allowance_offset_um(wb.setup.geometry());
-      j["noise_um"] = d.noise_um;
-      j["noise_estimated"] = d.noise_estimated;
-      j["rms_before_um"] = d.rms_before_um;
-      j["rms_before_setup_removed_um"] = d.rms_before_setup_um;
-      // Not process physics: fitted alongside every explanation (docs/diagnosis.md, "Set-up terms").
-      j["setup"] = {{"thickness_um", d.setup.thickness_um},
-                    {"thickness_sd_um", d.setup.thickness_sd_um},
-                    {"rotation_urad", d.setup.rotation_identified ? nlohmann::json(d.setup.rotation_urad) : nlohmann::json(nullptr)},
-                    {"rotation_sd_urad", d.setup.rotation_identified ? nlohmann::json(d.setup.rotation_sd_urad) : nlohmann::json(nullptr)},
-                    {"rotation_identified", d.setup.rotation_identified}};
-      nlohmann::json cands = nlohmann::json::array();
-      for (const auto& c : d.ranked) cands.push_back(candidate_json(c));
-      j["candidates"] = cands;
-      j["combination"] = d.combination ? candidate_json(*d.combination) : nlohmann::json(nullptr);
-      j["chosen"] = d.chosen ? candidate_json(*d.chosen) : nlohmann::json(nullptr);
-      // Within the ΔBIC threshold of the chosen one: the verdict says "ambiguous" and the plan what to measure next.
-      j["ambiguous"] = !d.rivals.empty();
-      nlohmann::json rivals = nlohmann::json::array();
-      for (const auto& r : d.rivals) rivals.push_back(candidate_json(r));
-      j["rivals"] = rivals;
-      j["plan"] = d.plan ? measurement_plan_json(*d.plan) : nlohmann::json(nullptr);
-      j["assumed"] = d.assumed; // set-up values not fitted and not given: the effect's default
-      // scene_with_effect.yaml is written only for an accepted explanation; otherwise why not.
-      j["scene_with_effect_withheld"] = d.withheld.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.withheld);
-      j["verdict"] = d.verdict;
+      const nlohmann::json j = report::diagnosis_json(opt->scene, opt->measured, d, diagnosis::mean_allowance_offset_um(wb.setup.geometry()));
 
       const std::filesystem::path out(opt->out);
       output::OutputFolder folder(out);

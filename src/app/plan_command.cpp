@@ -2,7 +2,7 @@
 // "Ambiguity and what to measure next"). Runs the diagnosis and prints/writes its measurement plan.
 #include "app/commands.hpp"
 #include "app/options.hpp"
-#include "app/plan_json.hpp"
+#include "geartopo/report/measurement_report.hpp"
 
 #include "geartopo/core/atomic_file.hpp"
 #include "geartopo/diagnosis/compare.hpp"
@@ -18,62 +18,6 @@
 #include <sstream>
 
 namespace geartopo::app {
-
-std::string unit_of_key(const std::string& key) {
-  static const char* const units[] = {"um", "urad", "rad", "mm", "s", "ms", "hz", "deg", "strokes"};
-  std::vector<std::string> tokens;
-  std::stringstream in(key);
-  for (std::string t; std::getline(in, t, '_');) tokens.push_back(t);
-  for (size_t k = 1; k < tokens.size(); ++k) // the first token is the quantity's name, never its unit
-    for (const char* u : units)
-      if (tokens[k] == u) {
-        std::string out = tokens[k];
-        for (size_t m = k + 1; m < tokens.size(); ++m) out += "_" + tokens[m];
-        return out;
-      }
-  return "";
-}
-
-nlohmann::json candidate_json(const diagnosis::Candidate& c) {
-  nlohmann::json j;
-  j["effect"] = c.name();
-  nlohmann::json params = nlohmann::json::object();
-  for (size_t e = 0; e < c.effects.size(); ++e)
-    for (const auto& p : c.parameters[e]) {
-      const std::string key = c.effects.size() > 1 ? c.effects[e].type + "." + p.key : p.key;
-      params[key] = {{"value", p.value},
-                     {"uncertainty", p.fitted ? nlohmann::json(p.uncertainty) : nlohmann::json(nullptr)},
-                     {"unit", unit_of_key(p.key)},
-                     {"fitted", p.fitted}};
-    }
-  j["parameters"] = params;
-  j["explained_fraction"] = c.explained_fraction;
-  j["rejected"] = c.rejected.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.rejected);
-  j["rms_before_um"] = c.rms_before_um;
-  j["rms_after_um"] = c.rms_after_um;
-  j["delta_bic"] = c.delta_bic;
-  j["significant"] = c.significant;
-  j["explanation"] = c.explanations;
-  return j;
-}
-
-nlohmann::json measurement_plan_json(const diagnosis::MeasurementPlan& plan) {
-  nlohmann::json teeth = nlohmann::json::array();
-  for (const auto& t : plan.teeth)
-    teeth.push_back({{"tooth", t.tooth},
-                     {"separation_sigma", t.separation_sigma},
-                     {"max_difference_um", t.max_difference_um},
-                     {"at", {{"flank", t.flank == Flank::Left ? "left" : "right"}, {"row", t.row}, {"col", t.col}}}});
-  return {{"between", {plan.first, plan.second}},
-          {"delta_bic_gap", plan.delta_bic_gap},
-          {"noise_um", plan.noise_um},
-          {"grid", {{"rows", plan.rows}, {"cols", plan.cols}}},
-          {"recommended_teeth", plan.recommended_teeth},
-          {"recommended_separation_sigma", plan.recommended_separation_sigma},
-          {"row_separation_sigma", plan.row_separation_sigma},
-          {"col_separation_sigma", plan.col_separation_sigma},
-          {"teeth", teeth}};
-}
 
 void register_plan_command(CLI::App& app, Action& action) {
   struct Options {
@@ -105,7 +49,7 @@ void register_plan_command(CLI::App& app, Action& action) {
       j["measured"] = opt->measured;
       j["chosen"] = d.chosen ? nlohmann::json(d.chosen->name()) : nlohmann::json(nullptr);
       j["ambiguous"] = !d.rivals.empty();
-      j["plan"] = d.plan ? measurement_plan_json(*d.plan) : nlohmann::json(nullptr);
+      j["plan"] = d.plan ? report::measurement_plan_json(*d.plan) : nlohmann::json(nullptr);
       j["verdict"] = d.verdict;
       if (!d.plan) {
         std::cout << (d.chosen ? fmt::format("Not ambiguous: {} is ahead of every other explanation by more than the "

@@ -3,9 +3,11 @@
 #include "geartopo/core/atomic_file.hpp"
 #include "geartopo/report/html_report.hpp"
 #include "geartopo/report/iso_report.hpp"
+#include "geartopo/report/measurement_report.hpp"
 #include "geartopo/pipeline/pipeline.hpp"
 #include "app/options.hpp"
 
+#include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 
@@ -46,6 +48,14 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
     iso["warnings"].push_back(worse);
   }
   output::write_text_atomically(dir / "iso1328.json", iso.dump(2) + "\n");
+  if (r.measurement) { // what `compare` and `diagnose` write, from the same computations (README, "Outputs")
+    const auto& m = *r.measurement;
+    report::write_residuals_csv(dir / "residuals.csv", m.points, m.before);
+    output::write_text_atomically(dir / "compare.json", report::compare_json(scene_file, m.file, m.points, m.before).dump(2) + "\n");
+    output::write_text_atomically(
+        dir / "diagnosis.json",
+        report::diagnosis_json(scene_file, m.file, m.diagnosis, diagnosis::mean_allowance_offset_um(wb.setup.geometry())).dump(2) + "\n");
+  }
   // Only an accepted explanation is added (docs/diagnosis.md: not ambiguous, no value at the end of its range).
   if (r.measurement && r.measurement->diagnosis.chosen && r.measurement->diagnosis.withheld.empty()) {
     std::vector<std::string> comments;

@@ -95,6 +95,7 @@ std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file,
     p.z_mm = s.z_mm;
     p.deviation_um = units::um_from_mm(s.normal_distance_mm);
     p.line = static_cast<int>(s.line);
+    p.id = s.id;
     out.push_back(p);
   }
   return out;

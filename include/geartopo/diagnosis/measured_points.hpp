@@ -7,6 +7,7 @@
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@ struct MeasuredPoint {
   double z_mm = 0.0;
   double deviation_um = 0.0;     ///< measured
   int line = 0;                  ///< line in the measurement file
+  std::int64_t id = -1;          ///< a point cloud's id column (the measuring machine's point number); −1: none
 };
 
 /// Points of a topology file on the gear. A point outside the active profile (d_Ff … d_a, 1 µm slack) or the face

@@ -1,0 +1,178 @@
+#include "geartopo/report/measurement_report.hpp"
+
+#include "geartopo/core/atomic_file.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <sstream>
+
+namespace geartopo::report {
+namespace {
+
+nlohmann::json estimate_json(const diagnosis::Estimate& e) { return {{"value", e.value}, {"standard_error", e.standard_error}}; }
+
+nlohmann::json stats_json(const diagnosis::ResidualStats& s) {
+  return {{"points", s.points}, {"rms_um", s.rms_um}, {"max_abs_um", s.max_abs_um}, {"extreme_um", s.extreme_um}};
+}
+
+nlohmann::json wave_json(const diagnosis::WavinessScan& w) {
+  if (!w.wave) return nullptr;
+  return {{"amplitude_um", estimate_json(w.wave->amplitude_um)}, {"wavelength_mm", w.wave->wavelength_mm},
+          {"first_crest_mm", w.wave->first_crest_mm}};
+}
+
+} // namespace
+
+void write_residuals_csv(const std::filesystem::path& file, const std::vector<diagnosis::MeasuredPoint>& points,
+                         const diagnosis::Comparison& c) {
+  output::write_atomically(file, [&](std::ostream& csv) {
+    csv << "tooth,flank,row,col,diameter_mm,z_mm,measured_um,model_um,residual_um,source_line,point_id\n";
+    for (size_t i = 0; i < points.size(); ++i)
+      csv << fmt::format("{},{},{},{},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f},{},{}\n", points[i].tooth,
+                         gears::to_string(points[i].flank), points[i].row, points[i].col, points[i].diameter_mm,
+                         points[i].z_mm, points[i].deviation_um, c.model_um[i], c.residual_um[i], points[i].line,
+                         points[i].id);
+  });
+}
+
+nlohmann::json compare_json(const std::string& scene, const std::string& measured,
+                            const std::vector<diagnosis::MeasuredPoint>& points, const diagnosis::Comparison& comparison) {
+  nlohmann::json j;
+  j["scene"] = scene;
+  j["measured"] = measured;
+  j["units"] = "µm; residual = measured − model, along the flank normal, plus material positive; the model's nominal "
+               "flank is at the mean tooth-thickness allowance";
+  j["nominal_offset_at_mean_allowance_um"] = comparison.allowance_offset_um;
+  j["points_without_grid_indices"] = std::count_if(points.begin(), points.end(), [](const auto& p) { return p.row == 0; });
+  j["noise_um"] = comparison.noise_um;
+  j["noise_estimated"] = comparison.noise_estimated;
+  j["overall"] = stats_json(comparison.summary.overall);
+  nlohmann::json flanks = nlohmann::json::array();
+  for (size_t f = 0; f < comparison.flanks.size(); ++f) {
+    nlohmann::json fj;
+    fj["tooth"] = comparison.flanks[f].tooth;
+    fj["flank"] = diagnosis::to_string(comparison.flanks[f].side);
+    fj["stats"] = stats_json(comparison.summary.flanks[f].stats);
+    if (comparison.has_patterns[f]) {
+      const auto& p = comparison.patterns[f];
+      fj["patterns"] = {{"offset_um", estimate_json(p.offset_um)},
+                        {"profile_slope_um", estimate_json(p.profile_slope_um)},
+                        {"helix_slope_um", estimate_json(p.helix_slope_um)},
+                        {"twist_um", estimate_json(p.twist_um)},
+                        {"profile_crowning_um", estimate_json(p.profile_crowning_um)},
+                        {"helix_crowning_um", estimate_json(p.helix_crowning_um)},
+                        {"waviness_along_profile", wave_json(p.waviness_profile)},
+                        {"waviness_along_helix", wave_json(p.waviness_helix)},
+                        {"rms_unexplained_um", p.rms_unexplained_um}};
+      fj["description"] = diagnosis::describe_patterns(p);
+    }
+    flanks.push_back(fj);
+  }
+  j["flanks"] = flanks;
+  nlohmann::json teeth = nlohmann::json::array();
+  for (const auto& t : comparison.summary.teeth) teeth.push_back({{"tooth", t.tooth}, {"stats", stats_json(t.stats)}});
+  j["teeth"] = teeth;
+  nlohmann::json trends = nlohmann::json::array();
+  for (const auto& s : comparison.trends)
+    for (const auto& t : s.trends) trends.push_back({{"flank", diagnosis::to_string(s.side)}, {"sentence", t.sentence}});
+  j["tooth_to_tooth"] = trends;
+  nlohmann::json regions = nlohmann::json::array();
+  for (const auto& r : comparison.regions) regions.push_back(r.sentence);
+  j["failing_regions"] = regions;
+  return j;
+}
+
+std::string unit_of_key(const std::string& key) {
+  static const char* const units[] = {"um", "urad", "rad", "mm", "s", "ms", "hz", "deg", "strokes"};
+  std::vector<std::string> tokens;
+  std::stringstream in(key);
+  for (std::string t; std::getline(in, t, '_');) tokens.push_back(t);
+  for (size_t k = 1; k < tokens.size(); ++k) // the first token is the quantity's name, never its unit
+    for (const char* u : units)
+      if (tokens[k] == u) {
+        std::string out = tokens[k];
+        for (size_t m = k + 1; m < tokens.size(); ++m) out += "_" + tokens[m];
+        return out;
+      }
+  return "";
+}
+
+nlohmann::json candidate_json(const diagnosis::Candidate& c) {
+  nlohmann::json j;
+  j["effect"] = c.name();
+  nlohmann::json params = nlohmann::json::object();
+  for (size_t e = 0; e < c.effects.size(); ++e)
+    for (const auto& p : c.parameters[e]) {
+      const std::string key = c.effects.size() > 1 ? c.effects[e].type + "." + p.key : p.key;
+      params[key] = {{"value", p.value},
+                     {"uncertainty", p.fitted ? nlohmann::json(p.uncertainty) : nlohmann::json(nullptr)},
+                     {"unit", unit_of_key(p.key)},
+                     {"fitted", p.fitted}};
+    }
+  j["parameters"] = params;
+  j["explained_fraction"] = c.explained_fraction;
+  j["rejected"] = c.rejected.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.rejected);
+  j["rms_before_um"] = c.rms_before_um;
+  j["rms_after_um"] = c.rms_after_um;
+  j["delta_bic"] = c.delta_bic;
+  j["significant"] = c.significant;
+  j["explanation"] = c.explanations;
+  return j;
+}
+
+nlohmann::json measurement_plan_json(const diagnosis::MeasurementPlan& plan) {
+  nlohmann::json teeth = nlohmann::json::array();
+  for (const auto& t : plan.teeth)
+    teeth.push_back({{"tooth", t.tooth},
+                     {"separation_sigma", t.separation_sigma},
+                     {"max_difference_um", t.max_difference_um},
+                     {"at", {{"flank", t.flank == Flank::Left ? "left" : "right"}, {"row", t.row}, {"col", t.col}}}});
+  return {{"between", {plan.first, plan.second}},
+          {"delta_bic_gap", plan.delta_bic_gap},
+          {"noise_um", plan.noise_um},
+          {"grid", {{"rows", plan.rows}, {"cols", plan.cols}}},
+          {"recommended_teeth", plan.recommended_teeth},
+          {"recommended_separation_sigma", plan.recommended_separation_sigma},
+          {"row_separation_sigma", plan.row_separation_sigma},
+          {"col_separation_sigma", plan.col_separation_sigma},
+          {"teeth", teeth}};
+}
+
+nlohmann::json diagnosis_json(const std::string& scene, const std::string& measured, const diagnosis::Diagnosis& d,
+                              double allowance_offset_um) {
+  nlohmann::json j;
+  j["scene"] = scene;
+  j["measured"] = measured;
+  j["points"] = d.points;
+  j["nominal_offset_at_mean_allowance_um"] = allowance_offset_um;
+  j["noise_um"] = d.noise_um;
+  j["noise_estimated"] = d.noise_estimated;
+  j["rms_before_um"] = d.rms_before_um;
+  j["rms_before_setup_removed_um"] = d.rms_before_setup_um;
+  // Not process physics: fitted alongside every explanation (docs/diagnosis.md, "Set-up terms").
+  j["setup"] = {{"thickness_um", d.setup.thickness_um},
+                {"thickness_sd_um", d.setup.thickness_sd_um},
+                {"rotation_urad", d.setup.rotation_identified ? nlohmann::json(d.setup.rotation_urad) : nlohmann::json(nullptr)},
+                {"rotation_sd_urad", d.setup.rotation_identified ? nlohmann::json(d.setup.rotation_sd_urad) : nlohmann::json(nullptr)},
+                {"rotation_identified", d.setup.rotation_identified}};
+  nlohmann::json cands = nlohmann::json::array();
+  for (const auto& c : d.ranked) cands.push_back(candidate_json(c));
+  j["candidates"] = cands;
+  j["combination"] = d.combination ? candidate_json(*d.combination) : nlohmann::json(nullptr);
+  j["chosen"] = d.chosen ? candidate_json(*d.chosen) : nlohmann::json(nullptr);
+  // Within the ΔBIC threshold of the chosen one: the verdict says "ambiguous" and the plan what to measure next.
+  j["ambiguous"] = !d.rivals.empty();
+  nlohmann::json rivals = nlohmann::json::array();
+  for (const auto& r : d.rivals) rivals.push_back(candidate_json(r));
+  j["rivals"] = rivals;
+  j["plan"] = d.plan ? measurement_plan_json(*d.plan) : nlohmann::json(nullptr);
+  j["assumed"] = d.assumed; // set-up values not fitted and not given: the effect's default
+  // scene_with_effect.yaml is written only for an accepted explanation; otherwise why not.
+  j["scene_with_effect_withheld"] = d.withheld.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.withheld);
+  j["verdict"] = d.verdict;
+
+  return j;
+}
+
+} // namespace geartopo::report
