@@ -141,8 +141,11 @@ RenderResult render_grid_topology(const GridTopology& g, const std::filesystem::
   scene.add_points(nodes, node_colours, std::max(6.0, 0.55 * px));
 
   const int small = static_cast<int>(std::lround(0.72 * px));
+  detail::require(g.value_every >= 1, "grid topology: value_every must be >= 1");
   if (g.show_values)
     for (std::size_t k = 0; k < nodes.size(); ++k) {
+      const auto row = static_cast<Eigen::Index>(k) / cols, col = static_cast<Eigen::Index>(k) % cols;
+      if (row % g.value_every != 0 || col % g.value_every != 0) continue;
       detail::OverlayText t;
       t.y = 0.45F * static_cast<float>(px);
       t.text = detail::format_value(

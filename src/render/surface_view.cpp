@@ -55,8 +55,13 @@ RenderResult render_surface_view(const SurfaceView& view, const std::filesystem:
     t.box = true;
     t.h = HAlign::centre;
     t.v = detail::VAlign::bottom;
-    t.y = 4.0F; // px above the point
+    t.y = 0.6F * static_cast<float>(t.px); // above the dot
     scene.add_label(label.at, t);
+  }
+  if (!view.labels.empty()) { // a dot at each labelled point: the label's text stands just above it
+    std::vector<Eigen::Vector3d> at;
+    for (const SurfaceLabel& label : view.labels) at.push_back(label.at);
+    scene.add_points(at, std::vector<Rgb>(at.size(), colours::black), 0.6 * detail::font_px(view.size, view.font_px));
   }
   scene.set_title(view.title);
   scene.set_caption(view.caption);

@@ -100,6 +100,7 @@ Figure topology_figure(const workbench::Workbench& wb, const std::vector<grindin
       g.scale.mode = render::RangeMode::fixed;
       g.scale.fixed = {-scale_um, scale_um};
       g.magnification = magnification;
+      g.value_every = g.deviation.size() > 30 ? 2 : 1; // a 7 × 9 grid: values at 20 of the 63 nodes, readable
       const auto panel = dir / "panels" / fmt::format("{}_t{:02d}_{}.png", fs::path(file).stem().string(), tooth, gears::to_string(f));
       const auto rr = render::render_grid_topology(g, panel);
       for (const auto& p : ft->grid) shown.push_back(p.deviation_um);
@@ -111,7 +112,7 @@ Figure topology_figure(const workbench::Workbench& wb, const std::vector<grindin
   fig.width = size.width, fig.height = size.height;
   fig.data_range_um = range_of(shown);
   fig.caption = fmt::format("The nominal {}×{} grid (black) and the ground flank (blue) with the deviation magnified, values "
-                            "at the nodes in µm, plus material positive. Rows run from root to tip over L_α, columns from "
+                            "at the nodes in µm (at every second node of a grid with more than 30), plus material positive. Rows run from root to tip over L_α, columns from "
                             "the datum face over L_β.",
                             wb.scene.grid.rows, wb.scene.grid.cols);
   return fig;
@@ -165,7 +166,7 @@ ChartRange trace_chart(const workbench::Workbench& wb, const workbench::IsoResul
 
   render::LineChart c;
   c.size = {520, 640};
-  c.font_px = 15;
+  c.font_px = 18; // shown at about 0.85 × beside its table: about 15 px text on the page
   c.series.push_back(trace);
   const auto* fe = iso_flank(iso, ft.tooth, ft.flank);
   const evaluation::TraceDeviations* dev = fe ? (profile ? &fe->profile : &fe->helix) : nullptr;
@@ -233,7 +234,6 @@ std::vector<Figure> trace_figures(const workbench::Workbench& wb, const pipeline
   std::vector<Figure> out;
   for (int tooth : focus_teeth(wb)) {
     render::Composite comp;
-    comp.title = fmt::format("Tooth {}: profile (top) and helix (bottom), left and right flank, before compensation", tooth);
     comp.columns = 2;
     Figure fig;
     for (bool profile : {true, false})
@@ -452,6 +452,7 @@ std::vector<Figure> measurement_figures(const pipeline::MeasurementResult& m, co
         h.x = {"z", "mm", {}, {}};
         h.y = {"roll length ξ", "mm", {}, {}};
         h.size = {700, 520};
+        h.font_px = 18;
         h.scale.mode = render::RangeMode::fixed;
         const double lim = std::string(what) == "residual" ? rmax : vmax;
         h.scale.fixed = {-lim, lim};
@@ -479,6 +480,7 @@ std::vector<Figure> measurement_figures(const pipeline::MeasurementResult& m, co
     render::BarChart c;
     c.title = "Candidate effects: share of the residual each explains (ranked by ΔBIC)";
     c.size = {1000, 600};
+    c.font_px = 20; // the composite is shown about 1350 px wide: text stays legible
     std::vector<double> explained;
     for (const auto& cand : d.ranked) {
       c.categories.push_back(cand.name());
@@ -497,6 +499,7 @@ std::vector<Figure> measurement_figures(const pipeline::MeasurementResult& m, co
     render::LineChart l;
     l.title = "Residual RMS as the found effects are added";
     l.size = {800, 600};
+    l.font_px = 20;
     render::Series s;
     s.name = "residual RMS";
     s.marker = render::Marker::circle;
@@ -522,9 +525,32 @@ std::vector<Figure> measurement_figures(const pipeline::MeasurementResult& m, co
     comp.columns = 2;
     comp.panels = {{dir / "panels" / "diagnosis_candidates.png", ""}, {dir / "panels" / "diagnosis_rms.png", ""}};
     const auto size = render::render_composite(comp, dir / "diagnosis.png");
-    out.push_back({"diagnosis.png", "measurement", comp.title, d.verdict, size.width, size.height, std::nullopt, std::nullopt});
+    // The verdict itself stands once, under the candidate table on the page; the caption says what is drawn.
+    out.push_back({"diagnosis.png", "measurement", comp.title,
+                   "Left: the share of the model-vs-measurement residual each candidate effect explains when fitted, with "
+                   "its ΔBIC (negative: the effect is worth its parameters; n.s. = not significant). Right: the residual "
+                   "RMS of the scene model and after adding the chosen effect, against the noise σ.",
+                   size.width, size.height, std::nullopt, std::nullopt});
   }
   return out;
+}
+
+/// How far the coloured flanks stand off the grey gear in the 3D view (mm). The coloured mesh has only the grid's
+/// nodes: its flat facets lie inside the convex flank by up to the sagitta s²/(8ρ) of a row spacing s over the
+/// involute's curvature radius ρ (= roll length, least at the root end), plus the same across a column spacing over the
+/// helix's curvature (≈ sin²β / r at the reference radius). Default gear: 10.5²/(8 · 83) + 17²·0.25/(8 · 283) ≈
+/// 0.2 mm. The lift is 1.5 × that (at least 0.05 mm), under a pixel at the figure's scale.
+double flank_lift_mm(const grinding::FlankTopology& ft, const gears::GearGeometry& g) {
+  const int rows = ft.grid.back().row, cols = ft.grid.back().col;
+  double xi_lo = std::numeric_limits<double>::infinity(), xi_hi = -xi_lo, z_lo = xi_lo, z_hi = -xi_lo;
+  for (const auto& p : ft.grid)
+    xi_lo = std::min(xi_lo, p.roll_length_mm), xi_hi = std::max(xi_hi, p.roll_length_mm), z_lo = std::min(z_lo, p.z_mm),
+    z_hi = std::max(z_hi, p.z_mm);
+  const double s_xi = (xi_hi - xi_lo) / std::max(rows - 1, 1), s_z = (z_hi - z_lo) / std::max(cols - 1, 1);
+  const double sin_beta = std::sin(g.spec().helix_angle_rad);
+  const double sag = s_xi * s_xi / (8.0 * std::max(xi_lo, 1.0)) +
+                     s_z * s_z * sin_beta * sin_beta / (8.0 * 0.5 * g.reference_diameter_mm());
+  return std::max(0.05, 1.5 * sag);
 }
 
 Figure gear_figure(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir) {
@@ -532,7 +558,7 @@ Figure gear_figure(const workbench::Workbench& wb, const pipeline::PipelineResul
   v.title = "The ground gear, flanks coloured by deviation (before compensation)";
   v.size = {1200, 1000};
   surfaces::GearMeshOptions mo;
-  mo.flank_points = 6, mo.slices = 9;
+  mo.flank_points = 16, mo.slices = 25; // grey facets within a few µm of the true flank, under the lifted colour
   const auto gm = surfaces::gear_mesh(wb.setup.geometry(), mo);
   v.meshes.push_back({gm.vertices, gm.faces, Eigen::VectorXd(), render::colours::light_grey, 1.0, false});
   std::vector<double> shown;
@@ -542,12 +568,19 @@ Figure gear_figure(const workbench::Workbench& wb, const pipeline::PipelineResul
     const auto fm = grinding::flank_mesh(wb.setup.flanks(), ft);
     if (ft.tooth == 1) tooth1_sum += fm.vertices.rowwise().sum(), tooth1_count += static_cast<double>(fm.vertices.cols());
     datum_z = std::min(datum_z, fm.vertices.row(2).minCoeff());
-    // Lift the coloured flank a hair off the grey gear so that it is drawn on top.
-    Eigen::Matrix3Xd verts = fm.vertices;
-    for (Eigen::Index i = 0; i < verts.cols(); ++i) {
-      Eigen::Vector3d radial(verts(0, i), verts(1, i), 0.0);
-      verts.col(i) += 0.05 * radial.normalized();
+    // Lift the coloured flank off the grey gear along its outward normal (flank_mesh orients its faces out of the
+    // material), so that the grey facets, chords of the curved flank, cannot show through it. A radial lift does not
+    // separate them near the root, where the flank runs almost radially (grey streaks on one flank side).
+    Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, fm.vertices.cols()); // 3 × V, area-weighted
+    for (Eigen::Index f = 0; f < fm.faces.cols(); ++f) {
+      const Eigen::Vector3d a = fm.vertices.col(fm.faces(0, f)), b = fm.vertices.col(fm.faces(1, f)), c = fm.vertices.col(fm.faces(2, f));
+      const Eigen::Vector3d n = (b - a).cross(c - a);
+      for (int k = 0; k < 3; ++k) normals.col(fm.faces(k, f)) += n;
     }
+    const double lift = flank_lift_mm(ft, wb.setup.geometry());
+    Eigen::Matrix3Xd verts = fm.vertices;
+    for (Eigen::Index i = 0; i < verts.cols(); ++i)
+      if (normals.col(i).norm() > 0.0) verts.col(i) += lift * normals.col(i).normalized();
     v.meshes.push_back({verts, fm.faces, fm.vertex_values, render::colours::light_grey, 1.0, false});
     for (Eigen::Index i = 0; i < fm.vertex_values.size(); ++i) shown.push_back(fm.vertex_values(i));
   }

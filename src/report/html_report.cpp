@@ -259,7 +259,7 @@ const char* kStyle =
     "figure{margin:1em 0}img{max-width:100%;height:auto;border:1px solid #ddd;display:block}"
     "figcaption{font-size:.9em;color:#444;max-width:75em}.scroll{max-width:100%;overflow-x:auto}"
     ".row{display:flex;flex-wrap:wrap;gap:1.2em;align-items:flex-start}.row figure{flex:1 1 620px;min-width:0;margin:0}"
-    ".row .side{flex:0 1 520px}.box{background:#f6f8fa;border:1px solid #ccd;padding:.6em 1.2em}"
+    ".row .side{flex:0 1 430px}.box{background:#f6f8fa;border:1px solid #ccd;padding:.6em 1.2em}"
     ".note{color:#666;font-size:.9em}pre{background:#f6f6f6;padding:.6em;overflow-x:auto}"
     "@page{size:A4;margin:12mm}"
     "@media print{body{max-width:none;padding:0;font-size:10pt}h2{break-after:avoid}figure,table{break-inside:avoid}"
