@@ -50,8 +50,12 @@ render::GridTopology grid_of(const grinding::FlankTopology& ft, const std::strin
   g.u_axis = {"axial position z from the datum face", "mm", {}, {}};
   g.v_axis = {"roll length ξ", "mm", {}, {}};
   g.size = {900, 700};
+  g.font_px = 19; // two panels side by side are shown about 0.75 × on the page
   return g;
 }
+
+/// Composite titles and captions: the composites are shown scaled to the page (1400 px), so their text is larger.
+constexpr int kCompositeFontPx = 22;
 
 std::pair<double, double> range_of(const std::vector<double>& v) {
   const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
@@ -88,6 +92,7 @@ Figure topology_figure(const workbench::Workbench& wb, const std::vector<grindin
                        const std::string& file, const std::string& title, const std::string& when, double scale_um,
                        double magnification) {
   render::Composite comp;
+  comp.font_px = kCompositeFontPx;
   comp.title = title;
   comp.columns = 2;
   Figure fig{file, "topology", title, "", 0, 0, std::nullopt, std::nullopt};
@@ -234,6 +239,7 @@ std::vector<Figure> trace_figures(const workbench::Workbench& wb, const pipeline
   std::vector<Figure> out;
   for (int tooth : focus_teeth(wb)) {
     render::Composite comp;
+    comp.font_px = kCompositeFontPx;
     comp.columns = 2;
     Figure fig;
     for (bool profile : {true, false})
@@ -262,7 +268,7 @@ std::vector<Figure> trace_figures(const workbench::Workbench& wb, const pipeline
   return out;
 }
 
-Figure pitch_figure(const workbench::Workbench& wb, const workbench::IsoResult& iso, const fs::path& dir) {
+Figure pitch_figure(const workbench::Workbench& wb, const workbench::IsoResult& iso, int shown_class, const fs::path& dir) {
   render::BarChart c;
   c.title = "Single pitch deviation f_p,i and cumulative pitch F_p,i over tooth number";
   c.size = {1400, 700};
@@ -283,8 +289,9 @@ Figure pitch_figure(const workbench::Workbench& wb, const workbench::IsoResult& 
   }
   if (c.bars.empty()) throw std::runtime_error("pitch figure: no pitch evaluation (not every tooth was simulated)");
   if (!evaluation::validity_refusal(iso.parameters)) {
-    const double fpT = evaluation::tolerance_um(evaluation::Quantity::SinglePitch, iso.parameters, 5);
-    c.ref_lines.push_back({render::Orientation::horizontal, fpT, render::colours::tolerance, 1.5, true, "±f_pT class 5"});
+    const double fpT = evaluation::tolerance_um(evaluation::Quantity::SinglePitch, iso.parameters, shown_class);
+    c.ref_lines.push_back({render::Orientation::horizontal, fpT, render::colours::tolerance, 1.5, true,
+                           fmt::format("±f_pT class {}", shown_class)});
     c.ref_lines.push_back({render::Orientation::horizontal, -fpT, render::colours::tolerance, 1.5, true, ""});
   }
   c.legend = render::LegendPlace::above;
@@ -328,6 +335,7 @@ std::optional<Figure> runout_figure(const workbench::IsoResult& iso, int shown_c
 
 Figure machine_figure(const workbench::Workbench& wb, const fs::path& dir) {
   render::Composite comp;
+  comp.font_px = kCompositeFontPx;
   comp.title = "Geometric error components against axis position (representative unless the scene says measured)";
   comp.columns = 2;
   const auto& st = wb.machine.strokes();
@@ -420,6 +428,7 @@ std::vector<Figure> measurement_figures(const pipeline::MeasurementResult& m, co
     rmax = std::max(rmax, std::abs(m.before.residual_um[i]));
   if (gridded) {
     render::Composite comp;
+    comp.font_px = kCompositeFontPx;
     comp.title = "Measured vs model, and the residual with the regions where the model fails";
     comp.columns = 3;
     std::vector<double> shown;
@@ -521,6 +530,7 @@ std::vector<Figure> measurement_figures(const pipeline::MeasurementResult& m, co
     render::render_line_chart(l, dir / "panels" / "diagnosis_rms.png");
 
     render::Composite comp;
+    comp.font_px = kCompositeFontPx;
     comp.title = "Diagnosis: which physical effect is missing";
     comp.columns = 2;
     comp.panels = {{dir / "panels" / "diagnosis_candidates.png", ""}, {dir / "panels" / "diagnosis_rms.png", ""}};
@@ -623,7 +633,7 @@ std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipelin
   figs.push_back(topology_figure(wb, r.before, dir, "topology_before.png", "Flank topology before compensation", "before", scale,
                                  magnification));
   for (auto& f : trace_figures(wb, r, shown_tolerance_class(wb, r), dir)) figs.push_back(std::move(f));
-  figs.push_back(pitch_figure(wb, r.iso_before, dir));
+  figs.push_back(pitch_figure(wb, r.iso_before, shown_tolerance_class(wb, r), dir));
   if (auto ro = runout_figure(r.iso_before, shown_tolerance_class(wb, r), dir)) figs.push_back(std::move(*ro));
   figs.push_back(machine_figure(wb, dir));
   Figure after = topology_figure(wb, r.after, dir, "topology_after.png", "Flank topology after compensation (same colour scale)",

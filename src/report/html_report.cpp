@@ -50,6 +50,13 @@ std::string figures_of(const std::vector<Figure>& figs, const std::string& secti
 
 std::string or_dash(const std::string& s) { return s.empty() ? "—" : s; }
 
+/// "+0.15", "−0.71", and "0.00" rather than "−0.00" for a value that rounds to zero.
+std::string signed_um(double v) {
+  std::string t = fmt::format("{:+.2f}", v);
+  if (t == "-0.00" || t == "+0.00") return "0.00";
+  return t;
+}
+
 std::string class_cell(evaluation::Quantity q, double v, const evaluation::GearParameters& p) {
   if (evaluation::validity_refusal(p)) return "<td class=cls>–</td>";
   return "<td class=cls>" + evaluation::class_label(evaluation::tolerance_class(q, v, p)) + "</td>";
@@ -141,9 +148,11 @@ std::string trace_value_table(const workbench::IsoResult& iso, int tooth, int sh
                               "<th>class</th><th>tol. class {} (µm)</th></tr>",
                               tooth, shown_class);
   const auto row = [&](Q q, auto pick) {
+    const bool slope = q == Q::ProfileSlope || q == Q::HelixSlope;
     h += "<tr><td>" + esc(std::string(evaluation::symbol(q))) + "</td>";
     for (const auto* fe : {L, R})
-      h += fe ? fmt::format("<td>{:+.2f}</td>", pick(*fe)) + class_cell(q, pick(*fe), p) : "<td>–</td><td>–</td>";
+      h += fe ? "<td>" + (slope ? signed_um(pick(*fe)) : fmt::format("{:.2f}", pick(*fe))) + "</td>" + class_cell(q, pick(*fe), p)
+              : "<td>–</td><td>–</td>";
     h += classify ? fmt::format("<td>{:g}</td></tr>", evaluation::tolerance_um(q, p, shown_class)) : "<td>–</td></tr>";
   };
   row(Q::ProfileTotal, [](const evaluation::FlankEvaluation& f) { return f.profile.total_um; });
@@ -156,31 +165,49 @@ std::string trace_value_table(const workbench::IsoResult& iso, int tooth, int sh
     h += fmt::format("<tr><td>C_{}</td>", profile ? "α" : "β");
     for (Flank side : {Flank::Left, Flank::Right}) {
       const auto it = crown.find({tooth, side});
-      h += it == crown.end() ? "<td>–</td><td></td>" : fmt::format("<td>{:+.2f}</td><td></td>", profile ? it->second.first : it->second.second);
+      h += it == crown.end() ? "<td>–</td><td></td>" : "<td>" + signed_um(profile ? it->second.first : it->second.second) + "</td><td></td>";
     }
     h += "<td></td></tr>";
   }
   return h + "</table>\n";
 }
 
-// Every evaluated flank: the six ISO values with their classes, and the crowning.
+// Every evaluated tooth, one row: per flank the six ISO values, each with its class, and the crowning.
 std::string flank_table(const workbench::IsoResult& iso, const std::map<std::pair<int, Flank>, std::pair<double, double>>& crown) {
   using Q = evaluation::Quantity;
   const auto& p = iso.parameters;
-  std::string h = "<div class=scroll><table class=flanks><tr><th>tooth</th><th>flank</th>";
-  for (Q q : {Q::ProfileTotal, Q::ProfileForm, Q::ProfileSlope}) h += "<th>" + esc(std::string(evaluation::symbol(q))) + "</th><th>cl.</th>";
-  h += "<th>C_α</th>";
-  for (Q q : {Q::HelixTotal, Q::HelixForm, Q::HelixSlope}) h += "<th>" + esc(std::string(evaluation::symbol(q))) + "</th><th>cl.</th>";
-  h += "<th>C_β</th></tr>\n";
-  for (const auto& fe : iso.evaluation.flanks) {
-    h += fmt::format("<tr><td>{}</td><td>{}</td>", fe.tooth, evaluation::to_string(fe.side));
-    const auto it = crown.find({fe.tooth, fe.side});
-    for (bool profile : {true, false}) {
-      const auto& d = profile ? fe.profile : fe.helix;
-      const Q qs[] = {profile ? Q::ProfileTotal : Q::HelixTotal, profile ? Q::ProfileForm : Q::HelixForm, profile ? Q::ProfileSlope : Q::HelixSlope};
-      const double vs[] = {d.total_um, d.form_um, d.slope_um};
-      for (int k = 0; k < 3; ++k) h += fmt::format("<td>{:.2f}</td>", vs[k]) + class_cell(qs[k], vs[k], p);
-      h += it == crown.end() ? "<td>–</td>" : fmt::format("<td>{:+.2f}</td>", profile ? it->second.first : it->second.second);
+  const bool classify = !evaluation::validity_refusal(p);
+  const Q order[] = {Q::ProfileTotal, Q::ProfileForm, Q::ProfileSlope, Q::HelixTotal, Q::HelixForm, Q::HelixSlope};
+  std::string h = "<div class=scroll><table class=flanks><tr><th rowspan=2>tooth</th><th colspan=8>left flank (µm, class)</th>"
+                  "<th colspan=8>right flank (µm, class)</th></tr><tr>";
+  for (int side = 0; side < 2; ++side) {
+    for (int k = 0; k < 6; ++k) {
+      h += "<th>" + esc(std::string(evaluation::symbol(order[k]))) + "</th>";
+      if (k == 2) h += "<th>C_α</th>";
+    }
+    h += "<th>C_β</th>";
+  }
+  h += "</tr>\n";
+  std::map<int, std::pair<const evaluation::FlankEvaluation*, const evaluation::FlankEvaluation*>> teeth;
+  for (const auto& fe : iso.evaluation.flanks) (fe.side == Flank::Left ? teeth[fe.tooth].first : teeth[fe.tooth].second) = &fe;
+  for (const auto& [tooth, lr] : teeth) {
+    h += fmt::format("<tr><td>{}</td>", tooth);
+    for (const auto* fe : {lr.first, lr.second}) {
+      if (!fe) {
+        h += "<td colspan=8>not evaluated</td>";
+        continue;
+      }
+      const auto it = crown.find({fe->tooth, fe->side});
+      for (int k = 0; k < 6; ++k) {
+        const auto& d = k < 3 ? fe->profile : fe->helix;
+        const double v = k % 3 == 0 ? d.total_um : k % 3 == 1 ? d.form_um : d.slope_um;
+        const std::string value = k % 3 == 2 ? signed_um(v) : fmt::format("{:.2f}", v);
+        h += "<td>" + value +
+             (classify ? " <span class=cls>" + evaluation::class_label(evaluation::tolerance_class(order[k], v, p)) + "</span>" : "") +
+             "</td>";
+        if (k == 2 || k == 5)
+          h += it == crown.end() ? "<td>–</td>" : "<td>" + signed_um(k == 2 ? it->second.first : it->second.second) + "</td>";
+      }
     }
     h += "</tr>\n";
   }
@@ -188,11 +215,12 @@ std::string flank_table(const workbench::IsoResult& iso, const std::map<std::pai
 }
 
 std::string means_table(const workbench::IsoResult& iso) {
-  const auto v = [](const std::optional<double>& x) { return x ? fmt::format("{:+.2f}", *x) : std::string("–"); };
+  const auto v = [](const std::optional<double>& x) { return x ? signed_um(*x) : std::string("–"); };
   std::string h = "<table><tr><th>side</th><th>flanks</th><th>f_Hαm (µm)</th><th>f_Hβm (µm)</th></tr>";
   for (const auto* m : {&iso.evaluation.left, &iso.evaluation.right})
     h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>", evaluation::to_string(m->side), m->flanks,
                      v(m->f_Halpha_m_um), v(m->f_Hbeta_m_um));
+  // (the mean slopes are reported, not classified: docs/iso1328.md, "Classification")
   return h + "</table>\n";
 }
 
@@ -255,7 +283,7 @@ const char* kStyle =
     "table{border-collapse:collapse;margin:.8em 0;font-size:.92em}"
     "td,th{border:1px solid #bbb;padding:.2em .5em;text-align:right}th{background:#f2f2f2}td:first-child{text-align:left}"
     "table.header,table.data{width:100%}table.header th,table.data th{text-align:left;width:14%}"
-    "table.header td,table.data td{text-align:left}td.cls{color:#555}"
+    "table.header td,table.data td{text-align:left}td.cls,span.cls{color:#666;font-size:.85em}table.flanks td{white-space:nowrap}"
     "figure{margin:1em 0}img{max-width:100%;height:auto;border:1px solid #ddd;display:block}"
     "figcaption{font-size:.9em;color:#444;max-width:75em}.scroll{max-width:100%;overflow-x:auto}"
     ".row{display:flex;flex-wrap:wrap;gap:1.2em;align-items:flex-start}.row figure{flex:1 1 620px;min-width:0;margin:0}"
@@ -309,7 +337,8 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
       h += "<div class=row>" + figure_html(f) + "<div class=side>" + trace_value_table(r.iso_before, f.tooth, shown_class, crown) +
            "</div></div>\n";
 
-  h += "<h2>ISO 1328-1:2013 — every evaluated flank</h2>\n" + flank_table(r.iso_before, crown);
+  h += "<h2>ISO 1328-1:2013 — every evaluated flank</h2>\n<p class=note>Each value with its flank tolerance class in grey; "
+       "C_α, C_β: crowning (not toleranced).</p>\n" + flank_table(r.iso_before, crown);
   h += "<p>Mean slopes over the flanks evaluated, per side:</p>" + means_table(r.iso_before);
   h += figures_of(figs, "pitch") + figures_of(figs, "runout");
   h += "<h2>ISO 1328-1:2013 — before and after compensation</h2>\n" + iso_table(r.iso_before, r.iso_after);
