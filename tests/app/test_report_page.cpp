@@ -1,6 +1,7 @@
 // The report page as a customer sees it, in Debian's headless Chromium: the screenshot is not blank, nothing is wider
 // than a 1400 px window, every image loads, and print-to-PDF gives a real PDF of several pages. Skipped (with the
 // reason) when chromium is not installed. Also: every trace chart's scale holds its data and its tolerance box.
+// The report is the one of report_fixture.hpp (written once per program).
 #include "geartopo/render/image.hpp"
 
 #include <gtest/gtest.h>
@@ -14,9 +15,9 @@
 #include <string>
 #include <unistd.h>
 
-namespace {
+#include "app/report_fixture.hpp"
 
-namespace fs = std::filesystem;
+namespace {
 
 std::string page_text_of(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
@@ -35,53 +36,34 @@ int run_chromium(const fs::path& profile, const std::string& args, const fs::pat
   return std::system(cmd.c_str());
 }
 
-class ReportPageTest : public ::testing::Test {
-protected:
-  static void SetUpTestSuite() {
-    page_dir_ = new fs::path(fs::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_report_page"));
-    fs::remove_all(*page_dir_);
-    const std::string scene = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35.yaml";
-    const std::string cmd = "env -u DISPLAY SOURCE_DATE_EPOCH=1700000000 " + std::string(GEARTOPO_BINARY) + " report " + scene +
-                            " --out " + page_dir_->string() + " > " + page_dir_->string() + ".log 2>&1";
-    report_code_ = std::system(cmd.c_str());
-  }
-  static void TearDownTestSuite() {
-    fs::remove_all(*page_dir_);
-    fs::remove(page_dir_->string() + ".log");
-    delete page_dir_;
-  }
-  void SetUp() override {
-    ASSERT_EQ(report_code_, 0) << page_text_of(page_dir_->string() + ".log");
-  }
-  static inline fs::path* page_dir_ = nullptr;
-  static inline int report_code_ = -1;
-};
-
 } // namespace
 
-TEST_F(ReportPageTest, HeaderCarriesTheInjectedDate) {
+TEST_F(ReportTest, PageHeaderCarriesTheInjectedDate) {
+  ASSERT_EQ(code_, 0);
   // SOURCE_DATE_EPOCH 1700000000 s is 2023-11-14T22:13:20Z.
-  EXPECT_NE(page_text_of(*page_dir_ / "index.html").find("2023-11-14"), std::string::npos);
+  EXPECT_NE(page_text_of(*dir_ / "index.html").find("2023-11-14"), std::string::npos);
 }
 
-TEST_F(ReportPageTest, ScreenshotAt1400PxIsNotBlank) {
+TEST_F(ReportTest, PageScreenshotAt1400PxIsNotBlank) {
+  ASSERT_EQ(code_, 0);
   if (!chromium_present()) GTEST_SKIP() << "chromium is not installed (Debian package 'chromium'): page not checked";
-  const fs::path png = *page_dir_ / "check_screenshot.png";
-  ASSERT_EQ(run_chromium(*page_dir_ / "profile_shot", "--window-size=1400,2400 --screenshot=" + png.string() + " file://" +
-                                                          (*page_dir_ / "index.html").string(),
-                         *page_dir_ / "shot.log"),
+  const fs::path png = *dir_ / "check_screenshot.png";
+  ASSERT_EQ(run_chromium(*dir_ / "profile_shot", "--window-size=1400,2400 --screenshot=" + png.string() + " file://" +
+                                                          (*dir_ / "index.html").string(),
+                         *dir_ / "shot.log"),
             0)
-      << page_text_of(*page_dir_ / "shot.log");
+      << page_text_of(*dir_ / "shot.log");
   const auto s = geartopo::render::image_stats(png);
   EXPECT_EQ(s.width, 1400);
   EXPECT_GT(s.variance, 100.0);            // text, tables and figures, not one flat colour
   EXPECT_GT(s.non_background_share, 0.05); // a real share of the window is drawn on
 }
 
-TEST_F(ReportPageTest, NothingOverflowsA1400PxWindowAndEveryImageLoads) {
+TEST_F(ReportTest, PageNothingOverflowsA1400PxWindowAndEveryImageLoads) {
+  ASSERT_EQ(code_, 0);
   if (!chromium_present()) GTEST_SKIP() << "chromium is not installed (Debian package 'chromium'): page not checked";
   // A copy of the page with a probe script that writes the page width and the images that did not load into the DOM.
-  std::string html = page_text_of(*page_dir_ / "index.html");
+  std::string html = page_text_of(*dir_ / "index.html");
   const std::string probe =
       "<script>window.addEventListener('load',()=>{const im=[...document.images];"
       "const bad=im.filter(i=>!(i.complete&&i.naturalWidth>0)).map(i=>i.getAttribute('src'));"
@@ -91,11 +73,11 @@ TEST_F(ReportPageTest, NothingOverflowsA1400PxWindowAndEveryImageLoads) {
   const auto at = html.rfind("</body>");
   ASSERT_NE(at, std::string::npos);
   html.insert(at, probe);
-  std::ofstream(*page_dir_ / "probe.html") << html;
-  const fs::path dom = *page_dir_ / "probe_dom.html";
-  ASSERT_EQ(run_chromium(*page_dir_ / "profile_dom", "--window-size=1400,1000 --virtual-time-budget=20000 --dump-dom file://" +
-                                                         (*page_dir_ / "probe.html").string() + " > " + dom.string() + " 2>/dev/null; true",
-                         *page_dir_ / "dom.log"),
+  std::ofstream(*dir_ / "probe.html") << html;
+  const fs::path dom = *dir_ / "probe_dom.html";
+  ASSERT_EQ(run_chromium(*dir_ / "profile_dom", "--window-size=1400,1000 --virtual-time-budget=20000 --dump-dom file://" +
+                                                         (*dir_ / "probe.html").string() + " > " + dom.string() + " 2>/dev/null; true",
+                         *dir_ / "dom.log"),
             0);
   const std::string out = page_text_of(dom);
   std::smatch m;
@@ -106,14 +88,15 @@ TEST_F(ReportPageTest, NothingOverflowsA1400PxWindowAndEveryImageLoads) {
   EXPECT_EQ(std::stoi(m[3]), 0) << "images that did not load: " << m[4];
 }
 
-TEST_F(ReportPageTest, PrintToPdfGivesAPdfOfSeveralPages) {
+TEST_F(ReportTest, PagePrintToPdfGivesAPdfOfSeveralPages) {
+  ASSERT_EQ(code_, 0);
   if (!chromium_present()) GTEST_SKIP() << "chromium is not installed (Debian package 'chromium'): page not checked";
-  const fs::path pdf = *page_dir_ / "report.pdf";
-  ASSERT_EQ(run_chromium(*page_dir_ / "profile_pdf", "--no-pdf-header-footer --print-to-pdf=" + pdf.string() + " file://" +
-                                                         (*page_dir_ / "index.html").string(),
-                         *page_dir_ / "pdf.log"),
+  const fs::path pdf = *dir_ / "report.pdf";
+  ASSERT_EQ(run_chromium(*dir_ / "profile_pdf", "--no-pdf-header-footer --print-to-pdf=" + pdf.string() + " file://" +
+                                                         (*dir_ / "index.html").string(),
+                         *dir_ / "pdf.log"),
             0)
-      << page_text_of(*page_dir_ / "pdf.log");
+      << page_text_of(*dir_ / "pdf.log");
   const std::string bytes = page_text_of(pdf);
   ASSERT_GT(bytes.size(), 100'000u) << "a report with a dozen figures is more than 100 kB";
   EXPECT_EQ(bytes.substr(0, 5), "%PDF-");
@@ -126,8 +109,9 @@ TEST_F(ReportPageTest, PrintToPdfGivesAPdfOfSeveralPages) {
 // Each trace chart's deviation axis holds the whole trace and the whole tolerance box, and is not blown up beyond a
 // couple of ticks around them (the old fixed ±12 µm scale flattened sub-µm form). Truth: the ranges the charts were
 // drawn with, from figures.json, against the data and box recorded next to them.
-TEST_F(ReportPageTest, EveryTraceChartScaleSpansItsDataAndToleranceBox) {
-  const auto man = nlohmann::json::parse(std::ifstream(*page_dir_ / "figures.json"));
+TEST_F(ReportTest, PageEveryTraceChartScaleSpansItsDataAndToleranceBox) {
+  ASSERT_EQ(code_, 0);
+  const auto man = nlohmann::json::parse(std::ifstream(*dir_ / "figures.json"));
   int charts = 0;
   for (const auto& f : man) {
     if (!f.contains("charts")) continue;
