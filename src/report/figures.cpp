@@ -488,8 +488,8 @@ std::vector<Figure> measurement_figures(const pipeline::MeasurementResult& m, co
   if (!d.ranked.empty()) {
     render::BarChart c;
     c.title = "Candidate effects: share of the residual each explains (ranked by ΔBIC)";
-    c.size = {1000, 600};
-    c.font_px = 20; // the composite is shown about 1350 px wide: text stays legible
+    c.size = {1300, 600};
+    c.font_px = 18; // one column, shown at about its own size: labels of seven candidates fit side by side
     std::vector<double> explained;
     for (const auto& cand : d.ranked) {
       c.categories.push_back(cand.name());
@@ -507,8 +507,8 @@ std::vector<Figure> measurement_figures(const pipeline::MeasurementResult& m, co
 
     render::LineChart l;
     l.title = "Residual RMS as the found effects are added";
-    l.size = {800, 600};
-    l.font_px = 20;
+    l.size = {1300, 480};
+    l.font_px = 18;
     render::Series s;
     s.name = "residual RMS";
     s.marker = render::Marker::circle;
@@ -532,13 +532,13 @@ std::vector<Figure> measurement_figures(const pipeline::MeasurementResult& m, co
     render::Composite comp;
     comp.font_px = kCompositeFontPx;
     comp.title = "Diagnosis: which physical effect is missing";
-    comp.columns = 2;
+    comp.columns = 1;
     comp.panels = {{dir / "panels" / "diagnosis_candidates.png", ""}, {dir / "panels" / "diagnosis_rms.png", ""}};
     const auto size = render::render_composite(comp, dir / "diagnosis.png");
     // The verdict itself stands once, under the candidate table on the page; the caption says what is drawn.
     out.push_back({"diagnosis.png", "measurement", comp.title,
-                   "Left: the share of the model-vs-measurement residual each candidate effect explains when fitted, with "
-                   "its ΔBIC (negative: the effect is worth its parameters; n.s. = not significant). Right: the residual "
+                   "Top: the share of the model-vs-measurement residual each candidate effect explains when fitted, with "
+                   "its ΔBIC (negative: the effect is worth its parameters; n.s. = not significant). Bottom: the residual "
                    "RMS of the scene model and after adding the chosen effect, against the noise σ.",
                    size.width, size.height, std::nullopt, std::nullopt});
   }
