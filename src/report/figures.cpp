@@ -362,7 +362,7 @@ Figure machine_figure(const workbench::Workbench& wb, const fs::path& dir) {
         }
         c.series.push_back(s);
       }
-      c.legend = render::LegendPlace::top_right;
+      c.legend = render::LegendPlace::above; // inside, the legend covered the curves' ends
       const auto panel = dir / "panels" / fmt::format("machine_{}_{}.png", machine::axis_name(axis), kind == 0 ? "linear" : "angular");
       render::render_line_chart(c, panel);
       comp.panels.push_back({panel, ""});
