@@ -1,6 +1,7 @@
 // Axis ranges covering what a chart must show, in whole 1-2-5 steps.
 
 #include "geartopo/render/scale.hpp"
+#include "detail/layout.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -46,6 +47,10 @@ AxisScale covering_scale(const double* values, std::size_t count, double min_spa
 
 AxisScale covering_scale(std::initializer_list<double> must_show, double min_span, int target_ticks) {
   return covering_scale(must_show.begin(), must_show.size(), min_span, target_ticks);
+}
+
+std::string tick_label(double value, double step) {
+  return detail::format_value(value, detail::decimals_for_step(step));
 }
 
 } // namespace geartopo::render

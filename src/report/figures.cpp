@@ -131,13 +131,6 @@ const evaluation::FlankEvaluation* iso_flank(const workbench::IsoResult& iso, in
 }
 
 
-std::string tick_text(double v, double step) {
-  const int decimals = step >= 1.0 ? 0 : static_cast<int>(std::ceil(-std::log10(step) - 1e-9));
-  std::string t = fmt::format("{:.{}f}", v, decimals);
-  if (t.find_first_not_of("-0.") == std::string::npos && t.front() == '-') t.erase(0, 1); // no "-0"
-  return t;
-}
-
 // A gear-measuring-machine style chart (Klingelnberg/Gleason/Wenzel printouts): deviation across (µm), position
 // along (mm); the trace, its least-squares mean line over the evaluation range, the range marks, and the class's
 // tolerance box: F_T wide around the trace's extremes over the range, with the f_HT limits (the steepest mean lines
@@ -221,7 +214,7 @@ ChartRange trace_chart(const workbench::Workbench& wb, const workbench::IsoResul
          scale.range.max};
   for (double t = scale.range.min; t <= scale.range.max + 1e-9 * scale.step; t += scale.step) {
     c.x_ticks.push_back(t);
-    c.x_tick_labels.push_back(tick_text(sign * t, scale.step)); // labels show the deviation, not the mirrored value
+    c.x_tick_labels.push_back(render::tick_label(sign * t, scale.step)); // labels show the deviation, not the mirrored value
   }
   out.axis_um = ft.flank == Flank::Left ? std::pair{-scale.range.max, -scale.range.min} : std::pair{scale.range.min, scale.range.max};
   c.lines.push_back({render::Orientation::horizontal, a, render::colours::grey, 1.5, true, profile ? "L_α" : "L_β"});

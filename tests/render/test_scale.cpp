@@ -66,3 +66,10 @@ TEST(CoveringScale, IgnoresNonFiniteValuesAndRejectsBadArguments) {
   EXPECT_THROW(geartopo::render::covering_scale({1.0}, -1.0, 6), std::invalid_argument);
   EXPECT_THROW(geartopo::render::covering_scale({1.0}, 0.0, 1), std::invalid_argument);
 }
+
+TEST(CoveringScale, TickLabelsHaveTheDecimalsOfTheStepAndNoNegativeZero) {
+  EXPECT_EQ(geartopo::render::tick_label(-0.4, 0.2), "-0.4");
+  EXPECT_EQ(geartopo::render::tick_label(-0.0, 0.2), "0.0");
+  EXPECT_EQ(geartopo::render::tick_label(10.0, 5.0), "10");
+  EXPECT_EQ(geartopo::render::tick_label(0.05, 0.05), "0.05");
+}

@@ -5,6 +5,7 @@
 #include "geartopo/render/common.hpp"
 
 #include <initializer_list>
+#include <string>
 
 namespace geartopo::render {
 
@@ -22,5 +23,8 @@ struct AxisScale {
 AxisScale covering_scale(std::initializer_list<double> must_show, double min_span = 0.0, int target_ticks = 6);
 /// The same for values held in any contiguous container.
 AxisScale covering_scale(const double* values, std::size_t count, double min_span = 0.0, int target_ticks = 6);
+
+/// A tick label as the charts write it: as many decimals as `step` needs, never "-0" (e.g. for custom ticks).
+std::string tick_label(double value, double step);
 
 } // namespace geartopo::render
