@@ -16,6 +16,7 @@ packages=(
   libfmt-dev             # formatting
   nlohmann-json3-dev     # JSON output
   libgtest-dev libgmock-dev libbenchmark-dev
+  chromium               # the report page in a browser: screenshot and PDF (scripts/screenshot-report.sh, test_report)
 )
 
 packages+=("$@") # extra packages a caller needs (scripts/fuzz.sh: clang-14 libclang-rt-14-dev)

@@ -139,8 +139,9 @@ Ticks make_ticks(Range range, int px, double length_px, const std::vector<double
   Ticks t;
   if (!custom.empty()) {
     t.positions = custom;
-    for (std::size_t i = 0; i < custom.size(); ++i)
-      t.labels.push_back(i < custom_labels.size() ? custom_labels[i] : "");
+    const int decimals = custom.size() > 1 ? decimals_for_step(std::abs(custom[1] - custom[0])) : 0;
+    for (std::size_t i = 0; i < custom.size(); ++i) // unlabelled custom ticks show their value
+      t.labels.push_back(i < custom_labels.size() ? custom_labels[i] : format_value(custom[i], decimals));
     return t;
   }
   const int target = std::clamp(static_cast<int>(length_px / (4.5 * px)), 3, 10);

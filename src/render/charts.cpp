@@ -77,6 +77,11 @@ RenderResult render_line_chart(const LineChart& chart, const std::filesystem::pa
   frame.size = chart.size;
   frame.px = detail::font_px(chart.size, chart.font_px);
   frame.legend = chart.legend;
+  require(chart.x_tick_labels.empty() || chart.x_tick_labels.size() == chart.x_ticks.size(),
+          "line chart '" + chart.title + "': " + std::to_string(chart.x_tick_labels.size()) + " tick labels for " +
+              std::to_string(chart.x_ticks.size()) + " ticks");
+  frame.x_ticks = chart.x_ticks;
+  frame.x_tick_labels = chart.x_tick_labels;
 
   detail::ChartBuilder builder(frame);
   for (const Band& b : chart.bands) builder.add_band(b);

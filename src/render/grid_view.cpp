@@ -141,8 +141,11 @@ RenderResult render_grid_topology(const GridTopology& g, const std::filesystem::
   scene.add_points(nodes, node_colours, std::max(6.0, 0.55 * px));
 
   const int small = static_cast<int>(std::lround(0.72 * px));
+  detail::require(g.value_every >= 1, "grid topology: value_every must be >= 1");
   if (g.show_values)
     for (std::size_t k = 0; k < nodes.size(); ++k) {
+      const auto row = static_cast<Eigen::Index>(k) / cols, col = static_cast<Eigen::Index>(k) % cols;
+      if (row % g.value_every != 0 || col % g.value_every != 0) continue;
       detail::OverlayText t;
       t.y = 0.45F * static_cast<float>(px);
       t.text = detail::format_value(
@@ -156,7 +159,12 @@ RenderResult render_grid_topology(const GridTopology& g, const std::filesystem::
 
   // Axes: u along the front edge, v along the edge seen on the left, on a floor below everything (3D) or just
   // outside the drawn grid (top view), with ticks, labels and titles.
-  const double max_dev = g.deviation.cwiseAbs().maxCoeff();
+  // The scale bar's length: from the data, or from a fixed colour range (panels that share a scale then share the
+  // bar too, and a near-zero "after" state does not get a 0.0 µm bar).
+  const double data_max = g.deviation.cwiseAbs().maxCoeff();
+  const double max_dev = g.scale.mode == RangeMode::fixed
+                             ? std::max({data_max, std::abs(g.scale.fixed.min), std::abs(g.scale.fixed.max)})
+                             : data_max;
   const double shown = max_dev > 0.0 ? nice_floor(max_dev) : 1.0; // µm, for the scale and the caption
   const int label_px = static_cast<int>(std::lround(0.85 * px));
   const bool left_is_u0 = height ? std::cos(az) >= 0.0 : true;

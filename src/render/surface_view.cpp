@@ -46,6 +46,23 @@ RenderResult render_surface_view(const SurfaceView& view, const std::filesystem:
     scene.set_camera(*view.camera);
   else
     scene.set_auto_camera(view.view_direction, view.view_up, view.parallel, 1.05);
+  for (const SurfaceLabel& label : view.labels) {
+    require(label.at.allFinite(), "surface view: label '" + label.text + "' has a non-finite position");
+    detail::OverlayText t;
+    t.text = label.text;
+    t.px = static_cast<int>(std::lround(1.1 * detail::font_px(view.size, view.font_px)));
+    t.bold = true;
+    t.box = true;
+    t.h = HAlign::centre;
+    t.v = detail::VAlign::bottom;
+    t.y = 0.6F * static_cast<float>(t.px); // above the dot
+    scene.add_label(label.at, t);
+  }
+  if (!view.labels.empty()) { // a dot at each labelled point: the label's text stands just above it
+    std::vector<Eigen::Vector3d> at;
+    for (const SurfaceLabel& label : view.labels) at.push_back(label.at);
+    scene.add_points(at, std::vector<Rgb>(at.size(), colours::black), 0.6 * detail::font_px(view.size, view.font_px));
+  }
   scene.set_title(view.title);
   scene.set_caption(view.caption);
   if (has_values) scene.set_colour_bar(colour, detail::axis_label(view.scale.title, view.scale.unit));

@@ -8,6 +8,7 @@
 #include "geartopo/render/composite.hpp"
 #include "geartopo/render/grid_view.hpp"
 #include "geartopo/render/heat_map.hpp"
+#include "geartopo/render/scale.hpp"
 #include "geartopo/render/surface_view.hpp"
 #include "geartopo/surfaces/gear_mesh.hpp"
 
@@ -17,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 
@@ -48,8 +50,12 @@ render::GridTopology grid_of(const grinding::FlankTopology& ft, const std::strin
   g.u_axis = {"axial position z from the datum face", "mm", {}, {}};
   g.v_axis = {"roll length ξ", "mm", {}, {}};
   g.size = {900, 700};
+  g.font_px = 19; // two panels side by side are shown about 0.75 × on the page
   return g;
 }
+
+/// Composite titles and captions: the composites are shown scaled to the page (1400 px), so their text is larger.
+constexpr int kCompositeFontPx = 22;
 
 std::pair<double, double> range_of(const std::vector<double>& v) {
   const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
@@ -69,10 +75,24 @@ double max_abs(const std::vector<const grinding::FlankTopology*>& flanks) {
   return m;
 }
 
+// One magnification for every panel (before and after alike), so that equal offsets mean equal deviations: the
+// automatic one of the panel with the largest deviation (the smallest of them), so that no panel overshoots.
+double common_magnification(const std::vector<const grinding::FlankTopology*>& flanks) {
+  double m = 0.0;
+  for (const auto* f : flanks)
+    if (f) {
+      const double auto_m = render::grid_magnification(grid_of(*f, ""));
+      m = m == 0.0 ? auto_m : std::min(m, auto_m);
+    }
+  return m;
+}
+
 // A 2×2 (or n×2) composite of grid views of the focus teeth, one colour scale for all.
 Figure topology_figure(const workbench::Workbench& wb, const std::vector<grinding::FlankTopology>& topo, const fs::path& dir,
-                       const std::string& file, const std::string& title, const std::string& when, double scale_um) {
+                       const std::string& file, const std::string& title, const std::string& when, double scale_um,
+                       double magnification) {
   render::Composite comp;
+  comp.font_px = kCompositeFontPx;
   comp.title = title;
   comp.columns = 2;
   Figure fig{file, "topology", title, "", 0, 0, std::nullopt, std::nullopt};
@@ -84,17 +104,20 @@ Figure topology_figure(const workbench::Workbench& wb, const std::vector<grindin
       auto g = grid_of(*ft, fmt::format("{} — {}", flank_name(tooth, f), when));
       g.scale.mode = render::RangeMode::fixed;
       g.scale.fixed = {-scale_um, scale_um};
+      g.magnification = magnification;
+      g.value_every = g.deviation.size() > 30 ? 2 : 1; // a 7 × 9 grid: values at 20 of the 63 nodes, readable
       const auto panel = dir / "panels" / fmt::format("{}_t{:02d}_{}.png", fs::path(file).stem().string(), tooth, gears::to_string(f));
       const auto rr = render::render_grid_topology(g, panel);
       for (const auto& p : ft->grid) shown.push_back(p.deviation_um);
       fig.colour_range_um = colour_of(rr);
-      comp.panels.push_back({panel, fmt::format("{}: magnification ×{:.0f}", flank_name(tooth, f), render::grid_magnification(g))});
+      comp.panels.push_back({panel, ""});
     }
+  comp.title = fmt::format("{} — all panels magnified ×{:.0f}", title, magnification);
   const auto size = render::render_composite(comp, dir / file);
   fig.width = size.width, fig.height = size.height;
   fig.data_range_um = range_of(shown);
   fig.caption = fmt::format("The nominal {}×{} grid (black) and the ground flank (blue) with the deviation magnified, values "
-                            "at the nodes in µm, plus material positive. Rows run from root to tip over L_α, columns from "
+                            "at the nodes in µm (at every second node of a grid with more than 30), plus material positive. Rows run from root to tip over L_α, columns from "
                             "the datum face over L_β.",
                             wb.scene.grid.rows, wb.scene.grid.cols);
   return fig;
@@ -107,81 +130,138 @@ const evaluation::FlankEvaluation* iso_flank(const workbench::IsoResult& iso, in
   return nullptr;
 }
 
-std::string class_text(evaluation::Quantity q, double v, const evaluation::GearParameters& p) {
-  if (evaluation::validity_refusal(p)) return "not classified";
-  return "class " + evaluation::class_label(evaluation::tolerance_class(q, v, p));
-}
 
-// A gear-measuring-machine style chart: deviation across (µm), position along (mm), tolerance band, range marks.
-fs::path trace_chart(const workbench::Workbench& wb, const workbench::IsoResult& iso, const grinding::FlankTopology& ft, bool profile,
-                     const fs::path& file) {
-  const auto& r = wb.setup.ranges();
+// A gear-measuring-machine style chart (Klingelnberg/Gleason/Wenzel printouts): deviation across (µm), position
+// along (mm); the trace, its least-squares mean line over the evaluation range, the range marks, and the class's
+// tolerance box: F_T wide around the trace's extremes over the range, with the f_HT limits (the steepest mean lines
+// allowed) through the mean line's middle. Left flanks are mirrored (plus material to the left) so that a pair of
+// charts shows the tooth as it stands between them. The scale is chosen from the data and the tolerance.
+ChartRange trace_chart(const workbench::Workbench& wb, const workbench::IsoResult& iso, const grinding::FlankTopology& ft,
+                       bool profile, int shown_class, const fs::path& file) {
+  const auto& rg = wb.setup.ranges();
   const auto& p = iso.parameters;
-  render::LineChart c;
-  c.size = {560, 760};
-  render::Series s;
-  s.name = "trace";
+  const double a = profile ? rg.xi_eval_start_mm : rg.z_eval_start_mm, b = profile ? rg.xi_eval_end_mm : rg.z_eval_end_mm;
+  const double mid = 0.5 * (a + b);
+  const double sign = ft.flank == Flank::Left ? -1.0 : 1.0; // drawn x = sign · deviation
+  const std::string sym = profile ? "α" : "β";
+
+  ChartRange out;
+  out.panel = file.filename().string();
+  std::vector<double> must_show; // deviations (µm, not mirrored) the scale has to contain
+  render::Series trace;
+  trace.name = "trace";
+  trace.colour = render::colours::actual;
+  double in_lo = std::numeric_limits<double>::infinity(), in_hi = -in_lo;
   for (const auto& pt : profile ? ft.profile : ft.helix) {
-    s.x.push_back(pt.deviation_um);
-    s.y.push_back(profile ? pt.roll_length_mm : pt.z_mm);
+    const double s = profile ? pt.roll_length_mm : pt.z_mm;
+    trace.x.push_back(sign * pt.deviation_um);
+    trace.y.push_back(s);
+    must_show.push_back(pt.deviation_um);
+    if (s >= a - 1e-9 && s <= b + 1e-9) in_lo = std::min(in_lo, pt.deviation_um), in_hi = std::max(in_hi, pt.deviation_um);
   }
-  s.colour = render::colours::actual;
-  c.series.push_back(s);
-  const auto qT = profile ? evaluation::Quantity::ProfileTotal : evaluation::Quantity::HelixTotal;
-  const bool classify = !evaluation::validity_refusal(p);
-  const double T = classify ? evaluation::tolerance_um(qT, p, 5) : 0.0;
-  if (classify) c.bands.push_back({render::Orientation::vertical, -0.5 * T, 0.5 * T, render::colours::tolerance, 0.22,
-                                   fmt::format("±½ {} class 5", profile ? "F_αT" : "F_βT")});
-  const double a = profile ? r.xi_eval_start_mm : r.z_eval_start_mm, b = profile ? r.xi_eval_end_mm : r.z_eval_end_mm;
+  out.data_um = {*std::min_element(must_show.begin(), must_show.end()), *std::max_element(must_show.begin(), must_show.end())};
+  if (!(in_lo <= in_hi)) in_lo = out.data_um.first, in_hi = out.data_um.second;
+
+  render::LineChart c;
+  c.size = {520, 640};
+  c.font_px = 18; // shown at about 0.85 × beside its table: about 15 px text on the page
+  c.series.push_back(trace);
+  const auto* fe = iso_flank(iso, ft.tooth, ft.flank);
+  const evaluation::TraceDeviations* dev = fe ? (profile ? &fe->profile : &fe->helix) : nullptr;
+  if (dev) {
+    const auto mean_at = [&](double s) { return dev->mean_line_mid_um + dev->mean_line_slope_um_per_mm * (s - mid); };
+    render::Series mean;
+    mean.name = "mean line";
+    mean.colour = render::Rgb{200, 30, 30};
+    mean.dashed = true;
+    mean.x = {sign * mean_at(a), sign * mean_at(b)};
+    mean.y = {a, b};
+    c.series.push_back(mean);
+    if (!evaluation::validity_refusal(p)) {
+      const double F_T = evaluation::tolerance_um(profile ? evaluation::Quantity::ProfileTotal : evaluation::Quantity::HelixTotal, p, shown_class);
+      const double fH_T = evaluation::tolerance_um(profile ? evaluation::Quantity::ProfileSlope : evaluation::Quantity::HelixSlope, p, shown_class);
+      const double centre = 0.5 * (in_lo + in_hi);
+      out.tolerance_um = {centre - 0.5 * F_T, centre + 0.5 * F_T};
+      render::Series box;
+      box.name = fmt::format("F_{}T, f_H{}T class {}", sym, sym, shown_class);
+      box.colour = render::Rgb{40, 140, 60};
+      box.width = 2.0;
+      for (const auto& [x, y] : {std::pair{out.tolerance_um.first, a}, {out.tolerance_um.second, a}, {out.tolerance_um.second, b},
+                                 {out.tolerance_um.first, b}, {out.tolerance_um.first, a}})
+        box.x.push_back(sign * x), box.y.push_back(y);
+      c.series.push_back(box);
+      // f_H limits: mean lines through the middle with a rise of ±f_HT over the range.
+      for (double rise : {fH_T, -fH_T}) {
+        render::Series lim;
+        lim.colour = box.colour;
+        lim.width = 1.2;
+        lim.dashed = true;
+        lim.x = {sign * (mean_at(mid) - 0.5 * rise), sign * (mean_at(mid) + 0.5 * rise)};
+        lim.y = {a, b};
+        for (double v : lim.x) must_show.push_back(sign * v);
+        c.series.push_back(lim);
+      }
+      must_show.push_back(out.tolerance_um.first);
+      must_show.push_back(out.tolerance_um.second);
+      out.min_span_um = 2.0 * F_T;
+    }
+  }
+  // The scale of the drawn (mirrored) values; it must hold the data and the whole tolerance box.
+  std::vector<double> drawn;
+  for (double v : must_show) drawn.push_back(sign * v);
+  const auto scale = render::covering_scale(drawn.data(), drawn.size(), out.min_span_um, 6);
+  c.x = {ft.flank == Flank::Left ? "← plus material     deviation [µm]" : "deviation [µm]     plus material →", "", scale.range.min,
+         scale.range.max};
+  for (double t = scale.range.min; t <= scale.range.max + 1e-9 * scale.step; t += scale.step) {
+    c.x_ticks.push_back(t);
+    c.x_tick_labels.push_back(render::tick_label(sign * t, scale.step)); // labels show the deviation, not the mirrored value
+  }
+  out.axis_um = ft.flank == Flank::Left ? std::pair{-scale.range.max, -scale.range.min} : std::pair{scale.range.min, scale.range.max};
   c.lines.push_back({render::Orientation::horizontal, a, render::colours::grey, 1.5, true, profile ? "L_α" : "L_β"});
   c.lines.push_back({render::Orientation::horizontal, b, render::colours::grey, 1.5, true, ""});
   c.lines.push_back({render::Orientation::vertical, 0.0, render::colours::black, 1.0, false, ""});
-  const double extent = std::max({1.0, std::abs(s.x.empty() ? 0.0 : *std::max_element(s.x.begin(), s.x.end())),
-                                  std::abs(s.x.empty() ? 0.0 : *std::min_element(s.x.begin(), s.x.end())), 0.6 * T});
-  c.x = {"deviation (plus material)", "µm", -1.3 * extent, 1.3 * extent};
   c.y = {profile ? "roll length ξ" : "axial position z", "mm", {}, {}};
-  c.title = fmt::format("{} {}", profile ? "Profile" : "Helix", flank_name(ft.tooth, ft.flank));
-  if (const auto* fe = iso_flank(iso, ft.tooth, ft.flank)) {
-    const auto& d = profile ? fe->profile : fe->helix;
-    const std::string sym = profile ? "α" : "β";
-    c.text.corner = render::Corner::bottom_right;
-    c.text.lines = {
-        fmt::format("F_{} {:6.2f} µm  {}", sym, d.total_um, class_text(qT, d.total_um, p)),
-        fmt::format("f_f{} {:6.2f} µm  {}", sym, d.form_um,
-                    class_text(profile ? evaluation::Quantity::ProfileForm : evaluation::Quantity::HelixForm, d.form_um, p)),
-        fmt::format("f_H{} {:+6.2f} µm  {}", sym, d.slope_um,
-                    class_text(profile ? evaluation::Quantity::ProfileSlope : evaluation::Quantity::HelixSlope, d.slope_um, p))};
-  }
-  c.legend = render::LegendPlace::top_left;
+  c.title = fmt::format("{}, {}", profile ? "Profile" : "Helix", flank_name(ft.tooth, ft.flank));
+  c.legend = render::LegendPlace::none;
   render::render_line_chart(c, file);
-  return file;
+  return out;
 }
 
-std::vector<Figure> trace_figures(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir) {
+std::vector<Figure> trace_figures(const workbench::Workbench& wb, const pipeline::PipelineResult& r, int shown_class,
+                                  const fs::path& dir) {
   std::vector<Figure> out;
   for (int tooth : focus_teeth(wb)) {
     render::Composite comp;
-    comp.title = fmt::format("Profile and helix traces, tooth {} (before compensation)", tooth);
-    comp.columns = 4;
+    comp.font_px = kCompositeFontPx;
+    comp.columns = 2;
+    Figure fig;
     for (bool profile : {true, false})
       for (Flank f : {Flank::Left, Flank::Right}) {
         const auto* ft = find(r.before, tooth, f);
         if (!ft) continue;
         const auto panel = dir / "panels" / fmt::format("trace_t{:02d}_{}_{}.png", tooth, profile ? "profile" : "helix", gears::to_string(f));
-        comp.panels.push_back({trace_chart(wb, r.iso_before, *ft, profile, panel), ""});
+        fig.charts.push_back(trace_chart(wb, r.iso_before, *ft, profile, shown_class, panel));
+        comp.panels.push_back({panel, ""});
       }
-    const std::string file = fmt::format("traces_tooth{:02d}.png", tooth);
-    const auto size = render::render_composite(comp, dir / file);
-    out.push_back({file, "traces", comp.title,
-                   "Gear-measuring-machine style charts: the trace over the whole active profile (mid face width) and over "
-                   "the whole face width (middle of L_α); dashed lines mark the evaluation ranges, the green band ±½ of the "
-                   "class-5 total tolerance; F, f_f and f_H with their classes.",
-                   size.width, size.height, std::nullopt, std::nullopt});
+    fig.file = fmt::format("traces_tooth{:02d}.png", tooth);
+    fig.section = "traces";
+    fig.tooth = tooth;
+    fig.title = fmt::format("Profile and helix traces, tooth {}", tooth);
+    const auto size = render::render_composite(comp, dir / fig.file);
+    fig.width = size.width, fig.height = size.height;
+    fig.caption = fmt::format(
+        "Measuring-machine layout: left flanks mirrored (plus material to the left), right flanks plus material to the "
+        "right. Blue: the trace over the whole active profile (mid face width) or face width (middle of L_α); red "
+        "dashed: its least-squares mean line over the evaluation range (grey dashed lines); green box: the class-{0} "
+        "total tolerance F_T over the evaluation range, placed around the trace's extremes (F does not depend on an "
+        "offset); green dashed: the class-{0} f_HT limits about the mean line's middle. Each chart has its own scale.",
+        shown_class);
+    out.push_back(std::move(fig));
   }
   return out;
 }
 
-Figure pitch_figure(const workbench::Workbench& wb, const workbench::IsoResult& iso, const fs::path& dir) {
+Figure pitch_figure(const workbench::Workbench& wb, const workbench::IsoResult& iso, int shown_class, const fs::path& dir) {
   render::BarChart c;
   c.title = "Single pitch deviation f_p,i and cumulative pitch F_p,i over tooth number";
   c.size = {1400, 700};
@@ -202,8 +282,9 @@ Figure pitch_figure(const workbench::Workbench& wb, const workbench::IsoResult& 
   }
   if (c.bars.empty()) throw std::runtime_error("pitch figure: no pitch evaluation (not every tooth was simulated)");
   if (!evaluation::validity_refusal(iso.parameters)) {
-    const double fpT = evaluation::tolerance_um(evaluation::Quantity::SinglePitch, iso.parameters, 5);
-    c.ref_lines.push_back({render::Orientation::horizontal, fpT, render::colours::tolerance, 1.5, true, "±f_pT class 5"});
+    const double fpT = evaluation::tolerance_um(evaluation::Quantity::SinglePitch, iso.parameters, shown_class);
+    c.ref_lines.push_back({render::Orientation::horizontal, fpT, render::colours::tolerance, 1.5, true,
+                           fmt::format("±f_pT class {}", shown_class)});
     c.ref_lines.push_back({render::Orientation::horizontal, -fpT, render::colours::tolerance, 1.5, true, ""});
   }
   c.legend = render::LegendPlace::above;
@@ -214,8 +295,40 @@ Figure pitch_figure(const workbench::Workbench& wb, const workbench::IsoResult& 
           c.size.width, c.size.height, std::nullopt, std::nullopt};
 }
 
+// Runout: the radial position r_s of a ball in each tooth space (ISO 1328-1 F_r = max − min), with the tolerance of
+// the class the trace charts use drawn as a band of width F_rT around the middle of the values (F_r, like F, does not
+// depend on an offset).
+std::optional<Figure> runout_figure(const workbench::IsoResult& iso, int shown_class, const fs::path& dir) {
+  if (!iso.evaluation.runout) return std::nullopt;
+  const auto& ro = *iso.evaluation.runout;
+  render::BarChart c;
+  c.title = fmt::format("Runout: radial ball position per tooth space, F_r = {:.2f} µm", ro.F_r_um);
+  c.size = {1400, 600};
+  c.font_px = 17;
+  for (size_t s = 1; s <= ro.radial_um.size(); ++s) c.categories.push_back(std::to_string(s));
+  c.x = {"tooth space s (between teeth s and s + 1)", "", {}, {}};
+  c.y = {"radial position r_s, outwards", "µm", {}, {}};
+  c.bars.push_back({"r_s", ro.radial_um, render::series_colour(0)});
+  if (!evaluation::validity_refusal(iso.parameters)) {
+    const auto [lo, hi] = std::minmax_element(ro.radial_um.begin(), ro.radial_um.end());
+    const double mid = 0.5 * (*lo + *hi);
+    const double T = evaluation::tolerance_um(evaluation::Quantity::Runout, iso.parameters, shown_class);
+    c.bands.push_back({render::Orientation::horizontal, mid - 0.5 * T, mid + 0.5 * T, render::colours::tolerance, 0.22,
+                       fmt::format("F_rT class {} = {:g} µm, centred on the values", shown_class, T)});
+    c.legend = render::LegendPlace::above;
+  } else {
+    c.legend = render::LegendPlace::none;
+  }
+  render::render_bar_chart(c, dir / "runout.png");
+  return Figure{"runout.png", "runout", "Runout",
+                "The radial displacement of a ball of the pitch-measuring diameter in every tooth space, from the left and "
+                "right flank deviations at mid face width (docs/iso1328.md, runout); F_r is their range.",
+                c.size.width, c.size.height, std::nullopt, std::nullopt};
+}
+
 Figure machine_figure(const workbench::Workbench& wb, const fs::path& dir) {
   render::Composite comp;
+  comp.font_px = kCompositeFontPx;
   comp.title = "Geometric error components against axis position (representative unless the scene says measured)";
   comp.columns = 2;
   const auto& st = wb.machine.strokes();
@@ -227,6 +340,7 @@ Figure machine_figure(const workbench::Workbench& wb, const fs::path& dir) {
     for (int kind = 0; kind < 2; ++kind) { // 0: δ (µm), 1: ε (µrad)
       render::LineChart c;
       c.size = {800, 420};
+      c.font_px = 17;
       c.title = fmt::format("{} axis: {} errors", machine::axis_name(axis), kind == 0 ? "linear" : "angular");
       c.x = {fmt::format("{} position", machine::axis_name(axis)), rotary ? "°" : "mm", {}, {}};
       c.y = {kind == 0 ? "δ" : "ε", kind == 0 ? "µm" : "µrad", {}, {}};
@@ -241,7 +355,7 @@ Figure machine_figure(const workbench::Workbench& wb, const fs::path& dir) {
         }
         c.series.push_back(s);
       }
-      c.legend = render::LegendPlace::top_right;
+      c.legend = render::LegendPlace::above; // inside, the legend covered the curves' ends
       const auto panel = dir / "panels" / fmt::format("machine_{}_{}.png", machine::axis_name(axis), kind == 0 ? "linear" : "angular");
       render::render_line_chart(c, panel);
       comp.panels.push_back({panel, ""});
@@ -256,9 +370,9 @@ Figure machine_figure(const workbench::Workbench& wb, const fs::path& dir) {
 
 Figure alignment_figure(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir) {
   render::LineChart c;
-  c.title = "Middle tooth-alignment curve before and after compensation";
+  c.title = "Middle tooth-alignment curve: before (solid) and after compensation (dashed)";
   c.size = {1200, 700};
-  c.x = {"profile curve (column, from the datum face)", "", {}, {}};
+  c.x = {"axial position z from the datum face", "mm", {}, {}};
   c.y = {"deviation", "µm", {}, {}};
   size_t colour = 0;
   for (int tooth : focus_teeth(wb))
@@ -268,11 +382,10 @@ Figure alignment_figure(const workbench::Workbench& wb, const pipeline::Pipeline
       if (!b || !a) continue;
       const int mid = (b->grid.back().row + 1) / 2;
       render::Series sb, sa;
-      sb.name = flank_name(tooth, f) + ", before";
-      sa.name = flank_name(tooth, f) + ", after";
+      sb.name = fmt::format("tooth {} {}", tooth, gears::to_string(f)); // dashed "after" twin: same colour, no entry
       for (const auto* src : {b, a})
         for (const auto& p : src->grid)
-          if (p.row == mid) (src == b ? sb : sa).x.push_back(p.col), (src == b ? sb : sa).y.push_back(p.deviation_um);
+          if (p.row == mid) (src == b ? sb : sa).x.push_back(p.z_mm), (src == b ? sb : sa).y.push_back(p.deviation_um);
       sb.colour = sa.colour = render::series_colour(colour++);
       sb.marker = sa.marker = render::Marker::circle;
       sa.dashed = true;
@@ -283,8 +396,8 @@ Figure alignment_figure(const workbench::Workbench& wb, const pipeline::Pipeline
   c.legend = render::LegendPlace::above;
   render::render_line_chart(c, dir / "alignment_curve.png");
   return {"alignment_curve.png", "compensation", c.title,
-          fmt::format("Tooth-alignment curve {} of {} (mid profile) across the {} profile curves, before (solid) and after "
-                      "(dashed) the flank-method compensation.",
+          fmt::format("Tooth-alignment curve {} of {} (mid profile) at the {} profile curves over the face width, before (solid) and after "
+                      "(dashed) the flank-method compensation; one colour per flank.",
                       (wb.scene.grid.rows + 1) / 2, wb.scene.grid.rows, wb.scene.grid.cols),
           c.size.width, c.size.height, std::nullopt, std::nullopt};
 }
@@ -308,6 +421,7 @@ std::vector<Figure> measurement_figures(const pipeline::MeasurementResult& m, co
     rmax = std::max(rmax, std::abs(m.before.residual_um[i]));
   if (gridded) {
     render::Composite comp;
+    comp.font_px = kCompositeFontPx;
     comp.title = "Measured vs model, and the residual with the regions where the model fails";
     comp.columns = 3;
     std::vector<double> shown;
@@ -340,6 +454,7 @@ std::vector<Figure> measurement_figures(const pipeline::MeasurementResult& m, co
         h.x = {"z", "mm", {}, {}};
         h.y = {"roll length ξ", "mm", {}, {}};
         h.size = {700, 520};
+        h.font_px = 18;
         h.scale.mode = render::RangeMode::fixed;
         const double lim = std::string(what) == "residual" ? rmax : vmax;
         h.scale.fixed = {-lim, lim};
@@ -366,7 +481,8 @@ std::vector<Figure> measurement_figures(const pipeline::MeasurementResult& m, co
   if (!d.ranked.empty()) {
     render::BarChart c;
     c.title = "Candidate effects: share of the residual each explains (ranked by ΔBIC)";
-    c.size = {1000, 600};
+    c.size = {1300, 600};
+    c.font_px = 18; // one column, shown at about its own size: labels of seven candidates fit side by side
     std::vector<double> explained;
     for (const auto& cand : d.ranked) {
       c.categories.push_back(cand.name());
@@ -384,35 +500,60 @@ std::vector<Figure> measurement_figures(const pipeline::MeasurementResult& m, co
 
     render::LineChart l;
     l.title = "Residual RMS as the found effects are added";
-    l.size = {800, 600};
+    l.size = {1300, 480};
+    l.font_px = 18;
     render::Series s;
     s.name = "residual RMS";
     s.marker = render::Marker::circle;
     s.x = {0.0};
     s.y = {d.rms_before_um};
-    std::string steps = "0: scene model";
     if (d.chosen) {
       s.x.push_back(1.0);
       s.y.push_back(d.chosen->rms_after_um);
-      steps += "   1: + " + d.chosen->name();
     }
     l.series.push_back(s);
     l.lines.push_back({render::Orientation::horizontal, d.noise_um, render::colours::grey, 1.5, true, "noise σ"});
     l.lines.push_back({render::Orientation::horizontal, 1.5 * d.noise_um, render::colours::tolerance, 1.5, true, "1.5 σ"});
     l.x = {"step", "", -0.3, std::max(1.3, static_cast<double>(s.x.size()) - 0.7)};
+    for (size_t k = 0; k < s.x.size(); ++k) { // the steps are discrete: one tick each, named
+      l.x_ticks.push_back(static_cast<double>(k));
+      l.x_tick_labels.push_back(k == 0 ? "0: scene model" : fmt::format("{}: + {}", k, d.chosen->name()));
+    }
     l.y = {"RMS", "µm", 0.0, 1.2 * std::max(d.rms_before_um, 1.6 * d.noise_um)};
-    l.text.corner = render::Corner::top_right;
-    l.text.lines = {steps};
     render::render_line_chart(l, dir / "panels" / "diagnosis_rms.png");
 
     render::Composite comp;
+    comp.font_px = kCompositeFontPx;
     comp.title = "Diagnosis: which physical effect is missing";
-    comp.columns = 2;
+    comp.columns = 1;
     comp.panels = {{dir / "panels" / "diagnosis_candidates.png", ""}, {dir / "panels" / "diagnosis_rms.png", ""}};
     const auto size = render::render_composite(comp, dir / "diagnosis.png");
-    out.push_back({"diagnosis.png", "measurement", comp.title, d.verdict, size.width, size.height, std::nullopt, std::nullopt});
+    // The verdict itself stands once, under the candidate table on the page; the caption says what is drawn.
+    out.push_back({"diagnosis.png", "measurement", comp.title,
+                   "Top: the share of the model-vs-measurement residual each candidate effect explains when fitted, with "
+                   "its ΔBIC (negative: the effect is worth its parameters; n.s. = not significant). Bottom: the residual "
+                   "RMS of the scene model and after adding the chosen effect, against the noise σ.",
+                   size.width, size.height, std::nullopt, std::nullopt});
   }
   return out;
+}
+
+/// How far the coloured flanks stand off the grey gear in the 3D view (mm). The coloured mesh has only the grid's
+/// nodes: its flat facets lie inside the convex flank by up to the sagitta s²/(8ρ) of a row spacing s over the
+/// involute's curvature radius ρ (= roll length, least at the root end), plus the same across a column spacing over the
+/// helix's curvature (≈ sin²β / r at the reference radius). Default gear: 10.5²/(8 · 83) + 17²·0.25/(8 · 283) ≈
+/// 0.2 mm. The lift is 1.5 × that (at least 0.05 mm), under a pixel at the figure's scale.
+double flank_lift_mm(const grinding::FlankTopology& ft, const gears::GearGeometry& g) {
+  const int rows = ft.grid.back().row, cols = ft.grid.back().col;
+  double xi_lo = std::numeric_limits<double>::infinity(), xi_hi = -xi_lo, z_lo = xi_lo, z_hi = -xi_lo;
+  for (const auto& p : ft.grid)
+    xi_lo = std::min(xi_lo, p.roll_length_mm), xi_hi = std::max(xi_hi, p.roll_length_mm), z_lo = std::min(z_lo, p.z_mm),
+    z_hi = std::max(z_hi, p.z_mm);
+  const double s_xi = (xi_hi - xi_lo) / std::max(rows - 1, 1), s_z = (z_hi - z_lo) / std::max(cols - 1, 1);
+  const double sin_beta = std::sin(g.spec().helix_angle_rad);
+  const double sag = s_xi * s_xi / (8.0 * std::max(xi_lo, 1.0)) +
+                     s_z * s_z * sin_beta * sin_beta / (8.0 * 0.5 * g.reference_diameter_mm());
+  return std::max(0.05, 1.5 * sag);
 }
 
 Figure gear_figure(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir) {
@@ -420,20 +561,37 @@ Figure gear_figure(const workbench::Workbench& wb, const pipeline::PipelineResul
   v.title = "The ground gear, flanks coloured by deviation (before compensation)";
   v.size = {1200, 1000};
   surfaces::GearMeshOptions mo;
-  mo.flank_points = 6, mo.slices = 9;
+  mo.flank_points = 16, mo.slices = 25; // grey facets within a few µm of the true flank, under the lifted colour
   const auto gm = surfaces::gear_mesh(wb.setup.geometry(), mo);
   v.meshes.push_back({gm.vertices, gm.faces, Eigen::VectorXd(), render::colours::light_grey, 1.0, false});
   std::vector<double> shown;
+  Eigen::Vector3d tooth1_sum = Eigen::Vector3d::Zero();
+  double tooth1_count = 0.0, datum_z = std::numeric_limits<double>::infinity();
   for (const auto& ft : r.before) {
     const auto fm = grinding::flank_mesh(wb.setup.flanks(), ft);
-    // Lift the coloured flank a hair off the grey gear so that it is drawn on top.
-    Eigen::Matrix3Xd verts = fm.vertices;
-    for (Eigen::Index i = 0; i < verts.cols(); ++i) {
-      Eigen::Vector3d radial(verts(0, i), verts(1, i), 0.0);
-      verts.col(i) += 0.05 * radial.normalized();
+    if (ft.tooth == 1) tooth1_sum += fm.vertices.rowwise().sum(), tooth1_count += static_cast<double>(fm.vertices.cols());
+    datum_z = std::min(datum_z, fm.vertices.row(2).minCoeff());
+    // Lift the coloured flank off the grey gear along its outward normal (flank_mesh orients its faces out of the
+    // material), so that the grey facets, chords of the curved flank, cannot show through it. A radial lift does not
+    // separate them near the root, where the flank runs almost radially (grey streaks on one flank side).
+    Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, fm.vertices.cols()); // 3 × V, area-weighted
+    for (Eigen::Index f = 0; f < fm.faces.cols(); ++f) {
+      const Eigen::Vector3d a = fm.vertices.col(fm.faces(0, f)), b = fm.vertices.col(fm.faces(1, f)), c = fm.vertices.col(fm.faces(2, f));
+      const Eigen::Vector3d n = (b - a).cross(c - a);
+      for (int k = 0; k < 3; ++k) normals.col(fm.faces(k, f)) += n;
     }
+    const double lift = flank_lift_mm(ft, wb.setup.geometry());
+    Eigen::Matrix3Xd verts = fm.vertices;
+    for (Eigen::Index i = 0; i < verts.cols(); ++i)
+      if (normals.col(i).norm() > 0.0) verts.col(i) += lift * normals.col(i).normalized();
     v.meshes.push_back({verts, fm.faces, fm.vertex_values, render::colours::light_grey, 1.0, false});
     for (Eigen::Index i = 0; i < fm.vertex_values.size(); ++i) shown.push_back(fm.vertex_values(i));
+  }
+  if (tooth1_count > 0) { // mark tooth 1 over its tip, on the datum face the view looks at
+    Eigen::Vector3d at = tooth1_sum / tooth1_count;
+    Eigen::Vector2d radial(at.x(), at.y());
+    radial *= 0.5 * wb.setup.geometry().tip_diameter_mm() / std::max(radial.norm(), 1e-9);
+    v.labels.push_back({Eigen::Vector3d(radial.x(), radial.y(), datum_z), "tooth 1"});
   }
   v.view_direction = Eigen::Vector3d(-0.35, -0.25, 1.0); // from the datum face side, a little oblique
   v.view_up = Eigen::Vector3d(0.0, 1.0, 0.0);
@@ -444,6 +602,12 @@ Figure gear_figure(const workbench::Workbench& wb, const pipeline::PipelineResul
 }
 
 } // namespace
+
+int shown_tolerance_class(const workbench::Workbench& wb, const pipeline::PipelineResult& r) {
+  if (wb.scene.report.tolerance_class) return *wb.scene.report.tolerance_class;
+  const auto& achieved = r.iso_before.evaluation.classification.overall;
+  return achieved ? std::clamp(*achieved, evaluation::kFinestClass, evaluation::kCoarsestClass) : 5;
+}
 
 std::vector<int> focus_teeth(const workbench::Workbench& wb) {
   if (!wb.scene.grid.teeth.empty()) return wb.scene.grid.teeth;
@@ -458,12 +622,15 @@ std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipelin
   for (int t : focus_teeth(wb))
     for (Flank f : {Flank::Left, Flank::Right}) focus.push_back(find(r.before, t, f));
   const double scale = max_abs(focus);
-  figs.push_back(topology_figure(wb, r.before, dir, "topology_before.png", "Flank topology before compensation", "before", scale));
-  for (auto& f : trace_figures(wb, r, dir)) figs.push_back(std::move(f));
-  figs.push_back(pitch_figure(wb, r.iso_before, dir));
+  const double magnification = common_magnification(focus);
+  figs.push_back(topology_figure(wb, r.before, dir, "topology_before.png", "Flank topology before compensation", "before", scale,
+                                 magnification));
+  for (auto& f : trace_figures(wb, r, shown_tolerance_class(wb, r), dir)) figs.push_back(std::move(f));
+  figs.push_back(pitch_figure(wb, r.iso_before, shown_tolerance_class(wb, r), dir));
+  if (auto ro = runout_figure(r.iso_before, shown_tolerance_class(wb, r), dir)) figs.push_back(std::move(*ro));
   figs.push_back(machine_figure(wb, dir));
   Figure after = topology_figure(wb, r.after, dir, "topology_after.png", "Flank topology after compensation (same colour scale)",
-                                 "after", scale);
+                                 "after", scale, magnification);
   after.section = "compensation";
   after.shared_scale = true;
   figs.push_back(after);

@@ -3,17 +3,24 @@
 #include "geartopo/core/units.hpp"
 #include "geartopo/report/iso_report.hpp"
 
+#include "geartopo/evaluation/crowning.hpp"
 #include "geartopo/evaluation/tolerances.hpp"
+#include "geartopo/report/gear_report.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdlib>
+#include <ctime>
+#include <map>
 #include <fstream>
 #include <numbers>
 
 namespace geartopo::report {
 namespace {
+
+using geartopo::Flank;
 
 std::string esc(const std::string& s) {
   std::string o;
@@ -29,13 +36,212 @@ std::string esc(const std::string& s) {
   return o;
 }
 
+std::string figure_html(const Figure& f) {
+  return fmt::format("<figure><img src=\"{}\" alt=\"{}\" width=\"{}\" height=\"{}\"><figcaption><b>{}.</b> {}</figcaption></figure>\n",
+                     esc(f.file), esc(f.title), f.width, f.height, esc(f.title), esc(f.caption));
+}
+
 std::string figures_of(const std::vector<Figure>& figs, const std::string& section) {
   std::string h;
   for (const auto& f : figs)
-    if (f.section == section)
-      h += fmt::format("<figure><img src=\"{}\" alt=\"{}\" width=\"{}\"><figcaption><b>{}</b> — {}</figcaption></figure>\n",
-                       esc(f.file), esc(f.title), std::min(f.width, 1400), esc(f.title), esc(f.caption));
+    if (f.section == section) h += figure_html(f);
   return h;
+}
+
+std::string or_dash(const std::string& s) { return s.empty() ? "—" : s; }
+
+/// "+0.15", "−0.71", and "0.00" rather than "−0.00" for a value that rounds to zero.
+std::string signed_um(double v) {
+  std::string t = fmt::format("{:+.2f}", v);
+  if (t == "-0.00" || t == "+0.00") return "0.00";
+  return t;
+}
+
+std::string class_cell(evaluation::Quantity q, double v, const evaluation::GearParameters& p) {
+  if (evaluation::validity_refusal(p)) return "<td class=cls>–</td>";
+  return "<td class=cls>" + evaluation::class_label(evaluation::tolerance_class(q, v, p)) + "</td>";
+}
+
+const evaluation::FlankEvaluation* flank_of(const workbench::IsoResult& iso, int tooth, Flank side) {
+  for (const auto& fe : iso.evaluation.flanks)
+    if (fe.tooth == tooth && fe.side == side) return &fe;
+  return nullptr;
+}
+
+// Crowning C_α, C_β of every evaluated flank, from the same traces the ISO values come from.
+std::map<std::pair<int, Flank>, std::pair<double, double>> crowning_of(const workbench::Workbench& wb,
+                                                                      const std::vector<grinding::FlankTopology>& topo) {
+  std::map<std::pair<int, Flank>, std::pair<double, double>> c;
+  const auto m = workbench::gear_measurement(wb.setup.geometry(), wb.setup.ranges(), topo);
+  for (const auto& f : m.flanks) c[{f.tooth, f.side}] = {evaluation::crowning_um(f.profile), evaluation::crowning_um(f.helix)};
+  return c;
+}
+
+std::string header_block(const workbench::Workbench& wb, const evaluation::IsoConventions& iso, const std::string& date) {
+  const auto& rh = wb.scene.report;
+  std::string h = "<table class=header>";
+  const auto cell = [&](const std::string& k, const std::string& v) { h += "<th>" + esc(k) + "</th><td>" + esc(or_dash(v)) + "</td>"; };
+  h += "<tr>";
+  cell("part", rh.part.empty() ? wb.scene.name : rh.part);
+  cell("drawing", rh.drawing);
+  cell("date", date);
+  h += "</tr><tr>";
+  cell("operator", rh.operator_name);
+  cell("measuring machine", rh.measuring_machine);
+  cell("probe diameter", rh.probe_diameter_mm ? fmt::format("{:g} mm", *rh.probe_diameter_mm) : "");
+  h += "</tr><tr>";
+  cell("scene file", wb.scene.source);
+  cell("grinding machine", wb.scene.machine.name);
+  cell("ISO profile/helix values", iso.direction == evaluation::IsoDirection::Transverse
+                                       ? "transverse (normal / cos β_b)"
+                                       : "along the flank normal");
+  h += "</tr></table>\n";
+  return h;
+}
+
+// Gear data: the inspection dimensions exactly as `geartopo gear` computes them (gear_json), and the evaluation ranges.
+std::string gear_data_block(const workbench::Workbench& wb) {
+  const auto& g = wb.setup.geometry();
+  const auto& s = g.spec();
+  const auto j = gear_json(wb.scene, g);
+  const auto& rg = wb.setup.ranges();
+  std::vector<std::pair<std::string, std::string>> rows = {
+      {"normal module m_n", fmt::format("{:g} mm", s.normal_module_mm)},
+      {"number of teeth z", std::to_string(s.teeth)},
+      {"normal pressure angle α_n", fmt::format("{:.3f}°", s.normal_pressure_angle_rad * units::kDegPerRad)},
+      {"helix angle β", fmt::format("{:.3f}°, {} hand", std::abs(s.helix_angle_rad) * units::kDegPerRad, gears::to_string(s.hand()))},
+      {"lead p_z", std::isfinite(g.lead_mm()) ? fmt::format("{:.3f} mm", g.lead_mm()) : "∞ (spur gear)"},
+      {"profile shift coefficient x", fmt::format("{:g}", s.profile_shift)},
+      {"face width b", fmt::format("{:g} mm", s.face_width_mm)},
+      {"reference / base diameter d, d_b", fmt::format("{:.3f} / {:.3f} mm", g.reference_diameter_mm(), g.base_diameter_mm())},
+      {"tip / root diameter d_a, d_f", fmt::format("{:.3f} / {:.3f} mm", g.tip_diameter_mm(), g.root_diameter_mm())},
+      {fmt::format("base tangent length W_k, k = {}", j["k"].get<int>()),
+       fmt::format("{:.4f} mm (allowed {:.4f} … {:.4f} mm)", j["Wk_mm"].get<double>(), j["Wk_lower_mm"].get<double>(),
+                   j["Wk_upper_mm"].get<double>())},
+      {fmt::format("dimension over balls M_dK, D_M = {:.3f} mm ({})", j["D_M_mm"].get<double>(), j["D_M_source"].get<std::string>()),
+       fmt::format("{:.4f} mm (allowed {:.4f} … {:.4f} mm)", j["MdK_mm"].get<double>(), j["MdK_lower_mm"].get<double>(),
+                   j["MdK_upper_mm"].get<double>())},
+      {"thickness allowances A_sne / A_sni", fmt::format("{:.1f} / {:.1f} µm", j["A_sne_um"].get<double>(), j["A_sni_um"].get<double>())},
+      {"profile evaluation range L_α", fmt::format("d = {:.3f} … {:.3f} mm (roll length ξ {:.3f} … {:.3f} mm)",
+                                                     g.diameter_at_roll_length(rg.xi_eval_start_mm), g.diameter_at_roll_length(rg.xi_eval_end_mm),
+                                                     rg.xi_eval_start_mm, rg.xi_eval_end_mm)},
+      {"helix evaluation range L_β", fmt::format("z = {:.2f} … {:.2f} mm from the datum face", rg.z_eval_start_mm, rg.z_eval_end_mm)},
+  };
+  if (!wb.scene.assumed.empty()) rows.push_back({"assumed (not from a drawing)", fmt::format("{}", fmt::join(wb.scene.assumed, ", "))});
+  std::string h = "<table class=data>";
+  for (size_t i = 0; i < rows.size(); i += 2) {
+    h += "<tr>";
+    for (size_t k = i; k < i + 2; ++k)
+      h += k < rows.size() ? "<th>" + esc(rows[k].first) + "</th><td>" + esc(rows[k].second) + "</td>" : "<th></th><td></td>";
+    h += "</tr>";
+  }
+  return h + "</table>\n";
+}
+
+// Beside each tooth's trace charts: its values and classes, left and right flank.
+std::string trace_value_table(const workbench::IsoResult& iso, int tooth, int shown_class,
+                              const std::map<std::pair<int, Flank>, std::pair<double, double>>& crown) {
+  using Q = evaluation::Quantity;
+  const auto& p = iso.parameters;
+  const auto* L = flank_of(iso, tooth, Flank::Left);
+  const auto* R = flank_of(iso, tooth, Flank::Right);
+  const bool classify = !evaluation::validity_refusal(p);
+  std::string h = fmt::format("<table class=values><tr><th>tooth {}</th><th>left (µm)</th><th>class</th><th>right (µm)</th>"
+                              "<th>class</th><th>tol. class {} (µm)</th></tr>",
+                              tooth, shown_class);
+  const auto row = [&](Q q, auto pick) {
+    const bool slope = q == Q::ProfileSlope || q == Q::HelixSlope;
+    h += "<tr><td>" + esc(std::string(evaluation::symbol(q))) + "</td>";
+    for (const auto* fe : {L, R})
+      h += fe ? "<td>" + (slope ? signed_um(pick(*fe)) : fmt::format("{:.2f}", pick(*fe))) + "</td>" + class_cell(q, pick(*fe), p)
+              : "<td>–</td><td>–</td>";
+    h += classify ? fmt::format("<td>{:g}</td></tr>", evaluation::tolerance_um(q, p, shown_class)) : "<td>–</td></tr>";
+  };
+  row(Q::ProfileTotal, [](const evaluation::FlankEvaluation& f) { return f.profile.total_um; });
+  row(Q::ProfileForm, [](const evaluation::FlankEvaluation& f) { return f.profile.form_um; });
+  row(Q::ProfileSlope, [](const evaluation::FlankEvaluation& f) { return f.profile.slope_um; });
+  row(Q::HelixTotal, [](const evaluation::FlankEvaluation& f) { return f.helix.total_um; });
+  row(Q::HelixForm, [](const evaluation::FlankEvaluation& f) { return f.helix.form_um; });
+  row(Q::HelixSlope, [](const evaluation::FlankEvaluation& f) { return f.helix.slope_um; });
+  for (bool profile : {true, false}) {
+    h += fmt::format("<tr><td>C_{}</td>", profile ? "α" : "β");
+    for (Flank side : {Flank::Left, Flank::Right}) {
+      const auto it = crown.find({tooth, side});
+      h += it == crown.end() ? "<td>–</td><td></td>" : "<td>" + signed_um(profile ? it->second.first : it->second.second) + "</td><td></td>";
+    }
+    h += "<td></td></tr>";
+  }
+  return h + "</table>\n";
+}
+
+// Every evaluated tooth, one row: per flank the six ISO values, each with its class, and the crowning.
+std::string flank_table(const workbench::IsoResult& iso, const std::map<std::pair<int, Flank>, std::pair<double, double>>& crown) {
+  using Q = evaluation::Quantity;
+  const auto& p = iso.parameters;
+  const bool classify = !evaluation::validity_refusal(p);
+  const Q order[] = {Q::ProfileTotal, Q::ProfileForm, Q::ProfileSlope, Q::HelixTotal, Q::HelixForm, Q::HelixSlope};
+  std::string h = "<div class=scroll><table class=flanks><tr><th rowspan=2>tooth</th><th colspan=8>left flank (µm, class)</th>"
+                  "<th colspan=8>right flank (µm, class)</th></tr><tr>";
+  for (int side = 0; side < 2; ++side) {
+    for (int k = 0; k < 6; ++k) {
+      h += "<th>" + esc(std::string(evaluation::symbol(order[k]))) + "</th>";
+      if (k == 2) h += "<th>C_α</th>";
+    }
+    h += "<th>C_β</th>";
+  }
+  h += "</tr>\n";
+  std::map<int, std::pair<const evaluation::FlankEvaluation*, const evaluation::FlankEvaluation*>> teeth;
+  for (const auto& fe : iso.evaluation.flanks) (fe.side == Flank::Left ? teeth[fe.tooth].first : teeth[fe.tooth].second) = &fe;
+  for (const auto& [tooth, lr] : teeth) {
+    h += fmt::format("<tr><td>{}</td>", tooth);
+    for (const auto* fe : {lr.first, lr.second}) {
+      if (!fe) {
+        h += "<td colspan=8>not evaluated</td>";
+        continue;
+      }
+      const auto it = crown.find({fe->tooth, fe->side});
+      for (int k = 0; k < 6; ++k) {
+        const auto& d = k < 3 ? fe->profile : fe->helix;
+        const double v = k % 3 == 0 ? d.total_um : k % 3 == 1 ? d.form_um : d.slope_um;
+        const std::string value = k % 3 == 2 ? signed_um(v) : fmt::format("{:.2f}", v);
+        h += "<td>" + value +
+             (classify ? " <span class=cls>" + evaluation::class_label(evaluation::tolerance_class(order[k], v, p)) + "</span>" : "") +
+             "</td>";
+        if (k == 2 || k == 5)
+          h += it == crown.end() ? "<td>–</td>" : "<td>" + signed_um(k == 2 ? it->second.first : it->second.second) + "</td>";
+      }
+    }
+    h += "</tr>\n";
+  }
+  return h + "</table></div>\n";
+}
+
+std::string means_table(const workbench::IsoResult& iso) {
+  const auto v = [](const std::optional<double>& x) { return x ? signed_um(*x) : std::string("–"); };
+  std::string h = "<table><tr><th>side</th><th>flanks</th><th>f_Hαm (µm)</th><th>f_Hβm (µm)</th></tr>";
+  for (const auto* m : {&iso.evaluation.left, &iso.evaluation.right})
+    h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>", evaluation::to_string(m->side), m->flanks,
+                     v(m->f_Halpha_m_um), v(m->f_Hbeta_m_um));
+  // (the mean slopes are reported, not classified: docs/iso1328.md, "Classification")
+  return h + "</table>\n";
+}
+
+std::string tolerance_table(const evaluation::GearParameters& p, int shown_class) {
+  if (evaluation::validity_refusal(p)) return "";
+  using Q = evaluation::Quantity;
+  const Q qs[] = {Q::SinglePitch, Q::CumulativePitch, Q::ProfileTotal, Q::ProfileForm, Q::ProfileSlope,
+                  Q::HelixTotal,  Q::HelixForm,       Q::HelixSlope,   Q::Runout};
+  std::string h = "<div class=scroll><table><tr><th>tolerance (µm)</th>";
+  for (Q q : qs) h += "<th>" + esc(std::string(evaluation::symbol(q))) + "T</th>";
+  h += "</tr>";
+  std::vector<int> classes = {shown_class};
+  if (shown_class != 5) classes.push_back(5);
+  for (int c : classes) {
+    h += fmt::format("<tr><td>class {}</td>", c);
+    for (Q q : qs) h += fmt::format("<td>{:g}</td>", evaluation::tolerance_um(q, p, c));
+    h += "</tr>";
+  }
+  return h + "</table></div>\n";
 }
 
 std::string iso_table(const workbench::IsoResult& b, const workbench::IsoResult& a) {
@@ -59,25 +265,52 @@ std::string iso_table(const workbench::IsoResult& b, const workbench::IsoResult&
   return h;
 }
 
+/// The run's date (UTC, ISO 8601): SOURCE_DATE_EPOCH when set (reproducible output), else now.
+std::string run_date() {
+  std::time_t t = std::time(nullptr);
+  if (const char* e = std::getenv("SOURCE_DATE_EPOCH")) {
+    char* end = nullptr;
+    const long long v = std::strtoll(e, &end, 10);
+    if (end != e && *end == '\0' && v >= 0) t = static_cast<std::time_t>(v);
+  }
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  return fmt::format("{:04d}-{:02d}-{:02d}", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday);
+}
+
+const char* kStyle =
+    "<style>*{box-sizing:border-box}html{font-size:16px}"
+    "body{font-family:'DejaVu Sans',sans-serif;max-width:1400px;margin:0 auto;padding:1em 1.5em;color:#222;line-height:1.4}"
+    "h1{font-size:1.6em;margin:.2em 0}h2{border-bottom:1px solid #ccc;padding-top:.6em;font-size:1.3em}"
+    "table{border-collapse:collapse;margin:.8em 0;font-size:.92em}"
+    "td,th{border:1px solid #bbb;padding:.2em .5em;text-align:right}th{background:#f2f2f2}td:first-child{text-align:left}"
+    "table.header,table.data{width:100%}table.header th,table.data th{text-align:left;width:14%}"
+    "table.header td,table.data td{text-align:left}td.cls,span.cls{color:#666;font-size:.85em}table.flanks td{white-space:nowrap}"
+    "figure{margin:1em 0}img{max-width:100%;height:auto;border:1px solid #ddd;display:block}"
+    "figcaption{font-size:.9em;color:#444;max-width:75em}.scroll{max-width:100%;overflow-x:auto}"
+    ".row{display:flex;flex-wrap:wrap;gap:1.2em;align-items:flex-start}.row figure{flex:1 1 620px;min-width:0;margin:0}"
+    ".row .side{flex:0 1 430px}.box{background:#f6f8fa;border:1px solid #ccd;padding:.6em 1.2em}"
+    ".note{color:#666;font-size:.9em}pre{background:#f6f6f6;padding:.6em;overflow-x:auto}"
+    "@page{size:A4;margin:12mm}"
+    "@media print{body{max-width:none;padding:0;font-size:10pt}h2{break-after:avoid}figure,table{break-inside:avoid}"
+    ".row figure{flex-basis:100%}}</style>";
+
 } // namespace
 
 void write_html_report(const std::filesystem::path& dir, const workbench::Workbench& wb, const pipeline::PipelineResult& r,
-                       const std::vector<Figure>& figs) {
-  const auto& g = wb.setup.geometry();
-  const auto& s = g.spec();
+                       const std::vector<Figure>& figs, const ReportOptions& options) {
+  const int shown_class = shown_tolerance_class(wb, r);
+  const auto crown = crowning_of(wb, r.before);
   std::string h;
-  h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>geartopo report — " + esc(wb.scene.name) +
-       "</title>\n<style>body{font-family:sans-serif;max-width:1460px;margin:2em auto;color:#222;line-height:1.4}"
-       "h1{font-size:1.6em}h2{border-bottom:1px solid #ccc;padding-top:.6em}table{border-collapse:collapse;margin:1em 0}"
-       "td,th{border:1px solid #bbb;padding:.25em .6em;text-align:right}th{background:#f2f2f2}td:first-child{text-align:left}"
-       "figure{margin:1.2em 0}img{max-width:100%;height:auto;border:1px solid #ddd}figcaption{font-size:.9em;color:#444}"
-       ".box{background:#f6f8fa;border:1px solid #ccd;padding:.8em 1.2em}.note{color:#666;font-size:.9em}pre{background:#f6f6f6;"
-       "padding:.6em;overflow-x:auto}</style></head><body>\n";
-  h += "<h1>geartopo report — " + esc(wb.scene.name) + "</h1>\n";
+  h += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" content=\"width=device-width\">"
+       "<title>geartopo report — " + esc(wb.scene.name) + "</title>\n" + kStyle + "</head><body>\n";
+  h += "<h1>Gear flank inspection report — " + esc(or_dash(wb.scene.name)) + "</h1>\n";
+  h += header_block(wb, r.iso_before.evaluation.conventions, options.date.value_or(run_date()));
   h += "<p class=note>Deviations in µm, plus material positive: topology grids along the flank normal, ISO 1328-1 values " +
        esc(evaluation::describe(r.iso_before.evaluation.conventions)) +
-       " (docs/iso1328.md); teeth numbered clockwise seen from the datum face; ISO 1328-1:2013 flank tolerance classes. "
-       "Every figure is a PNG in this folder.</p>\n";
+       " (docs/iso1328.md); teeth numbered clockwise seen from the datum face; flanks left/right per DIN ISO 21771; "
+       "ISO 1328-1:2013 flank tolerance classes. The simulated state before compensation is evaluated unless a section "
+       "says otherwise.</p>\n";
 
   h += "<div class=box><h3>Summary</h3><ul>";
   const auto& cb = r.iso_before.evaluation.classification;
@@ -86,33 +319,38 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
                    "flank-method compensation ({:.1f} % better).</li>",
                    grid_label(r), r.largest_before_um, r.largest_after_um,
                    r.largest_before_um > 0 ? 100.0 * (r.largest_before_um - r.largest_after_um) / r.largest_before_um : 0.0);
-  h += fmt::format("<li>Overall flank tolerance class: <b>{}</b> before, <b>{}</b> after.</li>", evaluation::class_label(cb.overall), evaluation::class_label(ca.overall));
-  if (r.measurement) h += "<li>Diagnosis: " + esc(r.measurement->diagnosis.verdict) + "</li>";
+  h += fmt::format("<li>Overall flank tolerance class: <b>{}</b> before, <b>{}</b> after{}.</li>", evaluation::class_label(cb.overall),
+                   evaluation::class_label(ca.overall),
+                   cb.governing ? fmt::format(" (set by {})", evaluation::symbol(*cb.governing)) : std::string());
+  if (r.measurement && r.measurement->diagnosis.chosen)
+    h += "<li>Diagnosis: the measurement shows an effect the scene does not model — <b>" + esc(r.measurement->diagnosis.chosen->name()) +
+         "</b> (details under “Model vs measurement”).</li>";
+  else if (r.measurement)
+    h += "<li>Diagnosis: no missing effect found (details under “Model vs measurement”).</li>";
   h += "</ul></div>\n";
 
-  h += "<h2>Gear</h2><table>";
-  const auto row = [&](const std::string& k, const std::string& v) { h += "<tr><td>" + esc(k) + "</td><td>" + esc(v) + "</td></tr>"; };
-  row("normal module m_n", fmt::format("{} mm", s.normal_module_mm));
-  row("teeth z", std::to_string(s.teeth));
-  row("normal pressure angle α_n", fmt::format("{:.3f}°", s.normal_pressure_angle_rad * 180 / std::numbers::pi));
-  row("helix angle β", fmt::format("{:.3f}° ({} hand)", s.helix_angle_rad * 180 / std::numbers::pi, gears::to_string(s.hand())));
-  row("profile shift x", fmt::format("{}", s.profile_shift));
-  row("face width b", fmt::format("{} mm", s.face_width_mm));
-  row("reference / base / tip / root diameter", fmt::format("{:.3f} / {:.3f} / {:.3f} / {:.3f} mm", g.reference_diameter_mm(),
-                                                            g.base_diameter_mm(), g.tip_diameter_mm(), g.root_diameter_mm()));
-  if (!wb.scene.assumed.empty()) row("assumed (not from a drawing)", fmt::format("{}", fmt::join(wb.scene.assumed, ", ")));
-  h += "</table>\n" + figures_of(figs, "gear");
+  h += "<h2>Gear data</h2>\n" + gear_data_block(wb) + figures_of(figs, "gear");
 
+  h += "<h2>Profile and helix</h2>\n";
+  h += fmt::format("<p class=note>Trace charts with tolerance boxes of class {} ({}). Values µm; F, f_f compared by size, f_H "
+                   "signed (positive: material increases towards the tip / away from the datum face); C: crowning, the height "
+                   "of the fitted parabola above its chord over the evaluation range (not toleranced by ISO 1328-1).</p>\n",
+                   shown_class, wb.scene.report.tolerance_class ? "the scene's report.tolerance_class" : "the class achieved");
+  for (const auto& f : figs)
+    if (f.section == "traces")
+      h += "<div class=row>" + figure_html(f) + "<div class=side>" + trace_value_table(r.iso_before, f.tooth, shown_class, crown) +
+           "</div></div>\n";
+
+  h += "<h2>ISO 1328-1:2013 — every evaluated flank</h2>\n<p class=note>Each value with its flank tolerance class in grey; "
+       "C_α, C_β: crowning (not toleranced).</p>\n" + flank_table(r.iso_before, crown);
+  h += "<p>Mean slopes over the flanks evaluated, per side:</p>" + means_table(r.iso_before);
+  h += figures_of(figs, "pitch") + figures_of(figs, "runout");
+  h += "<h2>ISO 1328-1:2013 — before and after compensation</h2>\n" + iso_table(r.iso_before, r.iso_after);
+  h += tolerance_table(r.iso_before.parameters, shown_class);
+
+  h += "<h2>Topology before compensation</h2>\n" + figures_of(figs, "topology");
   h += "<h2>Machine</h2><p>" + esc(wb.scene.machine.name.empty() ? "machine without a name" : wb.scene.machine.name) + ".</p>\n";
   h += figures_of(figs, "machine");
-  h += "<h2>Topology before compensation</h2>\n" + figures_of(figs, "topology") + figures_of(figs, "traces") +
-       figures_of(figs, "pitch");
-  h += "<h2>ISO 1328-1:2013 — before and after compensation</h2>\n" + iso_table(r.iso_before, r.iso_after);
-  if (const auto t = class5_tolerances_json(r.iso_before.parameters); !t.is_null()) {
-    h += "<p class=note>Class-5 tolerances (µm): ";
-    for (auto it = t.begin(); it != t.end(); ++it) h += esc(it.key()) + " " + fmt::format("{}", it.value().get<double>()) + "; ";
-    h += "</p>\n";
-  }
   h += "<h2>Compensation (flank method)</h2>\n";
   if (r.corrections) {
     const auto m = r.corrections->max_abs();
@@ -134,7 +372,7 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
       h += "</ul>\n";
     }
     h += figures_of(figs, "measurement");
-    h += "<table><tr><th>rank</th><th>effect</th><th>ΔBIC</th><th>explained</th><th>RMS after (µm)</th><th>parameters (±1σ)</th></tr>";
+    h += "<div class=scroll><table><tr><th>rank</th><th>effect</th><th>ΔBIC</th><th>explained</th><th>RMS after (µm)</th><th>parameters (±1σ)</th></tr>";
     int rank = 1;
     for (const auto& c : m.diagnosis.ranked) {
       std::string params;
@@ -144,7 +382,7 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
                        esc(c.name()), c.significant ? "" : " (not significant)", c.delta_bic, 100 * c.explained_fraction,
                        c.rms_after_um, esc(params));
     }
-    h += "</table>\n<p><b>Verdict.</b> " + esc(m.diagnosis.verdict) + "</p>\n";
+    h += "</table></div>\n<p><b>Verdict.</b> " + esc(m.diagnosis.verdict) + "</p>\n";
     if (m.after)
       h += fmt::format("<p>With the effect added the residual falls from {:.2f} to {:.2f} µm RMS (scene_with_effect.yaml).</p>\n",
                        m.before.summary.overall.rms_um, m.after->summary.overall.rms_um);
@@ -155,15 +393,26 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
   output::write_text_atomically(dir / "index.html", h);
 }
 
-std::vector<Figure> write_report(const std::filesystem::path& dir, const workbench::Workbench& wb, const pipeline::PipelineResult& r) {
+std::vector<Figure> write_report(const std::filesystem::path& dir, const workbench::Workbench& wb, const pipeline::PipelineResult& r,
+                                 const ReportOptions& options) {
   auto figs = render_figures(wb, r, dir);
-  write_html_report(dir, wb, r, figs);
+  write_html_report(dir, wb, r, figs, options);
   nlohmann::json man = nlohmann::json::array();
   for (const auto& f : figs) {
     nlohmann::json j{{"file", f.file},   {"section", f.section}, {"title", f.title},
                      {"width", f.width}, {"height", f.height},   {"shared_scale", f.shared_scale}};
     j["data_range_um"] = f.data_range_um ? nlohmann::json{f.data_range_um->first, f.data_range_um->second} : nlohmann::json(nullptr);
     j["colour_range_um"] = f.colour_range_um ? nlohmann::json{f.colour_range_um->first, f.colour_range_um->second} : nlohmann::json(nullptr);
+    if (!f.charts.empty()) {
+      nlohmann::json charts = nlohmann::json::array();
+      for (const auto& c : f.charts)
+        charts.push_back({{"panel", c.panel},
+                          {"data_range_um", {c.data_um.first, c.data_um.second}},
+                          {"tolerance_box_um", {c.tolerance_um.first, c.tolerance_um.second}},
+                          {"axis_range_um", {c.axis_um.first, c.axis_um.second}},
+                          {"min_span_um", c.min_span_um}});
+      j["charts"] = charts;
+    }
     man.push_back(j);
   }
   output::write_text_atomically(dir / "figures.json", man.dump(2) + "\n");

@@ -351,6 +351,15 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   if (auto m = top.optional_map("measurement"))
     scene.grid = read_grid(*m, scene.gear.teeth, std::filesystem::path(source).parent_path());
   scene.effects = read_effects(top, ctx);
+  if (auto r = top.optional_map("report")) {
+    scene.report.part = r->optional_text("part").value_or("");
+    scene.report.drawing = r->optional_text("drawing").value_or("");
+    scene.report.operator_name = r->optional_text("operator").value_or("");
+    scene.report.measuring_machine = r->optional_text("measuring_machine").value_or("");
+    scene.report.probe_diameter_mm = r->optional_number("probe_diameter_mm", Range{0.0, 100.0, true, false});
+    if (r->has("tolerance_class")) scene.report.tolerance_class = static_cast<int>(r->integer("tolerance_class", 1, 11));
+    r->finish();
+  }
   top.finish();
 
   // Domain rules that involve several fields (undercut, pointed tip, form diameter) live in GearGeometry; locate

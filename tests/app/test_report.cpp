@@ -13,34 +13,9 @@
 #include <sstream>
 #include <unistd.h>
 
-namespace {
+#include "app/report_fixture.hpp"
 
 namespace fs = std::filesystem;
-
-class ReportTest : public ::testing::Test {
-protected:
-  static void SetUpTestSuite() {
-    dir_ = new fs::path(fs::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_report"));
-    const std::string scene = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35.yaml";
-    // No display: unset DISPLAY for the child, as on a headless server.
-    const std::string cmd = "env -u DISPLAY " + std::string(GEARTOPO_BINARY) + " report " + scene + " --out " + dir_->string() +
-                            " > " + (dir_->string() + ".log") + " 2>&1";
-    code_ = std::system(cmd.c_str());
-    std::ifstream man(*dir_ / "figures.json");
-    if (man) manifest_ = new nlohmann::json(nlohmann::json::parse(man));
-  }
-  static void TearDownTestSuite() {
-    fs::remove_all(*dir_);
-    fs::remove(dir_->string() + ".log");
-    delete manifest_;
-    delete dir_;
-  }
-  static inline fs::path* dir_ = nullptr;
-  static inline nlohmann::json* manifest_ = nullptr;
-  static inline int code_ = -1;
-};
-
-} // namespace
 
 TEST_F(ReportTest, RendersEveryFigureWithoutADisplay) {
   ASSERT_EQ(code_, 0);

@@ -270,3 +270,26 @@ TEST(Scene, NegativeUpperAllowanceAloneIsBlamedOnTheUpperKey) {
             "scenes/x.yaml:10:33: gear.thickness_allowance_upper_um: -40 µm is below the lower allowance 0 µm "
             "(absent: 0; A_sni ≤ A_sne)");
 }
+
+// The report's header keys (docs/scene-format.md, `report`): optional free text, a probe diameter in mm and a class.
+TEST(SceneReport, HeaderKeysAreReadAndCheckedAtTheirField) {
+  const auto sc = scene::parse_scene(kGood + "report:\n  part: P-4711\n  drawing: Z 12-345\n  operator: A. Smith\n"
+                                             "  measuring_machine: P 65\n  probe_diameter_mm: 3\n  tolerance_class: 6\n",
+                                     "mem");
+  EXPECT_EQ(sc.report.part, "P-4711");
+  EXPECT_EQ(sc.report.drawing, "Z 12-345");
+  EXPECT_EQ(sc.report.operator_name, "A. Smith");
+  EXPECT_EQ(sc.report.measuring_machine, "P 65");
+  ASSERT_TRUE(sc.report.probe_diameter_mm.has_value());
+  EXPECT_DOUBLE_EQ(*sc.report.probe_diameter_mm, 3.0);
+  ASSERT_TRUE(sc.report.tolerance_class.has_value());
+  EXPECT_EQ(*sc.report.tolerance_class, 6);
+  const auto none = scene::parse_scene(kGood, "mem");
+  EXPECT_TRUE(none.report.part.empty());
+  EXPECT_FALSE(none.report.probe_diameter_mm.has_value());
+  EXPECT_FALSE(none.report.tolerance_class.has_value());
+  // Lines 10 and 11 of the file: "report:" and the key.
+  EXPECT_EQ(error_of(kGood + "report:\n  probe_diameter_mm: 0\n"), "scenes/x.yaml:11:22: report.probe_diameter_mm: 0 is outside (0, 100]");
+  EXPECT_NE(error_of(kGood + "report:\n  tolerance_class: 12\n").find("report.tolerance_class"), std::string::npos);
+  EXPECT_NE(error_of(kGood + "report:\n  machine: x\n").find("report.machine"), std::string::npos); // unknown key
+}

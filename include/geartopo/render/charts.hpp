@@ -78,6 +78,9 @@ struct LineChart {
   LegendPlace legend = LegendPlace::top_right;
   ImageSize size;
   int font_px = 0; ///< base font size; 0 = from the image size
+  /// Custom x ticks (e.g. whole steps, or mirrored deviation labels); empty → nice ticks. Labels pair with positions.
+  std::vector<double> x_ticks;
+  std::vector<std::string> x_tick_labels;
 };
 
 /// Renders `chart` to `png`. Axis ranges not fixed by the caller cover the series, bands and lines, padded and

@@ -28,7 +28,8 @@ struct GridTopology {
   /// Shown offset (mm) = deviation (µm) × 1e-3 × magnification. 0 = automatic (a round number such that the
   /// largest |deviation| is about 15 % of the grid's size in 3D, or 80 % of a row spacing in plane).
   double magnification = 0.0;
-  bool show_values = true; ///< deviation written at every node
+  bool show_values = true; ///< deviation written at the nodes
+  int value_every = 1;      ///< values at every n-th row and column only (rows/cols 0, n, 2n, …): less crowding
   int value_decimals = 1;
   bool fill = true;            ///< colour the actual grid's surface with the colour map (the nodes are coloured anyway)
   double azimuth_deg = -30.0;  ///< 3D view: rotation of the view about the deviation axis (0: looking along +v)

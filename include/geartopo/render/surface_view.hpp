@@ -33,6 +33,12 @@ struct Camera {
   double view_angle_deg = 30.0;
 };
 
+/// A text label at a 3D point (mm), e.g. "tooth 1": drawn in bold on a white box just above the point's image.
+struct SurfaceLabel {
+  Eigen::Vector3d at = Eigen::Vector3d::Zero();
+  std::string text;
+};
+
 struct SurfaceView {
   std::string title;
   std::string caption; ///< one line under the view, e.g. "left flanks, tooth 1"
@@ -42,6 +48,7 @@ struct SurfaceView {
   Eigen::Vector3d view_up{0.0, 0.0, 1.0};
   bool parallel = true;
   std::optional<Camera> camera;
+  std::vector<SurfaceLabel> labels; ///< drawn over the meshes (not hidden by them)
   ColourScale scale; ///< range over the values of all meshes
   ImageSize size;
   int font_px = 0;

@@ -6,14 +6,23 @@
 #include "geartopo/pipeline/pipeline.hpp"
 
 #include <filesystem>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace geartopo::report {
 
-void write_html_report(const std::filesystem::path& dir, const workbench::Workbench& wb, const pipeline::PipelineResult& r,
-                       const std::vector<Figure>& figures);
+struct ReportOptions {
+  /// The date in the header block (e.g. "2026-11-22"); unset: the run's UTC date, or SOURCE_DATE_EPOCH when set.
+  std::optional<std::string> date;
+};
 
-/// Figures, index.html and figures.json (the manifest: file, size, data and colour ranges) into dir.
-std::vector<Figure> write_report(const std::filesystem::path& dir, const workbench::Workbench& wb, const pipeline::PipelineResult& r);
+void write_html_report(const std::filesystem::path& dir, const workbench::Workbench& wb, const pipeline::PipelineResult& r,
+                       const std::vector<Figure>& figures, const ReportOptions& options = {});
+
+/// Figures, index.html and figures.json (the manifest: file, size, data and colour ranges, and for trace figures each
+/// chart's data, tolerance box and axis range) into dir.
+std::vector<Figure> write_report(const std::filesystem::path& dir, const workbench::Workbench& wb, const pipeline::PipelineResult& r,
+                                 const ReportOptions& options = {});
 
 } // namespace geartopo::report

@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -44,6 +45,16 @@ struct MachineSection {
   machine::MachineModel model() const { return machine::MachineModel(strokes, sources); }
 };
 
+/// The report's header block (all optional free text; docs/scene-format.md `report`). Empty = not given.
+struct ReportHeader {
+  std::string part;              ///< part name / number
+  std::string drawing;           ///< drawing number
+  std::string operator_name;     ///< who ran or measured it
+  std::string measuring_machine; ///< gear measuring machine
+  std::optional<double> probe_diameter_mm; ///< probe ball diameter, mm
+  std::optional<int> tolerance_class;      ///< class whose tolerance boxes the trace charts show (else the achieved one)
+};
+
 struct Scene {
   std::string source;      ///< file the scene was read from (as given), for messages
   std::string name;        ///< free text
@@ -58,6 +69,7 @@ struct Scene {
   grinding::ProcessSpec process;
   MeasurementGrid grid;
   std::vector<EffectSpec> effects;
+  ReportHeader report;
 
   /// Where each field's value stands in the scene file (dotted path → position): errors found after reading, when
   /// the scene is built into a set-up (workbench), are located with it.
