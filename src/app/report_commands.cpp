@@ -5,6 +5,8 @@
 #include "geartopo/report/iso_report.hpp"
 #include "geartopo/pipeline/pipeline.hpp"
 #include "app/options.hpp"
+#include "app/monte_carlo_flags.hpp"
+#include "geartopo/report/prediction_report.hpp"
 
 #include "geartopo/diagnosis/scene_writer.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
@@ -45,6 +47,10 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
     std::cerr << "geartopo: warning: " << worse << "\n";
     iso["warnings"].push_back(worse);
   }
+  if (r.prediction) {
+    iso["prediction"] = report::prediction_json(*r.prediction);
+    write_prediction(dir, *r.prediction);
+  }
   output::write_text_atomically(dir / "iso1328.json", iso.dump(2) + "\n");
   if (r.measurement && r.measurement->diagnosis.chosen) {
     std::vector<std::string> comments;
@@ -58,10 +64,15 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
 void print_summary(const fs::path& dir, const pipeline::PipelineResult& r) {
   const auto& cb = r.iso_before.evaluation.classification;
   const auto& ca = r.iso_after.evaluation.classification;
-  std::cout << fmt::format("Largest |deviation| ({} grids, all teeth): {:.2f} µm before, {:.2f} µm after compensation\n",
-                           pipeline::grid_label(r), r.largest_before_um, r.largest_after_um);
-  std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before, {} after{}\n", evaluation::class_label(cb.overall), evaluation::class_label(ca.overall),
-                           cb.governing ? fmt::format(" (before: set by {})", evaluation::symbol(*cb.governing)) : "");
+  if (r.prediction) { // the after-state as a band (docs/monte-carlo.md), never the model's own ≈ 0
+    for (const auto& l : report::prediction_lines(*r.prediction)) std::cout << l << "\n";
+  } else {
+    std::cout << fmt::format("Largest |deviation| ({} grids, all teeth): {:.2f} µm before; the nominal model compensating "
+                             "itself: {:.2f} µm (no prediction: --samples 0)\n",
+                             pipeline::grid_label(r), r.largest_before_um, r.largest_after_um);
+    std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before, {} nominal after{}\n", evaluation::class_label(cb.overall), evaluation::class_label(ca.overall),
+                             cb.governing ? fmt::format(" (before: set by {})", evaluation::symbol(*cb.governing)) : "");
+  }
   if (r.measurement) {
     const auto& m = *r.measurement;
     std::cout << fmt::format("Measurement {}: residual {:.2f} µm RMS against the model\n", m.file, m.before.summary.overall.rms_um);
@@ -78,6 +89,7 @@ void print_summary(const fs::path& dir, const pipeline::PipelineResult& r) {
 void register_report_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, measured, out;
+    MonteCarloFlags mc;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("report", "Figures (PNG, rendered off-screen) and an offline index.html: topology, "
@@ -85,12 +97,13 @@ void register_report_command(CLI::App& app, Action& action) {
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
   cmd->add_option("--measured", opt->measured, "Measurement (topology CSV or point cloud); default: the scene's measurement.measured");
   cmd->add_option("--out", opt->out, "Output directory")->required()->check(non_empty_path());
+  add_monte_carlo_options(cmd, opt->mc, false);
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
       const fs::path dir(opt->out);
       fs::create_directories(dir);
-      const auto r = pipeline::run_pipeline(wb, measured_of(wb, opt->measured));
+      const auto r = pipeline::run_pipeline(wb, measured_of(wb, opt->measured), prediction_options(opt->mc));
       write_data_files(dir, opt->scene, wb, r); // the page names them (corrections.csv, scene_with_effect.yaml …)
       const auto figs = report::write_report(dir, wb, r);
       std::cout << fmt::format("wrote {} figures and {}\n", figs.size(), (dir / "index.html").string());
@@ -102,19 +115,21 @@ void register_report_command(CLI::App& app, Action& action) {
 void register_run_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, out;
+    MonteCarloFlags mc;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("run", "The main job: simulate, evaluate (ISO 1328-1), compensate, compare and diagnose "
                                             "when the scene names a measurement, and write the report");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
   cmd->add_option("--out", opt->out, "Output directory")->required()->check(non_empty_path());
+  add_monte_carlo_options(cmd, opt->mc, false);
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
       const fs::path dir(opt->out);
       fs::create_directories(dir);
       std::cout << "geartopo run: " << (wb.scene.name.empty() ? opt->scene : wb.scene.name) << "\n";
-      const auto r = pipeline::run_pipeline(wb, wb.scene.grid.measured_file);
+      const auto r = pipeline::run_pipeline(wb, wb.scene.grid.measured_file, prediction_options(opt->mc));
       write_data_files(dir, opt->scene, wb, r);
       report::write_report(dir, wb, r);
       print_summary(dir, r);

@@ -9,7 +9,8 @@
 
 namespace geartopo::pipeline {
 
-PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file) {
+PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file,
+                            const std::optional<MonteCarloOptions>& prediction) {
   PipelineResult r;
   grinding::SimulationOptions so;
   so.rows = wb.scene.grid.rows;
@@ -29,6 +30,7 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& m
   r.iso_after = workbench::evaluate_iso(g, wb.setup.ranges(), r.after);
   r.largest_before_um = grinding::largest_abs_deviation_um(r.before);
   r.largest_after_um = grinding::largest_abs_deviation_um(r.after);
+  if (prediction) r.prediction = summarise(run_monte_carlo(wb, *r.corrections, *prediction));
 
   if (!measured_file.empty()) {
     MeasurementResult m;

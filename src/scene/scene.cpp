@@ -162,15 +162,15 @@ void read_uncertainty(MapReader& u, MachineUncertainty& out, ReadContext& ctx) {
   u.finish();
 }
 
-// repeatability / resolution: x_um, y_um, z_um (linear axes), a_mdeg, c_mdeg (rotary axes), each ≥ 0.
-void read_axis_values(MapReader& m, machine::Vector5d& out) {
+// repeatability / resolution: x_um, y_um, z_um (linear axes), a_mdeg, c_mdeg (rotary axes), each ≥ 0, times `scale`.
+void read_axis_values(MapReader& m, machine::Vector5d& out, double scale) {
   constexpr Range kLinearUm{0.0, 1000.0};
   constexpr Range kRotaryMdeg{0.0, 1000.0};
   const char* linear[] = {"x_um", "y_um", "z_um"};
   for (int i = 0; i < 3; ++i)
-    if (auto v = m.optional_number(linear[i], kLinearUm)) out(i) = units::mm_from_um(*v);
-  if (auto v = m.optional_number("a_mdeg", kRotaryMdeg)) out(3) = units::rad_from_deg(*v * 1e-3);
-  if (auto v = m.optional_number("c_mdeg", kRotaryMdeg)) out(4) = units::rad_from_deg(*v * 1e-3);
+    if (auto v = m.optional_number(linear[i], kLinearUm)) out(i) = scale * units::mm_from_um(*v);
+  if (auto v = m.optional_number("a_mdeg", kRotaryMdeg)) out(3) = scale * units::rad_from_deg(*v * 1e-3);
+  if (auto v = m.optional_number("c_mdeg", kRotaryMdeg)) out(4) = scale * units::rad_from_deg(*v * 1e-3);
   m.finish();
 }
 
@@ -234,8 +234,9 @@ MachineSection read_machine(MapReader& m, const std::filesystem::path& base, dou
     p->finish();
   }
   if (auto u = m.optional_map("uncertainty")) read_uncertainty(*u, s.uncertainty, ctx);
-  if (auto r = m.optional_map("repeatability")) read_axis_values(*r, s.uncertainty.repeatability);
-  if (auto r = m.optional_map("resolution")) read_axis_values(*r, s.uncertainty.resolution);
+  // The file gives ISO 230-2's unidirectional repeatability R↑ = 4 s (data sheets quote it); inside: s.
+  if (auto r = m.optional_map("repeatability")) read_axis_values(*r, s.uncertainty.repeatability, 0.25);
+  if (auto r = m.optional_map("resolution")) read_axis_values(*r, s.uncertainty.resolution, 1.0);
   m.finish();
   try {
     (void)s.model(); // strokes, duplicates and table coverage
@@ -353,7 +354,8 @@ MachineUncertainty MachineUncertainty::defaults() {
     u.component_u[static_cast<size_t>(k)] = v;
   }
   const double mdeg = units::rad_from_deg(1e-3);
-  u.repeatability << units::mm_from_um(3.0), units::mm_from_um(3.0), units::mm_from_um(3.0), mdeg, mdeg;
+  // R↑ = 3 µm, 1 mdeg (the seed paper's machine) = 4 s (ISO 230-2).
+  u.repeatability << units::mm_from_um(0.75), units::mm_from_um(0.75), units::mm_from_um(0.75), 0.25 * mdeg, 0.25 * mdeg;
   u.resolution << units::mm_from_um(1.0), units::mm_from_um(1.0), units::mm_from_um(1.0), mdeg, mdeg;
   return u;
 }

@@ -96,8 +96,9 @@ TEST(SceneUncertainty, DefaultsKindsAndComponents) {
   EXPECT_DOUBLE_EQ(at(u, ComponentId::delta_yc), 2e-3);   // 2 µm
   EXPECT_DOUBLE_EQ(at(u, ComponentId::epsilon_zc), 5e-6); // 5 µrad
   EXPECT_DOUBLE_EQ(at(u, ComponentId::S_xy), 5e-6);
-  EXPECT_DOUBLE_EQ(u.repeatability(0), 3e-3);                        // 3 µm
-  EXPECT_DOUBLE_EQ(u.repeatability(4), std::numbers::pi / 180e3);    // 1 mdeg
+  // Repeatability R↑ = 3 µm, 1 mdeg is 4 standard deviations (ISO 230-2).
+  EXPECT_DOUBLE_EQ(u.repeatability(0), 0.75e-3);
+  EXPECT_DOUBLE_EQ(u.repeatability(4), 0.25 * std::numbers::pi / 180e3);
   EXPECT_DOUBLE_EQ(u.resolution(2), 1e-3);
 
   const auto s = scene::parse_scene(
@@ -108,8 +109,8 @@ TEST(SceneUncertainty, DefaultsKindsAndComponents) {
   EXPECT_DOUBLE_EQ(at(v, ComponentId::epsilon_xa), 7e-6);
   EXPECT_DOUBLE_EQ(at(v, ComponentId::epsilon_zc), 2e-6);
   EXPECT_DOUBLE_EQ(at(v, ComponentId::E_XOC), 0.5e-3);
-  EXPECT_DOUBLE_EQ(v.repeatability(4), 0.5 * std::numbers::pi / 180e3);
-  EXPECT_DOUBLE_EQ(v.repeatability(0), 3e-3); // untouched: default
+  EXPECT_DOUBLE_EQ(v.repeatability(4), 0.125 * std::numbers::pi / 180e3);
+  EXPECT_DOUBLE_EQ(v.repeatability(0), 0.75e-3); // untouched: default
 
   try {
     scene::parse_scene(mc_scene_text("  repeatability: {x_um: -1}\n"), "bad.yaml");

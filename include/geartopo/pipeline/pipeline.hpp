@@ -9,6 +9,7 @@
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/grinding/topology.hpp"
+#include "geartopo/pipeline/monte_carlo.hpp"
 
 #include <memory>
 #include <optional>
@@ -31,9 +32,14 @@ struct PipelineResult {
   std::unique_ptr<compensation::CorrectionTable> corrections;
   double largest_before_um = 0.0, largest_after_um = 0.0;
   std::optional<MeasurementResult> measurement;
+  /// The after-state as a distribution (monte_carlo.hpp): the nominal `after` above is what the model promises itself
+  /// (≈ 0 by construction), this is what a machine known only within its uncertainties would grind.
+  std::optional<MonteCarloSummary> prediction;
 };
 
-PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file);
+/// With `prediction` set (and its samples ≥ 1, one shard), the compensated gear is also predicted by Monte Carlo.
+PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file,
+                            const std::optional<MonteCarloOptions>& prediction = std::nullopt);
 
 /// "7×9": the topological grid's rows × columns as simulated (the scene's measurement.rows, cols).
 std::string grid_label(const PipelineResult& r);

@@ -40,12 +40,13 @@ struct EffectSpec {
 /// command resolution (the step a correction is rounded to; 0: not rounded). Internal units: mm and rad.
 struct MachineUncertainty {
   std::array<double, machine::kComponentCount> component_u{}; ///< indexed by ComponentId; mm (δ, offsets) or rad
-  machine::Vector5d repeatability = machine::Vector5d::Zero();  ///< X, Y, Z (mm), A, C (rad), per stroke
+  /// One standard deviation s per stroke, X, Y, Z (mm), A, C (rad); the file gives ISO 230-2's R↑ = 4 s.
+  machine::Vector5d repeatability = machine::Vector5d::Zero();
   machine::Vector5d resolution = machine::Vector5d::Zero();     ///< X, Y, Z (mm), A, C (rad)
 
   /// The documented defaults: map uncertainties of ISO 230-2 practice (linear axes 1 µm / 3 µrad, A and C 2 µm /
-  /// 5 µrad, squareness 5 µrad, axis-line location 2 µm / 5 µrad), the seed paper's machine repeatability (3 µm,
-  /// 1 mdeg) and a controller's command resolution of 1 µm / 1 mdeg.
+  /// 5 µrad, squareness 5 µrad, axis-line location 2 µm / 5 µrad), the seed paper's machine repeatability (R↑ = 3 µm,
+  /// 1 mdeg, so s = R↑/4) and a controller's command resolution of 1 µm / 1 mdeg.
   static MachineUncertainty defaults();
 };
 
