@@ -16,7 +16,7 @@ class App;
 namespace geartopo::app {
 
 struct MonteCarloFlags {
-  long long samples = 100;
+  long long samples = 40;
   std::uint64_t seed = 1;
   std::string shard = "1/1";
 };

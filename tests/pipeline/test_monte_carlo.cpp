@@ -14,6 +14,8 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <sys/wait.h>
+#include <unistd.h>
 
 using namespace geartopo;
 
@@ -285,4 +287,49 @@ TEST(MonteCarlo, ABrokenPartialFileIsLocated) {
     EXPECT_NE(m.find("before.F_beta_um"), std::string::npos) << m;
   }
   std::filesystem::remove(file);
+}
+
+namespace {
+
+std::string slurp_mc(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+int run_geartopo(const std::string& args, const std::filesystem::path& log) {
+  const int status = std::system((std::string(GEARTOPO_BINARY) + " " + args + " >" + log.string() + " 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+} // namespace
+
+// The scale-out recipe end to end: `compensate --shard 1/2` and `2/2`, then `merge`, give the very bytes of one run's
+// prediction.json and prediction_samples.csv.
+TEST(MonteCarloCli, MergedShardsEqualOneRunByteForByte) {
+  const auto dir = std::filesystem::temp_directory_path() / ("geartopo_mc_cli_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  { std::ofstream(dir / "scene.yaml") << mc_scene_text(kMapErrors); }
+  const std::string scene = (dir / "scene.yaml").string(), log = (dir / "log.txt").string();
+  const std::string common = " --samples 6 --seed 5 --step 5";
+  ASSERT_EQ(run_geartopo("compensate " + scene + " --out " + (dir / "one").string() + common, log), 0) << slurp_mc(log);
+  EXPECT_NE(slurp_mc(log).find("95 % interval"), std::string::npos) << slurp_mc(log);
+  for (int i : {1, 2})
+    ASSERT_EQ(run_geartopo("compensate " + scene + " --out " + (dir / ("s" + std::to_string(i))).string() + common +
+                               " --shard " + std::to_string(i) + "/2", log), 0)
+        << slurp_mc(log);
+  EXPECT_FALSE(std::filesystem::exists(dir / "s1" / "prediction.json")); // a shard has no summary of its own
+  ASSERT_EQ(run_geartopo("merge " + (dir / "s2" / "prediction_samples.csv").string() + " " +
+                             (dir / "s1" / "prediction_samples.csv").string() + " --out " + (dir / "merged").string(), log), 0)
+      << slurp_mc(log);
+  for (const char* f : {"prediction.json", "prediction_samples.csv", "prediction.txt"}) {
+    const std::string a = slurp_mc(dir / "one" / f), b = slurp_mc(dir / "merged" / f);
+    EXPECT_FALSE(a.empty()) << f;
+    EXPECT_EQ(a, b) << f;
+  }
+  // One shard alone is not a result; a shard beyond n is bad usage.
+  EXPECT_EQ(run_geartopo("merge " + (dir / "s1" / "prediction_samples.csv").string() + " --out " + (dir / "m2").string(), log), 1);
+  EXPECT_NE(slurp_mc(log).find("merge every shard"), std::string::npos) << slurp_mc(log);
+  EXPECT_EQ(run_geartopo("compensate " + scene + " --out " + (dir / "bad").string() + common + " --shard 3/2", log), 2);
+  EXPECT_NE(slurp_mc(log).find("--shard"), std::string::npos) << slurp_mc(log);
+  std::filesystem::remove_all(dir);
 }
