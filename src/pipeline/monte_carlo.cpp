@@ -7,6 +7,7 @@
 #include "geartopo/core/parallel.hpp"
 #include "geartopo/core/text_field.hpp"
 #include "geartopo/effects/effects_process.hpp"
+#include "geartopo/effects/registry.hpp"
 #include "geartopo/grinding/machine_process.hpp"
 
 #include <fmt/format.h>
@@ -90,7 +91,9 @@ GearQuantities gear_quantities(const workbench::IsoResult& iso, const std::vecto
   };
   const auto& c = iso.evaluation.classification;
   for (const auto& q : c.quantities) {
-    add(fmt::format("{}_um", ascii_name(q.quantity)), q.worst_value_um);
+    // |value|: the worst slope's sign flips with the flank that is worst, which would split one band in two; the
+    // class is judged by |value| too (evaluation/gear_evaluation.hpp, QuantityClass).
+    add(fmt::format("{}_um", ascii_name(q.quantity)), std::abs(q.worst_value_um));
     if (q.flank_class) add(fmt::format("{}_class", ascii_name(q.quantity)), *q.flank_class);
   }
   if (c.overall) add("overall_class", *c.overall);
@@ -148,6 +151,9 @@ MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation
   const compensation::CorrectionTable uncorrected(std::move(zero_rows));
   std::set<int> spaces;
   for (const auto& r : nominal.rows()) spaces.insert(r.space);
+  bool effects_uncertain = false;
+  for (const auto& e : wb.scene.effects)
+    for (double u : e.uncertainties) effects_uncertain = effects_uncertain || u > 0.0;
 
   grinding::SimulationOptions so;
   so.rows = wb.scene.grid.rows;
@@ -176,10 +182,24 @@ MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation
     for (const int s : spaces)
       for (int a = 0; a < 5; ++a) off_after[s](a) = unc.repeatability(a) * rng.normal();
 
+    // Effects with uncertain values (e.g. identified by diagnosis): drawn last, each value within its standard
+    // uncertainty (independently: the fit's correlations are not carried), held inside the effect's allowed range.
+    std::vector<std::unique_ptr<effects::Effect>> drawn_effects;
+    if (effects_uncertain) {
+      std::vector<scene::EffectSpec> specs = wb.scene.effects;
+      for (auto& spec : specs) {
+        const auto params = effects::make_effect(spec.type)->parameters();
+        for (size_t v = 0; v < spec.uncertainties.size() && v < spec.values.size(); ++v)
+          spec.values[v] = std::clamp(spec.values[v] + spec.uncertainties[v] * rng.normal(), params[v].lo, params[v].hi);
+      }
+      drawn_effects = workbench::make_effects(specs, wb.setup);
+    }
+    const auto& sample_effects = effects_uncertain ? drawn_effects : wb.effects;
+
     const machine::MachineModel model(wb.machine.strokes(), std::move(truth));
     const grinding::MachineProcess machine_process(model, wb.scene.machine.datum_face_z_mm);
     std::unique_ptr<effects::EffectsProcess> with_effects;
-    if (!wb.effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(machine_process, wb.effects);
+    if (!sample_effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(machine_process, sample_effects);
     const grinding::GrindingProcess& true_machine =
         with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : machine_process;
 

@@ -90,12 +90,11 @@ std::string prediction_summary_html(const pipeline::MonteCarloSummary& s) {
 
 Figure prediction_figure(const pipeline::MonteCarloSummary& s, const std::filesystem::path& dir) {
   render::BarChart c;
-  c.title = fmt::format("Predicted ISO 1328-1 deviations before and after compensation: median and 95 % interval of {} "
-                        "samples",
+  c.title = fmt::format("Predicted ISO 1328-1 deviations, before and after: median and 95 % interval ({} samples)",
                         s.samples);
   c.size = {1400, 700};
   c.x = {"", "", {}, {}};
-  c.y = {"deviation (worst flank)", "µm", {}, {}};
+  c.y = {"deviation, worst flank (slopes: |value|)", "µm", {}, {}};
   render::BarSeries before_bar{"before, median", {}, render::Rgb{200, 200, 200}};
   render::Series before_whisker, after_whisker, after_median;
   before_whisker.name = "before, 95 % interval";
@@ -122,8 +121,8 @@ Figure prediction_figure(const pipeline::MonteCarloSummary& s, const std::filesy
       series->x.insert(series->x.end(), {x + dx, x + dx, nan});
       series->y.insert(series->y.end(), {band.low, band.high, nan});
     }
-    after_median.x.push_back(x + 0.18);
-    after_median.y.push_back(s.after[i].median);
+    after_median.x.insert(after_median.x.end(), {x + 0.18, nan}); // markers only: NaN breaks the line
+    after_median.y.insert(after_median.y.end(), {s.after[i].median, nan});
   }
   if (c.categories.empty()) throw std::runtime_error("prediction figure: no ISO quantity was evaluated");
   c.bars.push_back(before_bar);

@@ -4,16 +4,24 @@
 #include "geartopo/pipeline/monte_carlo.hpp"
 
 #include "geartopo/compensation/compensator.hpp"
+#include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/diagnosis/synth.hpp"
+#include "geartopo/effects/registry.hpp"
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/scene/scene.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <map>
 #include <numbers>
+#include <random>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -332,4 +340,114 @@ TEST(MonteCarloCli, MergedShardsEqualOneRunByteForByte) {
   EXPECT_EQ(run_geartopo("compensate " + scene + " --out " + (dir / "bad").string() + common + " --shard 3/2", log), 2);
   EXPECT_NE(slurp_mc(log).find("--shard"), std::string::npos) << slurp_mc(log);
   std::filesystem::remove_all(dir);
+}
+
+// The closed loop (docs/tutorial.md, "6."): the truth machine is one machine within the scene's stated uncertainties —
+// every one of the 43 components of the scene's map shifted by a draw of N(0, u²), each stroke off by the axes'
+// repeatability — drawn here with the standard library's generator, plus a thermal drift the scene does not model.
+// Gear 1 is measured on it; diagnosis names the drift (with what else it chooses); the corrections are computed on the
+// scene with the identified effect; Monte Carlo predicts gear 2; gear 2 ground on the truth machine with those
+// corrections (rounded to the resolution, as the controller takes them) lies inside the predicted 95 % intervals and
+// is better than gear 1.
+// DISABLED — it fails, and that is a finding, not a tolerance to loosen: gear 2's F_α, F_β, F_p and largest |deviation|
+// fall inside their intervals and gear 2 is better than gear 1 (largest 8.3 against 24.1 µm), but f_p = 5.89 µm lies
+// above the predicted [2.42, 4.99] µm. Diagnosis fits the drift to gear 1's stroke-to-stroke scatter too
+// (time constant 60 s for the true 120 s, a z growth of 10 µm for the true 0; the verdict says the residual is more
+// than noise), and neither the fit's σ nor σ scaled by the Birge ratio (3.1) carries that bias. See docs/monte-carlo.md,
+// "What the prediction does not know".
+TEST(MonteCarloClosedLoop, DISABLED_Gear2FromTheTruthFallsInsideThePredictionAndIsBetter) {
+  const workbench::Workbench model(scene::parse_scene(mc_scene_text(kMapErrors), "model"));
+  const auto& u = model.scene.machine.uncertainty; // the documented defaults (checked above)
+  std::mt19937_64 gen(2026);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::string truth_constants = "  constants: {";
+  for (int k = 0; k < machine::kComponentCount; ++k) {
+    const auto id = machine::component_at(k);
+    const auto& info = machine::info(id);
+    const bool length = info.quantity == machine::Quantity::Length;
+    const double nominal = model.machine.source(id).value(0.0); // the scene's map holds constants only
+    const double v = nominal + u.component_u[static_cast<size_t>(k)] * normal(gen);
+    truth_constants += fmt::format("{}{}_{}: {}", k ? ", " : "", info.name, length ? "um" : "urad", (length ? 1e3 : 1e6) * v);
+  }
+  truth_constants += "}\n";
+  const std::string hidden = "effects:\n  - {type: thermal_drift, x_growth_um: 25, time_constant_s: 120}\n";
+  const workbench::Workbench truth(scene::parse_scene(mc_scene_text(truth_constants) + hidden, "truth"));
+  // Each gear's strokes: command offsets of N(0, s²) per space and axis, s = R/4 of the scene.
+  const auto with_repeatability = [&](const compensation::CorrectionTable& t) {
+    std::map<int, machine::Vector5d> off;
+    std::vector<compensation::CorrectionRow> rows = t.rows();
+    for (auto& r : rows) {
+      if (!off.count(r.space))
+        for (int a = 0; a < 5; ++a) off[r.space](a) = u.repeatability(a) * normal(gen);
+      r.correction += off[r.space];
+    }
+    return compensation::CorrectionTable(std::move(rows));
+  };
+  const auto nominal_rows = nominal_corrections(model).rows();
+  std::vector<compensation::CorrectionRow> zero_rows = nominal_rows;
+  for (auto& r : zero_rows) r.correction.setZero();
+  const auto gear1_table = with_repeatability(compensation::CorrectionTable(zero_rows));
+  const compensation::CompensatedProcess gear1_process(truth.process(), gear1_table);
+
+  diagnosis::SynthOptions so;
+  so.teeth = {1, 3, 5, 7, 9, 11, 13, 15, 17, 19};
+  so.rows = 5;
+  so.cols = 5;
+  so.noise_um = 0.3;
+  so.seed = 3;
+  const auto gear1_points =
+      diagnosis::measured_points(diagnosis::synthesize(truth.setup, gear1_process, so), model.setup.geometry(), "gear1");
+  diagnosis::DiagnoseOptions dopt;
+  dopt.noise_um = so.noise_um;
+  const auto d = diagnosis::diagnose(model.setup, model.process(), gear1_points, model.effect_types(), dopt);
+  ASSERT_TRUE(d.chosen) << d.verdict;
+  // The drift is named; a second effect may come with it, taking up part of the map's deviation from the scene.
+  ASSERT_NE(d.chosen->name().find("thermal_drift"), std::string::npos) << d.verdict;
+
+  scene::Scene identified = model.scene;
+  identified.effects = d.chosen->effects;
+  // The fit's standard uncertainties go with the values: the prediction carries what the measurement left open. When
+  // the residual is more than noise (here: gear 1's stroke-to-stroke scatter, which no effect explains), they are
+  // scaled by the Birge ratio √(χ²/ν) (χ² = Σ r²/σ² after the fit, ν = points − fitted parameters): the fit is then
+  // no better than its residual.
+  double chi2 = 0.0;
+  for (double r : d.residual_after_um) chi2 += (r / so.noise_um) * (r / so.noise_um);
+  int fitted_count = 0;
+  for (const auto& ps : d.chosen->parameters) for (const auto& p : ps) fitted_count += p.fitted ? 1 : 0;
+  const double birge = std::sqrt(std::max(1.0, chi2 / static_cast<double>(d.residual_after_um.size() - fitted_count)));
+  std::cout << "Birge ratio " << birge << "\n";
+  for (size_t e = 0; e < identified.effects.size(); ++e) {
+    auto& spec = identified.effects[e];
+    const auto params = effects::make_effect(spec.type)->parameters();
+    spec.uncertainties.assign(spec.values.size(), 0.0);
+    for (size_t v = 0; v < params.size(); ++v)
+      for (const auto& fitted : d.chosen->parameters[e])
+        if (fitted.key == params[v].key) spec.uncertainties[v] = birge * fitted.uncertainty;
+  }
+  const workbench::Workbench wb(std::move(identified));
+  const auto table = nominal_corrections(wb);
+  pipeline::MonteCarloOptions o;
+  o.samples = 100;
+  o.seed = 11;
+  const auto predicted = pipeline::summarise(pipeline::run_monte_carlo(wb, table, o));
+
+  const auto gear2_table = with_repeatability(pipeline::rounded_to_resolution(table, wb.scene.machine.uncertainty.resolution));
+  const compensation::CompensatedProcess gear2_process(truth.process(), gear2_table);
+  const auto& g = truth.setup.geometry();
+  const auto topo1 = grinding::simulate_topology(truth.setup, gear1_process, grid_of(truth));
+  const auto topo2 = grinding::simulate_topology(truth.setup, gear2_process, grid_of(truth));
+  const auto gear1 = pipeline::gear_quantities(workbench::evaluate_iso(g, truth.setup.ranges(), topo1), topo1);
+  const auto gear2 = pipeline::gear_quantities(workbench::evaluate_iso(g, truth.setup.ranges(), topo2), topo2);
+  for (const char* name : {"F_alpha_um", "F_beta_um", "f_p_um", "F_p_um", "largest_abs_um"}) {
+    const int i = predicted.find(name);
+    ASSERT_GE(i, 0) << name;
+    const auto& band = predicted.after[static_cast<size_t>(i)];
+    const double v = value_of(gear2, name);
+    EXPECT_GE(v, band.low) << name;
+    EXPECT_LE(v, band.high) << name;
+    std::cout << name << ": gear 1 " << value_of(gear1, name) << ", gear 2 " << v << " µm, predicted " << band.median
+              << " [" << band.low << ", " << band.high << "]\n";
+  }
+  EXPECT_LT(value_of(gear2, "largest_abs_um"), value_of(gear1, "largest_abs_um"));
+  EXPECT_LT(value_of(gear2, "F_p_um"), value_of(gear1, "F_p_um"));
 }

@@ -7,6 +7,7 @@
 //      of N(0, σ²) (σ the axis repeatability), constant over the stroke;
 //   3. gear 2 ("after"): the same true machine grinds with the nominal corrections rounded to the command resolution
 //      and fresh repeatability draws per stroke;
+//   (effects whose values carry uncertainties, e.g. from a diagnosis fit, are drawn within them for both gears;)
 //   4. both gears are evaluated per ISO 1328-1 (workbench::evaluate_iso) and reduced to named quantities.
 // Every draw of sample k comes from a generator seeded by (seed, k) alone, so sample k is the same whatever the
 // thread count or shard: shards merged equal one run bit for bit. The summary of each quantity is its median and
@@ -35,7 +36,8 @@ struct MonteCarloOptions {
 };
 
 /// The gear quantities one simulated (or measured) gear reduces to, by name with unit: "F_beta_um", "F_beta_class",
-/// …, "overall_class", "largest_abs_um", "thickness_um", "rotation_um" — only what the evaluation provides (pitch
+/// …, "overall_class", "largest_abs_um", "thickness_um", "rotation_um" — ISO values as |worst value| (slopes too: the
+/// class compares |value|, and the worst flank's sign would split a band in two) — only what the evaluation provides (pitch
 /// needs all teeth; classes need the range of validity). thickness_um: mean over teeth of the mean grid deviation of
 /// the left plus the right flank (plus material: thicker); rotation_um: mean over teeth of (left − right)/2 (a rigid
 /// rotation of the gear, positive when the left flanks gain material).

@@ -33,6 +33,9 @@ struct MeasurementGrid {
 struct EffectSpec {
   std::string type;
   std::vector<double> values;
+  /// Standard uncertainty of each value (file units), e.g. from the fit that identified it (diagnosis); empty: the
+  /// values are taken as exact. The Monte Carlo prediction draws the values within them (pipeline/monte_carlo.hpp).
+  std::vector<double> uncertainties;
 };
 
 /// How well the machine is known and how well it repeats (docs/scene-format.md, "machine.uncertainty"): the standard
