@@ -162,10 +162,12 @@ void register_compensate_command(CLI::App& app, Action& action) {
                                max_cycle);
       if (prediction)
         for (const auto& l : report::prediction_lines(*prediction)) std::cout << "  " << l << "\n";
-      if (!prediction) std::cout << fmt::format("  {:<6} {:>10} {:>10} {:>9}  {:>6} {:>6}\n", "ISO", "before", "nominal", "", "class", "");
+      // Without a prediction the nominal after-state is shown as what it is (the model compensating itself), with no
+      // "% better": that would be a tautology.
+      if (!prediction) std::cout << fmt::format("  {:<6} {:>10} {:>10}  {:>6} {:>6}\n", "ISO", "before", "nominal", "class", "");
       for (size_t i = 0; !prediction && i < qb.size() && i < qa.size(); ++i)
-        std::cout << fmt::format("  {:<6} {:>10.2f} {:>10.2f} {:>8.1f}%  {:>6} → {}\n", evaluation::symbol(qb[i].quantity),
-                                 qb[i].worst_value_um, qa[i].worst_value_um, improvement(qb[i].worst_value_um, qa[i].worst_value_um),
+        std::cout << fmt::format("  {:<6} {:>10.2f} {:>10.2f}  {:>6} → {}\n", evaluation::symbol(qb[i].quantity),
+                                 qb[i].worst_value_um, qa[i].worst_value_um,
                                  evaluation::class_label(qb[i].flank_class),
                                  evaluation::class_label(qa[i].flank_class));
       const auto& cb = iso_b.evaluation.classification;
