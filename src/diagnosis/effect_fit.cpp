@@ -71,7 +71,7 @@ public:
 
   std::vector<scene::EffectSpec> specs() const {
     std::vector<scene::EffectSpec> out;
-    for (const auto& e : effects_) out.push_back({std::string(e->type()), e->values(), {}});
+    for (const auto& e : effects_) out.push_back({std::string(e->type()), e->values()});
     return out;
   }
   const std::vector<std::unique_ptr<effects::Effect>>& effects() const { return effects_; }

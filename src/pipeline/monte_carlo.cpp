@@ -152,8 +152,8 @@ MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation
   std::set<int> spaces;
   for (const auto& r : nominal.rows()) spaces.insert(r.space);
   bool effects_uncertain = false;
-  for (const auto& e : wb.scene.effects)
-    for (double u : e.uncertainties) effects_uncertain = effects_uncertain || u > 0.0;
+  for (const auto& us : wb.scene.effect_uncertainties)
+    for (double u : us) effects_uncertain = effects_uncertain || u > 0.0;
 
   grinding::SimulationOptions so;
   so.rows = wb.scene.grid.rows;
@@ -182,15 +182,17 @@ MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation
     for (const int s : spaces)
       for (int a = 0; a < 5; ++a) off_after[s](a) = unc.repeatability(a) * rng.normal();
 
-    // Effects with uncertain values (e.g. identified by diagnosis): drawn last, each value within its standard
+    // Effects with uncertain values (Scene::effect_uncertainties, e.g. identified by diagnosis): drawn last, each value within its standard
     // uncertainty (independently: the fit's correlations are not carried), held inside the effect's allowed range.
     std::vector<std::unique_ptr<effects::Effect>> drawn_effects;
     if (effects_uncertain) {
       std::vector<scene::EffectSpec> specs = wb.scene.effects;
-      for (auto& spec : specs) {
+      for (size_t e = 0; e < specs.size() && e < wb.scene.effect_uncertainties.size(); ++e) {
+        auto& spec = specs[e];
+        const auto& us = wb.scene.effect_uncertainties[e];
         const auto params = effects::make_effect(spec.type)->parameters();
-        for (size_t v = 0; v < spec.uncertainties.size() && v < spec.values.size(); ++v)
-          spec.values[v] = std::clamp(spec.values[v] + spec.uncertainties[v] * rng.normal(), params[v].lo, params[v].hi);
+        for (size_t v = 0; v < us.size() && v < spec.values.size() && v < params.size(); ++v)
+          spec.values[v] = std::clamp(spec.values[v] + us[v] * rng.normal(), params[v].lo, params[v].hi);
       }
       drawn_effects = workbench::make_effects(specs, wb.setup);
     }

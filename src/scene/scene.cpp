@@ -288,7 +288,7 @@ std::vector<EffectSpec> read_effects(MapReader& top, ReadContext& ctx) {
                                                   fmt::join(effects::effect_types(), ", ")));
     for (const auto& other : out)
       if (other.type == type) ctx.fail_field(m.field("type"), fmt::format("'{}' is listed twice", type));
-    EffectSpec spec{type, effect->values(), {}};
+    EffectSpec spec{type, effect->values()};
     const auto& params = effect->parameters();
     for (size_t k = 0; k < params.size(); ++k) {
       if (params[k].whole) {

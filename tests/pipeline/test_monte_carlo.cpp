@@ -417,12 +417,13 @@ TEST(MonteCarloClosedLoop, DISABLED_Gear2FromTheTruthFallsInsideThePredictionAnd
   const double birge = std::sqrt(std::max(1.0, chi2 / static_cast<double>(d.residual_after_um.size() - fitted_count)));
   std::cout << "Birge ratio " << birge << "\n";
   for (size_t e = 0; e < identified.effects.size(); ++e) {
-    auto& spec = identified.effects[e];
+    const auto& spec = identified.effects[e];
     const auto params = effects::make_effect(spec.type)->parameters();
-    spec.uncertainties.assign(spec.values.size(), 0.0);
+    std::vector<double> us(spec.values.size(), 0.0);
     for (size_t v = 0; v < params.size(); ++v)
       for (const auto& fitted : d.chosen->parameters[e])
-        if (fitted.key == params[v].key) spec.uncertainties[v] = birge * fitted.uncertainty;
+        if (fitted.key == params[v].key) us[v] = birge * fitted.uncertainty;
+    identified.effect_uncertainties.push_back(us);
   }
   const workbench::Workbench wb(std::move(identified));
   const auto table = nominal_corrections(wb);

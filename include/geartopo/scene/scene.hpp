@@ -33,9 +33,6 @@ struct MeasurementGrid {
 struct EffectSpec {
   std::string type;
   std::vector<double> values;
-  /// Standard uncertainty of each value (file units), e.g. from the fit that identified it (diagnosis); empty: the
-  /// values are taken as exact. The Monte Carlo prediction draws the values within them (pipeline/monte_carlo.hpp).
-  std::vector<double> uncertainties;
 };
 
 /// How well the machine is known and how well it repeats (docs/scene-format.md, "machine.uncertainty"): the standard
@@ -78,6 +75,10 @@ struct Scene {
   grinding::ProcessSpec process;
   MeasurementGrid grid;
   std::vector<EffectSpec> effects;
+  /// Standard uncertainty of each effect value (file units), parallel to `effects` and their values, e.g. from the fit
+  /// that identified them (diagnosis); empty or missing entries: exact. The Monte Carlo prediction draws the values
+  /// within them (pipeline/monte_carlo.hpp). Not read from scene files (set by code).
+  std::vector<std::vector<double>> effect_uncertainties;
 
   /// Where each field's value stands in the scene file (dotted path → position): errors found after reading, when
   /// the scene is built into a set-up (workbench), are located with it.
