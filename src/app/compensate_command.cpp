@@ -3,6 +3,8 @@
 #include "geartopo/report/iso_report.hpp"
 #include "geartopo/core/units.hpp"
 #include "app/options.hpp"
+#include "app/monte_carlo_flags.hpp"
+#include "geartopo/report/prediction_report.hpp"
 
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/compensation/cycle_corrections.hpp"
@@ -43,6 +45,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
     bool isg_table = false;      // issue 15: the machine's errors as an ISG/TF5280 volumetric table
     int isg_max_records = 2000;
     workbench::IsoOptions iso;
+    MonteCarloFlags mc;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("compensate", "Axis corrections along the wheel path (paper: Jacobian pseudo-inverse; "
@@ -67,8 +70,10 @@ void register_compensate_command(CLI::App& app, Action& action) {
                   "The controller's vol_comp[i].max_records for --isg-table (default 2000)")
       ->check(CLI::Range(2, 1000000));
   add_iso_options(cmd, opt->iso);
+  add_monte_carlo_options(cmd, opt->mc, true);
   cmd->callback([&action, opt] {
     action = [opt] {
+      const auto mc = monte_carlo_options(opt->mc); // bad --shard: usage error before any work
       const Workbench wb(opt->scene);
       const auto& g = wb.setup.geometry();
       grinding::SimulationOptions so;
@@ -168,6 +173,18 @@ void register_compensate_command(CLI::App& app, Action& action) {
         std::cerr << "geartopo: warning: " << w << "\n";
         j["warnings"].push_back(w);
       }
+      // The after-state as a distribution (docs/monte-carlo.md): the nominal `after` is the model compensating
+      // itself (≈ 0 by construction); the prediction grinds with a machine drawn within the scene's uncertainties.
+      std::optional<pipeline::MonteCarloSummary> prediction;
+      if (mc.samples > 0) {
+        const auto run = pipeline::run_monte_carlo(wb, table, mc);
+        pipeline::write_run_csv(out / "prediction_samples.csv", run);
+        if (mc.shards == 1) {
+          prediction = pipeline::summarise(run);
+          write_prediction(out, *prediction);
+          j["prediction"] = report::prediction_json(*prediction);
+        }
+      }
       output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
 
       const auto [lb, hb] = range_of(before);
@@ -176,22 +193,28 @@ void register_compensate_command(CLI::App& app, Action& action) {
                                table.rows().size(), opt->step, table.rows_outside_strokes());
       std::cout << fmt::format("  largest corrections: X {:.2f} µm, Y {:.2f} µm, Z {:.2f} µm, A {:.2f} µrad, C {:.2f} µrad\n",
                                units::um_from_mm(cmax(0)), units::um_from_mm(cmax(1)), units::um_from_mm(cmax(2)), units::urad_from_rad(cmax(3)), units::urad_from_rad(cmax(4)));
-      std::cout << fmt::format("  topology (all teeth, 7×9 grid): before {:.2f} … {:.2f} µm, after {:.2f} … {:.2f} µm\n", lb, hb, la, ha);
-      std::cout << fmt::format("  largest |deviation|: {:.2f} → {:.2f} µm ({:.1f} % better)\n", max_b, max_a, improvement(max_b, max_a));
+      std::cout << fmt::format("  topology (all teeth, 7×9 grid): before {:.2f} … {:.2f} µm, nominal after {:.2f} … {:.2f} µm\n", lb, hb, la, ha);
+      if (!prediction)
+        std::cout << fmt::format("  largest |deviation|: {:.2f} µm; the nominal model compensating itself: {:.2f} µm "
+                                 "(no prediction: --samples 0 or a shard)\n", max_b, max_a);
       std::cout << fmt::format("  with the cycle table (index + lead per space, Y {:+.2f} µm and A {:+.2f} µrad per gear; "
-                               "not carried: Y {:.2f} µm, A {:.2f} µrad): largest |deviation| {:.2f} µm\n",
+                               "not carried: Y {:.2f} µm, A {:.2f} µrad): nominal largest |deviation| {:.2f} µm\n",
                                units::um_from_mm(cycle.setup_dY_mm), units::urad_from_rad(cycle.setup_dA_rad),
                                units::um_from_mm(cycle.y_not_carried_mm), units::urad_from_rad(cycle.a_not_carried_rad),
                                max_cycle);
-      std::cout << fmt::format("  {:<6} {:>10} {:>10} {:>9}  {:>6} {:>6}\n", "ISO", "before", "after", "better", "class", "");
-      for (size_t i = 0; i < qb.size() && i < qa.size(); ++i)
-        std::cout << fmt::format("  {:<6} {:>10.2f} {:>10.2f} {:>8.1f}%  {:>6} → {}\n", evaluation::symbol(qb[i].quantity),
-                                 qb[i].worst_value_um, qa[i].worst_value_um, improvement(qb[i].worst_value_um, qa[i].worst_value_um),
+      if (prediction)
+        for (const auto& l : report::prediction_lines(*prediction)) std::cout << "  " << l << "\n";
+      // Without a prediction the nominal after-state is shown as what it is (the model compensating itself), with no
+      // "% better": that would be a tautology.
+      if (!prediction) std::cout << fmt::format("  {:<6} {:>10} {:>10}  {:>6} {:>6}\n", "ISO", "before", "nominal", "class", "");
+      for (size_t i = 0; !prediction && i < qb.size() && i < qa.size(); ++i)
+        std::cout << fmt::format("  {:<6} {:>10.2f} {:>10.2f}  {:>6} → {}\n", evaluation::symbol(qb[i].quantity),
+                                 qb[i].worst_value_um, qa[i].worst_value_um,
                                  evaluation::class_label(qb[i].flank_class),
                                  evaluation::class_label(qa[i].flank_class));
       const auto& cb = iso_b.evaluation.classification;
       const auto& ca = iso_a.evaluation.classification;
-      if (cb.overall && ca.overall)
+      if (!prediction && cb.overall && ca.overall)
         std::cout << fmt::format("  overall flank tolerance class: {} → {}\n", evaluation::class_label(*cb.overall),
                                  evaluation::class_label(*ca.overall));
       if (isg)
@@ -199,7 +222,8 @@ void register_compensate_command(CLI::App& app, Action& action) {
                                  "not its orientation): {}\n",
                                  isg->records(), isg_summary);
       std::cout << "wrote " << out.string() << "/corrections.csv, cycle_corrections.csv, topology_before.csv, topology_after.csv, "
-                   "iso1328.json" << (isg ? ", isg_compensation.csv" : "") << "\n";
+                   "iso1328.json" << (isg ? ", isg_compensation.csv" : "") << (mc.samples > 0 ? ", prediction_samples.csv" : "")
+                << (prediction ? ", prediction.json, prediction.txt" : "") << "\n";
       finish_output_folder(folder);
       return 0;
     };

@@ -6,6 +6,8 @@
 #include "geartopo/report/measurement_report.hpp"
 #include "geartopo/pipeline/pipeline.hpp"
 #include "app/options.hpp"
+#include "app/monte_carlo_flags.hpp"
+#include "geartopo/report/prediction_report.hpp"
 
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
@@ -47,6 +49,10 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
     std::cerr << "geartopo: warning: " << worse << "\n";
     iso["warnings"].push_back(worse);
   }
+  if (r.prediction) {
+    iso["prediction"] = report::prediction_json(*r.prediction);
+    write_prediction(dir, *r.prediction);
+  }
   output::write_text_atomically(dir / "iso1328.json", iso.dump(2) + "\n");
   if (r.measurement) { // what `compare` and `diagnose` write, from the same computations (README, "Outputs")
     const auto& m = *r.measurement;
@@ -69,13 +75,18 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
 void print_summary(const fs::path& dir, const pipeline::PipelineResult& r) {
   const auto& cb = r.iso_before.evaluation.classification;
   const auto& ca = r.iso_after.evaluation.classification;
-  std::cout << fmt::format("Largest |deviation| ({} grids, all teeth): {:.2f} µm before, {:.2f} µm after compensation\n",
-                           pipeline::grid_label(r), r.largest_before_um, r.largest_after_um);
-  std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before, {} after{}\n", evaluation::class_label(cb.overall),
-                           evaluation::class_label(ca.overall),
-                           cb.refusal     ? fmt::format(" (no class: ISO 1328-1:2013 does not apply to this gear: {})", *cb.refusal)
-                           : cb.governing ? fmt::format(" (before: set by {})", evaluation::symbol(*cb.governing))
-                                          : std::string());
+  if (r.prediction) { // the after-state as a band (docs/monte-carlo.md), never the model's own ≈ 0
+    for (const auto& l : report::prediction_lines(*r.prediction)) std::cout << l << "\n";
+  } else {
+    std::cout << fmt::format("Largest |deviation| ({} grids, all teeth): {:.2f} µm before; the nominal model compensating "
+                             "itself: {:.2f} µm (no prediction: --samples 0)\n",
+                             pipeline::grid_label(r), r.largest_before_um, r.largest_after_um);
+    std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before, {} nominal after{}\n",
+                             evaluation::class_label(cb.overall), evaluation::class_label(ca.overall),
+                             cb.refusal ? fmt::format(" (no class: ISO 1328-1:2013 does not apply to this gear: {})", *cb.refusal)
+                             : cb.governing ? fmt::format(" (before: set by {})", evaluation::symbol(*cb.governing))
+                                            : std::string());
+  }
   if (r.measurement) {
     const auto& m = *r.measurement;
     std::cout << fmt::format("Measurement {}: residual {:.2f} µm RMS against the model\n", m.file, m.before.summary.overall.rms_um);
@@ -93,6 +104,7 @@ void register_report_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, measured, out;
     workbench::IsoOptions iso;
+    MonteCarloFlags mc;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("report", "Figures (PNG, rendered off-screen) and an offline index.html: topology, "
@@ -101,12 +113,17 @@ void register_report_command(CLI::App& app, Action& action) {
   cmd->add_option("--measured", opt->measured, "Measurement (topology or traces CSV, point cloud, Klingelnberg export); default: the scene's measurement.measured");
   cmd->add_option("--out", opt->out, "Output directory")->required()->check(non_empty_path());
   add_iso_options(cmd, opt->iso);
+  add_monte_carlo_options(cmd, opt->mc, false);
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
       const fs::path dir(opt->out);
       output::OutputFolder folder(dir);
-      const auto r = pipeline::run_pipeline(wb, measured_of(wb, opt->measured), opt->iso);
+      pipeline::PipelineOptions po;
+      po.measured_file = measured_of(wb, opt->measured);
+      po.iso = opt->iso;
+      po.prediction = prediction_options(opt->mc);
+      const auto r = pipeline::run_pipeline(wb, po);
       write_data_files(dir, opt->scene, wb, r); // the page names them (corrections.csv, scene_with_effect.yaml …)
       const auto figs = report::write_report(dir, wb, r);
       std::cout << fmt::format("wrote {} figures and {}\n", figs.size(), (dir / "index.html").string());
@@ -121,6 +138,7 @@ void register_run_command(CLI::App& app, Action& action) {
     std::string scene, out, measured, teeth, method = "flank", simulation = "exact";
     double step = 2.0, noise = 0.0;
     workbench::IsoOptions iso;
+    MonteCarloFlags mc;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("run", "The main job: simulate, evaluate (ISO 1328-1), compensate, compare and diagnose "
@@ -141,6 +159,7 @@ void register_run_command(CLI::App& app, Action& action) {
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ of the measurement, µm (default: estimated from the residual)")
       ->check(finite_in(0.0, 1000.0));
   add_iso_options(cmd, opt->iso);
+  add_monte_carlo_options(cmd, opt->mc, false);
   CLI::Option* teeth = cmd->get_option("--teeth");
   cmd->callback([&action, opt, teeth] {
     const bool teeth_given = teeth->count() > 0;
@@ -156,6 +175,7 @@ void register_run_command(CLI::App& app, Action& action) {
       po.noise_um = opt->noise;
       po.measured_file = measured_of(wb, opt->measured);
       po.iso = opt->iso;
+      po.prediction = prediction_options(opt->mc);
       const fs::path dir(opt->out);
       output::OutputFolder folder(dir);
       if (!quiet()) std::cerr << "geartopo run: " << (wb.scene.name.empty() ? opt->scene : wb.scene.name) << "\n";

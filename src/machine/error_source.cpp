@@ -69,15 +69,22 @@ ErrorSource ErrorSource::table(ComponentId id, CubicSpline spline, TableOrigin o
 
 double ErrorSource::value(double position) const noexcept {
   switch (kind_) {
-  case Kind::Constant: return constant_;
+  case Kind::Constant: return constant_ + offset_;
   case Kind::Polynomial: {
     double v = 0.0;
     for (auto it = coefficients_.rbegin(); it != coefficients_.rend(); ++it) v = v * position + *it; // Horner
-    return v;
+    return v + offset_;
   }
-  case Kind::Table: return spline_.value(position);
+  case Kind::Table: return spline_.value(position) + offset_;
   }
   return 0.0;
+}
+
+ErrorSource ErrorSource::shifted(double offset) const {
+  if (!std::isfinite(offset)) throw std::invalid_argument(fmt::format("{}: offset {} is not finite", info(id_).name, offset));
+  ErrorSource s = *this;
+  s.offset_ += offset;
+  return s;
 }
 
 double ErrorSource::rate(double position) const noexcept {

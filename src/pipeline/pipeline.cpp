@@ -40,6 +40,12 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
   r.iso_after = workbench::evaluate_iso(g, wb.setup.ranges(), r.after, o.iso);
   r.largest_before_um = grinding::largest_abs_deviation_um(r.before);
   r.largest_after_um = grinding::largest_abs_deviation_um(r.after);
+  if (o.prediction) {
+    stage("predict (Monte Carlo)", 0);
+    MonteCarloOptions mc = *o.prediction;
+    mc.iso = o.iso;
+    r.prediction = summarise(run_monte_carlo(wb, *r.corrections, mc));
+  }
 
   if (!o.measured_file.empty()) {
     MeasurementResult m;
@@ -61,11 +67,9 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
   return r;
 }
 
-PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file,
-                            const workbench::IsoOptions& iso) {
+PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file) {
   PipelineOptions o;
   o.measured_file = measured_file;
-  o.iso = iso;
   return run_pipeline(wb, o);
 }
 

@@ -1,4 +1,5 @@
 #include "geartopo/report/figures.hpp"
+#include "geartopo/report/prediction_report.hpp"
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/evaluation/tolerances.hpp"
@@ -635,6 +636,7 @@ std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipelin
   after.shared_scale = true;
   figs.push_back(after);
   figs.push_back(alignment_figure(wb, r, dir));
+  if (r.prediction) figs.push_back(prediction_figure(*r.prediction, dir)); // prediction_report.cpp
   if (r.measurement)
     for (auto& f : measurement_figures(*r.measurement, dir)) figs.push_back(std::move(f));
   figs.push_back(gear_figure(wb, r, dir));

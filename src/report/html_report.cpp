@@ -1,4 +1,5 @@
 #include "geartopo/report/html_report.hpp"
+#include "geartopo/report/prediction_report.hpp"
 #include "geartopo/core/atomic_file.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/report/iso_report.hpp"
@@ -315,13 +316,14 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
   h += "<div class=box><h3>Summary</h3><ul>";
   const auto& cb = r.iso_before.evaluation.classification;
   const auto& ca = r.iso_after.evaluation.classification;
-  h += fmt::format("<li>Largest |deviation| of the {} grids, all teeth: <b>{:.2f} µm</b> before, <b>{:.2f} µm</b> after the "
-                   "flank-method compensation ({:.1f} % better).</li>",
-                   grid_label(r), r.largest_before_um, r.largest_after_um,
-                   r.largest_before_um > 0 ? 100.0 * (r.largest_before_um - r.largest_after_um) / r.largest_before_um : 0.0);
-  h += fmt::format("<li>Overall flank tolerance class: <b>{}</b> before, <b>{}</b> after{}.</li>", evaluation::class_label(cb.overall),
-                   evaluation::class_label(ca.overall),
-                   cb.governing ? fmt::format(" (set by {})", evaluation::symbol(*cb.governing)) : std::string());
+  if (r.prediction) {
+    h += prediction_summary_html(*r.prediction); // the after-state as a band (prediction_report.hpp)
+  } else {
+    h += fmt::format("<li>Largest |deviation| of the {} grids, all teeth: <b>{:.2f} µm</b> before; the nominal model "
+                     "compensating itself (flank method): {:.2f} µm — no prediction was made (--samples 0).</li>",
+                     grid_label(r), r.largest_before_um, r.largest_after_um);
+    h += fmt::format("<li>Overall flank tolerance class: <b>{}</b> before, {} nominal after.</li>", evaluation::class_label(cb.overall), evaluation::class_label(ca.overall));
+  }
   if (r.measurement && r.measurement->diagnosis.chosen)
     h += "<li>Diagnosis: the measurement shows an effect the scene does not model — <b>" + esc(r.measurement->diagnosis.chosen->name()) +
          "</b> (details under “Model vs measurement”).</li>";

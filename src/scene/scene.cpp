@@ -110,6 +110,76 @@ double centred_datum_z(const machine::Strokes& st, double face_width) {
   return 0.5 * (st.z_mm.min + st.z_mm.max) - 0.5 * face_width;
 }
 
+// The standard uncertainty of one kind of component: a length (µm) or an angle (µrad), bounded like a table value.
+constexpr Range kLengthUncertaintyUm{0.0, machine::kMaxTableLengthMm * units::kUmPerMm};
+constexpr Range kAngleUncertaintyUrad{0.0, machine::kMaxTableAngleRad * units::kUradPerRad};
+
+// machine.uncertainty: per-kind defaults, then per-component values (`components: {epsilon_zc_urad: 2}`).
+void read_uncertainty(MapReader& u, MachineUncertainty& out, ReadContext& ctx) {
+  using machine::Axis;
+  using machine::ComponentId;
+  // (key, applies to): a component of quantity q on axis group g.
+  const auto set_kind = [&](const std::string& key, bool rotary_axes, machine::Quantity q, bool motion) {
+    const bool length = q == machine::Quantity::Length;
+    const auto v = u.optional_number(key, length ? kLengthUncertaintyUm : kAngleUncertaintyUrad);
+    if (!v) return;
+    for (int k = 0; k < machine::kComponentCount; ++k) {
+      const auto& c = machine::info(machine::component_at(k));
+      const bool is_rotary = c.axis == Axis::A || c.axis == Axis::C;
+      if (c.quantity != q || c.position_dependent != motion || (motion && is_rotary != rotary_axes)) continue;
+      out.component_u[static_cast<size_t>(k)] = length ? units::mm_from_um(*v) : units::rad_from_urad(*v);
+    }
+  };
+  set_kind("linear_axis_um", false, machine::Quantity::Length, true);
+  set_kind("linear_axis_urad", false, machine::Quantity::Angle, true);
+  set_kind("rotary_axis_um", true, machine::Quantity::Length, true);
+  set_kind("rotary_axis_urad", true, machine::Quantity::Angle, true);
+  // Constants: squareness (S_…, angles) and the axis-line location (E_…: offsets and angles).
+  if (auto v = u.optional_number("squareness_urad", kAngleUncertaintyUrad))
+    for (auto id : {ComponentId::S_xy, ComponentId::S_zy, ComponentId::S_xz})
+      out.component_u[static_cast<size_t>(machine::index(id))] = units::rad_from_urad(*v);
+  const auto set_location = [&](const std::string& key, machine::Quantity q) {
+    const bool length = q == machine::Quantity::Length;
+    const auto v = u.optional_number(key, length ? kLengthUncertaintyUm : kAngleUncertaintyUrad);
+    if (!v) return;
+    for (int k = machine::index(ComponentId::E_XOC); k < machine::kComponentCount; ++k)
+      if (machine::info(machine::component_at(k)).quantity == q)
+        out.component_u[static_cast<size_t>(k)] = length ? units::mm_from_um(*v) : units::rad_from_urad(*v);
+  };
+  set_location("location_um", machine::Quantity::Length);
+  set_location("location_urad", machine::Quantity::Angle);
+  if (auto c = u.optional_map("components")) {
+    for (const auto& key : c->keys()) {
+      const auto [name, unit] = split_unit(key);
+      const auto id = machine::component_from_name(name);
+      if (!id) ctx.fail_field(c->field(key), fmt::format("'{}' is not an error component (docs/error-components.md)", name));
+      const auto q = machine::info(*id).quantity;
+      const auto scale = machine::value_unit_scale(q, unit);
+      if (!scale)
+        ctx.fail_field(c->field(key), fmt::format("'{}' is not a unit of {} (use {})", unit,
+                                                  q == machine::Quantity::Length ? "a length" : "an angle",
+                                                  machine::file_unit(q)));
+      const double bound = q == machine::Quantity::Length ? machine::kMaxTableLengthMm : machine::kMaxTableAngleRad;
+      const double v = c->number(key, {0.0, bound / *scale});
+      out.component_u[static_cast<size_t>(machine::index(*id))] = v * *scale;
+    }
+    c->finish();
+  }
+  u.finish();
+}
+
+// repeatability / resolution: x_um, y_um, z_um (linear axes), a_mdeg, c_mdeg (rotary axes), each ≥ 0, times `scale`.
+void read_axis_values(MapReader& m, machine::Vector5d& out, double scale) {
+  constexpr Range kLinearUm{0.0, 1000.0};
+  constexpr Range kRotaryMdeg{0.0, 1000.0};
+  const char* linear[] = {"x_um", "y_um", "z_um"};
+  for (int i = 0; i < 3; ++i)
+    if (auto v = m.optional_number(linear[i], kLinearUm)) out(i) = scale * units::mm_from_um(*v);
+  if (auto v = m.optional_number("a_mdeg", kRotaryMdeg)) out(3) = scale * units::rad_from_deg(*v * 1e-3);
+  if (auto v = m.optional_number("c_mdeg", kRotaryMdeg)) out(4) = scale * units::rad_from_deg(*v * 1e-3);
+  m.finish();
+}
+
 MachineSection read_machine(MapReader& m, const std::filesystem::path& base, double face_width) {
   MachineSection s;
   s.name = m.optional_text("name").value_or("");
@@ -169,6 +239,10 @@ MachineSection read_machine(MapReader& m, const std::filesystem::path& base, dou
     }
     p->finish();
   }
+  if (auto u = m.optional_map("uncertainty")) read_uncertainty(*u, s.uncertainty, ctx);
+  // The file gives ISO 230-2's unidirectional repeatability R↑ = 4 s (data sheets quote it); inside: s.
+  if (auto r = m.optional_map("repeatability")) read_axis_values(*r, s.uncertainty.repeatability, 0.25);
+  if (auto r = m.optional_map("resolution")) read_axis_values(*r, s.uncertainty.resolution, 1.0);
   m.finish();
   try {
     (void)s.model(); // strokes, duplicates and table coverage
@@ -270,6 +344,29 @@ MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& 
   return g;
 }
 
+} // namespace
+
+MachineUncertainty MachineUncertainty::defaults() {
+  MachineUncertainty u;
+  for (int k = 0; k < machine::kComponentCount; ++k) {
+    const auto& c = machine::info(machine::component_at(k));
+    const bool rotary = c.axis == machine::Axis::A || c.axis == machine::Axis::C;
+    const bool length = c.quantity == machine::Quantity::Length;
+    double v = 0.0;
+    if (c.position_dependent)
+      v = length ? units::mm_from_um(rotary ? 2.0 : 1.0) : units::rad_from_urad(rotary ? 5.0 : 3.0);
+    else // squareness 5 µrad; axis-line location 2 µm / 5 µrad
+      v = length ? units::mm_from_um(2.0) : units::rad_from_urad(5.0);
+    u.component_u[static_cast<size_t>(k)] = v;
+  }
+  const double mdeg = units::rad_from_deg(1e-3);
+  // R↑ = 3 µm, 1 mdeg (the seed paper's machine) = 4 s (ISO 230-2).
+  u.repeatability << units::mm_from_um(0.75), units::mm_from_um(0.75), units::mm_from_um(0.75), 0.25 * mdeg, 0.25 * mdeg;
+  u.resolution << units::mm_from_um(1.0), units::mm_from_um(1.0), units::mm_from_um(1.0), mdeg, mdeg;
+  return u;
+}
+
+namespace {
 // The wheel must be synthesizable and the whole path must stay within the machine's strokes.
 } // namespace
 

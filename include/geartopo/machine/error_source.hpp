@@ -46,10 +46,13 @@ public:
                                 std::string_view position_unit);
   /// A table column already checked by the loader (error_table.hpp): spline in internal units.
   static ErrorSource table(ComponentId id, CubicSpline spline, TableOrigin origin);
+  /// The same source plus a constant (internal units: mm or rad), e.g. one Monte Carlo draw of a calibration's
+  /// uncertainty (pipeline/monte_carlo.hpp). rate() is unchanged. Throws std::invalid_argument if not finite.
+  ErrorSource shifted(double offset) const;
 
   ComponentId id() const { return id_; }
   Kind kind() const { return kind_; }
-  bool is_zero() const { return kind_ == Kind::Constant && constant_ == 0.0; }
+  bool is_zero() const { return kind_ == Kind::Constant && constant_ == 0.0 && offset_ == 0.0; }
 
   /// Component value at the position of its own axis (mm or rad in, mm or rad out). No allocation.
   double value(double position) const noexcept;
@@ -69,6 +72,7 @@ private:
   ComponentId id_;
   Kind kind_;
   double constant_ = 0.0;           // internal units
+  double offset_ = 0.0;             // added to every value (shifted), internal units
   std::vector<double> coefficients_; // internal units, ascending powers
   CubicSpline spline_;
   TableOrigin origin_;

@@ -10,6 +10,7 @@
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/grinding/topology.hpp"
+#include "geartopo/pipeline/monte_carlo.hpp"
 
 #include <functional>
 #include <memory>
@@ -34,6 +35,9 @@ struct PipelineResult {
   std::unique_ptr<compensation::CorrectionTable> corrections;
   double largest_before_um = 0.0, largest_after_um = 0.0;
   std::optional<MeasurementResult> measurement;
+  /// The after-state as a distribution (monte_carlo.hpp): the nominal `after` above is what the model promises itself
+  /// (≈ 0 by construction), this is what a machine known only within its uncertainties would grind.
+  std::optional<MonteCarloSummary> prediction;
 };
 
 /// What the main job does, as `geartopo run`'s flags choose it (defaults: the scene's grid, every tooth, the flank
@@ -47,6 +51,8 @@ struct PipelineOptions {
   std::string measured_file;                         ///< empty: no comparison or diagnosis
   /// How the ISO 1328-1 values are reported (default: the standard's transverse direction, docs/iso1328.md).
   workbench::IsoOptions iso;
+  /// With it (samples ≥ 1, one shard), the compensated gear is also predicted by Monte Carlo (monte_carlo.hpp).
+  std::optional<MonteCarloOptions> prediction;
   /// Told when a stage starts ("simulate", "compensate", "simulate compensated", "compare", "diagnose"), with the
   /// stage's size in flanks (0 when it has no flank count); for progress display only.
   std::function<void(const std::string& stage, long long flanks)> stage;
@@ -56,9 +62,8 @@ struct PipelineOptions {
 
 PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOptions& options);
 
-/// The defaults with a measurement and ISO options (the report command).
-PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file,
-                            const workbench::IsoOptions& iso = {});
+/// The defaults with a measurement (tests, benchmarks).
+PipelineResult run_pipeline(const workbench::Workbench& wb, const std::string& measured_file);
 
 /// "7×9": the topological grid's rows × columns as simulated (the scene's measurement.rows, cols).
 std::string grid_label(const PipelineResult& r);

@@ -10,6 +10,7 @@
 #include "geartopo/machine/error_source.hpp"
 #include "geartopo/machine/machine_model.hpp"
 
+#include <array>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -35,6 +36,21 @@ struct EffectSpec {
   std::vector<double> values;
 };
 
+/// How well the machine is known and how well it repeats (docs/scene-format.md, "machine.uncertainty"): the standard
+/// uncertainty (k = 1) of each error component, the axes' repeatability per stroke (one standard deviation) and the
+/// command resolution (the step a correction is rounded to; 0: not rounded). Internal units: mm and rad.
+struct MachineUncertainty {
+  std::array<double, machine::kComponentCount> component_u{}; ///< indexed by ComponentId; mm (δ, offsets) or rad
+  /// One standard deviation s per stroke, X, Y, Z (mm), A, C (rad); the file gives ISO 230-2's R↑ = 4 s.
+  machine::Vector5d repeatability = machine::Vector5d::Zero();
+  machine::Vector5d resolution = machine::Vector5d::Zero();     ///< X, Y, Z (mm), A, C (rad)
+
+  /// The documented defaults: map uncertainties of ISO 230-2 practice (linear axes 1 µm / 3 µrad, A and C 2 µm /
+  /// 5 µrad, squareness 5 µrad, axis-line location 2 µm / 5 µrad), the seed paper's machine repeatability (R↑ = 3 µm,
+  /// 1 mdeg, so s = R↑/4) and a controller's command resolution of 1 µm / 1 mdeg.
+  static MachineUncertainty defaults();
+};
+
 /// The machine: strokes, where the gear sits, and its geometric error components (all others zero).
 struct MachineSection {
   std::string name;
@@ -42,6 +58,7 @@ struct MachineSection {
   double datum_face_z_mm = 0.0; ///< machine Z of the gear's datum face; default: face width centred in the Z stroke
   std::vector<machine::ErrorSource> sources;   ///< from tables, constants and polynomials
   std::vector<std::string> table_files;        ///< resolved paths, for reports
+  MachineUncertainty uncertainty = MachineUncertainty::defaults();
   machine::MachineModel model() const { return machine::MachineModel(strokes, sources); }
 };
 
@@ -70,6 +87,10 @@ struct Scene {
   MeasurementGrid grid;
   std::vector<EffectSpec> effects;
   ReportHeader report;
+  /// Standard uncertainty of each effect value (file units), parallel to `effects` and their values, e.g. from the fit
+  /// that identified them (diagnosis); empty or missing entries: exact. The Monte Carlo prediction draws the values
+  /// within them (pipeline/monte_carlo.hpp). Not read from scene files (set by code).
+  std::vector<std::vector<double>> effect_uncertainties;
 
   /// Where each field's value stands in the scene file (dotted path → position): errors found after reading, when
   /// the scene is built into a set-up (workbench), are located with it.

@@ -1,0 +1,106 @@
+// geartopo — the predicted after-state of a compensation as a distribution (docs/monte-carlo.md), GUM Supplement 1
+// style: the corrections come from the NOMINAL model (the scene); the machine that grinds is drawn within the scene's
+// uncertainties (machine.uncertainty, repeatability, resolution). Sample k:
+//   1. the true error map: every component of the scene's map plus a constant drawn from N(0, u²) (u its standard
+//      uncertainty: a calibration offset, fully correlated along the axis);
+//   2. gear 1 ("before"): the true machine grinds without corrections; each stroke's X, Y, Z, A, C are off by a draw
+//      of N(0, σ²) (σ the axis repeatability), constant over the stroke;
+//   3. gear 2 ("after"): the same true machine grinds with the nominal corrections rounded to the command resolution
+//      and fresh repeatability draws per stroke;
+//   (effects whose values carry uncertainties, e.g. from a diagnosis fit, are drawn within them for both gears;)
+//   4. both gears are evaluated per ISO 1328-1 (workbench::evaluate_iso) and reduced to named quantities.
+// Every draw of sample k comes from a generator seeded by (seed, k) alone, so sample k is the same whatever the
+// thread count or shard: shards merged equal one run bit for bit. The summary of each quantity is its median and
+// its 95 % probabilistically symmetric coverage interval (JCGM 101:2008 §7.7).
+// Units: mm and rad inside; quantity names carry theirs (_um, _class).
+#pragma once
+
+#include "geartopo/compensation/correction_table.hpp"
+#include "geartopo/grinding/topology.hpp"
+#include "geartopo/machine/axis_pose.hpp"
+#include "geartopo/workbench/iso_evaluation.hpp"
+#include "geartopo/workbench/workbench.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace geartopo::pipeline {
+
+struct MonteCarloOptions {
+  long long samples = 200;  ///< M, over all shards
+  std::uint64_t seed = 1;
+  int shard = 1, shards = 1; ///< this run computes shard `shard` of `shards` (1-based): a contiguous block of samples
+  int threads = 0;           ///< 0: all hardware threads (results do not depend on it)
+  workbench::IsoOptions iso; ///< how the ISO 1328-1 values are reported (direction, f_Hβ sign)
+};
+
+/// The gear quantities one simulated (or measured) gear reduces to, by name with unit: "F_beta_um", "F_beta_class",
+/// …, "overall_class", "largest_abs_um", "thickness_um", "rotation_um" — ISO values as |worst value| (slopes too: the
+/// class compares |value|, and the worst flank's sign would split a band in two) — only what the evaluation provides (pitch
+/// needs all teeth; classes need the range of validity). thickness_um: mean over teeth of the mean grid deviation of
+/// the left plus the right flank (plus material: thicker); rotation_um: mean over teeth of (left − right)/2 (a rigid
+/// rotation of the gear, positive when the left flanks gain material).
+struct GearQuantities {
+  std::vector<std::string> names;
+  std::vector<double> values;
+};
+GearQuantities gear_quantities(const workbench::IsoResult& iso, const std::vector<grinding::FlankTopology>& topo);
+
+struct MonteCarloSample {
+  long long index = 0;        ///< k, 0-based over all shards
+  std::vector<double> before; ///< in the order of MonteCarloRun::names
+  std::vector<double> after;
+};
+
+/// Raw samples of one shard (or of several merged): what a merge needs to recompute the same order statistics.
+struct MonteCarloRun {
+  long long samples_total = 0;
+  std::uint64_t seed = 0;
+  std::vector<std::string> names;
+  std::vector<MonteCarloSample> samples; ///< increasing index
+};
+
+/// The corrections a controller applies: each one rounded to the nearest multiple of the axis' command resolution
+/// (X, Y, Z mm; A, C rad; 0 leaves the axis as it is).
+compensation::CorrectionTable rounded_to_resolution(const compensation::CorrectionTable& table,
+                                                    const machine::Vector5d& resolution);
+
+/// First and one-past-last sample of a shard (1-based shard of shards): contiguous blocks of ⌊M/n⌋ or ⌈M/n⌉.
+std::pair<long long, long long> shard_range(long long samples, int shard, int shards);
+
+/// Runs the samples of options' shard. `nominal` holds the corrections computed on the scene's model (they are
+/// rounded here). Throws std::invalid_argument for bad options.
+MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
+                              const MonteCarloOptions& options);
+
+/// Partials of one run (same seed, sample count and names) → one run with every sample once. Throws
+/// std::invalid_argument naming what does not match, a sample given twice or the samples missing.
+MonteCarloRun merge_runs(std::vector<MonteCarloRun> parts);
+
+/// Median and 95 % probabilistically symmetric coverage interval of M values (JCGM 101:2008 §7.7: sorted values
+/// y_(1..M), q = pM rounded to an integer, r = (M − q)/2 rounded up, interval [y_(r), y_(r+q)], r ≥ 1).
+struct Band {
+  double median = 0.0, low = 0.0, high = 0.0;
+};
+Band coverage_band(std::vector<double> values, double coverage = 0.95);
+
+struct MonteCarloSummary {
+  long long samples = 0;
+  std::uint64_t seed = 0;
+  std::vector<std::string> names;
+  std::vector<Band> before, after; ///< per name
+  /// Index of a name, or -1.
+  int find(const std::string& name) const;
+};
+/// Throws std::invalid_argument unless every sample 0..M−1 is present.
+MonteCarloSummary summarise(const MonteCarloRun& run);
+
+/// Partial result file (CSV, doubles in shortest round-trip form): comment lines "# samples_total: M",
+/// "# seed: S", then "sample,before.<name>,…,after.<name>,…", one row per sample.
+void write_run_csv(const std::filesystem::path& file, const MonteCarloRun& run);
+/// Throws InputError at the file's line and field.
+MonteCarloRun read_run_csv(const std::filesystem::path& file);
+
+} // namespace geartopo::pipeline

@@ -1,0 +1,89 @@
+// geartopo merge, and the Monte Carlo flags that compensate and run share (docs/monte-carlo.md): --samples, --seed,
+// --shard i/n. A shard writes its raw samples (prediction_samples.csv); merge combines the shards' files into the
+// same prediction a single run writes, bit for bit.
+#include "app/commands.hpp"
+#include "app/monte_carlo_flags.hpp"
+#include "app/options.hpp"
+
+#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/core/text_field.hpp"
+#include "geartopo/report/prediction_report.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+namespace geartopo::app {
+
+void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards) {
+  cmd->add_option("--samples", flags.samples,
+                  fmt::format("Monte Carlo samples of the predicted after-state over all shards (default {}; 0: none)",
+                              flags.samples))
+      ->check(CLI::Range(0LL, 1'000'000LL));
+  cmd->add_option("--seed", flags.seed, "Seed of the Monte Carlo draws (default 1): sample k depends on (seed, k) only")
+      ->check(digits_only());
+  if (!shards) return;
+  cmd->add_option("--shard", flags.shard,
+                  "i/n: compute only shard i of n (1 ≤ i ≤ n) and write its raw samples for `geartopo merge` (default 1/1)");
+}
+
+pipeline::MonteCarloOptions monte_carlo_options(const MonteCarloFlags& flags) {
+  pipeline::MonteCarloOptions o;
+  o.samples = flags.samples;
+  o.seed = flags.seed;
+  const auto slash = flags.shard.find('/');
+  int i = 0, n = 0;
+  if (slash == std::string::npos || text::parse_number(std::string_view(flags.shard).substr(0, slash), i) != std::errc() ||
+      text::parse_number(std::string_view(flags.shard).substr(slash + 1), n) != std::errc() || n < 1 || i < 1 || i > n)
+    throw CLI::ValidationError("--shard", fmt::format("'{}' is not i/n with 1 ≤ i ≤ n", text::excerpt(flags.shard)));
+  if (flags.samples > 0 && n > flags.samples)
+    throw CLI::ValidationError("--shard", fmt::format("{} shards for {} samples: every shard needs a sample", n, flags.samples));
+  o.shard = i;
+  o.shards = n;
+  return o;
+}
+
+std::optional<pipeline::MonteCarloOptions> prediction_options(const MonteCarloFlags& flags) {
+  if (flags.samples == 0) return std::nullopt;
+  return monte_carlo_options(flags);
+}
+
+void write_prediction(const std::filesystem::path& dir, const pipeline::MonteCarloSummary& s) {
+  output::write_text_atomically(dir / "prediction.json", report::prediction_json(s).dump(2) + "\n");
+  std::string text;
+  for (const auto& l : report::prediction_lines(s)) text += l + "\n";
+  output::write_text_atomically(dir / "prediction.txt", text);
+}
+
+void register_merge_command(CLI::App& app, Action& action) {
+  struct Options {
+    std::vector<std::string> parts;
+    std::string out;
+  };
+  auto opt = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("merge", "Combine the Monte Carlo shards' prediction_samples.csv into one prediction "
+                                              "(prediction.json, prediction.txt, prediction_samples.csv)");
+  cmd->add_option("PARTS", opt->parts, "Partial results (prediction_samples.csv of each shard)")->required();
+  cmd->add_option("--out", opt->out, "Output directory (created)")->required()->check(non_empty_path());
+  cmd->callback([&action, opt] {
+    action = [opt] {
+      std::vector<pipeline::MonteCarloRun> runs;
+      for (const auto& p : opt->parts) runs.push_back(pipeline::read_run_csv(p));
+      const auto merged = pipeline::merge_runs(std::move(runs));
+      const auto summary = pipeline::summarise(merged);
+      const std::filesystem::path out(opt->out);
+      output::OutputFolder folder(out);
+      pipeline::write_run_csv(out / "prediction_samples.csv", merged);
+      write_prediction(out, summary);
+      for (const auto& l : report::prediction_lines(summary)) std::cout << l << "\n";
+      std::cout << "wrote " << out.string() << "/prediction.json, prediction.txt, prediction_samples.csv\n";
+      finish_output_folder(folder);
+      return 0;
+    };
+  });
+}
+
+} // namespace geartopo::app

@@ -1,0 +1,33 @@
+// geartopo — the Monte Carlo flags of compensate and run (--samples, --seed, --shard i/n) and the prediction files
+// they write (docs/monte-carlo.md).
+#pragma once
+
+#include "geartopo/pipeline/monte_carlo.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+namespace geartopo::app {
+
+struct MonteCarloFlags {
+  long long samples = 40;
+  std::uint64_t seed = 1;
+  std::string shard = "1/1";
+};
+
+/// --samples and --seed; --shard too when `shards` (a command that can write a partial result).
+void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards);
+/// Throws CLI::ValidationError naming --shard for a malformed i/n or more shards than samples.
+pipeline::MonteCarloOptions monte_carlo_options(const MonteCarloFlags& flags);
+/// The options of a command that predicts in one go (run, report): nullopt for --samples 0.
+std::optional<pipeline::MonteCarloOptions> prediction_options(const MonteCarloFlags& flags);
+/// prediction.json and prediction.txt in `dir`.
+void write_prediction(const std::filesystem::path& dir, const pipeline::MonteCarloSummary& s);
+
+} // namespace geartopo::app

@@ -1,0 +1,141 @@
+#include "geartopo/report/prediction_report.hpp"
+
+#include "geartopo/evaluation/tolerances.hpp"
+#include "geartopo/render/charts.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <tuple>
+
+namespace geartopo::report {
+namespace {
+
+bool is_class(const std::string& name) { return name.size() > 6 && name.substr(name.size() - 6) == "_class"; }
+
+std::string stem(const std::string& name) {
+  const auto us = name.rfind('_');
+  return us == std::string::npos ? name : name.substr(0, us);
+}
+
+std::string class_text(double v) { return evaluation::class_label(static_cast<int>(std::lround(v))); }
+
+} // namespace
+
+std::string quantity_label(const std::string& name) {
+  static const std::map<std::string, std::string> symbols = {
+      {"f_p", "f_p"},         {"F_p", "F_p"},         {"f_Halpha", "f_Hα"}, {"f_falpha", "f_fα"},
+      {"F_alpha", "F_α"},     {"f_Hbeta", "f_Hβ"},    {"f_fbeta", "f_fβ"},  {"F_beta", "F_β"},
+      {"F_r", "F_r"},         {"overall", "overall"}, {"largest_abs", "largest |deviation|"},
+      {"thickness", "thickness"}, {"rotation", "rigid rotation"}};
+  const auto it = symbols.find(stem(name));
+  const std::string s = it == symbols.end() ? stem(name) : it->second;
+  return is_class(name) ? "class " + s : s;
+}
+
+std::string band_text(const std::string& name, const pipeline::Band& b) {
+  if (is_class(name)) return fmt::format("{} [{}, {}]", class_text(b.median), class_text(b.low), class_text(b.high));
+  return fmt::format("{:.2f} µm [{:.2f}, {:.2f}]", b.median, b.low, b.high);
+}
+
+std::vector<std::string> prediction_lines(const pipeline::MonteCarloSummary& s) {
+  std::vector<std::string> out;
+  out.push_back(fmt::format("Predicted gear, median [95 % interval] of {} Monte Carlo samples (seed {}): the machine drawn "
+                            "within the scene's uncertainties, corrections from the nominal model",
+                            s.samples, s.seed));
+  out.push_back(fmt::format("  {:<22} {:>28} {:>28}", "", "before", "after"));
+  for (size_t i = 0; i < s.names.size(); ++i)
+    out.push_back(fmt::format("  {:<22} {:>28} {:>28}", quantity_label(s.names[i]), band_text(s.names[i], s.before[i]),
+                              band_text(s.names[i], s.after[i])));
+  return out;
+}
+
+nlohmann::json prediction_json(const pipeline::MonteCarloSummary& s) {
+  nlohmann::json j;
+  j["samples"] = s.samples;
+  j["seed"] = s.seed;
+  j["coverage_probability"] = 0.95;
+  j["interval"] = "probabilistically symmetric (JCGM 101:2008 7.7); median of the samples";
+  j["model"] = "corrections from the nominal scene; the true machine drawn within machine.uncertainty, repeatability per "
+               "stroke, corrections rounded to machine.resolution (docs/monte-carlo.md)";
+  nlohmann::json q = nlohmann::json::object();
+  const auto band = [](const pipeline::Band& b) { return nlohmann::json{{"median", b.median}, {"low", b.low}, {"high", b.high}}; };
+  for (size_t i = 0; i < s.names.size(); ++i) q[s.names[i]] = {{"before", band(s.before[i])}, {"after", band(s.after[i])}};
+  j["quantities"] = q;
+  return j;
+}
+
+std::string prediction_summary_html(const pipeline::MonteCarloSummary& s) {
+  const auto item = [&](const std::string& name) -> std::string {
+    const int i = s.find(name);
+    if (i < 0) return {};
+    const auto k = static_cast<size_t>(i);
+    return fmt::format("{} <b>{}</b> before → <b>{}</b> after", quantity_label(name), band_text(name, s.before[k]),
+                       band_text(name, s.after[k]));
+  };
+  std::string h = fmt::format("<li>Predicted after compensation (median [95 % interval] of {} Monte Carlo samples: the "
+                              "machine drawn within the scene's uncertainties, corrections from the nominal model):<ul>",
+                              s.samples);
+  for (const auto& n : s.names)
+    if (const std::string t = item(n); !t.empty() && (n.find("_class") != std::string::npos || n == "largest_abs_um"))
+      h += "<li>" + t + "</li>";
+  for (const char* n : {"F_alpha_um", "F_beta_um", "f_p_um", "F_p_um"})
+    if (const std::string t = item(n); !t.empty()) h += "<li>" + t + "</li>";
+  const std::string th = item("thickness_um"), rot = item("rotation_um");
+  if (!th.empty()) h += "<li>" + th + "; " + rot + " (not ISO quantities)</li>";
+  return h + "</ul></li>";
+}
+
+Figure prediction_figure(const pipeline::MonteCarloSummary& s, const std::filesystem::path& dir) {
+  render::BarChart c;
+  c.title = fmt::format("Predicted ISO 1328-1 deviations, before and after: median and 95 % interval ({} samples)",
+                        s.samples);
+  c.size = {1400, 700};
+  c.x = {"", "", {}, {}};
+  c.y = {"deviation, worst flank (slopes: |value|)", "µm", {}, {}};
+  render::BarSeries before_bar{"before, median", {}, render::Rgb{200, 200, 200}};
+  render::Series before_whisker, after_whisker, after_median;
+  before_whisker.name = "before, 95 % interval";
+  before_whisker.colour = render::Rgb{90, 90, 90};
+  before_whisker.width = 3.0;
+  after_whisker.name = "after, 95 % interval";
+  after_whisker.colour = render::Rgb{31, 119, 180};
+  after_whisker.width = 3.0;
+  after_median.name = "after, median";
+  after_median.colour = render::Rgb{31, 119, 180};
+  after_median.width = 0.0;
+  after_median.marker = render::Marker::diamond;
+  after_median.marker_size = 11.0;
+  const double nan = std::nan("");
+  double x = 0.0;
+  for (size_t i = 0; i < s.names.size(); ++i) {
+    const auto& n = s.names[i];
+    if (is_class(n) || (n.front() != 'f' && n.front() != 'F')) continue; // ISO deviations only
+    x += 1.0;
+    c.categories.push_back(quantity_label(n));
+    before_bar.values.push_back(s.before[i].median);
+    // Whiskers: vertical segments, NaN between them; before left of centre, after right.
+    for (const auto& [series, band, dx] : {std::tuple{&before_whisker, s.before[i], -0.18}, std::tuple{&after_whisker, s.after[i], 0.18}}) {
+      series->x.insert(series->x.end(), {x + dx, x + dx, nan});
+      series->y.insert(series->y.end(), {band.low, band.high, nan});
+    }
+    after_median.x.insert(after_median.x.end(), {x + 0.18, nan}); // markers only: NaN breaks the line
+    after_median.y.insert(after_median.y.end(), {s.after[i].median, nan});
+  }
+  if (c.categories.empty()) throw std::runtime_error("prediction figure: no ISO quantity was evaluated");
+  c.bars.push_back(before_bar);
+  c.lines = {before_whisker, after_whisker, after_median};
+  c.ref_lines.push_back({render::Orientation::horizontal, 0.0, render::colours::black, 1.0, false, ""});
+  c.legend = render::LegendPlace::above;
+  render::render_bar_chart(c, dir / "prediction.png");
+  return {"prediction.png", "compensation", c.title,
+          "Grey bars: median of the uncompensated gear over the samples; grey whiskers its 95 % interval. Blue: the gear "
+          "ground with the nominal corrections (median ◆, 95 % interval), on the same µm scale — no magnification. Each "
+          "sample draws the machine's error map within the scene's uncertainties and the axes' repeatability per stroke "
+          "(docs/monte-carlo.md).",
+          c.size.width, c.size.height, std::nullopt, std::nullopt};
+}
+
+} // namespace geartopo::report
