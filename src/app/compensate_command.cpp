@@ -183,6 +183,10 @@ void register_compensate_command(CLI::App& app, Action& action) {
           prediction = pipeline::summarise(run);
           write_prediction(out, *prediction);
           j["prediction"] = report::prediction_json(*prediction);
+          if (const std::string w = prediction_made_worse(*prediction); !w.empty()) {
+            std::cerr << "geartopo: warning: " << w << "\n";
+            j["warnings"].push_back(w);
+          }
         }
       }
       output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");

@@ -65,6 +65,20 @@ std::string compensation_made_worse(double before_um, double after_um) {
                      before_um, after_um, growth);
 }
 
+std::string prediction_made_worse(const pipeline::MonteCarloSummary& p) {
+  const int cls = p.find("overall_class"), largest = p.find("largest_abs_um");
+  if (cls >= 0 && p.after[static_cast<size_t>(cls)].median > p.before[static_cast<size_t>(cls)].median)
+    return fmt::format("the predicted gear is worse after compensation: overall class {:g} against {:g} before (medians of "
+                       "{} samples); check the command resolution (machine.resolution) against the corrections, and the "
+                       "uncertainties, before applying them",
+                       p.after[static_cast<size_t>(cls)].median, p.before[static_cast<size_t>(cls)].median, p.samples);
+  if (largest >= 0 && p.after[static_cast<size_t>(largest)].median > p.before[static_cast<size_t>(largest)].median + kWorseToleranceUm)
+    return fmt::format("the predicted gear is worse after compensation: largest |deviation| {:.2f} µm against {:.2f} µm before "
+                       "(medians of {} samples)",
+                       p.after[static_cast<size_t>(largest)].median, p.before[static_cast<size_t>(largest)].median, p.samples);
+  return {};
+}
+
 void set_quiet(bool q) { quiet_flag = q; }
 bool quiet() { return quiet_flag; }
 

@@ -4,6 +4,7 @@
 
 #include "geartopo/core/output_folder.hpp"
 #include "geartopo/diagnosis/klingelnberg.hpp"
+#include "geartopo/pipeline/monte_carlo.hpp"
 #include "geartopo/workbench/iso_evaluation.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
@@ -69,6 +70,11 @@ using workbench::Workbench;
 /// method cancels a rotation that does not touch the flank (ε_yy, ε_ya) through the other axes and spoils the gear.
 inline constexpr double kWorseToleranceUm = 0.01; ///< far below any tolerance, far above the simulation's rounding
 std::string compensation_made_worse(double before_um, double after_um);
+
+/// When the PREDICTED gear (Monte Carlo medians) is worse after compensation than before — a coarser overall class, or
+/// else a larger largest |deviation| — the sentence to warn with; otherwise empty. The usual cause: corrections
+/// smaller than the command resolution, rounded into steps (docs/monte-carlo.md).
+std::string prediction_made_worse(const pipeline::MonteCarloSummary& prediction);
 
 /// Before a long simulation (at least kEstimateFromPoints points), when stderr is a terminal: one line with the
 /// number of points and flanks and the expected wall time at the rates of docs/performance.md (exact ≈ 260 k,

@@ -52,6 +52,10 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
   if (r.prediction) {
     iso["prediction"] = report::prediction_json(*r.prediction);
     write_prediction(dir, *r.prediction);
+    if (const std::string w = prediction_made_worse(*r.prediction); !w.empty()) {
+      std::cerr << "geartopo: warning: " << w << "\n";
+      iso["warnings"].push_back(w);
+    }
   }
   output::write_text_atomically(dir / "iso1328.json", iso.dump(2) + "\n");
   if (r.measurement) { // what `compare` and `diagnose` write, from the same computations (README, "Outputs")
