@@ -49,7 +49,7 @@ render::GridTopology grid_of(const grinding::FlankTopology& ft, const std::strin
     g.deviation(p.row - 1, p.col - 1) = p.deviation_um;
   }
   g.u_axis = {"axial position z from the datum face", "mm", {}, {}};
-  g.v_axis = {"roll length ξ", "mm", {}, {}};
+  g.v_axis = {"roll length L_y", "mm", {}, {}};
   g.size = {900, 700};
   g.font_px = 19; // two panels side by side are shown about 0.75 × on the page
   return g;
@@ -221,7 +221,7 @@ ChartRange trace_chart(const workbench::Workbench& wb, const workbench::IsoResul
   c.lines.push_back({render::Orientation::horizontal, a, render::colours::grey, 1.5, true, profile ? "L_α" : "L_β"});
   c.lines.push_back({render::Orientation::horizontal, b, render::colours::grey, 1.5, true, ""});
   c.lines.push_back({render::Orientation::vertical, 0.0, render::colours::black, 1.0, false, ""});
-  c.y = {profile ? "roll length ξ" : "axial position z", "mm", {}, {}};
+  c.y = {profile ? "roll length L_y" : "axial position z", "mm", {}, {}};
   c.title = fmt::format("{}, {}", profile ? "Profile" : "Helix", flank_name(ft.tooth, ft.flank));
   c.legend = render::LegendPlace::none;
   render::render_line_chart(c, file);
@@ -453,7 +453,7 @@ std::vector<Figure> measurement_figures(const pipeline::MeasurementResult& m, co
         h.x_centres = xc;
         h.y_centres = yc;
         h.x = {"z", "mm", {}, {}};
-        h.y = {"roll length ξ", "mm", {}, {}};
+        h.y = {"roll length L_y", "mm", {}, {}};
         h.size = {700, 520};
         h.font_px = 18;
         h.scale.mode = render::RangeMode::fixed;

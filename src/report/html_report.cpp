@@ -123,7 +123,7 @@ std::string gear_data_block(const workbench::Workbench& wb) {
        fmt::format("{:.4f} mm (allowed {:.4f} … {:.4f} mm)", j["MdK_mm"].get<double>(), j["MdK_lower_mm"].get<double>(),
                    j["MdK_upper_mm"].get<double>())},
       {"thickness allowances A_sne / A_sni", fmt::format("{:.1f} / {:.1f} µm", j["A_sne_um"].get<double>(), j["A_sni_um"].get<double>())},
-      {"profile evaluation range L_α", fmt::format("d = {:.3f} … {:.3f} mm (roll length ξ {:.3f} … {:.3f} mm)",
+      {"profile evaluation range L_α", fmt::format("d = {:.3f} … {:.3f} mm (roll length L_y {:.3f} … {:.3f} mm)",
                                                      g.diameter_at_roll_length(rg.xi_eval_start_mm), g.diameter_at_roll_length(rg.xi_eval_end_mm),
                                                      rg.xi_eval_start_mm, rg.xi_eval_end_mm)},
       {"helix evaluation range L_β", fmt::format("z = {:.2f} … {:.2f} mm from the datum face", rg.z_eval_start_mm, rg.z_eval_end_mm)},

@@ -239,7 +239,7 @@ std::vector<FailingRegion> find_failing_regions(const FlankResiduals& flank, con
     } else {
       trend = "uniform";
     }
-    const std::string extreme = fmt::format("extreme {} at ξ = {:.2f} mm, z = {:.2f} mm", signed_um(g.extreme_um, 1),
+    const std::string extreme = fmt::format("extreme {} at L_y = {:.2f} mm, z = {:.2f} mm", signed_um(g.extreme_um, 1),
                                             g.extreme_xi_mm, g.extreme_z_mm);
     const std::string count = fmt::format("{} point{}", members.size(), members.size() == 1 ? "" : "s");
     if (trend == "uniform") {
@@ -248,7 +248,7 @@ std::vector<FailingRegion> find_failing_regions(const FlankResiduals& flank, con
                                signed_um(g.mean_um, 1), thick, extreme, count);
     } else {
       g.words = fmt::format("{}, {}, {}", where, thick, trend);
-      g.sentence = fmt::format("{}, {}: {}, {}, up to {} at ξ = {:.2f} mm, z = {:.2f} mm; {}",
+      g.sentence = fmt::format("{}, {}: {}, {}, up to {} at L_y = {:.2f} mm, z = {:.2f} mm; {}",
                                flank_name(g.tooth, g.side), where, thick, trend, signed_um(g.extreme_um, 1),
                                g.extreme_xi_mm, g.extreme_z_mm, count);
     }

@@ -54,7 +54,7 @@ Prepared prepare(const FlankResiduals& f, std::string_view what) {
     p.r.push_back(q.residual_um);
   }
   if (p.index.empty())
-    refuse(what, fmt::format("{}: none of its {} points lies inside the evaluation ranges ξ [{}, {}] mm, z [{}, {}] mm",
+    refuse(what, fmt::format("{}: none of its {} points lies inside the evaluation ranges L_y [{}, {}] mm, z [{}, {}] mm",
                              flank_name(f.tooth, f.side), f.points.size(), f.xi_start_mm, f.xi_end_mm, f.z_start_mm,
                              f.z_end_mm));
   return p;

@@ -11,7 +11,7 @@
 namespace geartopo::diagnosis {
 
 std::string_view to_string(WaveDirection d) {
-  return d == WaveDirection::Profile ? "along the profile (ξ)" : "along the face width (z)";
+  return d == WaveDirection::Profile ? "along the profile (L_y)" : "along the face width (z)";
 }
 
 namespace residuals {
