@@ -382,8 +382,25 @@ void Scene::fail_at(const std::string& field, const std::string& message) const 
 
 /// yaml-cpp 0.7 (Debian 12) never returns from LoadAll when a document's first token is a ',' (found by fuzz_scene:
 /// ",` !" hung `geartopo gear` for ever; docs/performance.md, finding 22). A ',' is a flow indicator and cannot start a
-/// document, so such a text is refused here, before the parser sees it, at the comma's line and column.
+/// document, so such a text is refused here, before the parser sees it, at the comma's line and column; so is a
+/// control character, which YAML does not allow and which hid such a comma.
 void refuse_a_document_starting_with_a_comma(const std::string& text, const ReadContext& ctx) {
+  // YAML's character set (1.2, c-printable) excludes the C0 controls but TAB, LF and CR, and DEL: a NUL in front of
+  // the ',' hid it from the check below and hung the parser again (the second fuzzing run). Refused, located.
+  int control_line = 0;
+  size_t line_start = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c == '\n') ++control_line, line_start = i + 1;
+    if ((c < 0x20 && c != '\t' && c != '\n' && c != '\r') || c == 0x7F) {
+      YAML::Mark mark;
+      mark.line = control_line;
+      mark.column = static_cast<int>(i - line_start);
+      mark.pos = static_cast<int>(i);
+      ctx.fail(mark, "", fmt::format("control character U+{:04X}: YAML allows none but tab, line feed and carriage "
+                                     "return (is this a text file?)", static_cast<unsigned>(c)));
+    }
+  }
   bool at_start = true;
   int line = 0;
   size_t begin = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
