@@ -22,6 +22,7 @@ void register_compare_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, measured, out;
     double noise = 0.0;
+    bool json = false;
     diagnosis::KlingelnbergOptions mka;
   };
   auto opt = std::make_shared<Options>();
@@ -33,8 +34,10 @@ void register_compare_command(CLI::App& app, Action& action) {
   cmd->add_option("--out", opt->out, "Output directory: compare.json, residuals.csv")->required()->check(non_empty_path());
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated)")->check(finite_in(0.0, 1000.0));
   add_klingelnberg_options(cmd, opt->mka);
+  cmd->add_flag("--json", opt->json, "Print compare.json's content on stdout instead of the text summary");
   cmd->callback([&action, opt] {
     action = [opt] {
+      JsonSummary json(opt->json);
       const Workbench wb(opt->scene);
       std::vector<std::string> warnings;
       const auto pts = diagnosis::read_any_measurement(opt->measured, wb.setup, &warnings, opt->mka);
@@ -44,7 +47,8 @@ void register_compare_command(CLI::App& app, Action& action) {
       const std::filesystem::path out(opt->out);
       output::OutputFolder folder(out);
       report::write_residuals_csv(out / "residuals.csv", pts, c);
-      output::write_text_atomically(out / "compare.json", report::compare_json(opt->scene, opt->measured, pts, c).dump(2) + "\n");
+      const nlohmann::json summary = report::compare_json(opt->scene, opt->measured, pts, c);
+      output::write_text_atomically(out / "compare.json", summary.dump(2) + "\n");
 
       std::cout << fmt::format("{} measured points on {} flanks; residual (measured − model) {:.2f} µm RMS, max |{:.2f}| µm; "
                                "noise {:.2f} µm{}\n",
@@ -70,6 +74,7 @@ void register_compare_command(CLI::App& app, Action& action) {
           if (!t.sentence.empty()) std::cout << "  " << t.sentence << "\n";
       std::cout << "wrote " << (out / "compare.json").string() << ", residuals.csv\n";
       finish_output_folder(folder);
+      json.emit(summary);
       return 0;
     };
   });

@@ -46,6 +46,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
     int isg_max_records = 2000;
     workbench::IsoOptions iso;
     MonteCarloFlags mc;
+    bool json = false;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("compensate", "Axis corrections along the wheel path (paper: Jacobian pseudo-inverse; "
@@ -71,8 +72,10 @@ void register_compensate_command(CLI::App& app, Action& action) {
       ->check(CLI::Range(2, 1000000));
   add_iso_options(cmd, opt->iso);
   add_monte_carlo_options(cmd, opt->mc, true);
+  cmd->add_flag("--json", opt->json, "Print iso1328.json's content (before, after, prediction, warnings) on stdout instead of the text");
   cmd->callback([&action, opt] {
     action = [opt] {
+      JsonSummary json(opt->json);
       const auto mc = monte_carlo_options(opt->mc); // bad --shard: usage error before any work
       const Workbench wb(opt->scene);
       const auto& g = wb.setup.geometry();
@@ -229,6 +232,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
                    "iso1328.json" << (isg ? ", isg_compensation.csv" : "") << (mc.samples > 0 ? ", prediction_samples.csv" : "")
                 << (prediction ? ", prediction.json, prediction.txt" : "") << "\n";
       finish_output_folder(folder);
+      json.emit(j);
       return 0;
     };
   });

@@ -77,6 +77,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, measured, out;
     double noise = 0.0;
+    bool json = false;
     std::vector<std::string> candidates;
     diagnosis::KlingelnbergOptions mka;
   };
@@ -92,8 +93,10 @@ void register_diagnose_command(CLI::App& app, Action& action) {
   cmd->add_option("--candidates", opt->candidates, "Effect types to try (default: every library effect not in the scene)")
       ->delimiter(',');
   add_klingelnberg_options(cmd, opt->mka);
+  cmd->add_flag("--json", opt->json, "Print diagnosis.json's content on stdout instead of the text summary");
   cmd->callback([&action, opt] {
     action = [opt] {
+      JsonSummary json(opt->json);
       const Workbench wb(opt->scene);
       for (const auto& c : opt->candidates)
         if (!effects::make_effect(c))
@@ -145,6 +148,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
         std::cout << "wrote " << (out / "diagnosis.json").string() << "\n";
       }
       finish_output_folder(folder);
+      json.emit(j);
       return 0;
     };
   });

@@ -8,6 +8,8 @@
 #include "geartopo/workbench/iso_evaluation.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <functional>
 #include <memory>
 #include <string>
@@ -54,6 +56,22 @@ private:
   std::unique_ptr<State> state_;
 };
 
+/// `--json` of run, compare, diagnose and compensate: while it lives, the command's text on stdout is swallowed, and
+/// emit() prints one JSON object instead (the same content as the command's main JSON file), so scripts read stdout
+/// with a JSON parser. Warnings and errors stay on stderr. Without --json it does nothing.
+class JsonSummary {
+public:
+  explicit JsonSummary(bool enabled);
+  ~JsonSummary();
+  JsonSummary(const JsonSummary&) = delete;
+  JsonSummary& operator=(const JsonSummary&) = delete;
+  void emit(const nlohmann::json& summary);
+
+private:
+  std::streambuf* saved_ = nullptr;
+  std::unique_ptr<std::streambuf> sink_;
+};
+
 /// Closes a command's output folder (output_folder.hpp): removes what an earlier run wrote and this one did not, and
 /// says so on stderr (unless --quiet).
 void finish_output_folder(output::OutputFolder& folder);
@@ -71,8 +89,8 @@ using workbench::Workbench;
 inline constexpr double kWorseToleranceUm = 0.01; ///< far below any tolerance, far above the simulation's rounding
 std::string compensation_made_worse(double before_um, double after_um);
 
-/// When the PREDICTED gear (Monte Carlo medians) is worse after compensation than before — a coarser overall class, or
-/// else a larger largest |deviation| — the sentence to warn with; otherwise empty. The usual cause: corrections
+/// When the PREDICTED gear (Monte Carlo) is worse after compensation than before — a coarser median overall class, or
+/// a median largest |deviation| above the whole 95 % interval before — the sentence to warn with; otherwise empty. The usual cause: corrections
 /// smaller than the command resolution, rounded into steps (docs/monte-carlo.md).
 std::string prediction_made_worse(const pipeline::MonteCarloSummary& prediction);
 

@@ -31,7 +31,8 @@ std::string measured_of(const Workbench& wb, const std::string& option) {
   return option.empty() ? wb.scene.grid.measured_file : option;
 }
 
-void write_data_files(const fs::path& dir, const std::string& scene_file, const Workbench& wb, const pipeline::PipelineResult& r) {
+/// Returns iso1328.json's content (run --json prints it with the measurement's verdict).
+nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_file, const Workbench& wb, const pipeline::PipelineResult& r) {
   grinding::write_topology_csv(dir / "topology_before.csv", r.before);
   grinding::write_topology_csv(dir / "topology_after.csv", r.after);
   grinding::write_traces_csv(dir / "traces_before.csv", r.before);
@@ -74,6 +75,7 @@ void write_data_files(const fs::path& dir, const std::string& scene_file, const 
     diagnosis::write_scene_with_effects(scene_file, r.measurement->diagnosis.chosen->effects, comments,
                                         dir / "scene_with_effect.yaml");
   }
+  return iso;
 }
 
 void print_summary(const fs::path& dir, const pipeline::PipelineResult& r) {
@@ -143,6 +145,7 @@ void register_run_command(CLI::App& app, Action& action) {
     double step = 2.0, noise = 0.0;
     workbench::IsoOptions iso;
     MonteCarloFlags mc;
+    bool json = false;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("run", "The main job: simulate, evaluate (ISO 1328-1), compensate, compare and diagnose "
@@ -164,14 +167,20 @@ void register_run_command(CLI::App& app, Action& action) {
       ->check(finite_in(0.0, 1000.0));
   add_iso_options(cmd, opt->iso);
   add_monte_carlo_options(cmd, opt->mc, false);
+  cmd->add_flag("--json", opt->json,
+                "Print one JSON object on stdout instead of the text summary: iso1328.json's content, the report's path "
+                "and, with a measurement, the comparison's RMS, the verdict and the chosen effect");
   CLI::Option* teeth = cmd->get_option("--teeth");
   cmd->callback([&action, opt, teeth] {
     const bool teeth_given = teeth->count() > 0;
     action = [opt, teeth_given] {
-      const Workbench wb(opt->scene);
+      JsonSummary json(opt->json);
+      // --teeth stands in for the scene's measurement.teeth: simulated, shown in the figures and the page.
+      scene::Scene sc = scene::load_scene(opt->scene);
+      if (teeth_given) sc.grid.teeth = parse_teeth(opt->teeth, sc.gear.teeth);
+      const Workbench wb(std::move(sc));
       pipeline::PipelineOptions po;
       po.method = opt->simulation == "linear" ? grinding::Method::Linear : grinding::Method::Exact;
-      if (teeth_given) po.teeth = parse_teeth(opt->teeth, wb.setup.geometry().teeth());
       po.compensation = opt->method == "paper"   ? compensation::Method::Paper
                         : opt->method == "cycle" ? compensation::Method::Cycle
                                                  : compensation::Method::Flank;
@@ -195,10 +204,21 @@ void register_run_command(CLI::App& app, Action& action) {
       progress.reset();
       if (r.measurement)
         for (const auto& w : r.measurement->warnings) std::cerr << "geartopo: warning: " << w << "\n";
-      write_data_files(dir, opt->scene, wb, r);
+      nlohmann::json summary = write_data_files(dir, opt->scene, wb, r);
       report::write_report(dir, wb, r);
       print_summary(dir, r);
       finish_output_folder(folder);
+      summary["report"] = (dir / "index.html").string();
+      if (r.measurement) {
+        const auto& d = r.measurement->diagnosis;
+        summary["measurement"] = {{"file", r.measurement->file},
+                                  {"residual_rms_um", r.measurement->before.summary.overall.rms_um},
+                                  {"noise_um", r.measurement->before.noise_um},
+                                  {"chosen", d.chosen ? nlohmann::json(d.chosen->name()) : nlohmann::json(nullptr)},
+                                  {"ambiguous", !d.rivals.empty()},
+                                  {"verdict", d.verdict}};
+      }
+      json.emit(summary);
       return 0;
     };
   });

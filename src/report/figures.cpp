@@ -627,7 +627,9 @@ std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipelin
   figs.push_back(topology_figure(wb, r.before, dir, "topology_before.png", "Flank topology before compensation", "before", scale,
                                  magnification));
   for (auto& f : trace_figures(wb, r, shown_tolerance_class(wb, r), dir)) figs.push_back(std::move(f));
-  figs.push_back(pitch_figure(wb, r.iso_before, shown_tolerance_class(wb, r), dir));
+  // Pitch needs every tooth of a side (run --teeth 1,18 simulates two): no figure then, the page says why (notes).
+  if (r.iso_before.evaluation.pitch_left || r.iso_before.evaluation.pitch_right)
+    figs.push_back(pitch_figure(wb, r.iso_before, shown_tolerance_class(wb, r), dir));
   if (auto ro = runout_figure(r.iso_before, shown_tolerance_class(wb, r), dir)) figs.push_back(std::move(*ro));
   figs.push_back(machine_figure(wb, dir));
   Figure after = topology_figure(wb, r.after, dir, "topology_after.png", "Flank topology after compensation (same colour scale)",

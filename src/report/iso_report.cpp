@@ -69,20 +69,22 @@ nlohmann::json iso_json(const IsoResult& res) {
     classes["F_beta"] = class_json(Quantity::HelixTotal, f.helix.total_um, p, refused);
     classes["f_fbeta"] = class_json(Quantity::HelixForm, f.helix.form_um, p, refused);
     classes["f_Hbeta"] = class_json(Quantity::HelixSlope, f.helix.slope_um, p, refused);
+    // Per flank: the individual pitch deviations of this flank (ISO 1328-1 f_pi, F_pi: the gear's f_p and F_p are the
+    // worst of them, under "gear") and the ball's radial position in the space after it (the gear's F_r is their range).
     const auto it = pitch_of.find({f.tooth, static_cast<int>(f.side)});
     if (it != pitch_of.end()) {
-      fj["f_p_um"] = it->second.first;
-      fj["F_p_um"] = it->second.second;
+      fj["f_pi_um"] = it->second.first;
+      fj["F_pi_um"] = it->second.second;
       classes["f_p"] = class_json(Quantity::SinglePitch, it->second.first, p, refused);
     } else {
-      fj["f_p_um"] = nullptr;
-      fj["F_p_um"] = nullptr;
+      fj["f_pi_um"] = nullptr;
+      fj["F_pi_um"] = nullptr;
     }
     if (e.runout) {
       const int s = f.side == geartopo::Flank::Right ? f.tooth : (f.tooth == 1 ? p.teeth : f.tooth - 1);
-      fj["F_r_um"] = e.runout->radial_um[static_cast<size_t>(s - 1)]; // radial position of the ball in that space
+      fj["radial_position_um"] = e.runout->radial_um[static_cast<size_t>(s - 1)]; // of the ball in that space; may be < 0
     } else {
-      fj["F_r_um"] = nullptr;
+      fj["radial_position_um"] = nullptr;
     }
     fj["classes"] = classes;
     flanks.push_back(fj);
@@ -125,12 +127,19 @@ std::string iso_table(const IsoResult& res) {
   const auto& e = res.evaluation;
   std::string out = fmt::format("ISO 1328-1:2013 — deviations in µm, {} direction, class of each value\n  ({})\n",
                                 evaluation::to_string(e.conventions.direction), evaluation::describe(e.conventions));
-  out += fmt::format("  {:>5} {:<5} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}\n", "tooth", "flank", "F_α", "f_fα", "f_Hα", "F_β",
-                     "f_fβ", "f_Hβ");
+  // Each value with its class beside it ("–" when ISO 1328-1 does not apply to the gear).
+  const bool refused = e.classification.refusal.has_value();
+  const auto cell = [&](Quantity q, double v) {
+    const std::string cls = refused ? "–" : evaluation::class_label(evaluation::tolerance_class(q, v, res.parameters));
+    return fmt::format("{:>8.2f} {:>3}", v, cls == "worse than 11" ? ">11" : cls);
+  };
+  out += fmt::format("  {:>5} {:<5} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}\n", "tooth", "flank", "F_α cl", "f_fα cl",
+                     "f_Hα cl", "F_β cl", "f_fβ cl", "f_Hβ cl");
   for (const auto& f : e.flanks)
-    out += fmt::format("  {:>5} {:<5} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f}\n", f.tooth,
-                       evaluation::to_string(f.side), f.profile.total_um, f.profile.form_um, f.profile.slope_um,
-                       f.helix.total_um, f.helix.form_um, f.helix.slope_um);
+    out += fmt::format("  {:>5} {:<5} {} {} {} {} {} {}\n", f.tooth, evaluation::to_string(f.side),
+                       cell(Quantity::ProfileTotal, f.profile.total_um), cell(Quantity::ProfileForm, f.profile.form_um),
+                       cell(Quantity::ProfileSlope, f.profile.slope_um), cell(Quantity::HelixTotal, f.helix.total_um),
+                       cell(Quantity::HelixForm, f.helix.form_um), cell(Quantity::HelixSlope, f.helix.slope_um));
   for (const auto* pe : {&e.pitch_left, &e.pitch_right})
     if (*pe)
       out += fmt::format("  pitch, {} flanks: f_p {:.2f}  F_p {:.2f}  F_pk(k={}) {:.2f}\n", evaluation::to_string((*pe)->side),

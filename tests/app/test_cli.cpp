@@ -198,6 +198,45 @@ TEST(Cli, SynthWritesIntoAFolderOrAFile) {
   fs::remove_all(dir);
 }
 
+// Issue 17: --json prints one JSON object on stdout (what the command's main file holds) and nothing else there.
+TEST(Cli, JsonSummariesAreOneObjectOnStdout) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_json");
+  const std::string measured = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/demo/measured.csv";
+  const CliResult cmp = run("compare " + kScene + " --measured " + measured + " --out " + dir.string() + " --json");
+  ASSERT_EQ(cmp.code, 0) << cmp.err;
+  const auto jc = nlohmann::json::parse(cmp.out); // throws (test fails) on any text beside the object
+  std::ifstream file(dir / "compare.json");
+  EXPECT_EQ(jc, nlohmann::json::parse(file));
+  EXPECT_EQ(jc["overall"]["points"].get<int>(), 252);
+  const CliResult comp = run("compensate " + kScene + " --out " + dir.string() + " --samples 2 --json");
+  ASSERT_EQ(comp.code, 0) << comp.err;
+  const auto jm = nlohmann::json::parse(comp.out);
+  EXPECT_TRUE(jm.contains("before") && jm.contains("after") && jm.contains("prediction") && jm.contains("warnings"));
+  std::filesystem::remove_all(dir);
+}
+
+// Issue 17: run takes the options of the commands it combines, and writes what compare and diagnose write (the
+// README says "all of the below"); a subset of teeth gives a report without the pitch figure, not an error.
+TEST(Cli, RunOnSomeTeethWritesTheMeasurementFilesAndAReport) {
+  namespace fs = std::filesystem;
+  const auto dir = fs::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_run_teeth");
+  const CliResult r = run("run " + kScene + " --out " + dir.string() + " --teeth 1 --simulation linear --samples 0 --method cycle --step 5");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* f : {"compare.json", "residuals.csv", "diagnosis.json", "iso1328.json", "index.html", "topology_before.csv"})
+    EXPECT_TRUE(fs::exists(dir / f)) << f;
+  EXPECT_FALSE(fs::exists(dir / "pitch.png"));
+  std::ifstream res(dir / "residuals.csv");
+  std::string header;
+  std::getline(res, header);
+  EXPECT_EQ(header, "tooth,flank,row,col,diameter_mm,z_mm,measured_um,model_um,residual_um,source_line,point_id");
+  std::ifstream topo(dir / "topology_before.csv");
+  int rows = 0;
+  for (std::string l; std::getline(topo, l);) ++rows;
+  EXPECT_EQ(rows, 1 + 2 * 63); // header + tooth 1's two 7×9 grids
+  EXPECT_EQ(run("run " + kScene + " --out " + dir.string() + " --method fast").code, 2);
+  fs::remove_all(dir);
+}
+
 TEST(Cli, MachineReportsPoseTwistsAndJacobian) {
   const CliResult r = run("machine " + kScene + " --pose 444,0,350,-30,90 --json");
   ASSERT_EQ(r.code, 0) << r.err;
@@ -224,8 +263,10 @@ TEST(Cli, EvaluateWritesIsoJsonAndMeasuredTracesGiveTheSameAnswer) {
   std::ifstream in(dir / "sim" / "iso1328.json");
   const auto j = nlohmann::json::parse(in)["before"];
   ASSERT_EQ(j["flanks"].size(), 70u);
-  for (const char* key : {"F_alpha_um", "f_falpha_um", "f_Halpha_um", "F_beta_um", "f_fbeta_um", "f_Hbeta_um", "f_p_um",
-                          "F_p_um", "F_r_um", "classes"})
+  // Per flank the individual pitch deviations f_pi, F_pi and the ball's radial position (issue 17: "F_p_um"/"F_r_um"
+  // held per-tooth values, and F_r_um could be negative); the gear's f_p, F_p, F_r are under "gear".
+  for (const char* key : {"F_alpha_um", "f_falpha_um", "f_Halpha_um", "F_beta_um", "f_fbeta_um", "f_Hbeta_um", "f_pi_um",
+                          "F_pi_um", "radial_position_um", "classes"})
     EXPECT_TRUE(j["flanks"][0].contains(key)) << key;
   // Class-5 tolerances of the default gear (d = 565.80, m_n = 14, b = 150), from the ISO formulas by hand:
   // f_pT = 0.001 d + 0.4 m_n + 5 = 11.17 → 11; F_pT = 0.002 d + 0.55 √d + 0.7 m_n + 12 = 1.13 + 13.08 + 9.8 + 12
@@ -242,7 +283,7 @@ TEST(Cli, EvaluateWritesIsoJsonAndMeasuredTracesGiveTheSameAnswer) {
   const auto jm = nlohmann::json::parse(in2)["before"];
   ASSERT_EQ(jm["flanks"].size(), 70u);
   for (size_t i = 0; i < 70; ++i)
-    for (const char* key : {"F_alpha_um", "f_Hbeta_um", "f_p_um"})
+    for (const char* key : {"F_alpha_um", "f_Hbeta_um", "f_pi_um"})
       EXPECT_NEAR(jm["flanks"][i][key].get<double>(), j["flanks"][i][key].get<double>(), 1e-3) << i << key;
   EXPECT_NEAR(jm["gear"]["F_r_um"].get<double>(), j["gear"]["F_r_um"].get<double>(), 1e-3);
 

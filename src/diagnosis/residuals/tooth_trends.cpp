@@ -133,9 +133,9 @@ SideTrends fit_tooth_trends(std::span<const FlankPatterns> flanks, int teeth_in_
                                      signed_um(t.difference_um.value), t.difference_um.standard_error, t.tooth_a,
                                      t.tooth_b, to_string(side))
                        : fmt::format("{}: tooth {} and tooth {} agree within {:g} standard errors (difference {} ± "
-                                     "{:.2f} µm), {}",
+                                     "{:.2f} µm, {} flanks), {}",
                                      pname, t.tooth_a, t.tooth_b, k, signed_um(t.difference_um.value),
-                                     t.difference_um.standard_error, mean_text);
+                                     t.difference_um.standard_error, to_string(side), mean_text);
       continue;
     }
 
