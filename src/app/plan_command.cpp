@@ -70,9 +70,10 @@ void register_plan_command(CLI::App& app, Action& action) {
       }
       if (!opt->out.empty()) {
         const std::filesystem::path out(opt->out);
-        std::filesystem::create_directories(out);
+        output::OutputFolder folder(out);
         output::write_text_atomically(out / "plan.json", j.dump(2) + "\n");
         std::cout << "wrote " << (out / "plan.json").string() << "\n";
+        finish_output_folder(folder);
       }
       return 0;
     };
