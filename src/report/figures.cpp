@@ -632,7 +632,7 @@ std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipelin
     figs.push_back(pitch_figure(wb, r.iso_before, shown_tolerance_class(wb, r), dir));
   if (auto ro = runout_figure(r.iso_before, shown_tolerance_class(wb, r), dir)) figs.push_back(std::move(*ro));
   figs.push_back(machine_figure(wb, dir));
-  Figure after = topology_figure(wb, r.after, dir, "topology_after.png", "Flank topology after compensation (same colour scale)",
+  Figure after = topology_figure(wb, r.after, dir, "topology_after.png", "Nominal model after its own compensation (≈ 0 by construction)",
                                  "after", scale, magnification);
   after.section = "compensation";
   after.shared_scale = true;
