@@ -29,19 +29,15 @@ void register_compare_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("compare", "Measured − model (µm) at every measured point: statistics, where the model "
                                                 "fails, and the residual's patterns");
   cmd->add_option("SCENE", opt->scene, "Model scene (YAML)")->required();
-  cmd->add_option("--measured", opt->measured, "Measurement: topology CSV (µm), traces CSV, point cloud x_mm,y_mm,z_mm, or Klingelnberg export "
-                                                   "(docs/measurement-formats.md); told apart by content")->required();
+  add_measurement_options(cmd, opt->measured, opt->mka);
   cmd->add_option("--out", opt->out, "Output directory: compare.json, residuals.csv")->required()->check(non_empty_path());
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated)")->check(finite_in(0.0, 1000.0));
-  add_klingelnberg_options(cmd, opt->mka);
   cmd->add_flag("--json", opt->json, "Print compare.json's content on stdout instead of the text summary");
   cmd->callback([&action, opt] {
     action = [opt] {
       JsonSummary json(opt->json);
       const Workbench wb(opt->scene);
-      std::vector<std::string> warnings;
-      const auto pts = diagnosis::read_any_measurement(opt->measured, wb.setup, &warnings, opt->mka);
-      for (const auto& w : warnings) std::cerr << "geartopo: warning: " << w << "\n";
+      const auto pts = read_measured_points(wb, opt->measured, opt->mka);
       const auto c = diagnosis::compare(wb.setup, wb.process(), pts, opt->noise);
 
       const std::filesystem::path out(opt->out);

@@ -85,14 +85,12 @@ void register_diagnose_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("diagnose", "Which physical effect is the model missing? Fits every library effect "
                                                  "to the residual and writes the scene with the best one added");
   cmd->add_option("SCENE", opt->scene, "Model scene (YAML)")->required();
-  cmd->add_option("--measured", opt->measured, "Measurement: topology CSV (µm), traces CSV, point cloud or Klingelnberg export")
-      ->required();
+  add_measurement_options(cmd, opt->measured, opt->mka);
   cmd->add_option("--out", opt->out, "Output directory: diagnosis.json, scene_with_effect.yaml")->required()->check(non_empty_path());
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated from the residual)")
       ->check(finite_in(0.0, 1000.0));
   cmd->add_option("--candidates", opt->candidates, "Effect types to try (default: every library effect not in the scene)")
       ->delimiter(',');
-  add_klingelnberg_options(cmd, opt->mka);
   cmd->add_flag("--json", opt->json, "Print diagnosis.json's content on stdout instead of the text summary");
   cmd->callback([&action, opt] {
     action = [opt] {
@@ -102,9 +100,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
         if (!effects::make_effect(c))
           throw CLI::ValidationError("--candidates", fmt::format("'{}' is not an effect of the library ({})", c,
                                                                  fmt::join(effects::effect_types(), ", ")));
-      std::vector<std::string> warnings;
-      const auto pts = diagnosis::read_any_measurement(opt->measured, wb.setup, &warnings, opt->mka);
-      for (const auto& w : warnings) std::cerr << "geartopo: warning: " << w << "\n";
+      const auto pts = read_measured_points(wb, opt->measured, opt->mka);
       diagnosis::DiagnoseOptions o;
       o.noise_um = opt->noise;
       o.candidates = opt->candidates;

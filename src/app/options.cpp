@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/grinding/topology.hpp"
 
 #include <algorithm>
@@ -261,6 +262,22 @@ void add_iso_options(CLI::App* cmd, workbench::IsoOptions& o) {
          "rise-towards-plus-z (> 0 when material rises away from the datum face)")
       ->check(CLI::IsMember({"helix-angle", "rise-towards-plus-z"}))
       ->option_text("helix-angle|rise-towards-plus-z");
+}
+
+void add_measurement_options(CLI::App* cmd, std::string& file, diagnosis::KlingelnbergOptions& options) {
+  cmd->add_option("--measured", file,
+                  "Measurement: topology CSV (µm), traces CSV, point cloud x_mm,y_mm,z_mm[,id] or Klingelnberg export "
+                  "(docs/measurement-formats.md); told apart by content")
+      ->required();
+  add_klingelnberg_options(cmd, options);
+}
+
+std::vector<diagnosis::MeasuredPoint> read_measured_points(const workbench::Workbench& wb, const std::string& file,
+                                                           const diagnosis::KlingelnbergOptions& options) {
+  std::vector<std::string> warnings;
+  auto points = diagnosis::read_any_measurement(file, wb.setup, &warnings, options);
+  for (const auto& w : warnings) std::fprintf(stderr, "geartopo: warning: %s\n", w.c_str());
+  return points;
 }
 
 } // namespace geartopo::app

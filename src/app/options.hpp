@@ -109,6 +109,14 @@ std::pair<int, int> parse_grid_size(const std::string& text);
 /// --mka-spacing roll-length|diameter, --mka-direction transverse|normal, --mka-signs raw|din.
 void add_klingelnberg_options(CLI::App* cmd, diagnosis::KlingelnbergOptions& options);
 
+/// `--measured FILE` (required; every format the readers tell apart by content, docs/measurement-formats.md) and the
+/// Klingelnberg options: one text for compare, diagnose and plan.
+void add_measurement_options(CLI::App* cmd, std::string& file, diagnosis::KlingelnbergOptions& options);
+/// The measured points of `file` on the workbench's gear (diagnosis::read_any_measurement); the reader's warnings
+/// (blocks of an export it did not use, …) on stderr. Throws InputError.
+std::vector<diagnosis::MeasuredPoint> read_measured_points(const workbench::Workbench& wb, const std::string& file,
+                                                           const diagnosis::KlingelnbergOptions& options);
+
 /// How a command that prints ISO 1328-1 values reports them (docs/iso1328.md): --iso-direction transverse|normal
 /// (default transverse, the standard's), --helix-slope-sign helix-angle|rise-towards-plus-z (default helix-angle).
 void add_iso_options(CLI::App* cmd, workbench::IsoOptions& options);

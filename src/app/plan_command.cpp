@@ -29,18 +29,14 @@ void register_plan_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("plan", "What to measure next: when explanations of the residual are within the "
                                              "ΔBIC threshold of each other, the teeth that tell them apart");
   cmd->add_option("SCENE", opt->scene, "Model scene (YAML)")->required();
-  cmd->add_option("--measured", opt->measured, "Measurement: topology CSV (µm), point cloud or Klingelnberg export")
-      ->required();
+  add_measurement_options(cmd, opt->measured, opt->mka);
   cmd->add_option("--out", opt->out, "Output directory: plan.json (default: print only)")->check(non_empty_path());
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated from the residual)")
       ->check(finite_in(0.0, 1000.0));
-  add_klingelnberg_options(cmd, opt->mka);
   cmd->callback([&action, opt] {
     action = [opt] {
       const workbench::Workbench wb(opt->scene);
-      std::vector<std::string> warnings;
-      const auto pts = diagnosis::read_any_measurement(opt->measured, wb.setup, &warnings, opt->mka);
-      for (const auto& w : warnings) std::cerr << "geartopo: warning: " << w << "\n";
+      const auto pts = read_measured_points(wb, opt->measured, opt->mka);
       diagnosis::DiagnoseOptions o;
       o.noise_um = opt->noise;
       const auto d = diagnosis::diagnose(wb.setup, wb.process(), pts, wb.effect_types(), o);

@@ -384,7 +384,7 @@ void Scene::fail_at(const std::string& field, const std::string& message) const 
 /// ",` !" hung `geartopo gear` for ever; docs/performance.md, finding 22). A ',' is a flow indicator and cannot start a
 /// document, so such a text is refused here, before the parser sees it, at the comma's line and column; so is a
 /// control character, which YAML does not allow and which hid such a comma.
-void refuse_a_document_starting_with_a_comma(const std::string& text, const ReadContext& ctx) {
+void refuse_what_hangs_yaml_cpp(const std::string& text, const ReadContext& ctx) {
   // YAML's character set (1.2, c-printable) excludes the C0 controls but TAB, LF and CR, and DEL: a NUL in front of
   // the ',' hid it from the check below and hung the parser again (the second fuzzing run). Refused, located.
   int control_line = 0;
@@ -435,7 +435,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   ReadContext ctx{source, {}};
   YAML::Node root;
   try {
-    refuse_a_document_starting_with_a_comma(text, ctx);
+    refuse_what_hangs_yaml_cpp(text, ctx);
     // LoadAll, not Load: Load reads the first document and silently drops the rest of a file holding two ("---").
     const std::vector<YAML::Node> docs = YAML::LoadAll(text);
     if (docs.size() > 1)
