@@ -153,12 +153,16 @@ ChartRange trace_chart(const workbench::Workbench& wb, const workbench::IsoResul
   trace.name = "trace";
   trace.colour = render::colours::actual;
   double in_lo = std::numeric_limits<double>::infinity(), in_hi = -in_lo;
+  // The trace (simulated along the normal) in the direction the ISO values, mean line and tolerances are reported in
+  // (transverse by default: × 1/cos β_b), so that trace, mean line and box share one axis.
+  const double reported_per_normal = evaluation::reported_per_normal(iso.evaluation.conventions);
   for (const auto& pt : profile ? ft.profile : ft.helix) {
     const double s = profile ? pt.roll_length_mm : pt.z_mm;
-    trace.x.push_back(sign * pt.deviation_um);
+    const double dev_um = reported_per_normal * pt.deviation_um;
+    trace.x.push_back(sign * dev_um);
     trace.y.push_back(s);
-    must_show.push_back(pt.deviation_um);
-    if (s >= a - 1e-9 && s <= b + 1e-9) in_lo = std::min(in_lo, pt.deviation_um), in_hi = std::max(in_hi, pt.deviation_um);
+    must_show.push_back(dev_um);
+    if (s >= a - 1e-9 && s <= b + 1e-9) in_lo = std::min(in_lo, dev_um), in_hi = std::max(in_hi, dev_um);
   }
   out.data_um = {*std::min_element(must_show.begin(), must_show.end()), *std::max_element(must_show.begin(), must_show.end())};
   if (!(in_lo <= in_hi)) in_lo = out.data_um.first, in_hi = out.data_um.second;
@@ -211,8 +215,10 @@ ChartRange trace_chart(const workbench::Workbench& wb, const workbench::IsoResul
   std::vector<double> drawn;
   for (double v : must_show) drawn.push_back(sign * v);
   const auto scale = render::covering_scale(drawn.data(), drawn.size(), out.min_span_um, 6);
-  c.x = {ft.flank == Flank::Left ? "← plus material     deviation [µm]" : "deviation [µm]     plus material →", "", scale.range.min,
-         scale.range.max};
+  const std::string direction(evaluation::to_string(iso.evaluation.conventions.direction));
+  c.x = {ft.flank == Flank::Left ? "← plus material     deviation, " + direction + " [µm]"
+                                 : "deviation, " + direction + " [µm]     plus material →",
+         "", scale.range.min, scale.range.max};
   for (double t = scale.range.min; t <= scale.range.max + 1e-9 * scale.step; t += scale.step) {
     c.x_ticks.push_back(t);
     c.x_tick_labels.push_back(render::tick_label(sign * t, scale.step)); // labels show the deviation, not the mirrored value
