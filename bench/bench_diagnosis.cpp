@@ -2,12 +2,18 @@
 // (scenes/truth-skmc1200w-mn14-z35.yaml, hidden thermal drift) with diagnosis::synthesize (0.5 µm noise, seed 1), then
 // diagnosis::diagnose on the default scene with every library effect as a candidate, noise estimated from the
 // residual (as `geartopo diagnose` without --noise-um). Counter `points`: measured points per second.
+// Diagnose/scale/*: the same on dense grids of every tooth (35 teeth × both flanks × rows × cols: 10⁴, 10⁵, 10⁶ points),
+// the scale of a scanned flank (issue 14: linear in the number of points). The measurement is synthesised once per
+// size, outside the timing.
 #include "bench_scene.hpp"
 
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/synth.hpp"
 
 #include <benchmark/benchmark.h>
+
+#include <map>
+#include <numeric>
 
 using namespace geartopo;
 
@@ -50,5 +56,37 @@ void BM_Diagnose(benchmark::State& state) {
                                                 benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_Diagnose)->Name("Diagnose/all_library_effects/teeth1+18")->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(2);
+
+// Every tooth, rows × cols per flank (rows = cols = side), 0.5 µm noise, seed 1: 70·side² points.
+const std::vector<diagnosis::MeasuredPoint>& dense_measurement(int side) {
+  static std::map<int, std::vector<diagnosis::MeasuredPoint>> cache;
+  auto it = cache.find(side);
+  if (it == cache.end()) {
+    const auto& truth = bench::truth_scene();
+    diagnosis::SynthOptions o;
+    o.teeth.resize(static_cast<size_t>(truth.setup.geometry().teeth()));
+    std::iota(o.teeth.begin(), o.teeth.end(), 1);
+    o.rows = o.cols = side;
+    it = cache.emplace(side, diagnosis::measured_points(diagnosis::synthesize(truth.setup, truth.process(), o),
+                                                        truth.setup.geometry(), "synthetic")).first;
+  }
+  return it->second;
+}
+
+void BM_DiagnoseScale(benchmark::State& state) {
+  const auto& model = bench::default_scene();
+  const auto& pts = dense_measurement(static_cast<int>(state.range(0)));
+  std::string chosen;
+  for (auto _ : state) {
+    const auto d = diagnosis::diagnose(model.setup, model.process(), pts, model.effect_types(), diagnosis::DiagnoseOptions{});
+    chosen = d.chosen ? d.chosen->name() : "none";
+    benchmark::DoNotOptimize(d.ranked.data());
+  }
+  state.SetLabel(std::to_string(pts.size()) + " points, chosen: " + chosen);
+  state.counters["points"] = benchmark::Counter(static_cast<double>(pts.size()) * static_cast<double>(state.iterations()),
+                                                benchmark::Counter::kIsRate);
+}
+// side 12: 10 080 points; 38: 101 080; 120: 1 008 000.
+BENCHMARK(BM_DiagnoseScale)->Name("Diagnose/scale/all_teeth")->Arg(12)->Arg(38)->Arg(120)->UseRealTime()->Unit(benchmark::kSecond)->Iterations(1);
 
 } // namespace

@@ -164,10 +164,13 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     if (!modelled && std::find(types.begin(), types.end(), t) == types.end()) types.push_back(t);
   }
 
+  // What every fit evaluates thousands of times: the effects' first-order deviation at these points, whose
+  // parameter-independent part (pose, contact, axis Jacobian) is computed here once for all candidates.
+  const EffectContribution at_points(setup, pts, o.threads);
   std::map<std::string, std::vector<double>> fitted_values;
   std::vector<Candidate> pairs; // every pair fitted, taken or not
   for (const auto& t : types) {
-    Candidate c = fit_effects(setup, pts, d.residual_before_um, {t}, {}, setup_terms, o);
+    Candidate c = fit_effects(setup, at_points, d.residual_before_um, {t}, {}, setup_terms, o);
     c.significant = c.delta_bic < -o.bic_threshold && c.rejected.empty();
     fitted_values[t] = c.effects.front().values;
     d.ranked.push_back(std::move(c));
@@ -199,7 +202,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     // hidden-effect tests), and the true pair then never gets fitted if the stand-in ranks first.
     for (size_t a = 0; a < top.size(); ++a)
       for (size_t b = a + 1; b < top.size(); ++b) {
-        Candidate c = fit_effects(setup, pts, d.residual_before_um, {top[a], top[b]}, fitted_values, setup_terms, o);
+        Candidate c = fit_effects(setup, at_points, d.residual_before_um, {top[a], top[b]}, fitted_values, setup_terms, o);
         c.significant = c.delta_bic < d.ranked.front().delta_bic - o.bic_threshold && c.rejected.empty();
         pairs.push_back(c);
         if (c.significant && (!d.combination || c.delta_bic < d.combination->delta_bic)) d.combination = c;

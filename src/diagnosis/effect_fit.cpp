@@ -4,8 +4,6 @@
 #include "effect_fit.hpp"
 
 #include "geartopo/diagnosis/levenberg_marquardt.hpp"
-#include "geartopo/diagnosis/prediction.hpp"
-#include "geartopo/effects/effects_process.hpp"
 #include "geartopo/effects/registry.hpp"
 
 #include <Eigen/Dense>
@@ -24,9 +22,10 @@ namespace {
 // One fit of a set of effects: which parameters are free, their scales and bounds, and how to evaluate them.
 class EffectFit {
 public:
-  EffectFit(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts, const std::vector<double>& r0,
+  EffectFit(const grinding::GrindingSetup& setup, const EffectContribution& at_points, const std::vector<double>& r0,
             const std::vector<std::string>& types, const SetupTermModel& setup_terms, int threads)
-      : setup_(setup), pts_(pts), r0_(r0), setup_terms_(setup_terms), threads_(threads) {
+      : at_points_(at_points), r0_(Eigen::Map<const Eigen::VectorXd>(r0.data(), static_cast<Eigen::Index>(r0.size()))),
+        setup_terms_(setup_terms), threads_(threads) {
     for (const auto& t : types) {
       effects_.push_back(effects::make_effect(t));
       effects_.back()->bind(setup);
@@ -47,21 +46,15 @@ public:
     }
   }
 
-  /// Effects' first-order contribution at the points (µm).
-  std::vector<double> contribution() const {
-    const grinding::IdealProcess ideal;
-    const effects::EffectsProcess p(ideal, effects_);
-    return predict(setup_, p, pts_, grinding::Method::Linear, threads_);
-  }
+  /// Effects' first-order contribution at the points (n, µm): predict(…, Method::Linear) of the effects over the
+  /// ideal machine, from the points' stored contact state (effect_contribution.hpp).
+  Eigen::VectorXd contribution() const { return at_points_.evaluate_um(effects_, threads_); }
 
   /// Residual left at the points (µm, one per point) with the parameters x (p, scaled) and the best set-up terms for
   /// them (variable projection: the terms are linear, so they are solved exactly for every x).
   Eigen::VectorXd residual(const Eigen::VectorXd& x) {
     set(x);
-    const auto c = contribution();
-    Eigen::VectorXd r(static_cast<long>(c.size()));
-    for (size_t i = 0; i < c.size(); ++i) r(static_cast<long>(i)) = r0_[i] - c[i];
-    return setup_terms_.remove(r);
+    return setup_terms_.remove(r0_ - contribution());
   }
 
   /// Levenberg–Marquardt from x0 within [lo, hi] (all p, scaled).
@@ -84,9 +77,8 @@ public:
   }
 
 private:
-  const grinding::GrindingSetup& setup_;
-  const std::vector<MeasuredPoint>& pts_;
-  const std::vector<double>& r0_;
+  const EffectContribution& at_points_;
+  const Eigen::Map<const Eigen::VectorXd> r0_; // n, µm
   const SetupTermModel& setup_terms_;
   int threads_;
   std::vector<std::unique_ptr<effects::Effect>> effects_;
@@ -251,14 +243,14 @@ double sum_of_squares(const std::vector<double>& r) {
   return s;
 }
 
-Candidate fit_effects(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
+Candidate fit_effects(const grinding::GrindingSetup& setup, const EffectContribution& at_points,
                       const std::vector<double>& r0, const std::vector<std::string>& types,
                       const std::map<std::string, std::vector<double>>& warm, const SetupTermModel& setup_terms,
                       const DiagnoseOptions& o) {
-  EffectFit f(setup, pts, r0, types, setup_terms, o.threads);
+  EffectFit f(setup, at_points, r0, types, setup_terms, o.threads);
   const Box box = parameter_box(f);
   const LmResult best = best_of_starts(f, start_points(f, box, warm), box);
-  const double n = static_cast<double>(pts.size());
+  const double n = static_cast<double>(r0.size());
   const double dof = n - static_cast<double>(f.size()) - setup_terms.count();
   const double sigma2 = best.rss / std::max(1.0, dof); // σ̂² (µm²)
   Eigen::VectorXd sd = linearised_sd(best, sigma2, o.covariance_ridge);

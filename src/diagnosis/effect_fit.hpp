@@ -7,6 +7,7 @@
 #include "setup_terms.hpp"
 
 #include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/effect_contribution.hpp"
 
 #include <map>
 #include <string>
@@ -17,12 +18,12 @@ namespace geartopo::diagnosis {
 /// Σ r² (µm² for residuals in µm).
 double sum_of_squares(const std::vector<double>& r);
 
-/// Fits the effects `types` jointly to the residual r0 (µm, one value per point of `points`), their contribution being
-/// their first-order deviation at the points, together with the set-up terms (`setup`: projected out, so the effects
+/// Fits the effects `types` jointly to the residual r0 (µm, one value per point of `at_points`), their contribution being
+/// their first-order deviation at the points (evaluated from the points' stored contact state, effect_contribution.hpp), together with the set-up terms (`setup`: projected out, so the effects
 /// are judged on what the set-up terms cannot take; the baseline RSS₀ is that of r0 with them removed). Starts from every combination of the start values of the nonlinear
 /// parameters and, when `warm` has values of a type (a previous single fit, each parameter in its own unit), also from
 /// those; keeps the smallest RSS. The candidate's `significant` is left to the caller.
-Candidate fit_effects(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& points,
+Candidate fit_effects(const grinding::GrindingSetup& setup, const EffectContribution& at_points,
                       const std::vector<double>& r0, const std::vector<std::string>& types,
                       const std::map<std::string, std::vector<double>>& warm, const SetupTermModel& setup_terms,
                       const DiagnoseOptions& options);

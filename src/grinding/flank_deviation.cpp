@@ -64,19 +64,28 @@ double FlankDeviation::depth_at(const Target& t, double z_stroke_mm) const {
   return entry_depth(t.fp, process_.actual_wMg(pp), pp);
 }
 
+LinearContact FlankDeviation::linear_contact(const Target& t) const {
+  const PathPoint pp = path_.point(t.space, t.z0);
+  const double v = (machine::ideal_wMg(pp.q).inverse() * t.fp.p).y(); // wheel coordinate of the contact point
+  return {pp, t.fp.p, t.fp.n, v, wheel_.normal_per_radial(v)};
+}
+
+LinearContact FlankDeviation::linear_contact(int tooth, geartopo::Flank flank, double xi, double z) const {
+  return linear_contact(target(tooth, flank, xi, z));
+}
+
+double linear_deviation_mm(const LinearContact& c, const GrindingProcess& process) {
+  const machine::Vector6d e = process.error_twist_w(c.pp);
+  const Eigen::Vector3d shift = e.head<3>() + e.tail<3>().cross(c.p);
+  // A radial change of the wheel moves its surface along the normal by δR/√(1 + R′²) (form_wheel.hpp).
+  return c.n.dot(shift) - process.wheel_radius_error_mm(c.v, c.pp) * c.normal_per_radial;
+}
+
 DeviationResult FlankDeviation::at(int tooth, geartopo::Flank flank, double xi, double z, Method method) const {
   const Target t = target(tooth, flank, xi, z);
-  const gears::FlankPoint& fp = t.fp;
   const double z0 = t.z0;
 
-  if (method == Method::Linear) {
-    const PathPoint pp = path_.point(t.space, z0);
-    const machine::Vector6d e = process_.error_twist_w(pp);
-    const Eigen::Vector3d shift = e.head<3>() + e.tail<3>().cross(fp.p);
-    const double v = (machine::ideal_wMg(pp.q).inverse() * fp.p).y(); // wheel coordinate of the contact point
-    // A radial change of the wheel moves its surface along the normal by δR/√(1 + R′²) (form_wheel.hpp).
-    return {fp.n.dot(shift) - process_.wheel_radius_error_mm(v, pp) * wheel_.normal_per_radial(v), z0};
-  }
+  if (method == Method::Linear) return {linear_deviation_mm(linear_contact(t), process_), z0};
 
   // Near its minimum the depth is t* + ½c(Z − Z*)² + O((Z − Z*)³) with c ≈ 1/R_wheel, and Z* lies within a fraction
   // of a millimetre of Z₀. Three depths at Z₀ − h, Z₀, Z₀ + h give the parabola's vertex u; the depth at u is a real

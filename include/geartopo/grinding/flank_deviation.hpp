@@ -23,6 +23,20 @@ enum class Method { Exact, Linear };
 /// The space whose grinding makes the given flank: right flank of tooth j → space j; left flank → space j − 1.
 int space_of(int tooth, geartopo::Flank flank, int teeth);
 
+/// Everything the first-order (linear) deviation at a flank point needs that the process does not change: the
+/// generating pose and the contact geometry. The process's errors enter only through its twist and wheel-radius error
+/// at `pp` (linear_deviation_mm), so a caller evaluating many processes at the same points (a fit) computes this once.
+struct LinearContact {
+  PathPoint pp;                   ///< generating pose: space, nominal stroke Z₀, time, commanded axes
+  Eigen::Vector3d p;              ///< flank point, workpiece frame w (mm)
+  Eigen::Vector3d n;              ///< unit flank normal out of the material, w
+  double v = 0.0;                 ///< wheel axial coordinate of the contact (mm)
+  double normal_per_radial = 0.0; ///< the wheel surface's normal displacement per radial change at v (form_wheel.hpp)
+};
+
+/// The first-order deviation (mm) n·(δp + δθ × P) − δR(v)·normal_per_radial(v) of `process` at a contact.
+double linear_deviation_mm(const LinearContact& c, const GrindingProcess& process);
+
 struct DeviationResult {
   double deviation_mm = 0.0;
   double z_stroke_mm = 0.0; ///< stroke position Z of the deepest cut (exact) or of the generating pose (linear)
@@ -40,6 +54,10 @@ public:
       : flanks_(flanks), wheel_(wheel), path_(path), process_(process) {}
 
   DeviationResult at(int tooth, geartopo::Flank flank, double roll_length_mm, double z_mm, Method method) const;
+
+  /// The process-independent part of the linear model at a point: at(…, Method::Linear) is
+  /// {linear_deviation_mm(linear_contact(…), process), linear_contact(…).pp.z_stroke_mm}.
+  LinearContact linear_contact(int tooth, geartopo::Flank flank, double roll_length_mm, double z_mm) const;
 
   /// The exact deviation by Brent's search alone, Z to within z_tol_mm: the reference for the parabolic shortcut of
   /// at() (tests/grinding/test_exact_search.cpp) and its fallback (with kBrentTolMm).
@@ -60,6 +78,7 @@ private:
     double z0;
   };
   Target target(int tooth, geartopo::Flank flank, double roll_length_mm, double z_mm) const;
+  LinearContact linear_contact(const Target& t) const;
   double depth_at(const Target& t, double z_stroke_mm) const; ///< entry depth with the wheel at stroke position Z
   DeviationResult brent_search(const Target& t, double z_tol_mm) const;
 

@@ -1,0 +1,50 @@
+// geartopo — the first-order deviation physical effects add at fixed measured points (µm), for many values of their
+// parameters: a diagnosis fit evaluates it thousands of times at the same points. What the effects' parameters do not
+// change — each point's generating pose (space, stroke position, time stamp, commanded axes), its flank point and
+// normal, the wheel contact and the machine's axis Jacobian there — is computed once; an evaluation is then the
+// effects' own hooks at the stored poses and a few dot products per point (docs/diagnosis.md, "How a fit evaluates
+// an effect"). Units: mm and rad inside, µm out.
+#pragma once
+
+#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/effects/effect.hpp"
+#include "geartopo/grinding/grinding_setup.hpp"
+#include "geartopo/grinding/wheel_path.hpp"
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <vector>
+
+namespace geartopo::diagnosis {
+
+class EffectContribution {
+public:
+  /// The set-up must outlive this object; `points` are copied into per-point state (no reference kept).
+  EffectContribution(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& points, int threads = 0);
+
+  /// The effects' first-order deviation at every point (n, µm) over the ideal machine, referred to the nominal flank
+  /// at the mean allowance: the same quantity as
+  ///   predict(setup, effects::EffectsProcess(grinding::IdealProcess{}, effects), points, grinding::Method::Linear)
+  /// and equal to it to rounding (the sums are associated differently: tests/diagnosis/test_effect_contribution.cpp).
+  /// The effects must be bound to the same set-up. Results do not depend on `threads`.
+  Eigen::VectorXd evaluate_um(const std::vector<std::unique_ptr<effects::Effect>>& effects, int threads = 0) const;
+
+  std::size_t size() const { return points_.size(); }
+
+private:
+  /// Per point (≈ 170 bytes): the deviation is d = a_qᵀ δq + wᵀ ξ − δR(v)·normal_per_radial with
+  ///   w = (n; P × n)          so that n·(δp + δθ × P) = wᵀ (δp; δθ) for a pose-error twist ξ = (δp; δθ) in w,
+  ///   a_q = J_twistw_q(q)ᵀ w  the deviation per unit command offset of each axis (X, Y, Z mm; A, C rad).
+  struct PointState {
+    grinding::PathPoint pp;         ///< generating pose: the effects' hooks are evaluated here
+    machine::Vector5d a_q;          ///< 5: mm per axis unit
+    machine::Vector6d w;            ///< 6: (n; P × n)
+    double v = 0.0;                 ///< wheel axial coordinate of the contact (mm)
+    double normal_per_radial = 0.0; ///< normal displacement of the wheel surface per radial change at v
+  };
+  std::vector<PointState> points_;
+  double offset_um_ = 0.0; ///< mean_allowance_offset_um of the gear
+};
+
+} // namespace geartopo::diagnosis

@@ -1,0 +1,71 @@
+#include "geartopo/diagnosis/effect_contribution.hpp"
+
+#include "geartopo/core/parallel.hpp"
+#include "geartopo/core/units.hpp"
+#include "geartopo/diagnosis/prediction.hpp"
+#include "geartopo/grinding/flank_deviation.hpp"
+#include "geartopo/machine/jacobian.hpp"
+
+#include <algorithm>
+
+namespace geartopo::diagnosis {
+namespace {
+
+// Points per parallel task: one task per point would drown the work in scheduling.
+constexpr int kChunk = 1024;
+
+template <class Fn>
+void for_chunks(std::size_t n, int threads, Fn&& per_point) {
+  const int count = static_cast<int>((n + kChunk - 1) / kChunk);
+  geartopo::parallel_for(count, threads, [&](int c) {
+    const std::size_t end = std::min(n, static_cast<std::size_t>(c + 1) * kChunk);
+    for (std::size_t i = static_cast<std::size_t>(c) * kChunk; i < end; ++i) per_point(i);
+  });
+}
+
+} // namespace
+
+EffectContribution::EffectContribution(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
+                                       int threads)
+    : points_(pts.size()), offset_um_(mean_allowance_offset_um(setup.geometry())) {
+  const grinding::IdealProcess ideal; // the contact does not depend on the process
+  const grinding::FlankDeviation dev(setup.flanks(), setup.wheel(), setup.path(), ideal);
+  for_chunks(pts.size(), threads, [&](std::size_t i) {
+    const auto& p = pts[i];
+    const grinding::LinearContact c = dev.linear_contact(p.tooth, p.flank, p.roll_length_mm, p.z_mm);
+    PointState& s = points_[i];
+    s.pp = c.pp;
+    s.w << c.n, c.p.cross(c.n);
+    s.a_q = machine::J_twistw_q(c.pp.q).transpose() * s.w; // 5×6 · 6
+    s.v = c.v;
+    s.normal_per_radial = c.normal_per_radial;
+  });
+}
+
+// effects::EffectsProcess over the ideal machine, first order (effects_process.cpp): the twist is
+// J_twistw_q(q)·(commanded − q) + Σ pose_error_twist(table_in_gear), the wheel's radius error Σ δR_e(v); and
+// grinding::linear_deviation_mm makes n·(δp + δθ × P) − δR·normal_per_radial of them. With n·(δθ × P) = δθ·(P × n)
+// that is a_qᵀ δq + wᵀ ξ_table − δR·normal_per_radial.
+Eigen::VectorXd EffectContribution::evaluate_um(const std::vector<std::unique_ptr<effects::Effect>>& effects,
+                                                int threads) const {
+  Eigen::VectorXd out(static_cast<Eigen::Index>(points_.size()));
+  for_chunks(points_.size(), threads, [&](std::size_t i) {
+    const PointState& s = points_[i];
+    machine::Vector5d offset = machine::Vector5d::Zero();
+    machine::Vector6d table = machine::Vector6d::Zero();
+    double radius_mm = 0.0;
+    for (const auto& e : effects) {
+      offset += e->command_offset(s.pp);
+      const machine::Pose wMc = e->table_in_gear(s.pp);
+      if (!wMc.matrix().isIdentity(0.0)) table += machine::pose_error_twist(wMc); // identity: exactly zero
+      radius_mm += e->wheel_radius_error_mm(s.v, s.pp);
+    }
+    // The commanded axes minus the nominal ones, as EffectsProcess forms them (the same rounding).
+    const machine::Vector5d dq = (s.pp.q.vector() + offset) - s.pp.q.vector();
+    const double deviation_mm = s.a_q.dot(dq) + s.w.dot(table) - radius_mm * s.normal_per_radial;
+    out(static_cast<Eigen::Index>(i)) = units::um_from_mm(deviation_mm) + offset_um_;
+  });
+  return out;
+}
+
+} // namespace geartopo::diagnosis

@@ -1,0 +1,130 @@
+// The fit's stored-contact evaluation of the effects (diagnosis/effect_contribution.hpp) against the simulator's own
+// first-order model, diagnosis::predict(…, Method::Linear) over effects::EffectsProcess — the independent computation:
+// it finds each point's generating pose, contact and axis Jacobian afresh and composes the twist through the process
+// interface. Random points on every tooth and flank, random parameter values over each effect's whole allowed range.
+#include "geartopo/diagnosis/effect_contribution.hpp"
+#include "geartopo/diagnosis/prediction.hpp"
+#include "geartopo/effects/effects_process.hpp"
+#include "geartopo/effects/registry.hpp"
+#include "geartopo/workbench/workbench.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace geartopo;
+
+namespace {
+
+const workbench::Workbench& contribution_scene() {
+  static const workbench::Workbench b(std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35.yaml");
+  return b;
+}
+
+// Points anywhere on the active flanks (d_Ff … d_a, 0 … b) of random teeth and flanks.
+std::vector<diagnosis::MeasuredPoint> random_flank_points(const gears::GearGeometry& g, int count, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<int> tooth(1, g.teeth()), side(0, 1);
+  std::uniform_real_distribution<double> xi(g.roll_length_at(g.root_form_diameter_mm()), g.roll_length_at(g.tip_diameter_mm())),
+      z(0.0, g.spec().face_width_mm);
+  std::vector<diagnosis::MeasuredPoint> pts(static_cast<size_t>(count));
+  for (auto& p : pts) {
+    p.tooth = tooth(rng);
+    p.flank = side(rng) ? Flank::Right : Flank::Left;
+    p.roll_length_mm = xi(rng);
+    p.diameter_mm = g.diameter_at_roll_length(p.roll_length_mm);
+    p.z_mm = z(rng);
+  }
+  return pts;
+}
+
+// Each fitted parameter uniform over its allowed range [lo, hi] (counts rounded to whole numbers).
+void randomise(effects::Effect& e, std::mt19937_64& rng) {
+  auto v = e.values();
+  for (size_t k = 0; k < v.size(); ++k) {
+    const auto& s = e.parameters()[k];
+    if (!s.fitted) continue;
+    v[k] = std::uniform_real_distribution<double>(s.lo, s.hi)(rng);
+    if (s.whole) v[k] = std::round(v[k]);
+  }
+  e.set_values(v);
+}
+
+// Largest |stored-contact − predict| (µm) over the points, for these effects.
+double largest_disagreement_um(const diagnosis::EffectContribution& at_points,
+                               const std::vector<diagnosis::MeasuredPoint>& pts,
+                               const std::vector<std::unique_ptr<effects::Effect>>& effs, double& largest_value_um) {
+  const auto& setup = contribution_scene().setup;
+  const grinding::IdealProcess ideal;
+  const effects::EffectsProcess process(ideal, effs);
+  const auto truth = diagnosis::predict(setup, process, pts, grinding::Method::Linear, 1);
+  const Eigen::VectorXd got = at_points.evaluate_um(effs, 1);
+  double worst = 0.0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    worst = std::max(worst, std::abs(got(static_cast<Eigen::Index>(i)) - truth[i]));
+    largest_value_um = std::max(largest_value_um, std::abs(truth[i]));
+  }
+  return worst;
+}
+
+// Rounding only: the two paths associate the same products differently (a_qᵀδq against n·(J δq), …); at deviations
+// of a few hundred µm that is ~1e-12 µm. 1e-9 µm leaves room for the largest parameter values and is still a million
+// times below anything a model difference (a wrong pose, time stamp or sign) would give.
+constexpr double kRoundingUm = 1e-9;
+
+TEST(EffectContribution, EqualsTheSimulatorsLinearModelForEveryLibraryEffect) {
+  const auto& setup = contribution_scene().setup;
+  const auto pts = random_flank_points(setup.geometry(), 400, 7);
+  const diagnosis::EffectContribution at_points(setup, pts, 1);
+  ASSERT_EQ(at_points.size(), pts.size());
+  std::mt19937_64 rng(11);
+  for (const auto& type : effects::effect_types()) {
+    for (int draw = 0; draw < 5; ++draw) {
+      std::vector<std::unique_ptr<effects::Effect>> effs;
+      effs.push_back(effects::make_effect(type));
+      effs.back()->bind(setup);
+      randomise(*effs.back(), rng);
+      double largest = 0.0;
+      EXPECT_LE(largest_disagreement_um(at_points, pts, effs, largest), kRoundingUm) << type << ", draw " << draw;
+      EXPECT_GT(largest, 0.01) << type << ": the draw must make a deviation, or the comparison proves nothing";
+    }
+  }
+}
+
+TEST(EffectContribution, EqualsTheSimulatorsLinearModelForAllEffectsTogether) {
+  const auto& setup = contribution_scene().setup;
+  const auto pts = random_flank_points(setup.geometry(), 400, 8);
+  const diagnosis::EffectContribution at_points(setup, pts, 1);
+  std::mt19937_64 rng(12);
+  for (int draw = 0; draw < 5; ++draw) {
+    std::vector<std::unique_ptr<effects::Effect>> effs;
+    for (const auto& type : effects::effect_types()) {
+      effs.push_back(effects::make_effect(type));
+      effs.back()->bind(setup);
+      randomise(*effs.back(), rng);
+    }
+    double largest = 0.0;
+    EXPECT_LE(largest_disagreement_um(at_points, pts, effs, largest), kRoundingUm) << "draw " << draw;
+  }
+}
+
+TEST(EffectContribution, DoesNotDependOnTheThreadCount) {
+  const auto& setup = contribution_scene().setup;
+  const auto pts = random_flank_points(setup.geometry(), 3000, 9); // several parallel chunks
+  const diagnosis::EffectContribution one(setup, pts, 1), two(setup, pts, 2);
+  std::mt19937_64 rng(13);
+  std::vector<std::unique_ptr<effects::Effect>> effs;
+  for (const auto& type : effects::effect_types()) {
+    effs.push_back(effects::make_effect(type));
+    effs.back()->bind(setup);
+    randomise(*effs.back(), rng);
+  }
+  const Eigen::VectorXd a = one.evaluate_um(effs, 1), b = two.evaluate_um(effs, 2), c = one.evaluate_um(effs, 2);
+  for (Eigen::Index i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a(i), b(i)) << "point " << i; // bitwise: every point is computed by one thread, in one order
+    ASSERT_EQ(a(i), c(i)) << "point " << i;
+  }
+}
+
+} // namespace
