@@ -42,6 +42,8 @@ void check_options(const DiagnoseOptions& o) {
   for (int a = 0; a < 5; ++a)
     if (!(std::isfinite(o.stroke_repeatability_sd(a)) && o.stroke_repeatability_sd(a) >= 0.0))
       refuse("stroke_repeatability_sd", o.stroke_repeatability_sd(a), "finite and ≥ 0 on every axis");
+  if (!o.model_uncertainty_um.allFinite())
+    throw std::invalid_argument("diagnose: option model_uncertainty_um has a non-finite value");
 }
 
 /// The recommendation in words: the best few teeth with their expected separation and where on them it is largest.
@@ -127,12 +129,12 @@ namespace {
 /// The set-up terms, with the stroke-to-stroke scatter the options declare (none: white noise, ordinary least squares).
 SetupTermModel setup_term_model(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
                                 const std::vector<MeasuredPoint>& pts, double noise_um, const DiagnoseOptions& o) {
-  if (o.stroke_repeatability_sd.isZero()) return SetupTermModel(setup.geometry(), pts);
+  if (o.stroke_repeatability_sd.isZero() && o.model_uncertainty_um.size() == 0) return SetupTermModel(setup.geometry(), pts);
   std::vector<int> space(pts.size());
   for (size_t i = 0; i < pts.size(); ++i)
     space[i] = grinding::space_of(pts[i].tooth, pts[i].flank, setup.geometry().teeth());
   const Eigen::MatrixXd G = stroke_sensitivity(setup, model, pts, o.stroke_repeatability_sd, o.threads); // n × 5
-  return SetupTermModel(setup.geometry(), pts, StrokeScatter(space, G, noise_um));
+  return SetupTermModel(setup.geometry(), pts, StrokeScatter(space, G, noise_um, o.model_uncertainty_um));
 }
 
 } // namespace
@@ -156,6 +158,9 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   check_options(o);
   if (pts.size() < o.min_points)
     throw std::invalid_argument(fmt::format("diagnose: {} measured point(s); at least {} are needed", pts.size(), o.min_points));
+  if (o.model_uncertainty_um.size() > 0 && o.model_uncertainty_um.rows() != static_cast<Eigen::Index>(pts.size()))
+    throw std::invalid_argument(fmt::format("diagnose: option model_uncertainty_um has {} rows for {} measured points",
+                                            o.model_uncertainty_um.rows(), pts.size()));
   Diagnosis d;
   d.points = static_cast<int>(pts.size());
   const auto base = predict(setup, model, pts, grinding::Method::Exact, o.threads);

@@ -1,7 +1,8 @@
-// Stroke-to-stroke scatter: the residual covariance Σ = σ² I + Σ_s G_s G_sᵀ and generalised least squares through its
-// whitening. Truths from outside the code: Σ written out densely here and inverted by Eigen (the textbook GLS
-// covariance (Xᵀ Σ⁻¹ X)⁻¹), and the empirical spread of a linear fit over 400 residuals drawn here with the standard
-// library's generator, per space one offset of five "axes" through G plus white noise.
+// Stroke-to-stroke scatter and a common model uncertainty: the residual covariance Σ = σ² I + Σ_s G_s G_sᵀ + M Mᵀ and
+// generalised least squares through its whitening. Truths from outside the code: Σ written out densely here and
+// inverted by Eigen (the textbook GLS covariance (Xᵀ Σ⁻¹ X)⁻¹), and the empirical spread of a linear fit over 400
+// residuals drawn here with the standard library's generator: per space one offset of five "axes" through G, one
+// offset of three "map components" through M common to all points, plus white noise.
 #include "geartopo/diagnosis/stroke_scatter.hpp"
 
 #include <gtest/gtest.h>
@@ -48,14 +49,27 @@ Eigen::MatrixXd scatter_sensitivity(const ScatterLayout& l) {
   return G;
 }
 
-/// Σ written out: σ² on the diagonal plus g_iᵀ g_j for points of one space (n × n, µm²).
-Eigen::MatrixXd scatter_sigma_dense(const ScatterLayout& l, const Eigen::MatrixXd& G) {
+/// A part common to all points (n × 3, µm per standard uncertainty): an offset growing along the grinding order (the
+/// kind of pattern a drift also makes), a flank slope, and a once-around pattern.
+Eigen::MatrixXd common_sensitivity(const ScatterLayout& l) {
+  const auto n = static_cast<Eigen::Index>(l.space.size());
+  Eigen::MatrixXd M(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double s = l.space[static_cast<size_t>(i)];
+    M.row(i) << 0.05 * s, 0.3 * l.position(i), 0.5 * std::sin(2.0 * 3.14159265358979 * s / kScatterSpaces);
+  }
+  return M;
+}
+
+/// Σ written out: σ² on the diagonal plus g_iᵀ g_j for points of one space plus m_iᵀ m_j for all (n × n, µm²).
+Eigen::MatrixXd scatter_sigma_dense(const ScatterLayout& l, const Eigen::MatrixXd& G, const Eigen::MatrixXd& M) {
   const auto n = static_cast<Eigen::Index>(l.space.size());
   Eigen::MatrixXd S = Eigen::MatrixXd::Zero(n, n);
   for (Eigen::Index i = 0; i < n; ++i)
     for (Eigen::Index j = 0; j < n; ++j) {
       if (l.space[static_cast<size_t>(i)] == l.space[static_cast<size_t>(j)]) S(i, j) = G.row(i).dot(G.row(j));
       if (i == j) S(i, j) += kScatterNoiseUm * kScatterNoiseUm;
+      S(i, j) += M.row(i).dot(M.row(j));
     }
   return S;
 }
@@ -73,8 +87,9 @@ Eigen::MatrixXd scatter_design(const ScatterLayout& l) {
 TEST(StrokeScatter, WhiteningTurnsTheWrittenOutCovarianceIntoWhiteNoise) {
   const auto l = scatter_layout();
   const Eigen::MatrixXd G = scatter_sensitivity(l);
-  const diagnosis::StrokeScatter scatter(l.space, G, kScatterNoiseUm);
-  const Eigen::MatrixXd Sigma = scatter_sigma_dense(l, G);
+  const Eigen::MatrixXd M = common_sensitivity(l);
+  const diagnosis::StrokeScatter scatter(l.space, G, kScatterNoiseUm, M);
+  const Eigen::MatrixXd Sigma = scatter_sigma_dense(l, G, M);
   EXPECT_LT((scatter.covariance() - Sigma).cwiseAbs().maxCoeff(), 1e-12);
   // W Σ Wᵀ = σ² I: whiten the columns of Σ, then the rows of the result.
   const Eigen::MatrixXd WS = scatter.whiten(Sigma);
@@ -86,18 +101,19 @@ TEST(StrokeScatter, WhiteningTurnsTheWrittenOutCovarianceIntoWhiteNoise) {
 TEST(StrokeScatter, GeneralisedLeastSquaresCovarianceMatchesTheSpreadOfDrawnFits) {
   const auto l = scatter_layout();
   const Eigen::MatrixXd G = scatter_sensitivity(l);
-  const diagnosis::StrokeScatter scatter(l.space, G, kScatterNoiseUm);
+  const Eigen::MatrixXd M = common_sensitivity(l);
+  const diagnosis::StrokeScatter scatter(l.space, G, kScatterNoiseUm, M);
   const Eigen::MatrixXd X = scatter_design(l);
   const auto n = static_cast<Eigen::Index>(l.space.size());
 
   // The fit's covariance through the whitening, against the textbook (Xᵀ Σ⁻¹ X)⁻¹ with Σ inverted densely.
   const Eigen::MatrixXd WX = scatter.whiten(X);
   const Eigen::Matrix2d cov_gls = kScatterNoiseUm * kScatterNoiseUm * (WX.transpose() * WX).inverse();
-  const Eigen::MatrixXd Sigma = scatter_sigma_dense(l, G);
+  const Eigen::MatrixXd Sigma = scatter_sigma_dense(l, G, M);
   const Eigen::Matrix2d cov_textbook = (X.transpose() * Sigma.inverse() * X).inverse();
   EXPECT_LT((cov_gls - cov_textbook).cwiseAbs().maxCoeff(), 1e-9 * cov_textbook.cwiseAbs().maxCoeff());
 
-  // Draws: y = X β + noise + per space G_s ξ_s. The fitted β's empirical standard deviation must match √cov within
+  // Draws: y = X β + noise + per space G_s ξ_s + M η. The fitted β's empirical standard deviation must match √cov within
   // its sampling error (relative 1/√(2(M−1)) = 3.5 % for M = 400; 4 of them: 14 %).
   const Eigen::Vector2d beta{2.0, -1.0};
   std::mt19937_64 gen(15);
@@ -108,7 +124,9 @@ TEST(StrokeScatter, GeneralisedLeastSquaresCovarianceMatchesTheSpreadOfDrawnFits
     std::vector<Eigen::Matrix<double, 5, 1>> xi(kScatterSpaces + 1);
     for (auto& v : xi)
       for (int a = 0; a < 5; ++a) v(a) = normal(gen);
-    Eigen::VectorXd y = X * beta;
+    Eigen::Vector3d eta;
+    for (int c = 0; c < 3; ++c) eta(c) = normal(gen);
+    Eigen::VectorXd y = X * beta + M * eta;
     for (Eigen::Index i = 0; i < n; ++i)
       y(i) += kScatterNoiseUm * normal(gen) + G.row(i).dot(xi[static_cast<size_t>(l.space[static_cast<size_t>(i)])]);
     fits.row(d) = (WX.transpose() * WX).ldlt().solve(WX.transpose() * scatter.whiten(y)).transpose();

@@ -20,6 +20,8 @@
 #include "geartopo/machine/axis_pose.hpp"
 #include "geartopo/scene/scene.hpp"
 
+#include <Eigen/Dense>
+
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -54,6 +56,9 @@ struct Candidate {
   /// [-100, 100]". A rejected candidate is never significant, whatever its ΔBIC.
   std::string rejected;
   bool significant = false;
+  /// Correlation of the fitted parameters (p × p, unit-free; p the fitted parameters, effect by effect in parameter
+  /// order) from the linearised covariance (JᵀJ)⁻¹; the uncertainties themselves may be wider (profile likelihood).
+  Eigen::MatrixXd correlation;
   std::string name() const;        ///< "thermal_drift" or "thermal_drift + wheel_wear"
 };
 
@@ -93,6 +98,10 @@ struct DiagnoseOptions {
   /// scene's `machine.repeatability` (ISO 230-2 R/4). Non-zero: the residual's covariance is σ² I plus each stroke's
   /// scatter (stroke_scatter.hpp) and every fit is generalised least squares. Zero (default): white noise only.
   machine::Vector5d stroke_repeatability_sd = machine::Vector5d::Zero();
+  /// The model's own uncertainty at the measured points (n × m, µm): column k the first-order deviation when uncertain
+  /// model quantity k is off by its standard uncertainty (map_sensitivity: the error map's 43 components within
+  /// `machine.uncertainty`). Non-empty: Σ gains M Mᵀ, common to all points (stroke_scatter.hpp). Empty (default): none.
+  Eigen::MatrixXd model_uncertainty_um;
   /// ΔBIC an effect must beat (unit-free, on the natural-log BIC scale): significant when ΔBIC < −threshold, and a pair
   /// must improve on the best single effect by as much again. 10 is "very strong" evidence (Kass & Raftery), so that
   /// a library effect is not named on data that only mildly prefer it.
