@@ -9,6 +9,7 @@
 #include "geartopo/diagnosis/klingelnberg.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
+#include "geartopo/diagnosis/stroke_scatter.hpp"
 #include "geartopo/diagnosis/synth.hpp"
 #include "geartopo/effects/registry.hpp"
 
@@ -77,7 +78,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, measured, out;
     double noise = 0.0;
-    bool json = false;
+    bool json = false, scene_uncertainty = false;
     std::vector<std::string> candidates;
     diagnosis::KlingelnbergOptions mka;
   };
@@ -92,6 +93,9 @@ void register_diagnose_command(CLI::App& app, Action& action) {
   cmd->add_option("--candidates", opt->candidates, "Effect types to try (default: every library effect not in the scene)")
       ->delimiter(',');
   cmd->add_flag("--json", opt->json, "Print diagnosis.json's content on stdout instead of the text summary");
+  cmd->add_flag("--scene-uncertainty", opt->scene_uncertainty,
+                "The residual carries the scene's declared uncertainties — machine.repeatability per stroke and the "
+                "error map's machine.uncertainty: fit by generalised least squares (docs/diagnosis.md)");
   cmd->callback([&action, opt] {
     action = [opt] {
       JsonSummary json(opt->json);
@@ -104,6 +108,10 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       diagnosis::DiagnoseOptions o;
       o.noise_um = opt->noise;
       o.candidates = opt->candidates;
+      if (opt->scene_uncertainty) {
+        o.stroke_repeatability_sd = wb.scene.machine.uncertainty.repeatability;
+        o.model_uncertainty_um = diagnosis::map_sensitivity(wb, pts);
+      }
       const auto d = diagnosis::diagnose(wb.setup, wb.process(), pts, wb.effect_types(), o);
 
       const nlohmann::json j = report::diagnosis_json(opt->scene, opt->measured, d, diagnosis::mean_allowance_offset_um(wb.setup.geometry()));

@@ -6,6 +6,8 @@
 #include "geartopo/core/flank.hpp"
 #include "geartopo/core/statistics.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
+#include "geartopo/diagnosis/stroke_scatter.hpp"
+#include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/effects/effects_process.hpp"
 #include "geartopo/effects/registry.hpp" // effect_types
 #include "geartopo/workbench/workbench.hpp"
@@ -37,6 +39,11 @@ void check_options(const DiagnoseOptions& o) {
   if (o.profile_walk_steps < 0) refuse("profile_walk_steps", o.profile_walk_steps, "≥ 0");
   if (!(std::isfinite(o.profile_min_step) && o.profile_min_step > 0.0))
     refuse("profile_min_step", o.profile_min_step, "finite and > 0");
+  for (int a = 0; a < 5; ++a)
+    if (!(std::isfinite(o.stroke_repeatability_sd(a)) && o.stroke_repeatability_sd(a) >= 0.0))
+      refuse("stroke_repeatability_sd", o.stroke_repeatability_sd(a), "finite and ≥ 0 on every axis");
+  if (!o.model_uncertainty_um.allFinite())
+    throw std::invalid_argument("diagnose: option model_uncertainty_um has a non-finite value");
 }
 
 /// The recommendation in words: the best few teeth with their expected separation and where on them it is largest.
@@ -117,6 +124,21 @@ std::pair<double, double> surface_sum_of_squares(const std::vector<FlankSurface>
 
 } // namespace
 
+namespace {
+
+/// The set-up terms, with the stroke-to-stroke scatter the options declare (none: white noise, ordinary least squares).
+SetupTermModel setup_term_model(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
+                                const std::vector<MeasuredPoint>& pts, double noise_um, const DiagnoseOptions& o) {
+  if (o.stroke_repeatability_sd.isZero() && o.model_uncertainty_um.size() == 0) return SetupTermModel(setup.geometry(), pts);
+  std::vector<int> space(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i)
+    space[i] = grinding::space_of(pts[i].tooth, pts[i].flank, setup.geometry().teeth());
+  const Eigen::MatrixXd G = stroke_sensitivity(setup, model, pts, o.stroke_repeatability_sd, o.threads); // n × 5
+  return SetupTermModel(setup.geometry(), pts, StrokeScatter(space, G, noise_um, o.model_uncertainty_um));
+}
+
+} // namespace
+
 double estimate_noise_um(const std::vector<MeasuredPoint>& pts, const std::vector<double>& r) {
   double rss = 0.0, dof = 0.0;
   for (const auto& f : flank_surfaces(pts)) {
@@ -136,6 +158,9 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   check_options(o);
   if (pts.size() < o.min_points)
     throw std::invalid_argument(fmt::format("diagnose: {} measured point(s); at least {} are needed", pts.size(), o.min_points));
+  if (o.model_uncertainty_um.size() > 0 && o.model_uncertainty_um.rows() != static_cast<Eigen::Index>(pts.size()))
+    throw std::invalid_argument(fmt::format("diagnose: option model_uncertainty_um has {} rows for {} measured points",
+                                            o.model_uncertainty_um.rows(), pts.size()));
   Diagnosis d;
   d.points = static_cast<int>(pts.size());
   const auto base = predict(setup, model, pts, grinding::Method::Exact, o.threads);
@@ -145,13 +170,14 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   d.rms_before_um = std::sqrt(sum_of_squares(d.residual_before_um) / n);
   d.noise_estimated = o.noise_um <= 0.0;
   d.noise_um = d.noise_estimated ? estimate_noise_um(pts, d.residual_before_um) : o.noise_um;
-  // Set-up terms (thickness offset, angular registration) are fitted in the baseline and in every candidate.
-  const SetupTermModel setup_terms(setup.geometry(), pts);
+  // Set-up terms (thickness offset, angular registration) are fitted in the baseline and in every candidate; with
+  // declared stroke-to-stroke scatter by generalised least squares (the residual's covariance, stroke_scatter.hpp).
+  const SetupTermModel setup_terms = setup_term_model(setup, model, pts, d.noise_um, o);
   const auto as_vector = [](const std::vector<double>& v) {
     return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
   };
   const Eigen::VectorXd before = as_vector(d.residual_before_um);
-  d.rms_before_setup_um = std::sqrt(setup_terms.remove(before).squaredNorm() / n);
+  d.rms_before_setup_um = std::sqrt(setup_terms.remove_shown(before).squaredNorm() / n);
 
   // Candidates: the ones asked for, or every library effect; never one the scene already models (fitting it again
   // would stack two copies and write a scene that lists it twice), never one twice.
@@ -253,7 +279,10 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     const auto after = predict(setup, with, pts, grinding::Method::Exact, o.threads);
     for (size_t i = 0; i < pts.size(); ++i) after_raw(static_cast<Eigen::Index>(i)) = pts[i].deviation_um - after[i];
   }
-  const Eigen::VectorXd after_setup = setup_terms.remove(after_raw);
+  const Eigen::VectorXd after_setup = setup_terms.remove_shown(after_raw);
+  // What the tests of "more than noise" see: the whitened remainder (white noise of σ if the scene's scatter and the
+  // probe noise are all that is left; the same as after_setup without scatter).
+  const Eigen::VectorXd after_judged = setup_terms.remove(after_raw);
   d.residual_after_um.assign(after_setup.data(), after_setup.data() + after_setup.size());
   const double rms_after = std::sqrt(after_setup.squaredNorm() / n);
   if (d.chosen) d.chosen->rms_after_um = rms_after;
@@ -262,7 +291,9 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     for (const auto& params : d.chosen->parameters)
       for (const auto& p : params) fitted += p.fitted ? 1.0 : 0.0;
   const double dof = std::max(1.0, n - setup_terms.count() - fitted);
-  d.setup = setup_terms.fit(after_raw, std::sqrt(after_setup.squaredNorm() / dof));
+  d.setup = setup_terms.fit(after_raw, std::sqrt(after_judged.squaredNorm() / dof));
+  d.chi2_after = after_judged.squaredNorm() / (d.noise_um * d.noise_um);
+  d.chi2_dof = dof;
 
   // Accepted only when unambiguous and no fitted value is pushed against the end of its allowed range.
   if (d.chosen && !d.rivals.empty()) {
@@ -331,9 +362,9 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     // quadratic surface each), which a pattern the explanation does not make leaves behind even when the total is
     // near the noise (an A-axis drift mimicked by thermal drift + eccentricity left 1.12 σ RMS: the total test missed
     // it, the surfaces did not — independent hidden-effect tests).
-    const double chi2 = after_setup.squaredNorm() / (d.noise_um * d.noise_um);
+    const double chi2 = d.chi2_after;
     const double limit = chi_squared_upper_quantile(0.5 * o.unexplained_false_alarm, dof);
-    const auto [surface_ss, surface_dof] = surface_sum_of_squares(flank_surfaces(pts), after_setup);
+    const auto [surface_ss, surface_dof] = surface_sum_of_squares(flank_surfaces(pts), after_judged);
     const double surface_chi2 = surface_ss / (d.noise_um * d.noise_um);
     const double surface_limit =
         surface_dof > 0.0 ? chi_squared_upper_quantile(0.5 * o.unexplained_false_alarm, surface_dof) : 0.0;

@@ -170,6 +170,16 @@ Eigen::VectorXd linearised_sd(const LmResult& best, double sigma2, double ridge)
   return cov.diagonal().cwiseMax(0.0).cwiseSqrt();
 }
 
+/// Correlation (p × p) of the linearised covariance (JᵀJ + ridge)⁻¹: what a joint draw of the parameters needs beside
+/// their (possibly widened) standard deviations.
+Eigen::MatrixXd linearised_correlation(const LmResult& best, double ridge) {
+  Eigen::MatrixXd A = best.JtJ; // p × p
+  A.diagonal().array() += ridge * std::max(1.0, A.trace());
+  const Eigen::MatrixXd cov = A.inverse();
+  const Eigen::VectorXd d = cov.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+  return d.asDiagonal() * cov * d.asDiagonal();
+}
+
 /// Step 2b, profile-likelihood walk. Nonlinear parameters (those with start lists, e.g. a time constant) make the
 /// linearised covariance optimistic: the likelihood is not Gaussian in them. Walks each along its profile, on both
 /// sides, until the RSS has risen by σ̂² (the 1σ profile-likelihood bound; the step starts at the linearised σ and
@@ -256,7 +266,9 @@ Candidate fit_effects(const grinding::GrindingSetup& setup, const EffectContribu
   Eigen::VectorXd sd = linearised_sd(best, sigma2, o.covariance_ridge);
   widen_by_profile_likelihood(f, best, box, sigma2, o, sd);
   const Eigen::VectorXd r0v = Eigen::Map<const Eigen::VectorXd>(r0.data(), static_cast<Eigen::Index>(r0.size()));
-  return to_candidate(f, best, sd, setup_terms.remove(r0v).squaredNorm(), n);
+  Candidate c = to_candidate(f, best, sd, setup_terms.remove(r0v).squaredNorm(), n);
+  c.correlation = linearised_correlation(best, o.covariance_ridge);
+  return c;
 }
 
 } // namespace geartopo::diagnosis

@@ -18,15 +18,35 @@ SetupTermModel::SetupTermModel(const gears::GearGeometry& g, const std::vector<M
     S_(i, 0) = 1.0;
     if (S_.cols() == 2) S_(i, 1) = side_sign(pts[static_cast<size_t>(i)].flank) * um_per_urad;
   }
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(S_);
+  WS_ = S_;
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(WS_);
   Q_ = qr.householderQ() * Eigen::MatrixXd::Identity(n, S_.cols());
 }
 
-Eigen::VectorXd SetupTermModel::remove(const Eigen::VectorXd& r) const { return r - Q_ * (Q_.transpose() * r); }
+SetupTermModel::SetupTermModel(const gears::GearGeometry& g, const std::vector<MeasuredPoint>& pts, StrokeScatter scatter)
+    : SetupTermModel(g, pts) {
+  scatter_ = std::move(scatter);
+  WS_ = scatter_->whiten(S_);
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(WS_);
+  Q_ = qr.householderQ() * Eigen::MatrixXd::Identity(S_.rows(), S_.cols());
+}
+
+Eigen::VectorXd SetupTermModel::remove(const Eigen::VectorXd& r) const {
+  const Eigen::VectorXd w = whiten(r);
+  return w - Q_ * (Q_.transpose() * w);
+}
+
+Eigen::VectorXd SetupTermModel::coefficients(const Eigen::VectorXd& r) const {
+  return (WS_.transpose() * WS_).ldlt().solve(WS_.transpose() * whiten(r));
+}
+
+Eigen::VectorXd SetupTermModel::remove_shown(const Eigen::VectorXd& r) const {
+  return scatter_ ? Eigen::VectorXd(r - S_ * coefficients(r)) : remove(r);
+}
 
 SetupTerms SetupTermModel::fit(const Eigen::VectorXd& r, double sigma_um) const {
-  const Eigen::MatrixXd StS = S_.transpose() * S_;                    // count × count
-  const Eigen::VectorXd beta = StS.ldlt().solve(S_.transpose() * r);  // t (µm)[, ψ (µrad)]
+  const Eigen::MatrixXd StS = WS_.transpose() * WS_;                  // count × count
+  const Eigen::VectorXd beta = coefficients(r);                       // t (µm)[, ψ (µrad)]
   const Eigen::MatrixXd cov = sigma_um * sigma_um * StS.inverse();    // count × count
   SetupTerms s;
   s.thickness_um = beta(0);

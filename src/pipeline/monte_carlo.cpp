@@ -81,6 +81,32 @@ std::vector<machine::ErrorSource> full_map(const std::vector<machine::ErrorSourc
   return all;
 }
 
+/// Lower Cholesky factor of the scene's effect correlation (N × N), empty when the values are independent. A
+/// correlation that is not positive definite (rounding of a nearly singular fit) gets a small ridge.
+Eigen::MatrixXd correlation_factor(const scene::Scene& s) {
+  if (s.effect_correlation.size() == 0) return {};
+  Eigen::MatrixXd C = s.effect_correlation;
+  for (double ridge = 0.0; ridge < 1.0; ridge = ridge == 0.0 ? 1e-12 : ridge * 10.0) {
+    const Eigen::LLT<Eigen::MatrixXd> llt((C + ridge * Eigen::MatrixXd::Identity(C.rows(), C.cols())) / (1.0 + ridge));
+    if (llt.info() == Eigen::Success) return llt.matrixL();
+  }
+  return Eigen::MatrixXd::Identity(C.rows(), C.cols());
+}
+
+/// One standard normal deviate per effect value that has an uncertainty slot (scene order), drawn in that order, then
+/// correlated by the factor L (z ← L z) when there is one.
+Eigen::VectorXd effect_deviates(const scene::Scene& s, const Eigen::MatrixXd& L, SplitMix64& rng) {
+  std::vector<double> z;
+  for (size_t e = 0; e < s.effects.size() && e < s.effect_uncertainties.size(); ++e) {
+    const auto params = effects::make_effect(s.effects[e].type)->parameters();
+    for (size_t v = 0; v < s.effect_uncertainties[e].size() && v < s.effects[e].values.size() && v < params.size(); ++v)
+      z.push_back(rng.normal());
+  }
+  Eigen::VectorXd out = Eigen::Map<Eigen::VectorXd>(z.data(), static_cast<Eigen::Index>(z.size()));
+  if (L.rows() == out.size() && L.rows() > 0) out = L * out;
+  return out;
+}
+
 } // namespace
 
 GearQuantities gear_quantities(const workbench::IsoResult& iso, const std::vector<grinding::FlankTopology>& topo) {
@@ -151,6 +177,7 @@ MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation
   const compensation::CorrectionTable uncorrected(std::move(zero_rows));
   std::set<int> spaces;
   for (const auto& r : nominal.rows()) spaces.insert(r.space);
+  const Eigen::MatrixXd effect_correlation_factor = correlation_factor(wb.scene);
   bool effects_uncertain = false;
   for (const auto& us : wb.scene.effect_uncertainties)
     for (double u : us) effects_uncertain = effects_uncertain || u > 0.0;
@@ -187,12 +214,14 @@ MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation
     std::vector<std::unique_ptr<effects::Effect>> drawn_effects;
     if (effects_uncertain) {
       std::vector<scene::EffectSpec> specs = wb.scene.effects;
+      const Eigen::VectorXd z = effect_deviates(wb.scene, effect_correlation_factor, rng); // N, in scene order
+      Eigen::Index at = 0;
       for (size_t e = 0; e < specs.size() && e < wb.scene.effect_uncertainties.size(); ++e) {
         auto& spec = specs[e];
         const auto& us = wb.scene.effect_uncertainties[e];
         const auto params = effects::make_effect(spec.type)->parameters();
         for (size_t v = 0; v < us.size() && v < spec.values.size() && v < params.size(); ++v)
-          spec.values[v] = std::clamp(spec.values[v] + us[v] * rng.normal(), params[v].lo, params[v].hi);
+          spec.values[v] = std::clamp(spec.values[v] + us[v] * z(at++), params[v].lo, params[v].hi);
       }
       drawn_effects = workbench::make_effects(specs, wb.setup);
     }

@@ -17,7 +17,10 @@
 #include "geartopo/diagnosis/measured_points.hpp"
 #include "geartopo/grinding/grinding_process.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
+#include "geartopo/machine/axis_pose.hpp"
 #include "geartopo/scene/scene.hpp"
+
+#include <Eigen/Dense>
 
 #include <cstddef>
 #include <optional>
@@ -53,6 +56,9 @@ struct Candidate {
   /// [-100, 100]". A rejected candidate is never significant, whatever its ΔBIC.
   std::string rejected;
   bool significant = false;
+  /// Correlation of the fitted parameters (p × p, unit-free; p the fitted parameters, effect by effect in parameter
+  /// order) from the linearised covariance (JᵀJ)⁻¹; the uncertainties themselves may be wider (profile likelihood).
+  Eigen::MatrixXd correlation;
   std::string name() const;        ///< "thermal_drift" or "thermal_drift + wheel_wear"
 };
 
@@ -88,6 +94,14 @@ struct MeasurementPlan {
 /// What diagnose does and when; the defaults are the documented behaviour (docs/diagnosis.md).
 struct DiagnoseOptions {
   double noise_um = 0.0;            ///< probe noise σ (µm); ≤ 0: estimated from the residual (quadratic surface per flank)
+  /// Stroke-to-stroke scatter of the axis commands, one standard deviation per axis X, Y, Z (mm), A, C (rad): the
+  /// scene's `machine.repeatability` (ISO 230-2 R/4). Non-zero: the residual's covariance is σ² I plus each stroke's
+  /// scatter (stroke_scatter.hpp) and every fit is generalised least squares. Zero (default): white noise only.
+  machine::Vector5d stroke_repeatability_sd = machine::Vector5d::Zero();
+  /// The model's own uncertainty at the measured points (n × m, µm): column k the first-order deviation when uncertain
+  /// model quantity k is off by its standard uncertainty (map_sensitivity: the error map's 43 components within
+  /// `machine.uncertainty`). Non-empty: Σ gains M Mᵀ, common to all points (stroke_scatter.hpp). Empty (default): none.
+  Eigen::MatrixXd model_uncertainty_um;
   /// ΔBIC an effect must beat (unit-free, on the natural-log BIC scale): significant when ΔBIC < −threshold, and a pair
   /// must improve on the best single effect by as much again. 10 is "very strong" evidence (Kass & Raftery), so that
   /// a library effect is not named on data that only mildly prefer it.
@@ -155,6 +169,10 @@ struct Diagnosis {
   /// Per point (µm): measured − model as measured; after: measured − model with `chosen` (exact simulation) with the
   /// set-up terms removed.
   std::vector<double> residual_before_um, residual_after_um;
+  /// The test of "more than noise" after the chosen explanation (or none): Σ of the whitened residual²/σ² (unit-free)
+  /// and its degrees of freedom (points − set-up terms − fitted parameters). Without stroke scatter the residual is
+  /// its own whitened form.
+  double chi2_after = 0.0, chi2_dof = 0.0;
   std::string verdict;                  ///< one paragraph for people
 };
 

@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Dense>
+
 namespace geartopo::scene {
 
 /// Where and how densely flanks are evaluated (and, by a CMM, measured).
@@ -91,6 +93,10 @@ struct Scene {
   /// that identified them (diagnosis); empty or missing entries: exact. The Monte Carlo prediction draws the values
   /// within them (pipeline/monte_carlo.hpp). Not read from scene files (set by code).
   std::vector<std::vector<double>> effect_uncertainties;
+  /// Correlation of those values (N × N, unit-free; N the number of values of all effects, in scene order): a fit's
+  /// amplitude and time constant trade against each other, and drawing them independently would make drifts the data
+  /// exclude. Empty: independent. Not read from scene files (set by code).
+  Eigen::MatrixXd effect_correlation;
 
   /// Where each field's value stands in the scene file (dotted path → position): errors found after reading, when
   /// the scene is built into a set-up (workbench), are located with it.
