@@ -196,8 +196,10 @@ std::string residual_pattern_sentence(const grinding::GrindingSetup& setup, cons
     const auto reach = [](const Spread& s) { return std::max(std::abs(s.lo), std::abs(s.hi)); };
     std::stable_sort(spreads.begin(), spreads.end(), [&](const Spread& a, const Spread& b) { return reach(a) > reach(b); });
     for (size_t k = 0; k < 2; ++k)
-      text += fmt::format("{}{} {:+.2f} µm on average (from {:+.2f} to {:+.2f})", k ? " and " : "",
-                          to_string(spreads[k].pattern), spreads[k].mean, spreads[k].lo, spreads[k].hi);
+      text += fitted.size() > 1
+                  ? fmt::format("{}{} {:+.2f} µm on average (from {:+.2f} to {:+.2f})", k ? " and " : "",
+                                to_string(spreads[k].pattern), spreads[k].mean, spreads[k].lo, spreads[k].hi)
+                  : fmt::format("{}{} {:+.2f} µm", k ? " and " : "", to_string(spreads[k].pattern), spreads[k].mean);
     text += fmt::format(" over the {} measured flank{}", fitted.size(), fitted.size() > 1 ? "s" : "");
   }
   std::map<int, std::pair<double, int>> per_tooth; // tooth → (Σ r², count)
@@ -398,6 +400,13 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
                              : fmt::format("not significant (ΔBIC {:.1f}, not below −{:g})", best->delta_bic, o.bic_threshold);
   }
   d.unexplained = !d.chosen && !rem.excess.empty();
+  // Nothing chosen because the best fit is no explanation: no single effect, which explains less, is one either.
+  if (!d.chosen && d.nearest)
+    for (auto& c : d.ranked)
+      if (c.significant) {
+        c.significant = false;
+        c.rejected = fmt::format("explains less than {}, which is no explanation", d.nearest->name());
+      }
   d.residual_after_um.assign(rem.removed.data(), rem.removed.data() + rem.removed.size());
   const double rms_after = std::sqrt(rem.removed.squaredNorm() / n);
   d.setup = setup_terms.fit(rem.raw, std::sqrt(rem.removed.squaredNorm() / rem.dof));

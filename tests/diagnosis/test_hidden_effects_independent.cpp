@@ -304,9 +304,36 @@ std::vector<diagnosis::MeasuredPoint> follow(const std::vector<diagnosis::Measur
   return pts;
 }
 
-/// Decided: the truth is the chosen explanation and no rival is left within the ΔBIC threshold.
-bool decided_for_truth(const Truth& t, const diagnosis::Diagnosis& d) {
-  return d.chosen && sorted_types(*d.chosen) == t.effects && d.rivals.empty();
+/// Decided (issue 14): the truth is the chosen explanation, and either no rival is left within the ΔBIC threshold or
+/// the plan's competitor (`competitor`, Candidate::name()) now trails it by more than the threshold (10). `why` says
+/// which, and names a new rival when one appeared.
+bool decided_for_truth(const Truth& t, const diagnosis::Diagnosis& d, const std::string& competitor, std::string* why) {
+  if (!d.chosen || sorted_types(*d.chosen) != t.effects) return false;
+  if (d.rivals.empty()) return *why = "no rival left", true;
+  double competitor_bic = 1e300;
+  for (const auto& c : d.ranked)
+    if (c.name() == competitor) competitor_bic = c.delta_bic;
+  for (const auto& c : d.rivals)
+    if (c.name() == competitor) competitor_bic = c.delta_bic;
+  const double gap = competitor_bic - d.chosen->delta_bic;
+  *why = competitor + " trails by " + std::to_string(gap) + " in ΔBIC; new rival " + d.rivals.front().name() +
+         " trails by " + std::to_string(d.rivals.front().delta_bic - d.chosen->delta_bic);
+  return gap > 10.0;
+}
+
+/// The plan's other explanation than the truth.
+std::string competitor_of(const Truth& t, const diagnosis::MeasurementPlan& plan) {
+  std::string truth;
+  for (const auto& e : t.effects) truth += (truth.empty() ? "" : " + ") + e;
+  // Candidate::name() keeps the fit's order, the truth is sorted: compare as sorted sets of names.
+  const auto sorted = [](std::string name) {
+    std::vector<std::string> parts;
+    for (size_t at; (at = name.find(" + ")) != std::string::npos; name.erase(0, at + 3)) parts.push_back(name.substr(0, at));
+    parts.push_back(name);
+    std::sort(parts.begin(), parts.end());
+    return parts;
+  };
+  return sorted(plan.first) == t.effects ? plan.second : plan.first;
 }
 
 std::string option_text(const diagnosis::MeasurementOption& m) {
@@ -378,10 +405,11 @@ TEST(HiddenEffectsIndependent, DiagnosisMeetsTheTargetsOverTheSet) {
       ++followed;
       const auto after = run(follow(pts, t, d.plan->recommended, seed + 1), t.noise_um);
       const Score sa = score(t, after);
-      const bool ok = decided_for_truth(t, after) && !sa.false_culprit && sa.residual_ok;
+      std::string why;
+      const bool ok = decided_for_truth(t, after, competitor_of(t, *d.plan), &why) && !sa.false_culprit && sa.residual_ok;
       resolved += ok;
       reports += std::string(ok ? "    resolved by " : "    NOT resolved by ") + option_text(d.plan->recommended) +
-                 ": " + sa.report + "\n";
+                 " (" + why + "): " + sa.report + "\n";
     }
   std::cout << reports;
   std::cout << "tally: " << right << " of " << cases << " right, " << false_culprits << " false culprits, "
@@ -419,9 +447,11 @@ TEST(HiddenEffectsIndependent, ThermalDriftVersusWearIsAmbiguousAndTheFollowedPl
     EXPECT_NE(d.verdict.find(printed.str()), std::string::npos) << printed.str() << "\n" << d.verdict;
     const auto after = run(follow(pts, t, m, seed + 500), t.noise_um);
     const Score sa = score(t, after);
-    std::cout << "seed " << seed << ": " << option_text(m) << "\n  before: " << s.report << "\n  after: " << sa.report
-              << "\n";
-    EXPECT_TRUE(decided_for_truth(t, after)) << sa.report;
+    std::string why;
+    const bool decided = decided_for_truth(t, after, competitor_of(t, *d.plan), &why);
+    std::cout << "seed " << seed << ": " << option_text(m) << "\n  before: " << s.report << "\n  after (" << why
+              << "): " << sa.report << "\n";
+    EXPECT_TRUE(decided) << why << "\n" << sa.report;
     EXPECT_FALSE(sa.false_culprit) << sa.report;
   }
 }

@@ -84,7 +84,10 @@ struct MeasurementOption {
   /// explanation without noise, the other refitted on measured + new, both charged the noise σ² per new point. "If
   /// first": the first (best now) is the truth, the second is refitted; "if second": the other way round.
   double delta_bic_if_first = 0.0, delta_bic_if_second = 0.0;
-  bool resolves = false; ///< both expected gaps reach DiagnoseOptions::plan_target_delta_bic
+  /// Both expected gaps reach DiagnoseOptions::plan_target_delta_bic; a direction whose truth is nested in the other
+  /// explanation (eccentricity in eccentricity + wear) counts as reached: the larger one can only fall behind by its
+  /// extra parameters' penalty, and a nested rival that is not the better fit is no rival.
+  bool resolves = false;
 };
 
 /// What to measure to tell two explanations apart, whose ΔBIC are within the threshold of each other.
