@@ -76,6 +76,14 @@ std::string Candidate::name() const {
   return s;
 }
 
+bool Candidate::nested_in(const Candidate& bigger) const {
+  if (effects.size() >= bigger.effects.size()) return false;
+  return std::all_of(effects.begin(), effects.end(), [&](const scene::EffectSpec& e) {
+    return std::any_of(bigger.effects.begin(), bigger.effects.end(),
+                       [&](const scene::EffectSpec& f) { return f.type == e.type; });
+  });
+}
+
 int Candidate::fitted_parameters() const {
   int p = 0;
   for (const auto& params : parameters)
@@ -309,16 +317,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   // better fit without being better by the threshold: a worse superset is just the chosen one plus a partner the data do
   // not ask for, and the smaller half of a taken pair lost by the threshold already.
   if (d.chosen) {
-    const auto nested = [&](const Candidate& c) {
-      for (const auto& small : {c.effects, d.chosen->effects})
-        for (const auto& big : {c.effects, d.chosen->effects})
-          if (small.size() < big.size() &&
-              std::all_of(small.begin(), small.end(), [&](const scene::EffectSpec& e) {
-                return std::any_of(big.begin(), big.end(), [&](const scene::EffectSpec& f) { return f.type == e.type; });
-              }))
-            return true;
-      return false;
-    };
+    const auto nested = [&](const Candidate& c) { return c.nested_in(*d.chosen) || d.chosen->nested_in(c); };
     const auto rival = [&](const Candidate& c) {
       // Not significant alone is no reason to drop a rival: within the threshold of the chosen one, the data do not
       // prefer the chosen one either (thermal drift at ΔBIC −9.2 beside wheel wear at −12.2, on the truth scene's
@@ -368,13 +367,13 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     return rem;
   };
   Remainder rem = remainder(d.chosen ? &*d.chosen : nullptr);
-  // Not an explanation, whatever its ΔBIC (issue 14): a fitted value pushed against the end of its allowed range (the
-  // value is no measurement), or a remainder that is more than noise (the explanation does not make the pattern; a
-  // "partly explained" culprit reads as the culprit). Then nothing is chosen: it becomes the nearest, with why.
+  // Not an explanation, whatever its ΔBIC (issue 14): a remainder that is more than noise (the explanation does not
+  // make the pattern; a "partly explained" culprit reads as the culprit). Then nothing is chosen: it becomes the
+  // nearest, with why.
   if (d.chosen) {
     d.chosen->rms_after_um = std::sqrt(rem.removed.squaredNorm() / n);
-    std::string why = at_the_end_of_its_range(*d.chosen);
-    if (why.empty() && !rem.excess.empty()) why = "what it leaves is more than noise (" + rem.excess + ")";
+    std::string why;
+    if (!rem.excess.empty()) why = "what it leaves is more than noise (" + rem.excess + ")";
     if (!why.empty()) {
       // Said the same way everywhere it is listed: the ranked table and the combination no longer offer it.
       for (auto& c : d.ranked)
@@ -418,6 +417,10 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   if (d.chosen && !d.rivals.empty())
     d.withheld = fmt::format("ambiguous between {} and {}: measure more (the plan) before adding either",
                              d.chosen->name(), d.rivals.front().name());
+  // A value pushed against the end of its allowed range is no measurement (thermal drift's amplitude trading against
+  // its time constant on two teeth): the effect explains the residual, but is not added with that value.
+  else if (d.chosen)
+    d.withheld = at_the_end_of_its_range(*d.chosen);
   // Set-up values assumed, not fitted: every unfitted parameter of what the verdict names (chosen, rivals, nearest).
   {
     std::vector<const Candidate*> named;
@@ -449,8 +452,8 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   if (!d.chosen && d.unexplained) {
     d.verdict = setup_text +
                 fmt::format("Unexplained: no effect of the library, alone or in a pair, explains the residual "
-                            "({:.2f} µm RMS with the set-up removed, against {:.2f} µm noise: {}). What is left: {} "
-                            "Nearest library explanation: {}. Nothing is added to the scene.",
+                            "({:.2f} µm RMS with the set-up removed, against {:.2f} µm noise: {}). What is left unexplained: "
+                            "{} Nearest library explanation: {}. Nothing is added to the scene.",
                             d.rms_before_setup_um, d.noise_um, rem.excess, d.residual_pattern, nearest_text);
   } else if (!d.chosen) {
     d.verdict = setup_text +
@@ -471,14 +474,17 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
                              "(noise {:.2f} µm{}).",
                              d.rivals.empty() ? "Missing" : "Best of them", d.chosen->name(), d.rms_before_setup_um,
                              rms_after, d.noise_um, d.noise_estimated ? ", estimated" : "");
-    // A fit the evidence favoured over what was chosen but plausibility refused: said aloud, with why.
-    const auto better = std::min_element(d.ranked.begin(), d.ranked.end(), [](const Candidate& a, const Candidate& b) {
-      return a.delta_bic < b.delta_bic;
-    });
-    if (better != d.ranked.end() && !better->rejected.empty() && better->delta_bic < d.chosen->delta_bic)
-      d.verdict += fmt::format(" {} fits better (ΔBIC {:.1f}) but was rejected: {}.", better->name(), better->delta_bic,
-                               better->rejected);
   }
+  // A fit the evidence favoured over what is named (chosen or nearest) but plausibility refused: said aloud, with why.
+  const Candidate* named = d.chosen ? &*d.chosen : d.nearest ? &*d.nearest : nullptr;
+  const auto better = std::min_element(d.ranked.begin(), d.ranked.end(), [](const Candidate& a, const Candidate& b) {
+    return a.delta_bic < b.delta_bic;
+  });
+  if (named && better != d.ranked.end() && better->name() != named->name() && !better->rejected.empty() &&
+      better->delta_bic < named->delta_bic)
+    d.verdict += fmt::format(" {} fits better (ΔBIC {:.1f}) but was rejected: {}.", better->name(), better->delta_bic,
+                             better->rejected);
+  if (!d.withheld.empty() && d.rivals.empty()) d.verdict += " Not added to the scene: " + d.withheld + ".";
   if (!d.assumed.empty()) {
     std::string list;
     for (const auto& a : d.assumed) list += (list.empty() ? "" : "; ") + a;

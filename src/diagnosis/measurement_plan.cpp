@@ -116,14 +116,6 @@ double expected_gap(const grinding::GrindingSetup& setup, const std::vector<Meas
          static_cast<double>(loser.candidate->fitted_parameters() - truth.candidate->fitted_parameters()) * std::log(n);
 }
 
-/// Whether every effect of `small` is in `big`, which has more: small is nested in big.
-bool nested(const Candidate& small, const Candidate& big) {
-  if (small.effects.size() >= big.effects.size()) return false;
-  return std::all_of(small.effects.begin(), small.effects.end(), [&](const scene::EffectSpec& e) {
-    return std::any_of(big.effects.begin(), big.effects.end(), [&](const scene::EffectSpec& f) { return f.type == e.type; });
-  });
-}
-
 } // namespace
 
 MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
@@ -216,8 +208,8 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
     // reach the target: the larger one refits the smaller one's data exactly and falls behind only by its extra
     // parameters' penalty, Δp ln N. It needs no more: a nested rival that is not the better fit is no rival (diagnose,
     // "Ambiguity"). That direction is then judged by the other one alone.
-    const double if_first = nested(a, b) ? o.plan_target_delta_bic : opt.delta_bic_if_first;
-    const double if_second = nested(b, a) ? o.plan_target_delta_bic : opt.delta_bic_if_second;
+    const double if_first = a.nested_in(b) ? o.plan_target_delta_bic : opt.delta_bic_if_first;
+    const double if_second = b.nested_in(a) ? o.plan_target_delta_bic : opt.delta_bic_if_second;
     const double worst = std::min(if_first, if_second);
     opt.resolves = worst >= o.plan_target_delta_bic;
     plan.options.push_back(opt);

@@ -355,7 +355,7 @@ void expect_unexplained_reported_alike(const diagnosis::Diagnosis& d, const std:
   EXPECT_EQ(d.verdict.rfind("Set-up", 0), 0u) << name << ": " << d.verdict;
   EXPECT_NE(d.verdict.find("Unexplained: no effect of the library"), std::string::npos) << name << ": " << d.verdict;
   EXPECT_EQ(d.verdict.find("Missing"), std::string::npos) << name << ": " << d.verdict;
-  EXPECT_NE(d.verdict.find("What is left: "), std::string::npos) << name << ": " << d.verdict;
+  EXPECT_NE(d.verdict.find("What is left unexplained: "), std::string::npos) << name << ": " << d.verdict;
   EXPECT_FALSE(d.residual_pattern.empty()) << name;
   ASSERT_TRUE(d.nearest.has_value()) << name << ": " << d.verdict;
   EXPECT_NE(d.verdict.find("Nearest library explanation: " + d.nearest->name()), std::string::npos) << d.verdict;

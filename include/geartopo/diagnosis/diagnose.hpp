@@ -56,6 +56,8 @@ struct Candidate {
   bool significant = false;
   std::string name() const;        ///< "thermal_drift" or "thermal_drift + wheel_wear"
   int fitted_parameters() const;   ///< number of fitted parameters over its effects (count)
+  /// Every effect of this one is in `bigger`, which has more (eccentricity in eccentricity + wheel_wear).
+  bool nested_in(const Candidate& bigger) const;
 };
 
 /// One unmeasured tooth as a place to measure next: how far apart two competing explanations predict it
@@ -172,16 +174,16 @@ struct Diagnosis {
   /// interval, a runout frequency): the effect's default was assumed. One line each, e.g. "deflection.arbor_span_mm =
   /// 600 (assumed: the effect's default; the scene gives none and the flanks cannot identify it)".
   std::vector<std::string> assumed;
-  /// Why `chosen` is not to be added to the scene (scene_with_effect.yaml is then not written): ambiguous. Empty:
-  /// accepted, add it. (A fit with a parameter at the end of its allowed range is no explanation at all: `nearest`.)
+  /// Why `chosen` is not to be added to the scene (scene_with_effect.yaml is then not written): ambiguous, or a fitted
+  /// parameter at the end of its allowed range (the fit pushed against its box: the value is no measurement). Empty:
+  /// accepted, add it.
   std::string withheld;
   /// True when nothing in the library explains the residual although it is more than noise (the χ² tests of
   /// DiagnoseOptions::unexplained_false_alarm): `chosen` is then empty, `nearest` says what came closest and why it is
   /// no explanation, `residual_pattern` what is left.
   bool unexplained = false;
   /// The nearest library explanation when nothing is chosen: the fit that leaves least (single or pair), with why it
-  /// was rejected — implausible parameter, a parameter at the end of its allowed range, what it leaves more than
-  /// noise, or not significant. Empty when nothing was fitted.
+  /// was rejected — implausible parameter, what it leaves more than noise, or not significant. Empty when nothing was fitted.
   std::optional<Candidate> nearest;
   std::string nearest_rejected;
   /// The pattern of what is left unexplained (set-up terms removed), one sentence: the largest named patterns
