@@ -55,9 +55,12 @@ void register_plan_command(CLI::App& app, Action& action) {
       } else {
         const auto& p = *d.plan;
         std::cout << fmt::format("Ambiguous between {} and {} (ΔBIC gap {:.1f}).\n", p.first, p.second, p.delta_bic_gap);
-        std::cout << fmt::format("Measure teeth {} (together {:.1f}σ apart at {:.2f} µm noise, {}×{} grid per flank).\n",
-                                 fmt::join(p.recommended_teeth, ","), p.recommended_separation_sigma, p.noise_um,
-                                 p.rows, p.cols);
+        const auto& r = p.recommended;
+        std::cout << fmt::format("{} teeth {} with a {}×{} grid per flank: expected ΔBIC gap after refit {:.0f} if {} "
+                                 "is right, {:.0f} if {} is (noise {:.2f} µm).\n",
+                                 r.resolves ? "Measure" : "Not enough, the closest: measure", fmt::join(r.teeth, ","),
+                                 r.rows, r.cols, r.delta_bic_if_first, p.first, r.delta_bic_if_second, p.second,
+                                 p.noise_um);
         std::cout << fmt::format("  {:>5} {:>10} {:>12}  {}\n", "tooth", "sep (σ)", "max |Δ| µm", "where");
         for (const auto& t : p.teeth)
           std::cout << fmt::format("  {:>5} {:>10.2f} {:>12.3f}  {} flank, row {}, column {}\n", t.tooth,

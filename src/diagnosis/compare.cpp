@@ -33,30 +33,7 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
   c.noise_estimated = noise_um <= 0.0;
   c.noise_um = c.noise_estimated ? estimate_noise_um(pts, c.residual_um) : noise_um;
 
-  std::map<std::pair<int, int>, size_t> index;
-  const auto& r = setup.ranges();
-  for (size_t i = 0; i < pts.size(); ++i) {
-    const auto key = std::make_pair(pts[i].tooth, static_cast<int>(pts[i].flank));
-    auto [it, fresh] = index.try_emplace(key, c.flanks.size());
-    if (fresh) {
-      FlankResiduals f;
-      f.tooth = pts[i].tooth;
-      f.side = pts[i].flank;
-      f.xi_start_mm = r.xi_eval_start_mm, f.xi_end_mm = r.xi_eval_end_mm, f.z_start_mm = r.z_eval_start_mm, f.z_end_mm = r.z_eval_end_mm;
-      c.flanks.push_back(f);
-      c.flank_point_index.emplace_back();
-    }
-    c.flanks[it->second].points.push_back({pts[i].roll_length_mm, pts[i].z_mm, c.residual_um[i]});
-    c.flank_point_index[it->second].push_back(i);
-  }
-  // Order flanks by tooth, then left before right (the map's order).
-  {
-    std::vector<FlankResiduals> ordered;
-    std::vector<std::vector<size_t>> ordered_index;
-    for (const auto& [key, k] : index) ordered.push_back(c.flanks[k]), ordered_index.push_back(c.flank_point_index[k]);
-    c.flanks = std::move(ordered);
-    c.flank_point_index = std::move(ordered_index);
-  }
+  c.flanks = flank_residuals(setup.ranges(), pts, c.residual_um, &c.flank_point_index);
 
   PatternOptions po;
   po.noise_um = c.noise_um;
@@ -81,6 +58,34 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
     if (list.size() >= 2) c.trends.push_back(fit_tooth_trends(list, setup.geometry().teeth()));
   c.summary = summarize_residuals(c.flanks);
   return c;
+}
+
+std::vector<FlankResiduals> flank_residuals(const gears::EvaluationRanges& r, const std::vector<MeasuredPoint>& pts,
+                                            const std::vector<double>& residual_um,
+                                            std::vector<std::vector<size_t>>* point_index) {
+  std::map<std::pair<int, int>, size_t> index;
+  std::vector<FlankResiduals> flanks;
+  std::vector<std::vector<size_t>> members;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const auto key = std::make_pair(pts[i].tooth, static_cast<int>(pts[i].flank));
+    auto [it, fresh] = index.try_emplace(key, flanks.size());
+    if (fresh) {
+      FlankResiduals f;
+      f.tooth = pts[i].tooth;
+      f.side = pts[i].flank;
+      f.xi_start_mm = r.xi_eval_start_mm, f.xi_end_mm = r.xi_eval_end_mm, f.z_start_mm = r.z_eval_start_mm, f.z_end_mm = r.z_eval_end_mm;
+      flanks.push_back(f);
+      members.emplace_back();
+    }
+    flanks[it->second].points.push_back({pts[i].roll_length_mm, pts[i].z_mm, residual_um[i]});
+    members[it->second].push_back(i);
+  }
+  // Order flanks by tooth, then left before right (the map's order).
+  std::vector<FlankResiduals> ordered;
+  std::vector<std::vector<size_t>> ordered_index;
+  for (const auto& [key, k] : index) ordered.push_back(std::move(flanks[k])), ordered_index.push_back(std::move(members[k]));
+  if (point_index) *point_index = std::move(ordered_index);
+  return ordered;
 }
 
 std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file, const gears::InvoluteHelicoid& flanks,

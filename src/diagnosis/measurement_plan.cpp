@@ -2,12 +2,17 @@
 // what to measure next"). Both explanations were fitted to the same measured points, so they agree there; where they
 // part is on the teeth not measured (ground at other times, at other angles). Each explanation's prediction at a
 // point is its effects' first-order deviation plus its own set-up terms (thickness, rotation: refitted on the
-// measured points with those effects); the difference Δ (µm) over a tooth's grid, in units of the noise σ, is how far
-// a measurement of that tooth would move the two apart: √(Σ Δ²)/σ, whose square is the χ² it adds. Units: µm, mm.
+// measured points with those effects); the difference Δ (µm) over a tooth's grid, in units of the noise σ, ranks the
+// teeth: √(Σ Δ²)/σ. That raw difference over-promises — once the new teeth are measured both explanations are refitted
+// on all points and absorb part of it — so the recommendation is scored after the refit: for a few options (the best
+// teeth, on the plan grid and denser ones) the new points are synthesised from one explanation without noise, the
+// other is refitted on measured + new points, and the expected ΔBIC gap is what "resolves" is judged on. Units: µm, mm.
 #include "geartopo/diagnosis/diagnose.hpp"
 
+#include "effect_fit.hpp"
 #include "setup_terms.hpp"
 
+#include "geartopo/diagnosis/effect_contribution.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/effects/effects_process.hpp"
 #include "geartopo/grinding/topology.hpp"
@@ -15,7 +20,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
+#include <tuple>
 
 namespace geartopo::diagnosis {
 namespace {
@@ -38,6 +45,79 @@ SetupTerms setup_terms_of(const SetupTermModel& model, const std::vector<double>
   return model.fit(r, 1.0);
 }
 
+/// The points of a grid (rows × cols per flank, ISO evaluation ranges, rows from root to tip, columns along the face
+/// width) on both flanks of each tooth, tooth by tooth.
+std::vector<MeasuredPoint> grid_points(const grinding::GrindingSetup& setup, const std::vector<int>& teeth, int rows,
+                                       int cols) {
+  const auto& g = setup.geometry();
+  const auto rolls = grinding::grid_roll_lengths(setup.ranges(), rows);
+  const auto zs = grinding::grid_axial_positions(setup.ranges(), cols);
+  std::vector<MeasuredPoint> grid;
+  for (int tooth : teeth)
+    for (Flank flank : {Flank::Left, Flank::Right})
+      for (int row = 0; row < rows; ++row)
+        for (int col = 0; col < cols; ++col) {
+          MeasuredPoint p;
+          p.tooth = tooth;
+          p.flank = flank;
+          p.row = row + 1;
+          p.col = col + 1;
+          p.roll_length_mm = rolls[static_cast<size_t>(row)];
+          p.diameter_mm = g.diameter_at_roll_length(p.roll_length_mm);
+          p.z_mm = zs[static_cast<size_t>(col)];
+          grid.push_back(p);
+        }
+  return grid;
+}
+
+/// One explanation as fitted on the measured points: its effects at them and its set-up terms.
+struct Fitted {
+  const Candidate* candidate = nullptr;
+  std::vector<double> effects_measured; ///< first-order deviation of its effects at the measured points (µm)
+  SetupTerms terms;
+  double rss = 0.0;                     ///< Σ r² left on the measured points, set-up terms removed (µm²)
+};
+
+/// Its prediction (µm) at new points: effects plus set-up terms (t + σ_i r_b cos β_b ψ).
+std::vector<double> prediction_at(const grinding::GrindingSetup& setup, const Fitted& f,
+                                  const std::vector<MeasuredPoint>& grid, int threads) {
+  auto e = effects_at(setup, *f.candidate, grid, threads);
+  for (size_t i = 0; i < grid.size(); ++i) e[i] += setup_offset_um(setup.geometry(), grid[i].flank, f.terms);
+  return e;
+}
+
+/// Expected ΔBIC(loser) − ΔBIC(truth) after measuring `grid` (unit-free): the new points take the truth's prediction
+/// without noise; the truth at its fitted values then leaves exactly its RSS on the measured points (refitting it can
+/// not do better: that is its minimum there, and it fits the new points exactly), the loser is refitted on measured +
+/// new (warm-started from its values); both are charged the expected noise σ² per new point.
+double expected_gap(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
+                    const std::vector<double>& residual, const Fitted& truth, const Fitted& loser,
+                    const std::vector<MeasuredPoint>& grid, const std::vector<double>& truth_at_grid, double noise_um,
+                    const DiagnoseOptions& o) {
+  std::vector<MeasuredPoint> all = pts;
+  all.insert(all.end(), grid.begin(), grid.end());
+  std::vector<double> r = residual;
+  r.insert(r.end(), truth_at_grid.begin(), truth_at_grid.end());
+  const SetupTermModel terms(setup.geometry(), all);
+  const double n = static_cast<double>(all.size());
+  double loser_rss = 0.0;
+  if (loser.candidate->effects.empty()) {
+    loser_rss = terms.remove(Eigen::Map<const Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size()))).squaredNorm();
+  } else {
+    std::vector<std::string> types;
+    std::map<std::string, std::vector<double>> warm;
+    for (const auto& e : loser.candidate->effects) types.push_back(e.type), warm[e.type] = e.values;
+    DiagnoseOptions quick = o;
+    quick.profile_walk_steps = 0; // only the RSS is wanted, not the uncertainties
+    const EffectContribution at_all(setup, all, o.threads); // each point's contact state, once per refit
+    const Candidate refit = fit_effects(setup, at_all, r, types, warm, terms, quick);
+    loser_rss = refit.rms_after_um * refit.rms_after_um * n;
+  }
+  const double new_noise = static_cast<double>(grid.size()) * noise_um * noise_um;
+  return n * std::log((loser_rss + new_noise) / std::max(truth.rss + new_noise, 1e-300)) +
+         static_cast<double>(loser.candidate->fitted_parameters() - truth.candidate->fitted_parameters()) * std::log(n);
+}
+
 } // namespace
 
 MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
@@ -51,39 +131,31 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
   plan.rows = o.plan_rows;
   plan.cols = o.plan_cols;
 
-  // Set-up terms of each explanation, from the measured points.
+  // Each explanation on the measured points: its effects, its set-up terms and the RSS it leaves.
   const SetupTermModel model(setup.geometry(), pts);
-  const SetupTerms sa = setup_terms_of(model, residual, effects_at(setup, a, pts, o.threads));
-  const SetupTerms sb = setup_terms_of(model, residual, effects_at(setup, b, pts, o.threads));
+  const auto fitted = [&](const Candidate& c) {
+    Fitted f;
+    f.candidate = &c;
+    f.effects_measured = effects_at(setup, c, pts, o.threads);
+    f.terms = setup_terms_of(model, residual, f.effects_measured);
+    Eigen::VectorXd r(static_cast<Eigen::Index>(pts.size()));
+    for (size_t i = 0; i < pts.size(); ++i) r(static_cast<Eigen::Index>(i)) = residual[i] - f.effects_measured[i];
+    f.rss = model.remove(r).squaredNorm();
+    return f;
+  };
+  const Fitted fa = fitted(a), fb = fitted(b);
 
-  // The grid of every unmeasured tooth, both flanks (rows from root to tip, columns along the face width).
+  // The grid of every unmeasured tooth, both flanks.
   std::set<int> measured;
   for (const auto& p : pts) measured.insert(p.tooth);
-  const auto& g = setup.geometry();
-  const auto rolls = grinding::grid_roll_lengths(setup.ranges(), o.plan_rows);
-  const auto zs = grinding::grid_axial_positions(setup.ranges(), o.plan_cols);
-  std::vector<MeasuredPoint> grid;
-  for (int tooth = 1; tooth <= g.teeth(); ++tooth) {
-    if (measured.count(tooth)) continue;
-    for (Flank flank : {Flank::Left, Flank::Right})
-      for (int row = 0; row < o.plan_rows; ++row)
-        for (int col = 0; col < o.plan_cols; ++col) {
-          MeasuredPoint p;
-          p.tooth = tooth;
-          p.flank = flank;
-          p.row = row + 1;
-          p.col = col + 1;
-          p.roll_length_mm = rolls[static_cast<size_t>(row)];
-          p.diameter_mm = g.diameter_at_roll_length(p.roll_length_mm);
-          p.z_mm = zs[static_cast<size_t>(col)];
-          grid.push_back(p);
-        }
-  }
-  if (grid.empty()) return plan; // every tooth measured: nothing left to suggest
+  std::vector<int> unmeasured;
+  for (int tooth = 1; tooth <= setup.geometry().teeth(); ++tooth)
+    if (!measured.count(tooth)) unmeasured.push_back(tooth);
+  if (unmeasured.empty()) return plan; // every tooth measured: nothing left to suggest
+  const auto grid = grid_points(setup, unmeasured, o.plan_rows, o.plan_cols);
 
-  const auto ea = effects_at(setup, a, grid, o.threads), eb = effects_at(setup, b, grid, o.threads);
-  // µm of normal offset per µrad of turn (setup_terms.hpp): r_b (mm) · cos β_b · 1e-3.
-  const double um_per_urad = 0.5 * g.base_diameter_mm() * std::cos(g.base_helix_angle()) * 1e-3;
+  // Raw difference per tooth, row and column: where the two explanations part, before any refit.
+  const auto pa = prediction_at(setup, fa, grid, o.threads), pb = prediction_at(setup, fb, grid, o.threads);
   plan.row_separation_sigma.assign(static_cast<size_t>(o.plan_rows), 0.0);
   plan.col_separation_sigma.assign(static_cast<size_t>(o.plan_cols), 0.0);
   const double s2 = noise_um * noise_um;
@@ -93,10 +165,7 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
     double chi2 = 0.0;
     for (; i < grid.size() && grid[i].tooth == t.tooth; ++i) {
       const auto& p = grid[i];
-      const double side = side_sign(p.flank) * um_per_urad;
-      const double pa = ea[i] + sa.thickness_um + side * sa.rotation_urad;
-      const double pb = eb[i] + sb.thickness_um + side * sb.rotation_urad;
-      const double d = pa - pb;
+      const double d = pa[i] - pb[i];
       chi2 += d * d / s2;
       plan.row_separation_sigma[static_cast<size_t>(p.row - 1)] += d * d / s2;
       plan.col_separation_sigma[static_cast<size_t>(p.col - 1)] += d * d / s2;
@@ -110,13 +179,45 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
   std::stable_sort(plan.teeth.begin(), plan.teeth.end(), [](const ToothSuggestion& x, const ToothSuggestion& y) {
     return x.separation_sigma > y.separation_sigma;
   });
-  double chi2 = 0.0;
-  for (const auto& t : plan.teeth) {
-    if (std::sqrt(chi2) >= o.plan_target_sigma) break;
-    plan.recommended_teeth.push_back(t.tooth);
-    chi2 += t.separation_sigma * t.separation_sigma;
+
+  // Options: the best k teeth (k = 2, 4, 8, 16, at most all) on the plan grid and on grids 2× and 3× denser each
+  // way, fewest new points first (then fewest teeth). Scored after refit until one resolves: both expected gaps reach
+  // the target. A few joint fits each; the denser ones only when the cheaper ones do not suffice.
+  std::vector<std::tuple<int, int, int>> shapes; // (points, teeth, density)
+  for (int k : {2, 4, 8, 16}) {
+    const int teeth = std::min<int>(k, static_cast<int>(plan.teeth.size()));
+    for (int m : {1, 2, 3}) {
+      const auto shape = std::make_tuple(teeth * 2 * m * o.plan_rows * m * o.plan_cols, teeth, m);
+      if (std::find(shapes.begin(), shapes.end(), shape) == shapes.end()) shapes.push_back(shape);
+    }
   }
-  plan.recommended_separation_sigma = std::sqrt(chi2);
+  std::sort(shapes.begin(), shapes.end());
+  double best_worst_gap = -1e300;
+  for (const auto& [points, k, m] : shapes) {
+    MeasurementOption opt;
+    for (int j = 0; j < k; ++j) opt.teeth.push_back(plan.teeth[static_cast<size_t>(j)].tooth);
+    opt.rows = m * o.plan_rows;
+    opt.cols = m * o.plan_cols;
+    opt.points = points;
+    const auto new_points = grid_points(setup, opt.teeth, opt.rows, opt.cols);
+    const auto a_new = prediction_at(setup, fa, new_points, o.threads), b_new = prediction_at(setup, fb, new_points, o.threads);
+    double chi2 = 0.0;
+    for (size_t i = 0; i < new_points.size(); ++i) chi2 += (a_new[i] - b_new[i]) * (a_new[i] - b_new[i]) / s2;
+    opt.separation_before_refit_sigma = std::sqrt(chi2);
+    opt.delta_bic_if_first = expected_gap(setup, pts, residual, fa, fb, new_points, a_new, noise_um, o);
+    opt.delta_bic_if_second = expected_gap(setup, pts, residual, fb, fa, new_points, b_new, noise_um, o);
+    // A direction whose truth is nested in the other explanation (eccentricity inside eccentricity + wear) cannot
+    // reach the target: the larger one refits the smaller one's data exactly and falls behind only by its extra
+    // parameters' penalty, Δp ln N. It needs no more: a nested rival that is not the better fit is no rival (diagnose,
+    // "Ambiguity"). That direction is then judged by the other one alone.
+    const double if_first = a.nested_in(b) ? o.plan_target_delta_bic : opt.delta_bic_if_first;
+    const double if_second = b.nested_in(a) ? o.plan_target_delta_bic : opt.delta_bic_if_second;
+    const double worst = std::min(if_first, if_second);
+    opt.resolves = worst >= o.plan_target_delta_bic;
+    plan.options.push_back(opt);
+    if (opt.resolves || worst > best_worst_gap) best_worst_gap = worst, plan.recommended = opt;
+    if (opt.resolves) break;
+  }
   return plan;
 }
 

@@ -6,17 +6,24 @@
 
 namespace geartopo::diagnosis {
 
+double um_per_urad(const gears::GearGeometry& g) {
+  // r_b (mm) · cos β_b · 1e-6 rad/µrad · 1e3 µm/mm.
+  return units::um_from_mm(0.5 * g.base_diameter_mm()) * std::cos(g.base_helix_angle()) * units::rad_from_urad(1.0);
+}
+
+double setup_offset_um(const gears::GearGeometry& g, Flank flank, const SetupTerms& terms) {
+  return terms.thickness_um + side_sign(flank) * um_per_urad(g) * terms.rotation_urad;
+}
+
 SetupTermModel::SetupTermModel(const gears::GearGeometry& g, const std::vector<MeasuredPoint>& pts) {
   const Eigen::Index n = static_cast<Eigen::Index>(pts.size());
   bool left = false, right = false;
   for (const auto& p : pts) (p.flank == Flank::Right ? right : left) = true;
-  // µm of normal offset per µrad of turn: r_b (mm) · cos β_b · 1e-6 rad/µrad · 1e3 µm/mm.
-  const double um_per_urad =
-      units::um_from_mm(0.5 * g.base_diameter_mm()) * std::cos(g.base_helix_angle()) * units::rad_from_urad(1.0);
+  const double turn_um = um_per_urad(g);
   S_.resize(n, left && right ? 2 : 1);
   for (Eigen::Index i = 0; i < n; ++i) {
     S_(i, 0) = 1.0;
-    if (S_.cols() == 2) S_(i, 1) = side_sign(pts[static_cast<size_t>(i)].flank) * um_per_urad;
+    if (S_.cols() == 2) S_(i, 1) = side_sign(pts[static_cast<size_t>(i)].flank) * turn_um;
   }
   WS_ = S_;
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(WS_);

@@ -23,6 +23,12 @@
 
 namespace geartopo::diagnosis {
 
+/// Normal offset (µm) per µrad of rigid turn: r_b·cos β_b (the involute helicoid's offset for a turn).
+double um_per_urad(const gears::GearGeometry& g);
+
+/// The set-up terms' normal offset (µm) at a point of a flank: t + σ·r_b·cos β_b·ψ (σ = +1 right, −1 left).
+double setup_offset_um(const gears::GearGeometry& g, Flank flank, const SetupTerms& terms);
+
 class SetupTermModel {
 public:
   SetupTermModel(const gears::GearGeometry& g, const std::vector<MeasuredPoint>& points);

@@ -128,12 +128,25 @@ nlohmann::json measurement_plan_json(const diagnosis::MeasurementPlan& plan) {
                      {"separation_sigma", t.separation_sigma},
                      {"max_difference_um", t.max_difference_um},
                      {"at", {{"flank", t.flank == Flank::Left ? "left" : "right"}, {"row", t.row}, {"col", t.col}}}});
+  // A measurement option: new teeth, grid, and the ΔBIC gap expected after both explanations are refitted.
+  const auto option_json = [](const diagnosis::MeasurementOption& m) {
+    return nlohmann::json{{"teeth", m.teeth},
+                          {"grid", {{"rows", m.rows}, {"cols", m.cols}}},
+                          {"points", m.points},
+                          {"separation_before_refit_sigma", m.separation_before_refit_sigma},
+                          {"expected_delta_bic_if_first", m.delta_bic_if_first},
+                          {"expected_delta_bic_if_second", m.delta_bic_if_second},
+                          {"resolves", m.resolves}};
+  };
+  nlohmann::json options = nlohmann::json::array();
+  for (const auto& m : plan.options) options.push_back(option_json(m));
   return {{"between", {plan.first, plan.second}},
           {"delta_bic_gap", plan.delta_bic_gap},
           {"noise_um", plan.noise_um},
           {"grid", {{"rows", plan.rows}, {"cols", plan.cols}}},
-          {"recommended_teeth", plan.recommended_teeth},
-          {"recommended_separation_sigma", plan.recommended_separation_sigma},
+          {"recommended_teeth", plan.recommended.teeth},
+          {"recommended", option_json(plan.recommended)},
+          {"options", options},
           {"row_separation_sigma", plan.row_separation_sigma},
           {"col_separation_sigma", plan.col_separation_sigma},
           {"teeth", teeth}};
@@ -167,6 +180,15 @@ nlohmann::json diagnosis_json(const std::string& scene, const std::string& measu
   for (const auto& r : d.rivals) rivals.push_back(candidate_json(r));
   j["rivals"] = rivals;
   j["plan"] = d.plan ? measurement_plan_json(*d.plan) : nlohmann::json(nullptr);
+  // Nothing chosen: what came closest and why it is no explanation; "unexplained" when what is left is not noise.
+  j["unexplained"] = d.unexplained;
+  if (d.nearest) {
+    j["nearest"] = candidate_json(*d.nearest);
+    j["nearest"]["rejected_because"] = d.nearest_rejected;
+  } else {
+    j["nearest"] = nullptr;
+  }
+  j["residual_pattern"] = d.residual_pattern.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.residual_pattern);
   j["assumed"] = d.assumed; // set-up values not fitted and not given: the effect's default
   // scene_with_effect.yaml is written only for an accepted explanation; otherwise why not.
   j["scene_with_effect_withheld"] = d.withheld.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.withheld);

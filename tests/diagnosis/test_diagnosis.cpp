@@ -86,8 +86,8 @@ TEST_P(HiddenEffect, IsRankedFirstRecoveredAndExplainsTheResidual) {
   const auto d = run(measure({c.effect}, c.seed));
   ASSERT_FALSE(d.ranked.empty());
   EXPECT_EQ(d.ranked.front().effects.front().type, c.effect.type);
-  EXPECT_TRUE(d.ranked.front().significant);
-  ASSERT_TRUE(d.chosen.has_value());
+  EXPECT_TRUE(d.ranked.front().significant) << d.verdict;
+  ASSERT_TRUE(d.chosen.has_value()) << d.verdict;
   EXPECT_EQ(d.chosen->effects.front().type, c.effect.type);
   const auto& params = d.ranked.front().parameters.front();
   int checked = 0;
@@ -196,7 +196,7 @@ TEST(Diagnosis, TwoHiddenEffectsAreBothFound) {
   const auto d = run(measure({spec("thermal_drift", {{"x_growth_um", 9.0}, {"time_constant_s", 600.0}}),
                               spec("wheel_profile", {{"profile_slope_um", 4.0}, {"profile_crowning_um", 3.0}})},
                              22));
-  ASSERT_TRUE(d.chosen.has_value());
+  ASSERT_TRUE(d.chosen.has_value()) << d.verdict;
   ASSERT_EQ(d.chosen->effects.size(), 2u) << d.verdict;
   std::vector<std::string> found{d.chosen->effects[0].type, d.chosen->effects[1].type};
   std::sort(found.begin(), found.end());

@@ -33,6 +33,12 @@ struct Comparison {
   ResidualSummary summary;
 };
 
+/// The residual (µm, one per point) grouped by measured flank, ordered by tooth then left before right, each with the
+/// ISO evaluation ranges; point_index (when given) receives each flank's indices into `points`.
+std::vector<FlankResiduals> flank_residuals(const gears::EvaluationRanges& ranges, const std::vector<MeasuredPoint>& points,
+                                            const std::vector<double>& residual_um,
+                                            std::vector<std::vector<size_t>>* point_index = nullptr);
+
 /// noise_um ≤ 0: estimated (quadratic surface per flank).
 Comparison compare(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
                    const std::vector<MeasuredPoint>& points, double noise_um);

@@ -10,8 +10,9 @@
 // by ΔBIC; an effect is significant when ΔBIC < −threshold. When two or more are significant, pairs are fitted
 // jointly and one is taken when it beats the best single effect by the threshold again. What is left is judged
 // against the noise by two χ² tests (all of it; its smooth part per flank). Explanations within the threshold of the
-// chosen one are rivals: the verdict says "ambiguous" and a measurement plan names the unmeasured teeth where they
-// differ most, in units of the noise. Units: µm, and each parameter's own unit (its key).
+// chosen one are rivals: the verdict says "ambiguous" and a measurement plan names the unmeasured teeth (and grid) whose
+// measurement is expected to separate them after both are refitted. Units: µm, and each parameter's own unit (its
+// key).
 #pragma once
 
 #include "geartopo/diagnosis/measured_points.hpp"
@@ -60,6 +61,9 @@ struct Candidate {
   /// order) from the linearised covariance (JᵀJ)⁻¹; the uncertainties themselves may be wider (profile likelihood).
   Eigen::MatrixXd correlation;
   std::string name() const;        ///< "thermal_drift" or "thermal_drift + wheel_wear"
+  int fitted_parameters() const;   ///< number of fitted parameters over its effects (count)
+  /// Every effect of this one is in `bigger`, which has more (eccentricity in eccentricity + wheel_wear).
+  bool nested_in(const Candidate& bigger) const;
 };
 
 /// One unmeasured tooth as a place to measure next: how far apart two competing explanations predict it
@@ -75,20 +79,41 @@ struct ToothSuggestion {
   int row = 0, col = 0;           ///< along the face width)
 };
 
+/// One way to measure more: which teeth, on which grid, and how far apart the two explanations are expected to be after
+/// both are refitted on the measured and the new points (docs/diagnosis.md, "Ambiguity and what to measure next").
+struct MeasurementOption {
+  std::vector<int> teeth;   ///< new teeth, both flanks each
+  int rows = 0, cols = 0;   ///< grid per flank (ISO evaluation ranges): rows along the profile, columns along the face
+  int points = 0;           ///< new points (count): teeth × 2 flanks × rows × cols
+  /// √(Σ Δ²)/σ over the new points, Δ the difference of the two explanations' predictions as fitted now: the
+  /// separation before the refit (noise units), for comparison — the refit absorbs part of it.
+  double separation_before_refit_sigma = 0.0;
+  /// Expected ΔBIC by which the right explanation wins after measuring (unit-free): the new points synthesised from one
+  /// explanation without noise, the other refitted on measured + new, both charged the noise σ² per new point. "If
+  /// first": the first (best now) is the truth, the second is refitted; "if second": the other way round.
+  double delta_bic_if_first = 0.0, delta_bic_if_second = 0.0;
+  /// Both expected gaps reach DiagnoseOptions::plan_target_delta_bic; a direction whose truth is nested in the other
+  /// explanation (eccentricity in eccentricity + wear) counts as reached: the larger one can only fall behind by its
+  /// extra parameters' penalty, and a nested rival that is not the better fit is no rival.
+  bool resolves = false;
+};
+
 /// What to measure to tell two explanations apart, whose ΔBIC are within the threshold of each other.
 struct MeasurementPlan {
   std::string first, second;         ///< Candidate::name() of the best and its rival ("none": no effect)
   double delta_bic_gap = 0.0;        ///< ΔBIC(second) − ΔBIC(first), ≥ 0 and < the threshold (unit-free)
   double noise_um = 0.0;             ///< σ the separations are counted in (µm)
-  int rows = 0, cols = 0;            ///< the grid of every tooth and flank (ISO evaluation ranges, as `simulate`)
+  int rows = 0, cols = 0;            ///< the grid `teeth` and the row/column separations are computed on (count)
   std::vector<ToothSuggestion> teeth; ///< every unmeasured tooth, largest separation first
-  /// The recommendation: the fewest of `teeth` (best first) whose combined separation √(Σ separation²) reaches
-  /// DiagnoseOptions::plan_target_sigma (all of them when none does), and that combined separation (noise units).
-  std::vector<int> recommended_teeth;
-  double recommended_separation_sigma = 0.0;
   /// Separation (noise units) by grid row (profile position) and column (face-width position), over all unmeasured
   /// teeth and both flanks: which profile row / helix column of a scan carries the difference.
   std::vector<double> row_separation_sigma, col_separation_sigma;
+  /// The options scored after refit, fewest new points first: the best 2, 4, 8, 16 teeth of `teeth` on the plan grid
+  /// and on grids 2× and 3× denser each way, until one resolves (later ones are not scored).
+  std::vector<MeasurementOption> options;
+  /// The recommendation: the first option that resolves, else the one with the largest smaller expected gap (its
+  /// `resolves` false: more than these options would be needed). `teeth` empty when every tooth is measured.
+  MeasurementOption recommended;
 };
 
 /// What diagnose does and when; the defaults are the documented behaviour (docs/diagnosis.md).
@@ -131,11 +156,12 @@ struct DiagnoseOptions {
   /// Grid of the measurement plan on every unmeasured tooth and flank (count): rows along the profile, columns along
   /// the face width — the simulator's default topological grid (docs/grinding.md).
   int plan_rows = 7, plan_cols = 9;
-  /// Expected separation (noise units) the recommended teeth must reach together. Both explanations are refitted on
-  /// the new teeth, which absorbs part of the predicted difference, and the ΔBIC gap must then exceed bic_threshold
-  /// (a χ² of about 2·10): 8σ (χ² 64) leaves room for that. Too few teeth at 1.5 µm noise left thermal drift vs wear
-  /// undecided in the independent hidden-effect tests.
-  double plan_target_sigma = 8.0;
+  /// Expected ΔBIC gap (unit-free) a measurement option must reach, whichever of the two explanations is right, to be
+  /// recommended. Once the expected gap is λ, the realised one scatters by about 2√λ (a non-central χ² difference):
+  /// at 30 it falls below bic_threshold = 10 in about 3 % of measurements, so a followed plan decides. The gap is
+  /// counted after both explanations are refitted on all points (a raw difference over-promises: the refit absorbs
+  /// part of it — at 1.5 µm noise the teeth reaching 8σ raw left thermal drift vs wear undecided).
+  double plan_target_delta_bic = 30.0;
   /// Teeth described one by one in the verdict (count): the best few; the plan lists them all.
   std::size_t plan_teeth_named = 3;
   /// Smallest first step of that walk (unit-free, in units of the parameter's typical size): a parameter whose
@@ -166,6 +192,17 @@ struct Diagnosis {
   /// parameter at the end of its allowed range (the fit pushed against its box: the value is no measurement). Empty:
   /// accepted, add it.
   std::string withheld;
+  /// True when nothing in the library explains the residual although it is more than noise (the χ² tests of
+  /// DiagnoseOptions::unexplained_false_alarm): `chosen` is then empty, `nearest` says what came closest and why it is
+  /// no explanation, `residual_pattern` what is left.
+  bool unexplained = false;
+  /// The nearest library explanation when nothing is chosen: the fit that leaves least (single or pair), with why it
+  /// was rejected — implausible parameter, what it leaves more than noise, or not significant. Empty when nothing was fitted.
+  std::optional<Candidate> nearest;
+  std::string nearest_rejected;
+  /// The pattern of what is left unexplained (set-up terms removed), one sentence: the largest named patterns
+  /// averaged over the measured flanks and the RMS per tooth. Empty unless `unexplained`.
+  std::string residual_pattern;
   /// Per point (µm): measured − model as measured; after: measured − model with `chosen` (exact simulation) with the
   /// set-up terms removed.
   std::vector<double> residual_before_um, residual_after_um;
@@ -183,7 +220,9 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
 
 /// The plan that separates explanations a and b (each fitted to `points`; `residual_um` = measured − model there):
 /// both explanations' predictions — their effects' first-order deviation plus their own set-up terms, refitted on the
-/// measured points — on the grid of every tooth not measured, and their difference in units of noise_um.
+/// measured points — on the grid of every tooth not measured, and their difference in units of noise_um; then a few
+/// measurement options (the teeth that differ most, on the plan grid and denser ones) scored by the ΔBIC gap expected
+/// after both are refitted on measured + new points, and the cheapest that resolves.
 MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& points,
                                  const std::vector<double>& residual_um, const Candidate& a, const Candidate& b,
                                  double noise_um, const DiagnoseOptions& options);
