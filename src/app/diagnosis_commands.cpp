@@ -104,7 +104,10 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       diagnosis::DiagnoseOptions o;
       o.noise_um = opt->noise;
       o.candidates = opt->candidates;
+      Progress progress("diagnose", 0, "candidate fits");
+      o.on_candidate_fitted = progress.callback();
       const auto d = diagnosis::diagnose(wb.setup, wb.process(), pts, wb.effect_types(), o);
+      progress.finish();
 
       const nlohmann::json j = report::diagnosis_json(opt->scene, opt->measured, d, diagnosis::mean_allowance_offset_um(wb.setup.geometry()));
 
