@@ -187,8 +187,6 @@ void MonteCarloWatch::sample_done(long long done, long long total) {
     const double first = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     const long long rounds = (samples_ + threads_ - 1) / std::max(1, threads_);
     const double estimate = first * static_cast<double>(rounds);
-    first_sample_s_ = first;
-    estimate_s_ = estimate;
     const std::string what = fmt::format("{} samples at {:.2g} s each on {} thread(s): about {:.{}f} s", samples_, first,
                                          threads_, estimate, estimate < 10.0 ? 1 : 0);
     if (estimate > max_seconds_)

@@ -10,7 +10,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <atomic>
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -108,9 +107,10 @@ void print_work_estimate(long long points, long long flanks, bool exact);
 /// The work estimate and progress of a Monte Carlo run (issue 18: work estimated before it starts), fed by
 /// pipeline::MonteCarloOptions::on_sample_done. When the first sample is done: estimated wall time = its measured
 /// time × ⌈samples / threads⌉ (the threads draw samples one after another, all of the same cost). Printed on a
-/// terminal (not with --quiet); beyond max_seconds the run is refused — CLI::ValidationError naming --samples with the
-/// estimate and the limit (--max-time-s, monte_carlo_flags.hpp; exit 2, as --dense beyond the simulation's bound), thrown from on_sample_done so that no
-/// further sample starts. Then the samples done and the time left on the Progress line. Thread-safe.
+/// terminal (not with --quiet); beyond max_seconds (--max-time-s, monte_carlo_flags.hpp) the run is refused —
+/// CLI::ValidationError naming --samples with the estimate and the limit (exit 2, as --dense beyond the simulation's
+/// bound), thrown from on_sample_done so that no further sample starts. Then the samples done and the time left on
+/// the Progress line. Thread-safe.
 class MonteCarloWatch {
 public:
   /// `samples` in this run (this shard's), `threads` as MonteCarloOptions::threads (0: all hardware threads);
@@ -119,9 +119,6 @@ public:
   void sample_done(long long done, long long total);
   /// For MonteCarloOptions::on_sample_done: sample_done() of this object, which must outlive the run.
   std::function<void(long long, long long)> callback();
-  /// The measured time of the first sample (s) and the estimate (s); 0 before the first sample.
-  double first_sample_s() const { return first_sample_s_; }
-  double estimate_s() const { return estimate_s_; }
 
 private:
   long long samples_;
@@ -129,7 +126,6 @@ private:
   double max_seconds_;
   std::string split_hint_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-  std::atomic<double> first_sample_s_{0.0}, estimate_s_{0.0};
   Progress progress_;
 };
 

@@ -100,6 +100,8 @@ public:
         if (watch_) watch_->sample_done(done, total);
       };
   }
+  StageProgress(const StageProgress&) = delete; // the callbacks hold `this`
+  StageProgress& operator=(const StageProgress&) = delete;
   /// Clears the progress line (before the results are printed).
   void finish() {
     watch_.reset();

@@ -256,13 +256,19 @@ std::vector<Figure> trace_figures(const workbench::Workbench& wb, const pipeline
     fig.title = fmt::format("Profile and helix traces, tooth {}", tooth);
     const auto size = render::render_composite(comp, dir / fig.file);
     fig.width = size.width, fig.height = size.height;
+    const std::string boxes =
+        evaluation::validity_refusal(r.iso_before.parameters)
+            ? std::string("no tolerance box: ISO 1328-1:2013 does not apply to this gear")
+            : fmt::format("green box: the class-{0} total tolerance F_T over the evaluation range, placed around the "
+                          "trace's extremes (F does not depend on an offset); green dashed: the class-{0} f_HT limits "
+                          "about the mean line's middle",
+                          shown_class);
     fig.caption = fmt::format(
         "Measuring-machine layout: left flanks mirrored (plus material to the left), right flanks plus material to the "
         "right. Blue: the trace over the whole active profile (mid face width) or face width (middle of L_α); red "
-        "dashed: its least-squares mean line over the evaluation range (grey dashed lines); green box: the class-{0} "
-        "total tolerance F_T over the evaluation range, placed around the trace's extremes (F does not depend on an "
-        "offset); green dashed: the class-{0} f_HT limits about the mean line's middle. Each chart has its own scale.",
-        shown_class);
+        "dashed: its least-squares mean line over the evaluation range (grey dashed lines); {}. Each chart has its own "
+        "scale.",
+        boxes);
     out.push_back(std::move(fig));
   }
   return out;
@@ -284,8 +290,15 @@ Figure pitch_figure(const workbench::Workbench& wb, const workbench::IsoResult& 
   render::LineChart index;
   index.title = "Index (cumulative) pitch deviation F_p,i, relative to tooth 1";
   index.size = {1400, 520};
-  index.x = {"tooth i", "", {}, {}};
+  // The bars' tooth axis: teeth 1..z at whole numbers, half a pitch of margin; every tooth labelled up to 40 teeth,
+  // every k-th beyond.
+  index.x = {"tooth i", "", 0.5, z + 0.5};
   index.y = {"F_p,i", "µm", {}, {}};
+  const int label_step = (z + 39) / 40;
+  for (int t = 1; t <= z; t += label_step) {
+    index.x_ticks.push_back(t);
+    index.x_tick_labels.push_back(std::to_string(t));
+  }
   double lo = 1e300, hi = -1e300;
   int colour = 0;
   for (const auto* pe : {&iso.evaluation.pitch_left, &iso.evaluation.pitch_right}) {

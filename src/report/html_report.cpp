@@ -162,8 +162,8 @@ std::string trace_value_table(const workbench::IsoResult& iso, int tooth, int sh
   const auto* R = flank_of(iso, tooth, Flank::Right);
   const bool classify = !evaluation::validity_refusal(p);
   std::string h = fmt::format("<table class=values><tr><th>tooth {}</th><th>left (µm)</th><th>class</th><th>right (µm)</th>"
-                              "<th>class</th><th>tol. class {} (µm)</th></tr>",
-                              tooth, shown_class);
+                              "<th>class</th><th>{} (µm)</th></tr>",
+                              tooth, classify ? fmt::format("tol. class {}", shown_class) : std::string("tolerance"));
   const auto row = [&](Q q, auto pick) {
     const bool slope = q == Q::ProfileSlope || q == Q::HelixSlope;
     h += "<tr><td>" + esc(std::string(evaluation::symbol(q))) + "</td>";
