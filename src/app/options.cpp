@@ -5,6 +5,7 @@
 
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/grinding/topology.hpp"
+#include "geartopo/pipeline/pipeline.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -180,7 +181,7 @@ MonteCarloWatch::MonteCarloWatch(long long samples, int threads, double max_seco
           samples, threads > 0 ? threads : std::max(1u, std::thread::hardware_concurrency())))),
       max_seconds_(max_seconds),
       split_hint_(std::move(split_hint)),
-      progress_("predict (Monte Carlo)", samples, "samples") {}
+      progress_(pipeline::kPredictionStage, samples, "samples") {}
 
 void MonteCarloWatch::sample_done(long long done, long long total) {
   if (done == 1) { // the first sample: every thread started one at the same time, this one finished first
