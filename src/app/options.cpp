@@ -144,12 +144,18 @@ void Progress::finish() {
 }
 
 void Progress::advance(long long n) {
-  const long long done = state_->done += n;
+  long long done = state_->done += n;
   const long long total = state_->total;
   if (!state_->active || total <= 0) return;
+  // The last unit waits for the line (it must show "total/total"); the others skip it while another worker prints.
+  std::unique_lock lock(state_->mutex, std::defer_lock);
+  if (done >= total)
+    lock.lock();
+  else if (!lock.try_lock())
+    return;
+  if (!state_->active) return; // finished
+  done = state_->done;         // a worker that waited may hold an older count
   const auto now = std::chrono::steady_clock::now();
-  const std::unique_lock lock(state_->mutex, std::try_to_lock);
-  if (!lock.owns_lock() || !state_->active) return; // another worker is printing, or finished
   if (state_->shown && now - state_->last < std::chrono::milliseconds(200) && done < total) return;
   state_->last = now;
   state_->shown = true;
