@@ -112,6 +112,18 @@ void register_compensate_command(CLI::App& app, Action& action) {
       const compensation::CompensatedProcess cycle_corrected(wb.process(), cycle_table);
       const double max_cycle = grinding::largest_abs_deviation_um(grinding::simulate_topology(wb.setup, cycle_corrected, so));
 
+      // The after-state as a distribution (docs/monte-carlo.md), before any file is written: a prediction refused by
+      // its work estimate (--max-time-s) leaves the output folder as it was.
+      std::optional<pipeline::MonteCarloRun> mc_run;
+      if (mc.samples > 0) {
+        const auto [first, last] = pipeline::shard_range(mc.samples, mc.shard, mc.shards);
+        MonteCarloWatch watch(last - first, mc.threads, opt->mc.max_time_s,
+                              "--shard i/n on several machines and geartopo merge");
+        pipeline::MonteCarloOptions watched = mc;
+        watched.on_sample_done = watch.callback();
+        mc_run = pipeline::run_monte_carlo(wb, table, watched);
+      }
+
       const std::filesystem::path out(opt->out);
       output::OutputFolder folder(out);
       table.write_csv(out / "corrections.csv");
@@ -176,14 +188,13 @@ void register_compensate_command(CLI::App& app, Action& action) {
         std::cerr << "geartopo: warning: " << w << "\n";
         j["warnings"].push_back(w);
       }
-      // The after-state as a distribution (docs/monte-carlo.md): the nominal `after` is the model compensating
-      // itself (≈ 0 by construction); the prediction grinds with a machine drawn within the scene's uncertainties.
+      // The nominal `after` is the model compensating itself (≈ 0 by construction); the prediction grinds with a
+      // machine drawn within the scene's uncertainties.
       std::optional<pipeline::MonteCarloSummary> prediction;
-      if (mc.samples > 0) {
-        const auto run = pipeline::run_monte_carlo(wb, table, mc);
-        pipeline::write_run_csv(out / "prediction_samples.csv", run);
+      if (mc_run) {
+        pipeline::write_run_csv(out / "prediction_samples.csv", *mc_run);
         if (mc.shards == 1) {
-          prediction = pipeline::summarise(run);
+          prediction = pipeline::summarise(*mc_run);
           write_prediction(out, *prediction);
           j["prediction"] = report::prediction_json(*prediction);
           if (const std::string w = prediction_made_worse(*prediction); !w.empty()) {

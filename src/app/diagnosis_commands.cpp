@@ -112,7 +112,10 @@ void register_diagnose_command(CLI::App& app, Action& action) {
         o.stroke_repeatability_sd = wb.scene.machine.uncertainty.repeatability;
         o.model_uncertainty_um = diagnosis::map_sensitivity(wb, pts);
       }
+      Progress progress("diagnose", 0, "candidate fits");
+      o.on_candidate_fitted = progress.callback();
       const auto d = diagnosis::diagnose(wb.setup, wb.process(), pts, wb.effect_types(), o);
+      progress.finish();
 
       const nlohmann::json j = report::diagnosis_json(opt->scene, opt->measured, d, diagnosis::mean_allowance_offset_um(wb.setup.geometry()));
 

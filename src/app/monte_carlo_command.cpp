@@ -25,6 +25,11 @@ void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards)
       ->check(CLI::Range(0LL, 1'000'000LL));
   cmd->add_option("--seed", flags.seed, "Seed of the Monte Carlo draws (default 1): sample k depends on (seed, k) only")
       ->check(digits_only());
+  cmd->add_option("--max-time-s", flags.max_time_s,
+                  fmt::format("Refuse a prediction whose estimate (after its first sample) exceeds this wall time, s "
+                              "(default {:g}: one day)",
+                              flags.max_time_s))
+      ->check(finite_in(1e-3, 1e9));
   if (!shards) return;
   cmd->add_option("--shard", flags.shard,
                   "i/n: compute only shard i of n (1 ≤ i ≤ n) and write its raw samples for `geartopo merge` (default 1/1)");

@@ -1,4 +1,4 @@
-// geartopo — the Monte Carlo flags of compensate and run (--samples, --seed, --shard i/n) and the prediction files
+// geartopo — the Monte Carlo flags of compensate, run and report (--samples, --seed, --max-time-s, --shard i/n) and the prediction files
 // they write (docs/monte-carlo.md).
 #pragma once
 
@@ -15,13 +15,18 @@ class App;
 
 namespace geartopo::app {
 
+/// Longest Monte Carlo run (estimated wall time, s) compensate, run and report start unless --max-time-s says
+/// otherwise: one day. Longer work belongs on several machines (compensate --shard i/n, then geartopo merge).
+inline constexpr double kMaxMonteCarloSeconds = 86'400.0;
+
 struct MonteCarloFlags {
   long long samples = 40;
   std::uint64_t seed = 1;
   std::string shard = "1/1";
+  double max_time_s = kMaxMonteCarloSeconds; ///< --max-time-s (MonteCarloWatch, options.hpp)
 };
 
-/// --samples and --seed; --shard too when `shards` (a command that can write a partial result).
+/// --samples, --seed and --max-time-s; --shard too when `shards` (a command that can write a partial result).
 void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards);
 /// Throws CLI::ValidationError naming --shard for a malformed i/n or more shards than samples.
 pipeline::MonteCarloOptions monte_carlo_options(const MonteCarloFlags& flags);

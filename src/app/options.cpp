@@ -5,6 +5,7 @@
 
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/grinding/topology.hpp"
+#include "geartopo/pipeline/pipeline.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -15,6 +16,7 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <thread>
 #include <unistd.h>
 
 namespace geartopo::app {
@@ -114,8 +116,7 @@ bool quiet() { return quiet_flag; }
 
 struct Progress::State {
   std::string what, unit;
-  long long total = 0;
-  std::atomic<long long> done{0};
+  std::atomic<long long> total{0}, done{0};
   bool shown = false, active = false;
   std::mutex mutex;
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), last;
@@ -126,11 +127,10 @@ Progress::Progress(std::string what, long long total, std::string unit) : state_
   state_->unit = std::move(unit);
   state_->total = total;
   state_->active = !quiet() && ::isatty(STDERR_FILENO) != 0;
-  if (state_->active && total <= 0) { // a stage without a count: its name, until the next line replaces it
+  if (state_->active && total <= 0) { // no count yet: the stage's name, until a count or the next line replaces it
     std::fputs(fmt::format("\rgeartopo: {} …\033[K", state_->what).c_str(), stderr);
     std::fflush(stderr);
     state_->shown = true;
-    state_->active = false;
   }
 }
 
@@ -144,27 +144,70 @@ void Progress::finish() {
 }
 
 void Progress::advance(long long n) {
-  const long long done = state_->done += n;
-  if (!state_->active) return;
+  long long done = state_->done += n;
+  const long long total = state_->total;
+  if (!state_->active || total <= 0) return;
+  // The last unit waits for the line (it must show "total/total"); the others skip it while another worker prints.
+  std::unique_lock lock(state_->mutex, std::defer_lock);
+  if (done >= total)
+    lock.lock();
+  else if (!lock.try_lock())
+    return;
+  if (!state_->active) return; // finished
+  done = state_->done;         // a worker that waited may hold an older count
   const auto now = std::chrono::steady_clock::now();
-  const std::unique_lock lock(state_->mutex, std::try_to_lock);
-  if (!lock.owns_lock()) return; // another worker is printing
-  if (state_->shown && now - state_->last < std::chrono::milliseconds(200) && done < state_->total) return;
+  if (state_->shown && now - state_->last < std::chrono::milliseconds(200) && done < total) return;
   state_->last = now;
   state_->shown = true;
   const double s = std::chrono::duration<double>(now - state_->start).count();
-  std::fputs(fmt::format("\rgeartopo: {} {}/{} {}, {:.0f} s\033[K", state_->what, std::min(done, state_->total),
-                         state_->total, state_->unit, s)
+  // Time left at the rate so far (the units of one stage cost about the same: flanks, samples, fits).
+  const std::string left = done > 0 && done < total
+                               ? fmt::format(", about {:.0f} s left", s * static_cast<double>(total - done) / static_cast<double>(done))
+                               : std::string();
+  std::fputs(fmt::format("\rgeartopo: {} {}/{} {}, {:.0f} s{}\033[K", state_->what, std::min(done, total), total,
+                         state_->unit, s, left)
                  .c_str(),
              stderr);
   std::fflush(stderr);
 }
 
+void Progress::update(long long done, long long total) {
+  if (total > state_->total) state_->total = total;
+  const long long before = state_->done.load();
+  if (done > before) advance(done - before);
+}
+
 std::function<void(long long, long long)> Progress::callback() {
-  return [this](long long done, long long /*total*/) {
-    const long long before = state_->done.load();
-    if (done > before) advance(done - before);
-  };
+  return [this](long long done, long long total) { update(done, total); };
+}
+
+MonteCarloWatch::MonteCarloWatch(long long samples, int threads, double max_seconds, std::string split_hint)
+    : samples_(samples),
+      threads_(static_cast<int>(std::min<long long>(
+          samples, threads > 0 ? threads : std::max(1u, std::thread::hardware_concurrency())))),
+      max_seconds_(max_seconds),
+      split_hint_(std::move(split_hint)),
+      progress_(pipeline::kPredictionStage, samples, "samples") {}
+
+void MonteCarloWatch::sample_done(long long done, long long total) {
+  if (done == 1) { // the first sample: every thread started one at the same time, this one finished first
+    const double first = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const long long rounds = (samples_ + threads_ - 1) / std::max(1, threads_);
+    const double estimate = first * static_cast<double>(rounds);
+    const std::string what = fmt::format("{} samples at {:.2g} s each on {} thread(s): about {:.{}f} s", samples_, first,
+                                         threads_, estimate, estimate < 10.0 ? 1 : 0);
+    if (estimate > max_seconds_)
+      throw CLI::ValidationError("--samples", fmt::format("the Monte Carlo prediction would take too long: {}, beyond "
+                                                          "the limit of {:g} s (--max-time-s): use fewer --samples or {}",
+                                                          what, max_seconds_, split_hint_));
+    if (!quiet() && ::isatty(STDERR_FILENO) != 0)
+      std::fputs(fmt::format("\r\033[Kgeartopo: Monte Carlo: {}\n", what).c_str(), stderr);
+  }
+  progress_.update(done, total);
+}
+
+std::function<void(long long, long long)> MonteCarloWatch::callback() {
+  return [this](long long done, long long total) { sample_done(done, total); };
 }
 
 void finish_output_folder(output::OutputFolder& folder) {
@@ -264,11 +307,12 @@ void add_iso_options(CLI::App* cmd, workbench::IsoOptions& o) {
       ->option_text("helix-angle|rise-towards-plus-z");
 }
 
-void add_measurement_options(CLI::App* cmd, std::string& file, diagnosis::KlingelnbergOptions& options) {
+void add_measurement_options(CLI::App* cmd, std::string& file, diagnosis::KlingelnbergOptions& options, bool required) {
   cmd->add_option("--measured", file,
-                  "Measurement: topology CSV (µm), traces CSV, point cloud x_mm,y_mm,z_mm[,id] or Klingelnberg export "
-                  "(docs/measurement-formats.md); told apart by content")
-      ->required();
+                  std::string("Measurement: topology CSV (µm), traces CSV, point cloud x_mm,y_mm,z_mm[,id] or Klingelnberg "
+                              "export (docs/measurement-formats.md); told apart by content") +
+                      (required ? "" : "; default: the scene's measurement.measured (none: no comparison)"))
+      ->required(required);
   add_klingelnberg_options(cmd, options);
 }
 

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <string>
@@ -46,9 +47,12 @@ public:
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
   void advance(long long done_now = 1);
+  /// (done, total) as a library reports them; a total > 0 replaces the one given at construction (the diagnosis
+  /// learns its number of pair fits on the way).
+  void update(long long done, long long total);
   /// Clears the line (before the command prints its results); the destructor does it too.
   void finish();
-  /// A callback for libraries that report (done, total) themselves.
+  /// A callback for libraries that report (done, total) themselves: update().
   std::function<void(long long, long long)> callback();
 
 private:
@@ -100,6 +104,31 @@ std::string prediction_made_worse(const pipeline::MonteCarloSummary& prediction)
 inline constexpr long long kEstimateFromPoints = 1'000'000;
 void print_work_estimate(long long points, long long flanks, bool exact);
 
+/// The work estimate and progress of a Monte Carlo run (issue 18: work estimated before it starts), fed by
+/// pipeline::MonteCarloOptions::on_sample_done. When the first sample is done: estimated wall time = its measured
+/// time × ⌈samples / threads⌉ (the threads draw samples one after another, all of the same cost). Printed on a
+/// terminal (not with --quiet); beyond max_seconds (--max-time-s, monte_carlo_flags.hpp) the run is refused —
+/// CLI::ValidationError naming --samples with the estimate and the limit (exit 2, as --dense beyond the simulation's
+/// bound), thrown from on_sample_done so that no further sample starts. Then the samples done and the time left on
+/// the Progress line. Thread-safe.
+class MonteCarloWatch {
+public:
+  /// `samples` in this run (this shard's), `threads` as MonteCarloOptions::threads (0: all hardware threads);
+  /// `split_hint` says how to split the work (e.g. "--shard i/n on several machines and geartopo merge").
+  MonteCarloWatch(long long samples, int threads, double max_seconds, std::string split_hint);
+  void sample_done(long long done, long long total);
+  /// For MonteCarloOptions::on_sample_done: sample_done() of this object, which must outlive the run.
+  std::function<void(long long, long long)> callback();
+
+private:
+  long long samples_;
+  int threads_;
+  double max_seconds_;
+  std::string split_hint_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  Progress progress_;
+};
+
 /// "all" → {} (every tooth); "1,18" → {1, 18}. Throws CLI::ValidationError naming the option.
 std::vector<int> parse_teeth(const std::string& text, int teeth);
 /// "50x100" → (50, 100), at most grinding::kMaxPointsPerFlank points. Throws CLI::ValidationError.
@@ -109,9 +138,11 @@ std::pair<int, int> parse_grid_size(const std::string& text);
 /// --mka-spacing roll-length|diameter, --mka-direction transverse|normal, --mka-signs raw|din.
 void add_klingelnberg_options(CLI::App* cmd, diagnosis::KlingelnbergOptions& options);
 
-/// `--measured FILE` (required; every format the readers tell apart by content, docs/measurement-formats.md) and the
-/// Klingelnberg options: one text for compare, diagnose and plan.
-void add_measurement_options(CLI::App* cmd, std::string& file, diagnosis::KlingelnbergOptions& options);
+/// `--measured FILE` (every format the readers tell apart by content, docs/measurement-formats.md) and the
+/// Klingelnberg options: one text for compare, diagnose and plan (required) and run and report (optional: the
+/// scene's measurement.measured when not given).
+void add_measurement_options(CLI::App* cmd, std::string& file, diagnosis::KlingelnbergOptions& options,
+                             bool required = true);
 /// The measured points of `file` on the workbench's gear (diagnosis::read_any_measurement); the reader's warnings
 /// (blocks of an export it did not use, …) on stderr. Throws InputError.
 std::vector<diagnosis::MeasuredPoint> read_measured_points(const workbench::Workbench& wb, const std::string& file,

@@ -39,7 +39,10 @@ void register_plan_command(CLI::App& app, Action& action) {
       const auto pts = read_measured_points(wb, opt->measured, opt->mka);
       diagnosis::DiagnoseOptions o;
       o.noise_um = opt->noise;
+      Progress progress("diagnose", 0, "candidate fits");
+      o.on_candidate_fitted = progress.callback();
       const auto d = diagnosis::diagnose(wb.setup, wb.process(), pts, wb.effect_types(), o);
+      progress.finish();
       nlohmann::json j;
       j["scene"] = opt->scene;
       j["measured"] = opt->measured;

@@ -78,6 +78,41 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
   return iso;
 }
 
+/// Progress of the pipeline's stages on stderr (a terminal, not --quiet; options.hpp Progress): the flanks of each
+/// simulation, the prediction's samples after its work estimate (MonteCarloWatch: refused beyond --max-time-s), the
+/// diagnosis's candidate fits. Installs its callbacks into `po`, which must not outlive it.
+class StageProgress {
+public:
+  StageProgress(pipeline::PipelineOptions& po, double max_time_s) {
+    po.stage = [this, &po, max_time_s](const std::string& stage, long long size) {
+      finish();
+      if (stage == pipeline::kPredictionStage)
+        watch_ = std::make_unique<MonteCarloWatch>(size, po.prediction ? po.prediction->threads : 0, max_time_s,
+                                                   "compensate --shard i/n on several machines and geartopo merge");
+      else
+        progress_ = std::make_unique<Progress>(stage, size, stage == pipeline::kDiagnoseStage ? "candidate fits" : "flanks");
+    };
+    po.progress = [this](long long done, long long total) {
+      if (progress_) progress_->update(done, total);
+    };
+    if (po.prediction)
+      po.prediction->on_sample_done = [this](long long done, long long total) {
+        if (watch_) watch_->sample_done(done, total);
+      };
+  }
+  StageProgress(const StageProgress&) = delete; // the callbacks hold `this`
+  StageProgress& operator=(const StageProgress&) = delete;
+  /// Clears the progress line (before the results are printed).
+  void finish() {
+    watch_.reset();
+    progress_.reset();
+  }
+
+private:
+  std::unique_ptr<Progress> progress_;
+  std::unique_ptr<MonteCarloWatch> watch_;
+};
+
 void print_summary(const fs::path& dir, const pipeline::PipelineResult& r) {
   const auto& cb = r.iso_before.evaluation.classification;
   const auto& ca = r.iso_after.evaluation.classification;
@@ -109,6 +144,7 @@ void print_summary(const fs::path& dir, const pipeline::PipelineResult& r) {
 void register_report_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, measured, out;
+    diagnosis::KlingelnbergOptions mka;
     workbench::IsoOptions iso;
     MonteCarloFlags mc;
   };
@@ -116,7 +152,7 @@ void register_report_command(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("report", "Figures (PNG, rendered off-screen) and an offline index.html: topology, "
                                                "traces, pitch, machine errors, before/after, measured vs model, diagnosis");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
-  cmd->add_option("--measured", opt->measured, "Measurement (topology or traces CSV, point cloud, Klingelnberg export); default: the scene's measurement.measured");
+  add_measurement_options(cmd, opt->measured, opt->mka, false);
   cmd->add_option("--out", opt->out, "Output directory")->required()->check(non_empty_path());
   add_iso_options(cmd, opt->iso);
   add_monte_carlo_options(cmd, opt->mc, false);
@@ -127,9 +163,14 @@ void register_report_command(CLI::App& app, Action& action) {
       output::OutputFolder folder(dir);
       pipeline::PipelineOptions po;
       po.measured_file = measured_of(wb, opt->measured);
+      po.measurement_format = opt->mka;
       po.iso = opt->iso;
       po.prediction = prediction_options(opt->mc);
+      StageProgress progress(po, opt->mc.max_time_s);
       const auto r = pipeline::run_pipeline(wb, po);
+      progress.finish();
+      if (r.measurement)
+        for (const auto& w : r.measurement->warnings) std::cerr << "geartopo: warning: " << w << "\n";
       write_data_files(dir, opt->scene, wb, r); // the page names them (corrections.csv, scene_with_effect.yaml …)
       const auto figs = report::write_report(dir, wb, r);
       std::cout << fmt::format("wrote {} figures and {}\n", figs.size(), (dir / "index.html").string());
@@ -143,6 +184,7 @@ void register_run_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, out, measured, teeth, method = "flank", simulation = "exact";
     double step = 2.0, noise = 0.0;
+    diagnosis::KlingelnbergOptions mka;
     workbench::IsoOptions iso;
     MonteCarloFlags mc;
     bool json = false;
@@ -154,9 +196,7 @@ void register_run_command(CLI::App& app, Action& action) {
   cmd->add_option("--out", opt->out, "Output directory (created; what an earlier run wrote there and this one does not is removed)")
       ->required()
       ->check(non_empty_path());
-  cmd->add_option("--measured", opt->measured,
-                  "Measurement to compare and diagnose: topology CSV, point cloud or Klingelnberg export "
-                  "(default: the scene's measurement.measured; none: no comparison)");
+  add_measurement_options(cmd, opt->measured, opt->mka, false);
   cmd->add_option("--teeth", opt->teeth, "Teeth to simulate: all (default, or the scene's list) or e.g. 1,18");
   cmd->add_option("--method", opt->method, "Compensation: paper, flank (default) or cycle (as `geartopo compensate`)")
       ->check(CLI::IsMember({"paper", "flank", "cycle"}));
@@ -187,21 +227,16 @@ void register_run_command(CLI::App& app, Action& action) {
       po.step_mm = opt->step;
       po.noise_um = opt->noise;
       po.measured_file = measured_of(wb, opt->measured);
+      po.measurement_format = opt->mka;
       po.iso = opt->iso;
       po.prediction = prediction_options(opt->mc);
       const fs::path dir(opt->out);
       output::OutputFolder folder(dir);
       if (!quiet()) std::cerr << "geartopo run: " << (wb.scene.name.empty() ? opt->scene : wb.scene.name) << "\n";
       print_notes(wb);
-      std::unique_ptr<Progress> progress;
-      po.stage = [&progress](const std::string& stage, long long flanks) {
-        progress = std::make_unique<Progress>(stage, flanks, "flanks");
-      };
-      po.progress = [&progress](long long done, long long total) {
-        if (progress) progress->callback()(done, total);
-      };
+      StageProgress progress(po, opt->mc.max_time_s);
       const auto r = pipeline::run_pipeline(wb, po);
-      progress.reset();
+      progress.finish();
       if (r.measurement)
         for (const auto& w : r.measurement->warnings) std::cerr << "geartopo: warning: " << w << "\n";
       nlohmann::json summary = write_data_files(dir, opt->scene, wb, r);

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -196,7 +197,10 @@ MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation
   run.seed = options.seed;
   const auto count = static_cast<int>(last - first);
   std::vector<GearQuantities> before(static_cast<size_t>(count)), after(static_cast<size_t>(count));
+  std::atomic<long long> done{0};
+  std::atomic<bool> stopped{false}; // on_sample_done threw: start no more samples
   parallel_for(count, options.threads, [&](int i) {
+    if (stopped) return;
     const long long k = first + i;
     SplitMix64 rng = sample_stream(options.seed, k);
     // Draws in a fixed order: 43 map offsets, then per space (increasing) 5 axes before, then 5 axes after.
@@ -241,6 +245,14 @@ MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation
     const auto topo2 = grinding::simulate_topology(wb.setup, gear2, so);
     before[static_cast<size_t>(i)] = gear_quantities(workbench::evaluate_iso(g, wb.setup.ranges(), topo1, options.iso), topo1);
     after[static_cast<size_t>(i)] = gear_quantities(workbench::evaluate_iso(g, wb.setup.ranges(), topo2, options.iso), topo2);
+    if (options.on_sample_done) {
+      try {
+        options.on_sample_done(++done, count);
+      } catch (...) {
+        stopped = true;
+        throw; // parallel_for rethrows the first exception once its workers are done
+      }
+    }
   });
 
   // Names: those every gear has (a class can be refused on one gear and given on another only if the gear leaves

@@ -41,7 +41,8 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
   r.largest_before_um = grinding::largest_abs_deviation_um(r.before);
   r.largest_after_um = grinding::largest_abs_deviation_um(r.after);
   if (o.prediction) {
-    stage("predict (Monte Carlo)", 0);
+    const auto [first, last] = shard_range(o.prediction->samples, o.prediction->shard, o.prediction->shards);
+    stage(kPredictionStage, last - first);
     MonteCarloOptions mc = *o.prediction;
     mc.iso = o.iso;
     r.prediction = summarise(run_monte_carlo(wb, *r.corrections, mc));
@@ -50,12 +51,13 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
   if (!o.measured_file.empty()) {
     MeasurementResult m;
     m.file = o.measured_file;
-    m.points = diagnosis::read_any_measurement(o.measured_file, wb.setup, &m.warnings);
+    m.points = diagnosis::read_any_measurement(o.measured_file, wb.setup, &m.warnings, o.measurement_format);
     stage("compare", 0);
     m.before = diagnosis::compare(wb.setup, wb.process(), m.points, o.noise_um);
-    stage("diagnose", 0);
+    stage(kDiagnoseStage, 0);
     diagnosis::DiagnoseOptions d;
     d.noise_um = m.before.noise_um;
+    d.on_candidate_fitted = o.progress;
     m.diagnosis = diagnosis::diagnose(wb.setup, wb.process(), m.points, wb.effect_types(), d);
     if (m.diagnosis.chosen) {
       const auto effs = workbench::make_effects(m.diagnosis.chosen->effects, wb.setup);

@@ -256,50 +256,95 @@ std::vector<Figure> trace_figures(const workbench::Workbench& wb, const pipeline
     fig.title = fmt::format("Profile and helix traces, tooth {}", tooth);
     const auto size = render::render_composite(comp, dir / fig.file);
     fig.width = size.width, fig.height = size.height;
+    const std::string boxes =
+        evaluation::validity_refusal(r.iso_before.parameters)
+            ? std::string("no tolerance box: ISO 1328-1:2013 does not apply to this gear")
+            : fmt::format("green box: the class-{0} total tolerance F_T over the evaluation range, placed around the "
+                          "trace's extremes (F does not depend on an offset); green dashed: the class-{0} f_HT limits "
+                          "about the mean line's middle",
+                          shown_class);
     fig.caption = fmt::format(
         "Measuring-machine layout: left flanks mirrored (plus material to the left), right flanks plus material to the "
         "right. Blue: the trace over the whole active profile (mid face width) or face width (middle of L_α); red "
-        "dashed: its least-squares mean line over the evaluation range (grey dashed lines); green box: the class-{0} "
-        "total tolerance F_T over the evaluation range, placed around the trace's extremes (F does not depend on an "
-        "offset); green dashed: the class-{0} f_HT limits about the mean line's middle. Each chart has its own scale.",
-        shown_class);
+        "dashed: its least-squares mean line over the evaluation range (grey dashed lines); {}. Each chart has its own "
+        "scale.",
+        boxes);
     out.push_back(std::move(fig));
   }
   return out;
 }
 
+// Pitch in two panels on one tooth axis: the single pitch deviations f_p,i (bars) against ±f_pT, and the index
+// deviations F_p,i (lines) against F_pT. They are different quantities with different tolerances: on one axis the
+// ±f_pT lines read as limits of the F_p,i curves (issue 17). F_pT bounds F_p = max − min (independent of an offset),
+// so it is drawn as a band of that width centred on the middle of the F_p,i values, as runout's F_rT.
 Figure pitch_figure(const workbench::Workbench& wb, const workbench::IsoResult& iso, int shown_class, const fs::path& dir) {
-  render::BarChart c;
-  c.title = "Single pitch deviation f_p,i and cumulative pitch F_p,i over tooth number";
-  c.size = {1400, 700};
   const int z = wb.setup.geometry().teeth();
-  for (int t = 1; t <= z; ++t) c.categories.push_back(std::to_string(t));
-  c.x = {"tooth", "", {}, {}};
-  c.y = {"pitch deviation", "µm", {}, {}};
+  const bool classify = !evaluation::validity_refusal(iso.parameters);
+  render::BarChart single;
+  single.title = "Single pitch deviation f_p,i";
+  single.size = {1400, 520};
+  for (int t = 1; t <= z; ++t) single.categories.push_back(std::to_string(t));
+  single.x = {"tooth i (pitch from tooth i to i + 1)", "", {}, {}};
+  single.y = {"f_p,i", "µm", {}, {}};
+  render::LineChart index;
+  index.title = "Index (cumulative) pitch deviation F_p,i, relative to tooth 1";
+  index.size = {1400, 520};
+  // The bars' tooth axis: teeth 1..z at whole numbers, half a pitch of margin; every tooth labelled up to 40 teeth,
+  // every k-th beyond.
+  index.x = {"tooth i", "", 0.5, z + 0.5};
+  index.y = {"F_p,i", "µm", {}, {}};
+  const int label_step = (z + 39) / 40;
+  for (int t = 1; t <= z; t += label_step) {
+    index.x_ticks.push_back(t);
+    index.x_tick_labels.push_back(std::to_string(t));
+  }
+  double lo = 1e300, hi = -1e300;
+  int colour = 0;
   for (const auto* pe : {&iso.evaluation.pitch_left, &iso.evaluation.pitch_right}) {
     if (!*pe) continue;
     const std::string side(evaluation::to_string((*pe)->side));
-    c.bars.push_back({"f_p,i " + side + " flanks", (*pe)->single_pitch_um, std::nullopt});
+    single.bars.push_back({side + " flanks", (*pe)->single_pitch_um, render::series_colour(colour)});
     render::Series s;
-    s.name = "F_p,i " + side + " flanks";
+    s.name = fmt::format("{} flanks, F_p = {:.2f} µm", side, (*pe)->F_p_um);
+    s.colour = render::series_colour(colour++);
     for (int t = 1; t <= z; ++t) s.x.push_back(t);
     s.y = (*pe)->index_um;
     s.marker = render::Marker::circle;
-    c.lines.push_back(s);
+    for (double v : s.y) lo = std::min(lo, v), hi = std::max(hi, v);
+    index.series.push_back(s);
   }
-  if (c.bars.empty()) throw std::runtime_error("pitch figure: no pitch evaluation (not every tooth was simulated)");
-  if (!evaluation::validity_refusal(iso.parameters)) {
+  if (single.bars.empty()) throw std::runtime_error("pitch figure: no pitch evaluation (not every tooth was simulated)");
+  if (classify) {
     const double fpT = evaluation::tolerance_um(evaluation::Quantity::SinglePitch, iso.parameters, shown_class);
-    c.ref_lines.push_back({render::Orientation::horizontal, fpT, render::colours::tolerance, 1.5, true,
-                           fmt::format("±f_pT class {}", shown_class)});
-    c.ref_lines.push_back({render::Orientation::horizontal, -fpT, render::colours::tolerance, 1.5, true, ""});
+    single.ref_lines.push_back({render::Orientation::horizontal, fpT, render::colours::tolerance, 1.5, true,
+                                fmt::format("±f_pT class {}", shown_class)});
+    single.ref_lines.push_back({render::Orientation::horizontal, -fpT, render::colours::tolerance, 1.5, true, ""});
+    const double FpT = evaluation::tolerance_um(evaluation::Quantity::CumulativePitch, iso.parameters, shown_class);
+    const double mid = 0.5 * (lo + hi);
+    index.bands.push_back({render::Orientation::horizontal, mid - 0.5 * FpT, mid + 0.5 * FpT, render::colours::tolerance,
+                           0.22, fmt::format("F_pT class {} = {:g} µm, centred on the values", shown_class, FpT)});
   }
-  c.legend = render::LegendPlace::above;
-  render::render_bar_chart(c, dir / "pitch.png");
-  return {"pitch.png", "pitch", c.title,
-          "Bars: single pitch deviation of the pitch from tooth i to i+1 on the measuring circle (transverse arc, µm); "
-          "lines: index (cumulative) deviation relative to tooth 1.",
-          c.size.width, c.size.height, std::nullopt, std::nullopt};
+  single.legend = render::LegendPlace::above;
+  index.legend = render::LegendPlace::above;
+  const fs::path single_png = dir / "panels" / "pitch_single.png", index_png = dir / "panels" / "pitch_index.png";
+  render::render_bar_chart(single, single_png);
+  render::render_line_chart(index, index_png);
+  render::Composite comp;
+  comp.title = "Pitch over tooth number";
+  comp.font_px = kCompositeFontPx;
+  comp.columns = 1;
+  comp.panels = {{single_png, ""}, {index_png, ""}};
+  const auto size = render::render_composite(comp, dir / "pitch.png");
+  return {"pitch.png", "pitch", "Single and index (cumulative) pitch deviations over tooth number",
+          fmt::format("Top: single pitch deviation f_p,i of the pitch from tooth i to i+1 on the measuring circle "
+                      "(transverse arc, µm){}. Bottom: index deviation F_p,i relative to tooth 1{}.",
+                      classify ? fmt::format(", with the class-{} limits ±f_pT", shown_class) : "",
+                      classify ? fmt::format(", with the class-{} F_pT as a band of its width centred on the values "
+                                             "(F_p = max − min does not depend on an offset)",
+                                             shown_class)
+                               : ""),
+          size.width, size.height, std::nullopt, std::nullopt};
 }
 
 // Runout: the radial position r_s of a ball in each tooth space (ISO 1328-1 F_r = max − min), with the tolerance of

@@ -58,8 +58,22 @@ std::string signed_um(double v) {
   return t;
 }
 
+// Where ISO 1328-1:2013 does not apply to the gear (evaluation::validity_refusal: m_n, b, β, z or d outside its range),
+// a class or tolerance left out is "–" with this mark, and each table or value group is followed by the footnote
+// saying why (a bare "–" left the customer guessing, issue 17).
+const char* kNotApplicableMark = "<sup>†</sup>";
+const std::string kNotApplicableDash = std::string("–") + kNotApplicableMark;
+
+std::string not_applicable_note(const evaluation::GearParameters& p) {
+  const auto refusal = evaluation::validity_refusal(p);
+  if (!refusal) return "";
+  return std::string("<p class=\"note na\">") + kNotApplicableMark +
+         " No class or tolerance: ISO 1328-1:2013 does not apply to this gear: " + esc(*refusal) +
+         ". The deviations are evaluated all the same.</p>\n";
+}
+
 std::string class_cell(evaluation::Quantity q, double v, const evaluation::GearParameters& p) {
-  if (evaluation::validity_refusal(p)) return "<td class=cls>–</td>";
+  if (evaluation::validity_refusal(p)) return "<td class=cls>" + kNotApplicableDash + "</td>";
   return "<td class=cls>" + evaluation::class_label(evaluation::tolerance_class(q, v, p)) + "</td>";
 }
 
@@ -148,15 +162,16 @@ std::string trace_value_table(const workbench::IsoResult& iso, int tooth, int sh
   const auto* R = flank_of(iso, tooth, Flank::Right);
   const bool classify = !evaluation::validity_refusal(p);
   std::string h = fmt::format("<table class=values><tr><th>tooth {}</th><th>left (µm)</th><th>class</th><th>right (µm)</th>"
-                              "<th>class</th><th>tol. class {} (µm)</th></tr>",
-                              tooth, shown_class);
+                              "<th>class</th><th>{} (µm)</th></tr>",
+                              tooth, classify ? fmt::format("tol. class {}", shown_class) : std::string("tolerance"));
   const auto row = [&](Q q, auto pick) {
     const bool slope = q == Q::ProfileSlope || q == Q::HelixSlope;
     h += "<tr><td>" + esc(std::string(evaluation::symbol(q))) + "</td>";
     for (const auto* fe : {L, R})
       h += fe ? "<td>" + (slope ? signed_um(pick(*fe)) : fmt::format("{:.2f}", pick(*fe))) + "</td>" + class_cell(q, pick(*fe), p)
               : "<td>–</td><td>–</td>";
-    h += classify ? fmt::format("<td>{:g}</td></tr>", evaluation::tolerance_um(q, p, shown_class)) : "<td>–</td></tr>";
+    h += classify ? fmt::format("<td>{:g}</td></tr>", evaluation::tolerance_um(q, p, shown_class))
+                  : "<td>" + kNotApplicableDash + "</td></tr>";
   };
   row(Q::ProfileTotal, [](const evaluation::FlankEvaluation& f) { return f.profile.total_um; });
   row(Q::ProfileForm, [](const evaluation::FlankEvaluation& f) { return f.profile.form_um; });
@@ -172,7 +187,7 @@ std::string trace_value_table(const workbench::IsoResult& iso, int tooth, int sh
     }
     h += "<td></td></tr>";
   }
-  return h + "</table>\n";
+  return h + "</table>\n" + not_applicable_note(p);
 }
 
 // Every evaluated tooth, one row: per flank the six ISO values, each with its class, and the crowning.
@@ -205,16 +220,16 @@ std::string flank_table(const workbench::IsoResult& iso, const std::map<std::pai
         const auto& d = k < 3 ? fe->profile : fe->helix;
         const double v = k % 3 == 0 ? d.total_um : k % 3 == 1 ? d.form_um : d.slope_um;
         const std::string value = k % 3 == 2 ? signed_um(v) : fmt::format("{:.2f}", v);
-        h += "<td>" + value +
-             (classify ? " <span class=cls>" + evaluation::class_label(evaluation::tolerance_class(order[k], v, p)) + "</span>" : "") +
-             "</td>";
+        h += "<td>" + value + " <span class=cls>" +
+             (classify ? evaluation::class_label(evaluation::tolerance_class(order[k], v, p)) : kNotApplicableDash) +
+             "</span></td>";
         if (k == 2 || k == 5)
           h += it == crown.end() ? "<td>–</td>" : "<td>" + signed_um(k == 2 ? it->second.first : it->second.second) + "</td>";
       }
     }
     h += "</tr>\n";
   }
-  return h + "</table></div>\n";
+  return h + "</table></div>\n" + not_applicable_note(p);
 }
 
 std::string means_table(const workbench::IsoResult& iso) {
@@ -245,6 +260,11 @@ std::string tolerance_table(const evaluation::GearParameters& p, int shown_class
   return h + "</table></div>\n";
 }
 
+/// A class as the page shows it: "–" with the footnote mark when ISO 1328-1 does not apply.
+std::string class_text(const std::optional<int>& c, const evaluation::GearParameters& p) {
+  return !c && evaluation::validity_refusal(p) ? kNotApplicableDash : evaluation::class_label(c);
+}
+
 std::string iso_table(const workbench::IsoResult& b, const workbench::IsoResult& a) {
   std::string h = "<table><tr><th>quantity</th><th>before (µm)</th><th>class</th><th>where</th><th>after (µm)</th><th>class</th>"
                   "<th>better</th></tr>\n";
@@ -255,15 +275,15 @@ std::string iso_table(const workbench::IsoResult& b, const workbench::IsoResult&
                                                                 std::abs(qb[i].worst_value_um)
                                                           : 0.0;
     h += fmt::format("<tr><td>{}</td><td>{:.2f}</td><td>{}</td><td>{}</td><td>{:.2f}</td><td>{}</td><td>{:.0f} %</td></tr>\n",
-                     esc(std::string(evaluation::symbol(qb[i].quantity))), qb[i].worst_value_um, evaluation::class_label(qb[i].flank_class),
-                     esc(qb[i].where), qa[i].worst_value_um, evaluation::class_label(qa[i].flank_class), imp);
+                     esc(std::string(evaluation::symbol(qb[i].quantity))), qb[i].worst_value_um,
+                     class_text(qb[i].flank_class, b.parameters), esc(qb[i].where), qa[i].worst_value_um,
+                     class_text(qa[i].flank_class, a.parameters), imp);
   }
   const auto& cb = b.evaluation.classification;
   const auto& ca = a.evaluation.classification;
-  if (cb.refusal) h += "<tr><td colspan=7>Classification refused: " + esc(*cb.refusal) + "</td></tr>";
-  h += fmt::format("<tr><th>overall class</th><th colspan=3>{}</th><th colspan=3>{}</th></tr></table>\n", evaluation::class_label(cb.overall),
-                   evaluation::class_label(ca.overall));
-  return h;
+  h += fmt::format("<tr><th>overall class</th><th colspan=3>{}</th><th colspan=3>{}</th></tr></table>\n",
+                   class_text(cb.overall, b.parameters), class_text(ca.overall, a.parameters));
+  return h + not_applicable_note(b.parameters);
 }
 
 /// The run's date (UTC, ISO 8601): SOURCE_DATE_EPOCH when set (reproducible output), else now.
@@ -322,22 +342,27 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
     h += fmt::format("<li>Largest |deviation| of the {} grids, all teeth: <b>{:.2f} µm</b> before; the nominal model "
                      "compensating itself (flank method): {:.2f} µm — no prediction was made (--samples 0).</li>",
                      grid_label(r), r.largest_before_um, r.largest_after_um);
-    h += fmt::format("<li>Overall flank tolerance class: <b>{}</b> before, {} nominal after.</li>", evaluation::class_label(cb.overall), evaluation::class_label(ca.overall));
+    h += fmt::format("<li>Overall flank tolerance class: <b>{}</b> before, {} nominal after.</li>",
+                     class_text(cb.overall, r.iso_before.parameters), class_text(ca.overall, r.iso_after.parameters));
   }
   if (r.measurement && r.measurement->diagnosis.chosen)
     h += "<li>Diagnosis: the measurement shows an effect the scene does not model — <b>" + esc(r.measurement->diagnosis.chosen->name()) +
          "</b> (details under “Model vs measurement”).</li>";
   else if (r.measurement)
     h += "<li>Diagnosis: no missing effect found (details under “Model vs measurement”).</li>";
-  h += "</ul></div>\n";
+  h += "</ul>" + not_applicable_note(r.iso_before.parameters) + "</div>\n";
 
   h += "<h2>Gear data</h2>\n" + gear_data_block(wb) + figures_of(figs, "gear");
 
   h += "<h2>Profile and helix</h2>\n";
-  h += fmt::format("<p class=note>Trace charts with tolerance boxes of class {} ({}). Values µm; F, f_f compared by size, f_H "
+  const bool classified = !evaluation::validity_refusal(r.iso_before.parameters);
+  h += fmt::format("<p class=note>Trace charts {}. Values µm; F, f_f compared by size, f_H "
                    "signed (positive: material increases towards the tip / away from the datum face); C: crowning, the height "
                    "of the fitted parabola above its chord over the evaluation range (not toleranced by ISO 1328-1).</p>\n",
-                   shown_class, wb.scene.report.tolerance_class ? "the scene's report.tolerance_class" : "the class achieved");
+                   classified ? fmt::format("with tolerance boxes of class {} ({})", shown_class,
+                                            wb.scene.report.tolerance_class ? "the scene's report.tolerance_class"
+                                                                            : "the class achieved")
+                              : std::string("without tolerance boxes") + kNotApplicableMark);
   for (const auto& f : figs)
     if (f.section == "traces")
       h += "<div class=row>" + figure_html(f) + "<div class=side>" + trace_value_table(r.iso_before, f.tooth, shown_class, crown) +

@@ -460,3 +460,40 @@ TEST(Cli, CompareReadsAKlingelnbergExport) {
   EXPECT_EQ(run("compare " + kScene + " --measured " + mka + " --out " + (dir / "e").string() + " --mka-signs plus").code, 2);
   std::filesystem::remove_all(dir);
 }
+
+// run and report read measurements through the same options as compare (add_measurement_options): a Klingelnberg
+// export read by `run --mka-signs din` gives the residual `compare --mka-signs din` gives, and not the one of the raw
+// signs (which the DIN reading of a raw export spoils by more than 0.1 µm RMS: CompareReadsAKlingelnbergExport).
+TEST(Cli, RunReadsAKlingelnbergExportWithTheMkaOptions) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_run_mka");
+  std::filesystem::create_directories(dir);
+  // A small gear (two teeth simulated) so that run's whole job stays short, measured as the model grinds it: read with
+  // the right signs the residual is the probe noise, with the wrong ones twice the flipped deviations. The machine
+  // errors make the flanks deviate (against a perfect model a sign flip would not change the residual's RMS).
+  const std::string gear = "gear: {normal_module_mm: 4, teeth: 20, normal_pressure_angle_deg: 20, helix_angle_deg: 20, "
+                           "profile_shift: 0, face_width_mm: 30}\n"
+                           "machine: {datum_face_z_mm: 300, constants: {S_xz_urad: 30, E_XOC_um: 5, epsilon_zx_urad: 40}}\n"
+                           "wheel: {outer_diameter_mm: 300}\n"
+                           "measurement: {rows: 5, cols: 5, profile_points: 15, helix_points: 15, teeth: [1, 11]}\n";
+  std::ofstream(dir / "model.yaml") << gear;
+  const std::string model = (dir / "model.yaml").string(), mka = (dir / "m.mka").string();
+  ASSERT_EQ(run("synth " + model + " --out " + mka + " --format klingelnberg --teeth 1,11 "
+                "--noise-um 0.3 --seed 5").code, 0);
+  const auto rms_of = [&](const std::filesystem::path& json) {
+    return nlohmann::json::parse(std::ifstream(json))["overall"]["rms_um"].get<double>();
+  };
+  const CliResult raw = run("compare " + model + " --measured " + mka + " --noise-um 0.3 --out " + (dir / "raw").string());
+  ASSERT_EQ(raw.code, 0) << raw.err;
+  const CliResult din = run("compare " + model + " --measured " + mka + " --noise-um 0.3 --mka-signs din --out " + (dir / "din").string());
+  ASSERT_EQ(din.code, 0) << din.err;
+  const CliResult r = run("run " + model + " --measured " + mka + " --noise-um 0.3 --mka-signs din --samples 0 --out " +
+                          (dir / "run").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NEAR(rms_of(dir / "run" / "compare.json"), rms_of(dir / "din" / "compare.json"), 1e-9);
+  EXPECT_GT(std::abs(rms_of(dir / "run" / "compare.json") - rms_of(dir / "raw" / "compare.json")), 0.1);
+  // report takes the same flags (the same code adds them to both).
+  const CliResult help = run("report --help");
+  for (const char* flag : {"--mka-spacing", "--mka-direction", "--mka-signs"})
+    EXPECT_NE(help.out.find(flag), std::string::npos) << flag;
+  std::filesystem::remove_all(dir);
+}

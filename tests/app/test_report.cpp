@@ -102,3 +102,48 @@ TEST(ReportIncompleteGrid, LeavesOutTheHeatMapsAndStillDiagnoses) {
   EXPECT_TRUE(files.count("diagnosis.png"));
   fs::remove_all(dir);
 }
+
+// ISO 1328-1:2013 covers 0.5 ≤ m_n ≤ 70 mm (§1; docs/iso1328.md): for m_n 0.3 the page gives no class or tolerance,
+// and every "–" it shows instead carries a mark whose footnote, after each table or value group, says why — with the
+// limit broken, as the standard's scope states it. Truth: the scope's numbers, not the evaluator's text.
+TEST(ReportOutsideIso, EveryDashSaysWhyInAFootnote) {
+  const fs::path dir = fs::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_report_outside_iso");
+  fs::create_directories(dir);
+  std::ofstream(dir / "mn03.yaml") << "name: m_n 0.3 (outside ISO 1328-1)\n"
+                                      "gear: {normal_module_mm: 0.3, teeth: 40, normal_pressure_angle_deg: 20, "
+                                      "helix_angle_deg: 0, profile_shift: 0, face_width_mm: 5}\n"
+                                      "machine: {datum_face_z_mm: 300}\n"
+                                      "measurement: {rows: 5, cols: 5, profile_points: 15, helix_points: 15, teeth: [1, 21]}\n";
+  const std::string cmd = std::string(GEARTOPO_BINARY) + " report " + (dir / "mn03.yaml").string() +
+                          " --samples 0 --out " + (dir / "out").string() + " > " + (dir / "log").string() + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(dir / "log").rdbuf();
+  std::stringstream page;
+  page << std::ifstream(dir / "out" / "index.html").rdbuf();
+  const std::string html = page.str();
+  const std::string mark = "–<sup>†</sup>", note = "<p class=\"note na\"><sup>†</sup>";
+  EXPECT_EQ(html.find("<td class=cls>–</td>"), std::string::npos) << "a class cell without its reason";
+  EXPECT_EQ(html.find("<span class=cls></span>"), std::string::npos);
+  // The footnote names the broken limit: m_n = 0.3 mm against the scope's 0.5..70 mm.
+  const auto at = html.find(note);
+  ASSERT_NE(at, std::string::npos) << "no footnote";
+  const std::string first_note = html.substr(at, html.find("</p>", at) - at);
+  EXPECT_NE(first_note.find("ISO 1328-1:2013 does not apply"), std::string::npos) << first_note;
+  EXPECT_NE(first_note.find("m_n = 0.3 mm"), std::string::npos) << first_note;
+  EXPECT_NE(first_note.find("0.5..70 mm"), std::string::npos) << first_note;
+  // Every table with a marked dash is followed by the footnote before the next table starts.
+  int marked_tables = 0;
+  for (size_t open = html.find("<table"); open != std::string::npos;) {
+    const size_t close = html.find("</table>", open);
+    ASSERT_NE(close, std::string::npos);
+    const size_t next = html.find("<table", close);
+    if (html.substr(open, close - open).find(mark) != std::string::npos) {
+      ++marked_tables;
+      EXPECT_NE(html.substr(close, (next == std::string::npos ? html.size() : next) - close).find(note), std::string::npos)
+          << "table " << marked_tables << " has dashes and no footnote after it";
+    }
+    open = next;
+  }
+  // The two trace value tables (teeth 1 and 21), the table of every flank, before/after.
+  EXPECT_GE(marked_tables, 4);
+  fs::remove_all(dir);
+}

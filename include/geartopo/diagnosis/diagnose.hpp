@@ -24,6 +24,7 @@
 #include <Eigen/Dense>
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -133,6 +134,10 @@ struct DiagnoseOptions {
   double bic_threshold = 10.0;
   std::vector<std::string> candidates; ///< effect types to try; empty: every library effect not in the scene
   int threads = 0;                  ///< threads of the predictions; 0: all hardware threads
+  /// Called after each candidate explanation is fitted (single effects, then pairs) with (candidates fitted, candidates
+  /// known so far): the total grows by the pairs once the single effects are ranked. From the calling thread; for
+  /// progress display only, the diagnosis does not depend on it.
+  std::function<void(long long done, long long total)> on_candidate_fitted;
   /// Fewest measured points (count) diagnose accepts: the noise estimate fits 6 terms per flank, and BIC with a
   /// handful of points rewards nothing.
   std::size_t min_points = 10;

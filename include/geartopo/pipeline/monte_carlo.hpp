@@ -23,6 +23,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,10 @@ struct MonteCarloOptions {
   int shard = 1, shards = 1; ///< this run computes shard `shard` of `shards` (1-based): a contiguous block of samples
   int threads = 0;           ///< 0: all hardware threads (results do not depend on it)
   workbench::IsoOptions iso; ///< how the ISO 1328-1 values are reported (direction, f_Hβ sign)
+  /// Called after each sample of this run with (samples done, samples in this run), from the worker threads: must be
+  /// thread-safe and cheap. For progress and work estimates only; the samples do not depend on it. An exception it
+  /// throws (a work estimate beyond its limit) stops the samples not yet started and leaves run_monte_carlo.
+  std::function<void(long long done, long long total)> on_sample_done;
 };
 
 /// The gear quantities one simulated (or measured) gear reduces to, by name with unit: "F_beta_um", "F_beta_class",

@@ -9,6 +9,7 @@
 #include "geartopo/compensation/correction_table.hpp"
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/klingelnberg.hpp"
 #include "geartopo/grinding/topology.hpp"
 #include "geartopo/pipeline/monte_carlo.hpp"
 
@@ -40,6 +41,10 @@ struct PipelineResult {
   std::optional<MonteCarloSummary> prediction;
 };
 
+/// The names of PipelineOptions::stage whose size is not in flanks.
+inline constexpr const char* kPredictionStage = "predict (Monte Carlo)"; ///< size: samples
+inline constexpr const char* kDiagnoseStage = "diagnose";                ///< progress: candidate fits
+
 /// What the main job does, as `geartopo run`'s flags choose it (defaults: the scene's grid, every tooth, the flank
 /// method at a 2 mm step, the noise estimated from the residual).
 struct PipelineOptions {
@@ -49,14 +54,18 @@ struct PipelineOptions {
   double step_mm = 2.0;                              ///< correction table spacing along each stroke
   double noise_um = 0.0;                             ///< probe noise σ of the measurement; 0: estimated
   std::string measured_file;                         ///< empty: no comparison or diagnosis
+  diagnosis::KlingelnbergOptions measurement_format; ///< how a Klingelnberg export is read (--mka-*)
   /// How the ISO 1328-1 values are reported (default: the standard's transverse direction, docs/iso1328.md).
   workbench::IsoOptions iso;
   /// With it (samples ≥ 1, one shard), the compensated gear is also predicted by Monte Carlo (monte_carlo.hpp).
   std::optional<MonteCarloOptions> prediction;
-  /// Told when a stage starts ("simulate", "compensate", "simulate compensated", "compare", "diagnose"), with the
-  /// stage's size in flanks (0 when it has no flank count); for progress display only.
-  std::function<void(const std::string& stage, long long flanks)> stage;
-  /// Flanks done within the current simulation stage (grinding::SimulationOptions::progress).
+  /// Told when a stage starts ("simulate", "compensate", "simulate compensated", "predict (Monte Carlo)", "compare",
+  /// "diagnose"), with the stage's size: flanks of a simulation, samples of the prediction, 0 when not known in
+  /// advance; for progress display only.
+  std::function<void(const std::string& stage, long long size)> stage;
+  /// (done, total) within the current stage: flanks of a simulation (grinding::SimulationOptions::progress),
+  /// candidates of the diagnosis (diagnosis::DiagnoseOptions::on_candidate_fitted). The prediction's samples are
+  /// told through prediction->on_sample_done.
   std::function<void(long long, long long)> progress;
 };
 
