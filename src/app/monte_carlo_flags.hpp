@@ -19,6 +19,8 @@ struct MonteCarloFlags {
   long long samples = 40;
   std::uint64_t seed = 1;
   std::string shard = "1/1";
+  double adaptive_tolerance_um = 0.0; ///< > 0: adaptive stop (JCGM 101 §7.9, docs/monte-carlo.md); --samples is then ignored
+  long long max_samples = 10'000;     ///< the adaptive run's limit
 };
 
 /// --samples and --seed; --shard too when `shards` (a command that can write a partial result).
