@@ -30,6 +30,14 @@ void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards)
                               "(default {:g}: one day)",
                               flags.max_time_s))
       ->check(finite_in(1e-3, 1e9));
+  cmd->add_option("--adaptive-tolerance-um", flags.adaptive_tolerance_um,
+                  "Adaptive Monte Carlo (JCGM 101 §7.9): batches of 100 samples until twice the standard deviation of "
+                  "every µm quantity's median and 95 % interval ends over the batches is at most this (µm); replaces "
+                  "--samples")
+      ->check(CLI::Range(1e-6, 1e6));
+  cmd->add_option("--max-samples", flags.max_samples,
+                  fmt::format("The adaptive run's limit (default {})", flags.max_samples))
+      ->check(CLI::Range(200LL, 1'000'000LL));
   if (!shards) return;
   cmd->add_option("--shard", flags.shard,
                   "i/n: compute only shard i of n (1 ≤ i ≤ n) and write its raw samples for `geartopo merge` (default 1/1)");
@@ -48,6 +56,10 @@ pipeline::MonteCarloOptions monte_carlo_options(const MonteCarloFlags& flags) {
     throw CLI::ValidationError("--shard", fmt::format("{} shards for {} samples: every shard needs a sample", n, flags.samples));
   o.shard = i;
   o.shards = n;
+  o.adaptive_tolerance_um = flags.adaptive_tolerance_um;
+  o.adaptive_max_samples = flags.max_samples;
+  if (o.adaptive_tolerance_um > 0.0 && n > 1)
+    throw CLI::ValidationError("--shard", "an adaptive run (--adaptive-tolerance-um) stops on all its samples: no shards");
   return o;
 }
 

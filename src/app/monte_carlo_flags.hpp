@@ -24,9 +24,11 @@ struct MonteCarloFlags {
   std::uint64_t seed = 1;
   std::string shard = "1/1";
   double max_time_s = kMaxMonteCarloSeconds; ///< --max-time-s (MonteCarloWatch, options.hpp)
+  double adaptive_tolerance_um = 0.0; ///< > 0: adaptive stop (JCGM 101 §7.9, docs/monte-carlo.md); --samples is then ignored
+  long long max_samples = 10'000;     ///< the adaptive run's limit
 };
 
-/// --samples, --seed and --max-time-s; --shard too when `shards` (a command that can write a partial result).
+/// --samples, --seed, --max-time-s, --adaptive-tolerance-um and --max-samples; --shard too when `shards` (a command that can write a partial result).
 void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards);
 /// Throws CLI::ValidationError naming --shard for a malformed i/n or more shards than samples.
 pipeline::MonteCarloOptions monte_carlo_options(const MonteCarloFlags& flags);

@@ -16,23 +16,34 @@ CorrectionTable::CorrectionTable(std::vector<CorrectionRow> rows) : rows_(std::m
   std::stable_sort(rows_.begin(), rows_.end(), [](const CorrectionRow& a, const CorrectionRow& b) {
     return a.space != b.space ? a.space < b.space : a.z_stroke_mm < b.z_stroke_mm;
   });
+  z_.reserve(rows_.size());
+  for (const auto& r : rows_) z_.push_back(r.z_stroke_mm);
   for (size_t i = 0; i < rows_.size(); ++i) {
-    auto [it, inserted] = span_.try_emplace(rows_[i].space, i, i + 1);
-    if (!inserted) it->second.second = i + 1;
+    const int space = rows_[i].space;
+    if (space < 0) throw std::invalid_argument(fmt::format("correction row {}: space {} < 0", i + 1, space));
+    if (static_cast<size_t>(space) >= span_.size()) span_.resize(static_cast<size_t>(space) + 1, {0, 0});
+    auto& span = span_[static_cast<size_t>(space)];
+    if (span.first == span.second) span = {i, i + 1};
+    else span.second = i + 1;
   }
 }
 
 machine::Vector5d CorrectionTable::at(int space, double z) const {
-  const auto it = span_.find(space);
-  if (it == span_.end()) return machine::Vector5d::Zero();
-  const auto first = rows_.begin() + static_cast<long>(it->second.first);
-  const auto last = rows_.begin() + static_cast<long>(it->second.second);
-  const auto hi = std::lower_bound(first, last, z, [](const CorrectionRow& r, double v) { return r.z_stroke_mm < v; });
-  if (hi == first) return first->correction;
-  if (hi == last) return (last - 1)->correction;
+  // Looked up at every pose of a compensated simulation: a vector by space and the stroke positions on their own.
+  if (space < 0 || static_cast<size_t>(space) >= span_.size()) return machine::Vector5d::Zero();
+  const auto [first_row, last_row] = span_[static_cast<size_t>(space)];
+  if (first_row == last_row) return machine::Vector5d::Zero();
+  const auto first = z_.begin() + static_cast<long>(first_row);
+  const auto last = z_.begin() + static_cast<long>(last_row);
+  const auto hi = std::lower_bound(first, last, z);
+  const auto row = [&](std::vector<double>::const_iterator it) -> const CorrectionRow& {
+    return rows_[static_cast<size_t>(it - z_.begin())];
+  };
+  if (hi == first) return row(first).correction;
+  if (hi == last) return row(last - 1).correction;
   const auto lo = hi - 1;
-  const double t = (z - lo->z_stroke_mm) / (hi->z_stroke_mm - lo->z_stroke_mm);
-  return (1.0 - t) * lo->correction + t * hi->correction;
+  const double t = (z - *lo) / (*hi - *lo);
+  return (1.0 - t) * row(lo).correction + t * row(hi).correction;
 }
 
 int CorrectionTable::rows_outside_strokes() const {

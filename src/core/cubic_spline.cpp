@@ -145,24 +145,38 @@ CubicSpline::Local CubicSpline::locate(double t) const noexcept {
   return {i, t, false, false};
 }
 
-double CubicSpline::value(double t) const noexcept {
-  const Local l = locate(t);
-  if (l.below) return y_.front() + derivative(x_.front()) * (l.t - x_.front());
-  if (l.above) return y_.back() + derivative(x_.back()) * (l.t - x_.back());
+double CubicSpline::value_inside(const Local& l) const noexcept {
   const std::size_t i = l.i;
   const double h = x_[i + 1] - x_[i];
   const double a = (x_[i + 1] - l.t) / h, b = (l.t - x_[i]) / h;
   return a * y_[i] + b * y_[i + 1] + ((a * a * a - a) * m_[i] + (b * b * b - b) * m_[i + 1]) * h * h / 6.0;
 }
 
-double CubicSpline::derivative(double t) const noexcept {
-  Local l = locate(t);
-  if (l.below) l = {0, x_.front(), false, false};
-  if (l.above) l = {x_.size() - 2, x_.back(), false, false};
+double CubicSpline::derivative_inside(const Local& l) const noexcept {
   const std::size_t i = l.i;
   const double h = x_[i + 1] - x_[i];
   const double a = (x_[i + 1] - l.t) / h, b = (l.t - x_[i]) / h;
   return (y_[i + 1] - y_[i]) / h + (-(3.0 * a * a - 1.0) * m_[i] + (3.0 * b * b - 1.0) * m_[i + 1]) * h / 6.0;
+}
+
+double CubicSpline::value(double t) const noexcept {
+  const Local l = locate(t);
+  if (l.below) return y_.front() + derivative(x_.front()) * (l.t - x_.front());
+  if (l.above) return y_.back() + derivative(x_.back()) * (l.t - x_.back());
+  return value_inside(l);
+}
+
+double CubicSpline::derivative(double t) const noexcept {
+  Local l = locate(t);
+  if (l.below) l = {0, x_.front(), false, false};
+  if (l.above) l = {x_.size() - 2, x_.back(), false, false};
+  return derivative_inside(l);
+}
+
+std::pair<double, double> CubicSpline::value_and_derivative(double t) const noexcept {
+  const Local l = locate(t);
+  if (l.below || l.above) return {value(t), derivative(t)};
+  return {value_inside(l), derivative_inside(l)};
 }
 
 double CubicSpline::second_derivative(double t) const noexcept {

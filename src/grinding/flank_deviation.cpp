@@ -42,10 +42,10 @@ double FlankDeviation::entry_depth(const gears::FlankPoint& fp, const machine::P
   for (int it = 0; it < 30; ++it) {
     const Eigen::Vector3d q = q0 + t * m;
     const double rho = std::hypot(q.x(), q.z());
-    const double r = wheel_.radius(q.y());
+    const auto [r, slope] = wheel_.radius_and_slope(q.y());
     if (!std::isfinite(r) || rho == 0.0) return kInf;
     const double f = rho - r - process_.wheel_radius_error_mm(q.y(), pp);
-    const double df = (q.x() * m.x() + q.z() * m.z()) / rho - wheel_.slope(q.y()) * m.y();
+    const double df = (q.x() * m.x() + q.z() * m.z()) / rho - slope * m.y();
     if (!(df < 0.0)) return kInf; // the line does not run into the wheel here
     const double step = f / df;
     t -= step;
@@ -82,7 +82,10 @@ double linear_deviation_mm(const LinearContact& c, const GrindingProcess& proces
 }
 
 DeviationResult FlankDeviation::at(int tooth, geartopo::Flank flank, double xi, double z, Method method) const {
-  const Target t = target(tooth, flank, xi, z);
+  return at(target(tooth, flank, xi, z), method);
+}
+
+DeviationResult FlankDeviation::at(const Target& t, Method method) const {
   const double z0 = t.z0;
 
   if (method == Method::Linear) return {linear_deviation_mm(linear_contact(t), process_), z0};

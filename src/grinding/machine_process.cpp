@@ -5,13 +5,25 @@
 #include "geartopo/machine/machine_data.hpp"
 #include "geartopo/machine/transforms.hpp"
 
+#include <optional>
+
 namespace geartopo::grinding {
 
-// A fresh workspace per call keeps the process shareable between threads; it costs a few kB of zeroing, small
-// against the chain evaluation itself.
+namespace {
+
+// One chain evaluator per thread keeps the process shareable between threads. Along a stroke only C and Z move, and
+// the evaluator recomputes only their joints: the pose is most of the exact search's cost (docs/performance.md).
+// Keyed by the model's id, so a model built where another was freed is never confused with it.
+machine::Pose evaluate_chain(const machine::MachineModel& model, const machine::AxisPose& q) {
+  thread_local std::optional<machine::ChainEvaluator> evaluator;
+  if (!evaluator || evaluator->model_id() != model.id()) evaluator.emplace(model, q);
+  return evaluator->actual_wMg(model, q);
+}
+
+} // namespace
+
 machine::Pose MachineProcess::actual_wMg(const PathPoint& pp) const {
-  machine::MachineData data;
-  return machine::translation(0.0, 0.0, -z0_) * machine::actual_wMg(model_, data, machine_axes(pp));
+  return machine::translation(0.0, 0.0, -z0_) * evaluate_chain(model_, machine_axes(pp));
 }
 
 machine::Vector6d MachineProcess::error_twist_w(const PathPoint& pp) const {

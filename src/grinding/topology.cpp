@@ -47,28 +47,44 @@ std::vector<double> grid_axial_positions(const gears::EvaluationRanges& r, int c
   return evenly(r.z_eval_start_mm, r.z_eval_end_mm, cols);
 }
 
-std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const GrindingProcess& process,
-                                             const SimulationOptions& o) {
+SimulationPoints simulation_points(const GrindingSetup& setup, const SimulationOptions& o) {
   const auto& g = setup.geometry();
-  std::vector<int> teeth = o.teeth;
-  if (teeth.empty())
-    for (int t = 1; t <= g.teeth(); ++t) teeth.push_back(t);
-  for (int t : teeth)
+  SimulationPoints pts;
+  pts.teeth = o.teeth;
+  if (pts.teeth.empty())
+    for (int t = 1; t <= g.teeth(); ++t) pts.teeth.push_back(t);
+  for (int t : pts.teeth)
     if (t < 1 || t > g.teeth()) throw std::invalid_argument(fmt::format("tooth {} is not one of 1..{}", t, g.teeth()));
   if (o.rows < 2 || o.cols < 2 || o.profile_points < 2 || o.helix_points < 2)
     throw std::invalid_argument("grid and traces need at least 2 points each way");
   const long long per_flank = static_cast<long long>(o.rows) * o.cols + static_cast<long long>(o.dense_rows) * o.dense_cols +
                               o.profile_points + o.helix_points;
-  if (per_flank > kMaxPointsPerFlank || per_flank * 2 * static_cast<long long>(teeth.size()) > kMaxPointsPerSimulation)
+  if (per_flank > kMaxPointsPerFlank || per_flank * 2 * static_cast<long long>(pts.teeth.size()) > kMaxPointsPerSimulation)
     throw std::invalid_argument(fmt::format("{} points per flank on {} flanks is more than a simulation may hold ({} per "
                                             "flank, {} in all): choose a coarser grid",
-                                            per_flank, 2 * teeth.size(), kMaxPointsPerFlank, kMaxPointsPerSimulation));
+                                            per_flank, 2 * pts.teeth.size(), kMaxPointsPerFlank, kMaxPointsPerSimulation));
 
   const auto& r = setup.ranges();
-  const auto rows = grid_roll_lengths(r, o.rows), cols = grid_axial_positions(r, o.cols);
-  const auto prof_xi = evenly(r.xi_active_start_mm, r.xi_active_end_mm, o.profile_points);
-  const auto helix_z = evenly(0.0, g.spec().face_width_mm, o.helix_points);
-  const double prof_z = 0.5 * g.spec().face_width_mm, helix_xi = 0.5 * (r.xi_eval_start_mm + r.xi_eval_end_mm);
+  pts.rows = grid_roll_lengths(r, o.rows);
+  pts.cols = grid_axial_positions(r, o.cols);
+  pts.profile_roll_lengths = evenly(r.xi_active_start_mm, r.xi_active_end_mm, o.profile_points);
+  pts.helix_z = evenly(0.0, g.spec().face_width_mm, o.helix_points);
+  pts.profile_z_mm = 0.5 * g.spec().face_width_mm;
+  pts.helix_roll_length_mm = 0.5 * (r.xi_eval_start_mm + r.xi_eval_end_mm);
+  if (o.dense_rows > 0 && o.dense_cols > 0) {
+    pts.dense_rows = grid_roll_lengths(r, o.dense_rows);
+    pts.dense_cols = grid_axial_positions(r, o.dense_cols);
+  }
+  return pts;
+}
+
+std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const GrindingProcess& process,
+                                             const SimulationOptions& o) {
+  const auto& g = setup.geometry();
+  const SimulationPoints pts = simulation_points(setup, o);
+  const auto& teeth = pts.teeth;
+  const auto &rows = pts.rows, &cols = pts.cols, &prof_xi = pts.profile_roll_lengths, &helix_z = pts.helix_z;
+  const double prof_z = pts.profile_z_mm, helix_xi = pts.helix_roll_length_mm;
   const FlankDeviation dev(setup.flanks(), setup.wheel(), setup.path(), process);
 
   std::vector<FlankTopology> out(2 * teeth.size());
@@ -84,18 +100,20 @@ std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const G
     for (double z : helix_z)
       ft.helix.push_back({helix_xi, g.diameter_at_roll_length(helix_xi), z,
                           units::um_from_mm(dev.at(ft.tooth, ft.flank, helix_xi, z, o.method).deviation_mm)});
-    if (o.dense_rows > 0 && o.dense_cols > 0)
-      ft.dense = grid(dev, g, ft.tooth, ft.flank, grid_roll_lengths(r, o.dense_rows),
-                      grid_axial_positions(r, o.dense_cols), o.method);
+    if (!pts.dense_rows.empty()) ft.dense = grid(dev, g, ft.tooth, ft.flank, pts.dense_rows, pts.dense_cols, o.method);
     if (o.progress) o.progress(++flanks_done, static_cast<long long>(out.size()));
   });
-  for (const auto& ft : out) {
+  require_all_reached(out);
+  return out;
+}
+
+void require_all_reached(const std::vector<FlankTopology>& topo) {
+  for (const auto& ft : topo) {
     for (const auto& p : ft.grid) require_reached(p.deviation_um, ft.tooth, ft.flank, p.diameter_mm, p.z_mm);
     for (const auto& p : ft.profile) require_reached(p.deviation_um, ft.tooth, ft.flank, p.diameter_mm, p.z_mm);
     for (const auto& p : ft.helix) require_reached(p.deviation_um, ft.tooth, ft.flank, p.diameter_mm, p.z_mm);
     for (const auto& p : ft.dense) require_reached(p.deviation_um, ft.tooth, ft.flank, p.diameter_mm, p.z_mm);
   }
-  return out;
 }
 
 } // namespace geartopo::grinding

@@ -18,6 +18,8 @@ Eigen::Vector3d v3(const ErrorVector& e, ComponentId a, ComponentId b, Component
 /// [R(ε) | p]: a linear slide's exact HTM, nominal travel and errors already summed in p (Eqs. 15–17).
 Pose slide(const Eigen::Vector3d& p, const Eigen::Vector3d& eps) { return error_htm(p, eps); }
 
+double E(const ErrorVector& e, ComponentId k) { return e(index(k)); }
+
 } // namespace
 
 Pose ideal_wMg(const AxisPose& q) {
@@ -51,36 +53,92 @@ const Pose& ideal_kinematics(const AxisPose& q, MachineData& data) {
   return data.wMg_ideal;
 }
 
+namespace {
+
+// The joints of the exact chain, each a function of its own axis' command and components and of constants only (the
+// squareness and location components): ChainEvaluator recomputes a joint only when its axis moved, and
+// actual_kinematics and ChainEvaluator give the same bits because they share these functions.
+Pose c_axis_line(const ErrorVector& e) { return translation(E(e, E_XOC), E(e, E_YOC), 0.0) * Rx(E(e, E_AOC)) * Ry(E(e, E_BOC)); }
+Pose a_axis_line(const ErrorVector& e) { return translation(0.0, E(e, E_YOA), E(e, E_ZOA)) * Ry(E(e, E_BOA)) * Rz(E(e, E_COA)); }
+
+/// C: the table (and with it the workpiece frame w) turns about the actual C axis line S_C; returns wMF = FMC⁻¹.
+Pose c_joint_wMF(const ErrorVector& e, double c, const Pose& S_C) {
+  const Pose FMC = S_C * Rz(c + E(e, E_COC)) *
+                   error_htm(v3(e, delta_xc, delta_yc, delta_zc), v3(e, epsilon_xc, epsilon_yc, epsilon_zc));
+  return FMC.inverse(Eigen::Isometry);
+}
+/// X (Eq. 15).
+Pose x_joint(const ErrorVector& e, double x) {
+  return slide({x + E(e, delta_xx), E(e, delta_yx), E(e, delta_zx)}, v3(e, epsilon_xx, epsilon_yx, epsilon_zx));
+}
+/// Z (Eq. 16; squareness scales with the Z travel z).
+Pose z_joint(const ErrorVector& e, double z) {
+  return slide({E(e, delta_xz) - z * E(e, S_xz), E(e, delta_yz), z + E(e, delta_zz)}, v3(e, epsilon_xz, epsilon_yz, epsilon_zz));
+}
+/// A (Eq. 21 style, about the actual axis line S_A; at α = 0 and no error motion ZMA = I).
+Pose a_joint(const ErrorVector& e, double a, const Pose& S_A, const Pose& S_A_inverse) {
+  return S_A * Rx(a + E(e, E_AOA)) *
+         error_htm(v3(e, delta_xa, delta_ya, delta_za), v3(e, epsilon_xa, epsilon_ya, epsilon_za)) * S_A_inverse;
+}
+/// Y (Eq. 17).
+Pose y_joint(const ErrorVector& e, double y) {
+  return slide({E(e, delta_xy) - y * E(e, S_xy), y + E(e, delta_yy), E(e, delta_zy) - y * E(e, S_zy)},
+               v3(e, epsilon_xy, epsilon_yy, epsilon_zy));
+}
+
+} // namespace
+
 const Pose& actual_kinematics(const ErrorVector& e, const AxisPose& q, MachineData& data) {
   data.q = q;
   data.e = e;
-  const auto E = [&](ComponentId k) { return e(index(k)); };
-
-  // C: the table (and with it the workpiece frame w) turns about the actual C axis line S_C.
-  const Pose S_C = translation(E(E_XOC), E(E_YOC), 0.0) * Rx(E(E_AOC)) * Ry(E(E_BOC));
-  const Pose FMC = S_C * Rz(q.c + E(E_COC)) *
-                   error_htm(v3(e, delta_xc, delta_yc, delta_zc), v3(e, epsilon_xc, epsilon_yc, epsilon_zc));
-  data.wMF = FMC.inverse(Eigen::Isometry);
-
-  // X (Eq. 15).
-  data.FMX = slide({q.x + E(delta_xx), E(delta_yx), E(delta_zx)}, v3(e, epsilon_xx, epsilon_yx, epsilon_zx));
-  // Z (Eq. 16; squareness scales with the Z travel z).
-  data.XMZ = slide({E(delta_xz) - q.z * E(S_xz), E(delta_yz), q.z + E(delta_zz)},
-                   v3(e, epsilon_xz, epsilon_yz, epsilon_zz));
-  // A (Eq. 21 style, about the actual axis line S_A; at α = 0 and no error motion ZMA = I).
-  const Pose S_A = translation(0.0, E(E_YOA), E(E_ZOA)) * Ry(E(E_BOA)) * Rz(E(E_COA));
-  data.ZMA = S_A * Rx(q.a + E(E_AOA)) *
-             error_htm(v3(e, delta_xa, delta_ya, delta_za), v3(e, epsilon_xa, epsilon_ya, epsilon_za)) *
-             S_A.inverse(Eigen::Isometry);
-  // Y (Eq. 17).
-  data.AMY = slide({E(delta_xy) - q.y * E(S_xy), q.y + E(delta_yy), E(delta_zy) - q.y * E(S_zy)},
-                   v3(e, epsilon_xy, epsilon_yy, epsilon_zy));
+  const Pose S_A = a_axis_line(e);
+  data.wMF = c_joint_wMF(e, q.c, c_axis_line(e));
+  data.FMX = x_joint(e, q.x);
+  data.XMZ = z_joint(e, q.z);
+  data.ZMA = a_joint(e, q.a, S_A, S_A.inverse(Eigen::Isometry));
+  data.AMY = y_joint(e, q.y);
 
   data.wMX = data.wMF * data.FMX;
   data.wMZ = data.wMX * data.XMZ;
   data.wMA = data.wMZ * data.ZMA;
   data.wMg = data.wMA * data.AMY;
   return data.wMg;
+}
+
+ChainEvaluator::ChainEvaluator(const MachineModel& model, const AxisPose& q) : model_id_(model.id()) {
+  model.errors_at(q, e_);
+  q_ = q;
+  S_C_ = c_axis_line(e_);
+  S_A_ = a_axis_line(e_);
+  S_A_inverse_ = S_A_.inverse(Eigen::Isometry);
+  wMF_ = c_joint_wMF(e_, q.c, S_C_);
+  FMX_ = x_joint(e_, q.x);
+  ZMA_ = a_joint(e_, q.a, S_A_, S_A_inverse_);
+  AMY_ = y_joint(e_, q.y);
+}
+
+Pose ChainEvaluator::actual_wMg(const MachineModel& model, const AxisPose& q) {
+  // Bit for bit actual_kinematics: every joint is recomputed from the same inputs whenever its axis moved, and the
+  // position-dependent components of an axis enter only that axis' joint (the others are constants).
+  if (q.c != q_.c) {
+    model.axis_errors_at(Axis::C, q.c, e_);
+    wMF_ = c_joint_wMF(e_, q.c, S_C_);
+  }
+  if (q.x != q_.x) {
+    model.axis_errors_at(Axis::X, q.x, e_);
+    FMX_ = x_joint(e_, q.x);
+  }
+  if (q.a != q_.a) {
+    model.axis_errors_at(Axis::A, q.a, e_);
+    ZMA_ = a_joint(e_, q.a, S_A_, S_A_inverse_);
+  }
+  if (q.y != q_.y) {
+    model.axis_errors_at(Axis::Y, q.y, e_);
+    AMY_ = y_joint(e_, q.y);
+  }
+  model.axis_errors_at(Axis::Z, q.z, e_);
+  q_ = q;
+  return wMF_ * FMX_ * z_joint(e_, q.z) * ZMA_ * AMY_;
 }
 
 const Pose& actual_wMg(const MachineModel& model, MachineData& data, const AxisPose& q) {

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -34,9 +35,19 @@ Interval internal_stroke(const Strokes& s, Axis axis) {
 
 } // namespace
 
+namespace {
+
+std::uint64_t next_model_id() {
+  static std::atomic<std::uint64_t> counter{0};
+  return ++counter;
+}
+
+} // namespace
+
 MachineModel::MachineModel(const Strokes& strokes) : MachineModel(strokes, {}) {}
 
-MachineModel::MachineModel(const Strokes& strokes, std::vector<ErrorSource> sources) : strokes_(strokes) {
+MachineModel::MachineModel(const Strokes& strokes, std::vector<ErrorSource> sources)
+    : strokes_(strokes), id_(next_model_id()) {
   check_interval(strokes.x_mm, "X (mm)");
   check_interval(strokes.y_mm, "Y (mm)");
   check_interval(strokes.z_mm, "Z (mm)");
@@ -52,6 +63,10 @@ MachineModel::MachineModel(const Strokes& strokes, std::vector<ErrorSource> sour
     given[k] = true;
     check_coverage(s);
     sources_[k] = std::move(s);
+  }
+  for (int i = 0; i < kComponentCount; ++i) {
+    const ComponentInfo& c = info(component_at(i));
+    if (c.position_dependent) varying_on_[static_cast<std::size_t>(c.axis)].push_back(i);
   }
 }
 
@@ -90,6 +105,10 @@ void MachineModel::errors_at(const AxisPose& q, ErrorVector& e) const noexcept {
     const ErrorSource& s = sources_[static_cast<std::size_t>(i)];
     e(i) = s.value(q[info(s.id()).axis]);
   }
+}
+
+void MachineModel::axis_errors_at(Axis axis, double position, ErrorVector& e) const noexcept {
+  for (const int i : varying_on_[static_cast<std::size_t>(axis)]) e(i) = sources_[static_cast<std::size_t>(i)].value(position);
 }
 
 void MachineModel::error_rates_at(const AxisPose& q, ErrorVector& de) const noexcept {

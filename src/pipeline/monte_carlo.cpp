@@ -9,12 +9,14 @@
 #include "geartopo/effects/effects_process.hpp"
 #include "geartopo/effects/registry.hpp"
 #include "geartopo/grinding/machine_process.hpp"
+#include "geartopo/grinding/topology_plan.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <set>
@@ -167,9 +169,11 @@ std::pair<long long, long long> shard_range(long long samples, int shard, int sh
   return {at(shard - 1), at(shard)};
 }
 
-MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
-                              const MonteCarloOptions& options) {
-  const auto [first, last] = shard_range(options.samples, options.shard, options.shards);
+namespace {
+
+/// Samples first..last − 1 of the run (seed, options): each from its own (seed, k) stream.
+MonteCarloRun run_sample_range(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
+                               const MonteCarloOptions& options, long long first, long long last) {
   const auto& unc = wb.scene.machine.uncertainty;
   const auto nominal_map = full_map(wb.scene.machine.sources);
   const compensation::CorrectionTable applied = rounded_to_resolution(nominal, unc.resolution);
@@ -191,6 +195,7 @@ MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation
   so.teeth = wb.scene.grid.teeth;
   so.threads = 1; // parallel over samples instead
   const auto& g = wb.setup.geometry();
+  const grinding::TopologyPlan plan(wb.setup, so); // the points' geometry, computed once for every gear
 
   MonteCarloRun run;
   run.samples_total = options.samples;
@@ -241,8 +246,8 @@ MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation
     const auto table_before = with_stroke_offsets(uncorrected, off_before);
     const auto table_after = with_stroke_offsets(applied, off_after);
     const compensation::CompensatedProcess gear1(true_machine, table_before), gear2(true_machine, table_after);
-    const auto topo1 = grinding::simulate_topology(wb.setup, gear1, so);
-    const auto topo2 = grinding::simulate_topology(wb.setup, gear2, so);
+    const auto topo1 = plan.simulate(gear1, so.threads);
+    const auto topo2 = plan.simulate(gear2, so.threads);
     before[static_cast<size_t>(i)] = gear_quantities(workbench::evaluate_iso(g, wb.setup.ranges(), topo1, options.iso), topo1);
     after[static_cast<size_t>(i)] = gear_quantities(workbench::evaluate_iso(g, wb.setup.ranges(), topo2, options.iso), topo2);
     if (options.on_sample_done) {
@@ -267,6 +272,74 @@ MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation
     run.samples.push_back({first + i, b.values, a.values});
   }
   return run;
+}
+
+MonteCarloRun run_adaptive(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
+                           const MonteCarloOptions& options) {
+  if (options.shards != 1)
+    throw std::invalid_argument("adaptive Monte Carlo runs in one process: its stop depends on all samples (no --shard)");
+  if (options.adaptive_batch < 2 || options.adaptive_max_samples < 2 * options.adaptive_batch)
+    throw std::invalid_argument(fmt::format("adaptive Monte Carlo: batch {} and at most {} samples: need a batch ≥ 2 and "
+                                            "room for two batches", options.adaptive_batch, options.adaptive_max_samples));
+  MonteCarloRun run;
+  for (long long h = 1;; ++h) {
+    MonteCarloRun batch = run_sample_range(wb, nominal, options, (h - 1) * options.adaptive_batch, h * options.adaptive_batch);
+    if (h == 1) run.names = batch.names, run.seed = batch.seed;
+    for (auto& smp : batch.samples) run.samples.push_back(std::move(smp));
+    run.samples_total = h * options.adaptive_batch;
+    if (h < 2) continue;
+    if (adaptive_stability(run, options.adaptive_batch, options.adaptive_tolerance_um).stable) break;
+    if ((h + 1) * options.adaptive_batch > options.adaptive_max_samples) break;
+  }
+  return run;
+}
+
+} // namespace
+
+MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
+                              const MonteCarloOptions& options) {
+  if (options.adaptive_tolerance_um > 0.0) return run_adaptive(wb, nominal, options);
+  const auto [first, last] = shard_range(options.samples, options.shard, options.shards);
+  return run_sample_range(wb, nominal, options, first, last);
+}
+
+AdaptiveStability adaptive_stability(const MonteCarloRun& run, long long batch, double tolerance_um) {
+  const auto m = static_cast<long long>(run.samples.size());
+  if (batch < 1 || m < batch || m % batch != 0)
+    throw std::invalid_argument(fmt::format("{} samples are not whole batches of {}", m, batch));
+  for (long long i = 0; i < m; ++i)
+    if (run.samples[static_cast<size_t>(i)].index != i) throw std::invalid_argument(fmt::format("sample {} is missing", i));
+  AdaptiveStability st;
+  st.batches = m / batch;
+  const auto h = static_cast<double>(st.batches);
+  for (size_t n = 0; n < run.names.size(); ++n) {
+    if (!run.names[n].ends_with("_um")) continue; // classes are whole numbers: their ends do not converge smoothly
+    for (const bool after : {false, true}) {
+      std::vector<Band> bands;
+      for (long long r = 0; r < st.batches; ++r) {
+        std::vector<double> v;
+        for (long long i = r * batch; i < (r + 1) * batch; ++i) {
+          const auto& smp = run.samples[static_cast<size_t>(i)];
+          v.push_back(after ? smp.after[n] : smp.before[n]);
+        }
+        bands.push_back(coverage_band(std::move(v)));
+      }
+      for (const auto& [what, member] : {std::pair{"median", &Band::median}, {"low", &Band::low}, {"high", &Band::high}}) {
+        double mean = 0.0;
+        for (const auto& b : bands) mean += b.*member;
+        mean /= h;
+        double ss = 0.0;
+        for (const auto& b : bands) ss += (b.*member - mean) * (b.*member - mean);
+        const double two_s = st.batches < 2 ? std::numeric_limits<double>::infinity() : 2.0 * std::sqrt(ss / (h * (h - 1.0)));
+        if (two_s > st.worst_two_s_um || st.worst.empty()) {
+          st.worst_two_s_um = two_s;
+          st.worst = fmt::format("{}.{} {}", after ? "after" : "before", run.names[n], what);
+        }
+      }
+    }
+  }
+  st.stable = st.batches >= 2 && st.worst_two_s_um <= tolerance_um;
+  return st;
 }
 
 MonteCarloRun merge_runs(std::vector<MonteCarloRun> parts) {

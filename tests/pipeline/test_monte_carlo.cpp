@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -296,6 +297,106 @@ TEST(MonteCarlo, ABrokenPartialFileIsLocated) {
     EXPECT_NE(m.find("before.F_beta_um"), std::string::npos) << m;
   }
   std::filesystem::remove(file);
+}
+
+// The adaptive stop (JCGM 101:2008 §7.9.4, adapted): the statistic written out in the test — per batch of 100 the
+// 95 % interval [y_(3), y_(98)] (q = 95, M − q = 5 odd → r = 3) and the median (y_(50) + y_(51))/2, then
+// 2s = 2·√(Σ (x_r − x̄)² / (h(h − 1))) over the h batches — compared with adaptive_stability; classes are ignored.
+TEST(MonteCarloAdaptive, TheStabilityStatisticIsTwiceTheStandardDeviationOfTheBatchMeans) {
+  constexpr long long kBatch = 100, kBatches = 6;
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> before(2.0, 0.7), after(1.0, 0.3);
+  pipeline::MonteCarloRun run;
+  run.names = {"F_p_um", "overall_class"};
+  run.samples_total = kBatch * kBatches;
+  for (long long k = 0; k < run.samples_total; ++k)
+    run.samples.push_back({k, {before(rng), static_cast<double>(k % 7)}, {after(rng), static_cast<double>(k % 5)}});
+  double worst = 0.0;
+  for (const bool is_after : {false, true})
+    for (int what = 0; what < 3; ++what) { // median, low, high
+      std::vector<double> per_batch;
+      for (long long r = 0; r < kBatches; ++r) {
+        std::vector<double> y;
+        for (long long k = r * kBatch; k < (r + 1) * kBatch; ++k)
+          y.push_back(is_after ? run.samples[static_cast<size_t>(k)].after[0] : run.samples[static_cast<size_t>(k)].before[0]);
+        std::sort(y.begin(), y.end());
+        per_batch.push_back(what == 0 ? 0.5 * (y[49] + y[50]) : what == 1 ? y[2] : y[97]);
+      }
+      double mean = 0.0, ss = 0.0;
+      for (double x : per_batch) mean += x / kBatches;
+      for (double x : per_batch) ss += (x - mean) * (x - mean);
+      worst = std::max(worst, 2.0 * std::sqrt(ss / (kBatches * (kBatches - 1.0))));
+    }
+  const auto st = pipeline::adaptive_stability(run, kBatch, 1.0);
+  EXPECT_EQ(st.batches, kBatches);
+  EXPECT_NEAR(st.worst_two_s_um, worst, 1e-12);
+  EXPECT_EQ(st.worst.rfind("before.F_p_um", 0), 0u) << st.worst << ": the wider distribution is the less stable";
+  EXPECT_TRUE(pipeline::adaptive_stability(run, kBatch, worst * 1.0001).stable);
+  EXPECT_FALSE(pipeline::adaptive_stability(run, kBatch, worst * 0.9999).stable);
+  run.samples.pop_back();
+  EXPECT_THROW(pipeline::adaptive_stability(run, kBatch, 1.0), std::invalid_argument);
+}
+
+// A C zero-position error of standard uncertainty u alone: the rotation line is N(0, σ²), σ = r_b cos β_b u (see
+// UncertainCIndexIsANormallyDistributedRigidRotation). The adaptive run stops at a whole number of batches, equals
+// the plain run of that many samples, does not depend on the threads, and its interval ends lie within three
+// standard errors of ±1.96 σ (order statistics of M samples: √(p(1 − p)/M)/φ(1.96) σ).
+TEST(MonteCarloAdaptive, StopsReproduciblyAndItsIntervalIsTheNormalOne) {
+  const workbench::Workbench wb(scene::parse_scene(
+      mc_scene_text("  uncertainty: {linear_axis_um: 0, linear_axis_urad: 0, rotary_axis_um: 0, rotary_axis_urad: 0,\n"
+                    "                squareness_urad: 0, location_um: 0, location_urad: 0,\n"
+                    "                components: {E_COC_urad: 20}}\n"
+                    "  repeatability: {x_um: 0, y_um: 0, z_um: 0, a_mdeg: 0, c_mdeg: 0}\n"
+                    "  resolution: {x_um: 0, y_um: 0, z_um: 0, a_mdeg: 0, c_mdeg: 0}\n"),
+      "mem"));
+  const double beta = 20.0 * units::kRadPerDeg, alpha_n = 20.0 * units::kRadPerDeg;
+  const double rb = 0.5 * (20 * 4.0 / std::cos(beta)) * std::cos(std::atan(std::tan(alpha_n) / std::cos(beta)));
+  const double sigma_um = rb * std::cos(std::asin(std::sin(beta) * std::cos(alpha_n))) * 20.0 * 1e-3;
+  const auto table = nominal_corrections(wb);
+  pipeline::MonteCarloOptions o;
+  o.seed = 11;
+  o.adaptive_tolerance_um = 0.3;
+  o.adaptive_batch = 50;
+  o.adaptive_max_samples = 2000;
+  o.threads = 1;
+  const auto one = pipeline::run_monte_carlo(wb, table, o);
+  o.threads = 2;
+  const auto two = pipeline::run_monte_carlo(wb, table, o);
+  const auto m = static_cast<long long>(one.samples.size());
+  ASSERT_EQ(m % 50, 0);
+  ASSERT_GE(m, 100);
+  ASSERT_LT(m, 2000) << "did not stabilise";
+  EXPECT_EQ(one.samples_total, m);
+  EXPECT_TRUE(pipeline::adaptive_stability(one, 50, 0.3).stable);
+  if (m > 100) { // it did not stop one batch earlier
+    pipeline::MonteCarloRun shorter = one;
+    shorter.samples.resize(static_cast<size_t>(m - 50));
+    EXPECT_FALSE(pipeline::adaptive_stability(shorter, 50, 0.3).stable);
+  }
+  pipeline::MonteCarloOptions plain;
+  plain.seed = 11;
+  plain.samples = m;
+  const auto reference = pipeline::run_monte_carlo(wb, table, plain);
+  for (const auto* other : {&two, &reference}) {
+    ASSERT_EQ(other->samples.size(), one.samples.size());
+    for (size_t k = 0; k < one.samples.size(); ++k) {
+      EXPECT_EQ(other->samples[k].before, one.samples[k].before);
+      EXPECT_EQ(other->samples[k].after, one.samples[k].after);
+    }
+  }
+  const auto s = pipeline::summarise(one);
+  const double se_end = std::sqrt(0.025 * 0.975 / static_cast<double>(m)) / 0.05844 * sigma_um;
+  for (const auto* side : {&s.before, &s.after}) {
+    const auto& rot = (*side)[static_cast<size_t>(s.find("rotation_um"))];
+    EXPECT_NEAR(rot.low, -1.96 * sigma_um, 3 * se_end);
+    EXPECT_NEAR(rot.high, 1.96 * sigma_um, 3 * se_end);
+  }
+  // The maximum holds: a tolerance no run meets stops at the largest whole number of batches within it.
+  o.adaptive_tolerance_um = 1e-9;
+  o.adaptive_max_samples = 120;
+  EXPECT_EQ(pipeline::run_monte_carlo(wb, table, o).samples.size(), 100u);
+  o.shards = 2; // the stop depends on all samples: no shards
+  EXPECT_THROW(pipeline::run_monte_carlo(wb, table, o), std::invalid_argument);
 }
 
 namespace {

@@ -44,7 +44,8 @@ public:
 
 private:
   std::vector<CorrectionRow> rows_;
-  std::map<int, std::pair<size_t, size_t>> span_; // space → [first, last) rows
+  std::vector<double> z_;                          // rows' stroke positions, for the search
+  std::vector<std::pair<size_t, size_t>> span_;    // space → [first, last) rows; empty span: no rows
 };
 
 } // namespace geartopo::compensation

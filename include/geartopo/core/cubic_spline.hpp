@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace geartopo {
@@ -27,6 +28,8 @@ public:
   double value(double t) const noexcept;
   double derivative(double t) const noexcept;
   double second_derivative(double t) const noexcept;
+  /// {value(t), derivative(t)} with one search for t's interval (the same bits).
+  std::pair<double, double> value_and_derivative(double t) const noexcept;
 
   double front() const { return x_.front(); }
   double back() const { return x_.back(); }
@@ -38,6 +41,8 @@ public:
 private:
   struct Local { std::size_t i; double t; bool below, above; };
   Local locate(double t) const noexcept;
+  double value_inside(const Local& l) const noexcept;      ///< l neither below nor above
+  double derivative_inside(const Local& l) const noexcept; ///< l neither below nor above
 
   std::vector<double> x_, y_, m_; // knots, values, second derivatives at the knots
   bool periodic_ = false;

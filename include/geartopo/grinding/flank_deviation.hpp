@@ -70,15 +70,20 @@ public:
   /// Where the wheel at pose wMg first enters along P + t n (t in mm); +∞ if it misses near the flank.
   double entry_depth(const gears::FlankPoint& fp, const machine::Pose& wMg, const PathPoint& pp) const;
 
-private:
-  /// A flank point with what the search around it needs: the space that grinds it and its nominal stroke Z₀.
+  /// A flank point with what the search around it needs: the space that grinds it and its nominal stroke Z₀. It
+  /// depends on the geometry alone, not on the process: simulations of many processes on the same points compute it
+  /// once (TopologyPlan, topology_plan.hpp).
   struct Target {
     int space;
     gears::FlankPoint fp;
     double z0;
   };
   Target target(int tooth, geartopo::Flank flank, double roll_length_mm, double z_mm) const;
+  /// at() for a target computed before (bit for bit the same result).
+  DeviationResult at(const Target& t, Method method) const;
   LinearContact linear_contact(const Target& t) const;
+
+private:
   double depth_at(const Target& t, double z_stroke_mm) const; ///< entry depth with the wheel at stroke position Z
   DeviationResult brent_search(const Target& t, double z_tol_mm) const;
 

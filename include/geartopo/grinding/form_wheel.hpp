@@ -35,6 +35,11 @@ public:
   }
   /// dR/dv inside the width.
   double slope(double v) const { return profile_.derivative(v); }
+  /// {radius(v), slope(v)} with one search in the profile (the same bits).
+  std::pair<double, double> radius_and_slope(double v) const {
+    if (v < v_min_ || v > v_max_) return {-std::numeric_limits<double>::infinity(), profile_.derivative(v)};
+    return profile_.value_and_derivative(v);
+  }
   /// How far the surface moves along its normal when the radius grows by one unit at v: 1/√(1 + R′(v)²). A radial
   /// change δR of the wheel moves its surface by δR/√(1 + R′²) along the normal — much less on the steep flanks.
   double normal_per_radial(double v) const {

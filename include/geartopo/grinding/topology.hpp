@@ -53,11 +53,25 @@ struct SimulationOptions {
   std::function<void(long long, long long)> progress;
 };
 
+/// Where a simulation evaluates (the layout described at the top of this file): the teeth, the grid's roll lengths
+/// (rows) and axial positions (cols), the profile traces' roll lengths at profile_z_mm, the helix traces' axial
+/// positions at helix_roll_length_mm, and the dense grid's rows and cols (empty unless requested). Throws
+/// std::invalid_argument as simulate_topology does.
+struct SimulationPoints {
+  std::vector<int> teeth;
+  std::vector<double> rows, cols, profile_roll_lengths, helix_z, dense_rows, dense_cols;
+  double profile_z_mm = 0.0, helix_roll_length_mm = 0.0;
+};
+SimulationPoints simulation_points(const GrindingSetup& setup, const SimulationOptions& options);
+
 /// One entry per requested tooth and flank, ordered by tooth then left, right. Throws std::runtime_error naming the
 /// first point (in that order) the wheel never reaches (grinding::require_reached), std::invalid_argument for a
 /// tooth outside 1..z, grids below 2×2, or more points than kMaxPointsPerFlank / kMaxPointsPerSimulation.
 std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const GrindingProcess& process,
                                              const SimulationOptions& options);
+
+/// Throws std::runtime_error (require_reached) at the first point, in the topology's order, the wheel never reached.
+void require_all_reached(const std::vector<FlankTopology>& topo);
 
 /// Largest |deviation| (µm) over the grids of all flanks.
 double largest_abs_deviation_um(const std::vector<FlankTopology>& topo);

@@ -39,6 +39,26 @@ const Pose& actual_kinematics(const ErrorVector& e, const AxisPose& q, MachineDa
 /// Exact chain with the model's errors at q (Eq. 22 without approximation); returns data.wMg.
 const Pose& actual_wMg(const MachineModel& model, MachineData& data, const AxisPose& q);
 
+/// The exact chain of one model evaluated pose after pose, recomputing only what moved: a profile grinder holds X, Y
+/// and A fixed along a stroke, so along a stroke only the C and Z joints (and their components) change. Gives
+/// actual_wMg(model, ·, q) bit for bit (the same joint functions; tests/machine). The constants of the axis lines
+/// S_C, S_A are computed once. One evaluator per thread (it is mutable); `model` must be the one it was made with or a
+/// copy of it (same id()).
+class ChainEvaluator {
+public:
+  ChainEvaluator(const MachineModel& model, const AxisPose& q);
+  std::uint64_t model_id() const { return model_id_; }
+  /// Actual wheel pose at q.  wMg
+  Pose actual_wMg(const MachineModel& model, const AxisPose& q);
+
+private:
+  std::uint64_t model_id_;
+  ErrorVector e_;        ///< components at the axis positions of q_, 43×1
+  AxisPose q_;           ///< the last pose
+  Pose S_C_, S_A_, S_A_inverse_; ///< the C and A axis lines (constants)
+  Pose wMF_, FMX_, ZMA_, AMY_;   ///< the C, X, A and Y joints at q_
+};
+
 /// Pose error as twists: w = twist of E_w (in w), g = twist of E_g (in g); (translation mm; rotation rad).
 struct PoseErrorTwists {
   Vector6d w; ///< 6×1, workpiece frame: E_w = wMg_actual · wMg_ideal⁻¹ (Eq. 23)

@@ -3,6 +3,9 @@
 // Units: X, Y, Z strokes in mm, A stroke in deg (as data sheets give it), C a full turn; inside mm and rad.
 #pragma once
 
+#include <array>
+#include <cstdint>
+
 #include "geartopo/machine/axis_pose.hpp"
 #include "geartopo/machine/error_component.hpp"
 #include "geartopo/machine/error_source.hpp"
@@ -48,12 +51,21 @@ public:
   void errors_at(const AxisPose& q, ErrorVector& e) const noexcept;
   /// de(k) = d e(k) / d(position of component k's axis): mm/mm, rad/mm, mm/rad or rad/rad. No allocation.
   void error_rates_at(const AxisPose& q, ErrorVector& de) const noexcept;
+  /// Only the position-dependent components of `axis`, at `position` (mm or rad): the others of e are left as they
+  /// are. For evaluators that reuse the components of axes that did not move (ChainEvaluator, chain.hpp).
+  void axis_errors_at(Axis axis, double position, ErrorVector& e) const noexcept;
+
+  /// Identifies the model's content: a model and its copies share it, models constructed separately never do (a
+  /// process-wide counter). Caches keyed by it never confuse two models, even one built where another was freed.
+  std::uint64_t id() const { return id_; }
 
 private:
   void check_coverage(const ErrorSource& s) const;
 
   Strokes strokes_;
   std::vector<ErrorSource> sources_; // kComponentCount entries, indexed by ComponentId
+  std::uint64_t id_;
+  std::array<std::vector<int>, kAxisCount> varying_on_; // per axis: its position-dependent components
 };
 
 } // namespace geartopo::machine

@@ -39,6 +39,13 @@ struct MonteCarloOptions {
   /// thread-safe and cheap. For progress and work estimates only; the samples do not depend on it. An exception it
   /// throws (a work estimate beyond its limit) stops the samples not yet started and leaves run_monte_carlo.
   std::function<void(long long done, long long total)> on_sample_done;
+  /// > 0: adaptive (JCGM 101:2008 §7.9, adapted: docs/monte-carlo.md): `samples` is ignored; batches of
+  /// adaptive_batch samples run until twice the standard deviation of the mean over the batches of every µm
+  /// quantity's median and 95 % interval ends (before and after) is at most this tolerance (µm), or
+  /// adaptive_max_samples are reached. Needs shards = 1. The result equals a plain run of the samples it stopped at.
+  double adaptive_tolerance_um = 0.0;
+  long long adaptive_batch = 100;
+  long long adaptive_max_samples = 10'000;
 };
 
 /// The gear quantities one simulated (or measured) gear reduces to, by name with unit: "F_beta_um", "F_beta_class",
@@ -79,6 +86,19 @@ std::pair<long long, long long> shard_range(long long samples, int shard, int sh
 /// rounded here). Throws std::invalid_argument for bad options.
 MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
                               const MonteCarloOptions& options);
+
+/// How stable the summary of the first h·batch samples of a run is (JCGM 101:2008 §7.9.4, adapted): for each µm
+/// quantity (name ending in "_um"), before and after, the median and the 95 % interval ends of each of the h batches
+/// (coverage_band), and s = √(Σ_r (x_r − x̄)² / (h(h − 1))), the standard deviation of their mean. `worst_two_s_um` is
+/// the largest 2s, `worst` names it ("after.F_p_um high"); stable when h ≥ 2 and worst_two_s_um ≤ tolerance_um.
+struct AdaptiveStability {
+  long long batches = 0;
+  double worst_two_s_um = 0.0;
+  std::string worst;
+  bool stable = false;
+};
+/// Throws std::invalid_argument unless the run holds samples 0..h·batch − 1 (h ≥ 1) in order.
+AdaptiveStability adaptive_stability(const MonteCarloRun& run, long long batch, double tolerance_um);
 
 /// Partials of one run (same seed, sample count and names) → one run with every sample once. Throws
 /// std::invalid_argument naming what does not match, a sample given twice or the samples missing.
