@@ -188,6 +188,10 @@ nlohmann::json diagnosis_json(const std::string& scene, const std::string& measu
   } else {
     j["nearest"] = nullptr;
   }
+  // The "more than noise" test's numbers: Σ r²/σ² of what is left (whitened when the stroke scatter is declared) and
+  // its degrees of freedom (unit-free; docs/diagnosis.md, "Stroke-to-stroke scatter and the map's uncertainty").
+  j["residual_chi2"] = d.chi2_after;
+  j["residual_chi2_dof"] = d.chi2_dof;
   j["residual_pattern"] = d.residual_pattern.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.residual_pattern);
   j["assumed"] = d.assumed; // set-up values not fitted and not given: the effect's default
   // scene_with_effect.yaml is written only for an accepted explanation; otherwise why not.

@@ -368,6 +368,13 @@ void expect_unexplained_reported_alike(const diagnosis::Diagnosis& d, const std:
   EXPECT_EQ(j["nearest"]["rejected_because"], d.nearest_rejected) << name;
   EXPECT_EQ(j["residual_pattern"], d.residual_pattern) << name;
   EXPECT_EQ(j["verdict"], d.verdict) << name;
+  // The χ² of the "more than noise" test, recomputed here from what is left (no stroke scatter declared: the residual
+  // shown is the one tested) and the noise.
+  double chi2 = 0.0;
+  for (double r : d.residual_after_um) chi2 += (r / d.noise_um) * (r / d.noise_um);
+  EXPECT_NEAR(j["residual_chi2"].get<double>(), chi2, 1e-9 * chi2) << name;
+  EXPECT_GT(j["residual_chi2_dof"].get<double>(), 0.0) << name;
+  EXPECT_LT(j["residual_chi2_dof"].get<double>(), static_cast<double>(d.residual_after_um.size())) << name;
   for (const auto& c : j["candidates"]) EXPECT_FALSE(c["significant"].get<bool>()) << name << ": " << c["effect"];
 }
 
