@@ -117,8 +117,8 @@ void register_compensate_command(CLI::App& app, Action& action) {
       std::optional<pipeline::MonteCarloRun> mc_run;
       if (mc.samples > 0) {
         const auto [first, last] = pipeline::shard_range(mc.samples, mc.shard, mc.shards);
-        MonteCarloWatch watch(last - first, mc.threads, opt->mc.max_time_s,
-                              "--shard i/n on several machines and geartopo merge");
+        MonteCarloWatch watch(mc.adaptive_tolerance_um > 0.0 ? mc.adaptive_max_samples : last - first, mc.threads, opt->mc.max_time_s,
+                              "--shard i/n on several machines and geartopo merge", mc.adaptive_tolerance_um > 0.0);
         pipeline::MonteCarloOptions watched = mc;
         watched.on_sample_done = watch.callback();
         mc_run = pipeline::run_monte_carlo(wb, table, watched);

@@ -181,8 +181,9 @@ std::function<void(long long, long long)> Progress::callback() {
   return [this](long long done, long long total) { update(done, total); };
 }
 
-MonteCarloWatch::MonteCarloWatch(long long samples, int threads, double max_seconds, std::string split_hint)
+MonteCarloWatch::MonteCarloWatch(long long samples, int threads, double max_seconds, std::string split_hint, bool adaptive)
     : samples_(samples),
+      adaptive_(adaptive),
       threads_(static_cast<int>(std::min<long long>(
           samples, threads > 0 ? threads : std::max(1u, std::thread::hardware_concurrency())))),
       max_seconds_(max_seconds),
@@ -194,8 +195,9 @@ void MonteCarloWatch::sample_done(long long done, long long total) {
     const double first = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     const long long rounds = (samples_ + threads_ - 1) / std::max(1, threads_);
     const double estimate = first * static_cast<double>(rounds);
-    const std::string what = fmt::format("{} samples at {:.2g} s each on {} thread(s): about {:.{}f} s", samples_, first,
-                                         threads_, estimate, estimate < 10.0 ? 1 : 0);
+    const std::string what = fmt::format("{} samples at {:.2g} s each on {} thread(s): about {:.{}f} s{}", samples_, first,
+                                         threads_, estimate, estimate < 10.0 ? 1 : 0,
+                                         adaptive_ ? " at most (the adaptive run may stop earlier)" : "");
     if (estimate > max_seconds_)
       throw CLI::ValidationError("--samples", fmt::format("the Monte Carlo prediction would take too long: {}, beyond "
                                                           "the limit of {:g} s (--max-time-s): use fewer --samples or {}",

@@ -115,13 +115,15 @@ class MonteCarloWatch {
 public:
   /// `samples` in this run (this shard's), `threads` as MonteCarloOptions::threads (0: all hardware threads);
   /// `split_hint` says how to split the work (e.g. "--shard i/n on several machines and geartopo merge").
-  MonteCarloWatch(long long samples, int threads, double max_seconds, std::string split_hint);
+  /// `adaptive`: `samples` is the adaptive run's limit (--max-samples), the estimate an upper bound.
+  MonteCarloWatch(long long samples, int threads, double max_seconds, std::string split_hint, bool adaptive = false);
   void sample_done(long long done, long long total);
   /// For MonteCarloOptions::on_sample_done: sample_done() of this object, which must outlive the run.
   std::function<void(long long, long long)> callback();
 
 private:
   long long samples_;
+  bool adaptive_;
   int threads_;
   double max_seconds_;
   std::string split_hint_;

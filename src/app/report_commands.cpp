@@ -88,7 +88,8 @@ public:
       finish();
       if (stage == pipeline::kPredictionStage)
         watch_ = std::make_unique<MonteCarloWatch>(size, po.prediction ? po.prediction->threads : 0, max_time_s,
-                                                   "compensate --shard i/n on several machines and geartopo merge");
+                                                   "compensate --shard i/n on several machines and geartopo merge",
+                                                   po.prediction && po.prediction->adaptive_tolerance_um > 0.0);
       else
         progress_ = std::make_unique<Progress>(stage, size, stage == pipeline::kDiagnoseStage ? "candidate fits" : "flanks");
     };

@@ -282,8 +282,18 @@ MonteCarloRun run_adaptive(const workbench::Workbench& wb, const compensation::C
     throw std::invalid_argument(fmt::format("adaptive Monte Carlo: batch {} and at most {} samples: need a batch ≥ 2 and "
                                             "room for two batches", options.adaptive_batch, options.adaptive_max_samples));
   MonteCarloRun run;
+  // Progress counts over the batches towards the limit (the stop is not known before): batch h's samples continue the
+  // count where batch h − 1 ended.
+  MonteCarloOptions batch_options = options;
+  long long done_before = 0;
+  if (options.on_sample_done)
+    batch_options.on_sample_done = [&](long long done, long long) {
+      options.on_sample_done(done_before + done, options.adaptive_max_samples);
+    };
   for (long long h = 1;; ++h) {
-    MonteCarloRun batch = run_sample_range(wb, nominal, options, (h - 1) * options.adaptive_batch, h * options.adaptive_batch);
+    done_before = (h - 1) * options.adaptive_batch;
+    MonteCarloRun batch =
+        run_sample_range(wb, nominal, batch_options, (h - 1) * options.adaptive_batch, h * options.adaptive_batch);
     if (h == 1) run.names = batch.names, run.seed = batch.seed;
     for (auto& smp : batch.samples) run.samples.push_back(std::move(smp));
     run.samples_total = h * options.adaptive_batch;

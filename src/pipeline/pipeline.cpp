@@ -42,7 +42,7 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
   r.largest_after_um = grinding::largest_abs_deviation_um(r.after);
   if (o.prediction) {
     const auto [first, last] = shard_range(o.prediction->samples, o.prediction->shard, o.prediction->shards);
-    stage(kPredictionStage, last - first);
+    stage(kPredictionStage, o.prediction->adaptive_tolerance_um > 0.0 ? o.prediction->adaptive_max_samples : last - first);
     MonteCarloOptions mc = *o.prediction;
     mc.iso = o.iso;
     r.prediction = summarise(run_monte_carlo(wb, *r.corrections, mc));

@@ -157,6 +157,29 @@ TEST(ProgressMonteCarlo, TotalIsTheShardsSamples) {
   for (size_t i = 0; i < 3; ++i) EXPECT_EQ(log.calls[i], (std::pair<long long, long long>(static_cast<long long>(i) + 1, 3)));
 }
 
+// An adaptive run counts on across its batches, towards its limit (the stop is not known before): the done counts are
+// 1..(samples it stopped at), each once, and the total is --max-samples.
+TEST(ProgressMonteCarlo, AnAdaptiveRunCountsAcrossItsBatchesTowardsItsLimit) {
+  const workbench::Workbench wb(scene::parse_scene(progress_scene_text(""), "mem"));
+  pipeline::MonteCarloOptions o;
+  o.adaptive_tolerance_um = 1e3; // stable after the first two batches
+  o.adaptive_batch = 3;
+  o.adaptive_max_samples = 12;
+  o.threads = 2;
+  CallLog log;
+  o.on_sample_done = std::ref(log);
+  const auto run = pipeline::run_monte_carlo(wb, corrections_of(wb), o);
+  ASSERT_EQ(run.samples_total, 6); // two batches of 3: the least an adaptive run does
+  ASSERT_EQ(log.calls.size(), 6u);
+  std::vector<long long> done;
+  for (const auto& [d, t] : log.calls) {
+    EXPECT_EQ(t, 12);
+    done.push_back(d);
+  }
+  std::sort(done.begin(), done.end());
+  EXPECT_EQ(done, (std::vector<long long>{1, 2, 3, 4, 5, 6}));
+}
+
 // A callback that throws (a work estimate beyond its limit) stops the run: on one thread no sample after the first
 // starts, and run_monte_carlo passes the exception on.
 TEST(ProgressMonteCarlo, AThrowingCallbackStopsTheRun) {
