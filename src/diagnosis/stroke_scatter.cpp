@@ -73,8 +73,14 @@ StrokeScatter::StrokeScatter(const std::vector<int>& space, const Eigen::MatrixX
     const auto m = static_cast<Eigen::Index>(b.idx.size());
     Eigen::MatrixXd Gs(m, G.cols()); // n_s × 5
     for (Eigen::Index k = 0; k < m; ++k) Gs.row(k) = G.row(b.idx[static_cast<size_t>(k)]);
-    const Eigen::MatrixXd sigma = noise_um * noise_um * Eigen::MatrixXd::Identity(m, m) + Gs * Gs.transpose();
-    b.L = sigma.llt().matrixL(); // positive definite: σ² I plus a Gram matrix
+    // D_s = σ² I + G_s G_sᵀ has the eigenvalues σ² + s_k² on G_s's left singular vectors and σ² elsewhere.
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(Gs, Eigen::ComputeThinU);
+    const Eigen::VectorXd& sv = svd.singularValues();
+    Eigen::Index k = 0;
+    while (k < sv.size() && sv(k) > 1e-9 * noise_um) ++k;
+    b.U = svd.matrixU().leftCols(k);
+    b.shrink = (1.0 - noise_um / (noise_um * noise_um + sv.head(k).array().square()).sqrt()).matrix();
+    b.G = std::move(Gs);
     blocks_.push_back(std::move(b));
   }
   if (M.size() == 0) return;
@@ -100,7 +106,7 @@ Eigen::MatrixXd StrokeScatter::whiten_blocks(const Eigen::MatrixXd& X) const {
     const auto m = static_cast<Eigen::Index>(b.idx.size());
     Eigen::MatrixXd xs(m, X.cols());
     for (Eigen::Index k = 0; k < m; ++k) xs.row(k) = X.row(b.idx[static_cast<size_t>(k)]);
-    const Eigen::MatrixXd ws = noise_um_ * b.L.triangularView<Eigen::Lower>().solve(xs); // σ L⁻¹ x
+    const Eigen::MatrixXd ws = xs - b.U * (b.shrink.asDiagonal() * (b.U.transpose() * xs)); // σ D_s^(−1/2) x
     for (Eigen::Index k = 0; k < m; ++k) out.row(b.idx[static_cast<size_t>(k)]) = ws.row(k);
   }
   return out;
@@ -113,7 +119,9 @@ Eigen::VectorXd StrokeScatter::whiten(const Eigen::VectorXd& r) const {
 Eigen::MatrixXd StrokeScatter::covariance() const {
   Eigen::MatrixXd S = Eigen::MatrixXd::Zero(n_, n_);
   for (const auto& b : blocks_) {
-    const Eigen::MatrixXd sb = b.L * b.L.transpose();
+    const Eigen::MatrixXd sb = noise_um_ * noise_um_ * Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(b.idx.size()),
+                                                                                  static_cast<Eigen::Index>(b.idx.size())) +
+                               b.G * b.G.transpose();
     for (size_t j = 0; j < b.idx.size(); ++j)
       for (size_t k = 0; k < b.idx.size(); ++k)
         S(b.idx[j], b.idx[k]) = sb(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(k));

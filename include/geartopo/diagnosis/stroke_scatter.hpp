@@ -9,8 +9,9 @@
 // the same draw the Monte Carlo makes), common to every point: m_iᵀ η, η ~ N(0, I), m_i the deviation at i per one u_c.
 // With probe noise σ the residual's covariance is
 //     Σ = D + M Mᵀ,   D = blockdiag_s(σ² I + G_s G_sᵀ)       (G_s: the rows g_iᵀ of space s, n_s × 5; M: n × m)
-// Generalised least squares minimises ‖W r‖² with W Σ Wᵀ = σ² I: per space W_s = σ L_s⁻¹ (L_s L_sᵀ = D_s, Cholesky),
-// then with M' = W_D M = U S Vᵀ (thin SVD), W_M = I − U diag(1 − σ/√(σ² + s_k²)) Uᵀ, W = W_M W_D (σ² I + M'M'ᵀ has the
+// Generalised least squares minimises ‖W r‖² with W Σ Wᵀ = σ² I: per space, with G_s = U_s S_s V_sᵀ (thin SVD, rank ≤ 5),
+// W_s = σ D_s^(−1/2) = I − U_s diag(1 − σ/√(σ² + s_k²)) U_sᵀ — O(n_s) in time and memory, where a dense n_s × n_s
+// factor of D_s would need 80 GB for a scanned flank of 10⁵ points; then with M' = W_D M = U S Vᵀ (thin SVD), W_M = I − U diag(1 − σ/√(σ² + s_k²)) Uᵀ, W = W_M W_D (σ² I + M'M'ᵀ has the
 // eigenvalues σ² + s_k² on U and σ² elsewhere). The whitened residual is white noise of σ, so every white-noise formula
 // (σ̂² (JᵀJ)⁻¹, χ², BIC) holds for it.
 #pragma once
@@ -59,7 +60,9 @@ public:
 private:
   struct Block {
     std::vector<Eigen::Index> idx; ///< points of the space
-    Eigen::MatrixXd L;             ///< n_s × n_s, lower Cholesky factor of Σ_s
+    Eigen::MatrixXd G;             ///< n_s × 5: the rows g_iᵀ of the space, for covariance()
+    Eigen::MatrixXd U;             ///< n_s × k: left singular vectors of G with non-negligible singular values
+    Eigen::VectorXd shrink;        ///< k: 1 − σ/√(σ² + s_k²)
   };
   Eigen::MatrixXd whiten_blocks(const Eigen::MatrixXd& X) const; ///< W_D X
 
