@@ -77,6 +77,26 @@ double value_of(const pipeline::GearQuantities& g, const std::string& name) {
   return 0.0;
 }
 
+// The scene with only the C zero position uncertain (E_COC, u = 20 µrad): no other uncertainty, repeatability or
+// resolution.
+const std::string kOnlyCIndexUncertain =
+    "  uncertainty: {linear_axis_um: 0, linear_axis_urad: 0, rotary_axis_um: 0, rotary_axis_urad: 0,\n"
+    "                squareness_urad: 0, location_um: 0, location_urad: 0,\n"
+    "                components: {E_COC_urad: 20}}\n"
+    "  repeatability: {x_um: 0, y_um: 0, z_um: 0, a_mdeg: 0, c_mdeg: 0}\n"
+    "  resolution: {x_um: 0, y_um: 0, z_um: 0, a_mdeg: 0, c_mdeg: 0}\n";
+
+/// σ of the rotation line (µm) for a C zero-position error of standard uncertainty u (µrad) on mc_scene_text's gear:
+/// r_b cos β_b u, by ISO 21771 from the gear data (d = z m_n / cos β, tan α_t = tan α_n / cos β, d_b = d cos α_t,
+/// sin β_b = sin β cos α_n).
+double rotation_sd_um(double u_urad) {
+  const double beta = 20.0 * units::kRadPerDeg, alpha_n = 20.0 * units::kRadPerDeg;
+  const double d = 20 * 4.0 / std::cos(beta);
+  const double rb = 0.5 * d * std::cos(std::atan(std::tan(alpha_n) / std::cos(beta)));
+  const double beta_b = std::asin(std::sin(beta) * std::cos(alpha_n));
+  return rb * std::cos(beta_b) * u_urad * 1e-3; // mm·µrad → nm; ·1e-3 → µm
+}
+
 } // namespace
 
 // JCGM 101:2008 §7.7, probabilistically symmetric 95 %: M = 1000 sorted values → q = 950, r = 25: [y_25, y_975].
@@ -166,19 +186,8 @@ TEST(MonteCarlo, NothingUncertainReproducesTheNominalGears) {
 // rotation line is N(0, σ²) with σ = r_b cos β_b u, and pitch (F_p), thickness and flank form do not change.
 TEST(MonteCarlo, UncertainCIndexIsANormallyDistributedRigidRotation) {
   const double u_urad = 20.0;
-  const workbench::Workbench wb(scene::parse_scene(
-      mc_scene_text("  uncertainty: {linear_axis_um: 0, linear_axis_urad: 0, rotary_axis_um: 0, rotary_axis_urad: 0,\n"
-                    "                squareness_urad: 0, location_um: 0, location_urad: 0,\n"
-                    "                components: {E_COC_urad: 20}}\n"
-                    "  repeatability: {x_um: 0, y_um: 0, z_um: 0, a_mdeg: 0, c_mdeg: 0}\n"
-                    "  resolution: {x_um: 0, y_um: 0, z_um: 0, a_mdeg: 0, c_mdeg: 0}\n"),
-      "mem"));
-  // ISO 21771 from the gear data: d = z m_n / cos β, tan α_t = tan α_n / cos β, d_b = d cos α_t, sin β_b = sin β cos α_n.
-  const double beta = 20.0 * units::kRadPerDeg, alpha_n = 20.0 * units::kRadPerDeg;
-  const double d = 20 * 4.0 / std::cos(beta);
-  const double rb = 0.5 * d * std::cos(std::atan(std::tan(alpha_n) / std::cos(beta)));
-  const double beta_b = std::asin(std::sin(beta) * std::cos(alpha_n));
-  const double sigma_um = rb * std::cos(beta_b) * u_urad * 1e-3; // mm·µrad → nm; ·1e-3 → µm
+  const workbench::Workbench wb(scene::parse_scene(mc_scene_text(kOnlyCIndexUncertain), "mem"));
+  const double sigma_um = rotation_sd_um(u_urad);
 
   pipeline::MonteCarloOptions o;
   o.samples = 200;
@@ -342,16 +351,8 @@ TEST(MonteCarloAdaptive, TheStabilityStatisticIsTwiceTheStandardDeviationOfTheBa
 // the plain run of that many samples, does not depend on the threads, and its interval ends lie within three
 // standard errors of ±1.96 σ (order statistics of M samples: √(p(1 − p)/M)/φ(1.96) σ).
 TEST(MonteCarloAdaptive, StopsReproduciblyAndItsIntervalIsTheNormalOne) {
-  const workbench::Workbench wb(scene::parse_scene(
-      mc_scene_text("  uncertainty: {linear_axis_um: 0, linear_axis_urad: 0, rotary_axis_um: 0, rotary_axis_urad: 0,\n"
-                    "                squareness_urad: 0, location_um: 0, location_urad: 0,\n"
-                    "                components: {E_COC_urad: 20}}\n"
-                    "  repeatability: {x_um: 0, y_um: 0, z_um: 0, a_mdeg: 0, c_mdeg: 0}\n"
-                    "  resolution: {x_um: 0, y_um: 0, z_um: 0, a_mdeg: 0, c_mdeg: 0}\n"),
-      "mem"));
-  const double beta = 20.0 * units::kRadPerDeg, alpha_n = 20.0 * units::kRadPerDeg;
-  const double rb = 0.5 * (20 * 4.0 / std::cos(beta)) * std::cos(std::atan(std::tan(alpha_n) / std::cos(beta)));
-  const double sigma_um = rb * std::cos(std::asin(std::sin(beta) * std::cos(alpha_n))) * 20.0 * 1e-3;
+  const workbench::Workbench wb(scene::parse_scene(mc_scene_text(kOnlyCIndexUncertain), "mem"));
+  const double sigma_um = rotation_sd_um(20.0);
   const auto table = nominal_corrections(wb);
   pipeline::MonteCarloOptions o;
   o.seed = 11;
