@@ -117,7 +117,10 @@ bool quiet() { return quiet_flag; }
 struct Progress::State {
   std::string what, unit;
   std::atomic<long long> total{0}, done{0};
-  bool shown = false, active = false;
+  // `active` is read by every worker before it takes the lock (the cheap early return) and cleared by finish():
+  // atomic, so that read is not a data race. `shown` and `last` are touched only under `mutex`.
+  std::atomic<bool> active{false};
+  bool shown = false;
   std::mutex mutex;
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), last;
 };
@@ -172,7 +175,10 @@ void Progress::advance(long long n) {
 }
 
 void Progress::update(long long done, long long total) {
-  if (total > state_->total) state_->total = total;
+  // Raise the total to `total` if larger; a compare-exchange loop, so two workers reporting at once keep the larger.
+  long long known = state_->total.load();
+  while (total > known && !state_->total.compare_exchange_weak(known, total)) {
+  }
   const long long before = state_->done.load();
   if (done > before) advance(done - before);
 }

@@ -68,6 +68,14 @@ Range colour_range(double data_min, double data_max, const ColourScale& scale) {
   } else {
     r = {std::min(data_min, 0.0), std::max(data_max, 0.0)};
   }
+  // Not below the scale's resolution: widen the side(s) the data reach, or both when the data are (near) zero.
+  const double floor = scale.resolution > 0.0 ? scale.resolution : 0.0;
+  if (std::max(-r.min, r.max) < floor) {
+    if (scale.mode == RangeMode::symmetric || (r.min > -floor * 1e-6 && r.max < floor * 1e-6))
+      r = {-floor, floor};
+    else
+      r = {r.min < 0.0 ? -floor : 0.0, r.max > 0.0 ? floor : 0.0};
+  }
   if (r.max - r.min <= 0.0) r = {-1.0, 1.0};
   return r;
 }

@@ -44,7 +44,9 @@ void check(const GridTopology& g) {
 double grid_magnification(const GridTopology& g) {
   check(g);
   if (g.magnification > 0.0) return g.magnification;
-  const double max_dev = g.deviation.cwiseAbs().maxCoeff(); // µm
+  // µm; deviations below the colour scale's resolution (0.01 µm) are not magnified further: an ideal machine's 1e-9 µm
+  // would otherwise be drawn at ×10¹³ with every node value reading 0.0.
+  const double max_dev = std::max(g.deviation.cwiseAbs().maxCoeff(), g.scale.resolution);
   if (max_dev <= 0.0) return 1000.0;
   double target = 0.0; // mm shown for max_dev
   if (g.offset == GridOffset::height) {
@@ -164,8 +166,9 @@ RenderResult render_grid_topology(const GridTopology& g, const std::filesystem::
   const double data_max = g.deviation.cwiseAbs().maxCoeff();
   const double max_dev = g.scale.mode == RangeMode::fixed
                              ? std::max({data_max, std::abs(g.scale.fixed.min), std::abs(g.scale.fixed.max)})
-                             : data_max;
+                             : std::max(data_max, g.scale.resolution);
   const double shown = max_dev > 0.0 ? nice_floor(max_dev) : 1.0; // µm, for the scale and the caption
+  const int shown_decimals = detail::decimals_for_step(shown);     // 0.01 µm reads "0.01", not "0.0"
   const int label_px = static_cast<int>(std::lround(0.85 * px));
   const bool left_is_u0 = height ? std::cos(az) >= 0.0 : true;
   const double side = left_is_u0 ? -1.0 : 1.0;
@@ -231,7 +234,7 @@ RenderResult render_grid_topology(const GridTopology& g, const std::filesystem::
                     colours::actual, 2.0);
     detail::OverlayText t;
     t.x = (left_is_u0 ? 0.4F : -0.4F) * static_cast<float>(px);
-    t.text = detail::format_value(shown, shown < 1.0 ? 1 : 0) + " µm";
+    t.text = detail::format_value(shown, shown_decimals) + " µm";
     t.px = label_px;
     t.colour = colours::actual;
     t.h = left_is_u0 ? HAlign::left : HAlign::right;
@@ -240,9 +243,9 @@ RenderResult render_grid_topology(const GridTopology& g, const std::filesystem::
   }
   scene.set_title(g.title);
   scene.set_caption(
-      fmt::format("nominal grid black, actual grid blue; deviation {} magnified {}× ({} µm drawn as {} mm)",
+      fmt::format("nominal grid black, actual blue; deviation {} ×{} ({} µm drawn as {} mm)",
                   height ? "(height)" : "(along v)", detail::format_value(mag, mag < 10 ? 1 : 0),
-                  detail::format_value(shown, shown < 1.0 ? 1 : 0),
+                  detail::format_value(shown, shown_decimals),
                   detail::format_value(units::mm_from_um(shown) * mag, units::mm_from_um(shown) * mag < 10 ? 1 : 0)));
   scene.set_colour_bar(colour, detail::axis_label(g.scale.title, g.scale.unit));
   scene.render(png);

@@ -68,8 +68,10 @@ std::optional<std::pair<double, double>> colour_of(const render::RenderResult& r
   return std::make_pair(rr.colour_range->min, rr.colour_range->max);
 }
 
+// The largest |deviation| of the flanks (µm), not below the colour scale's resolution (0.01 µm): an ideal machine's
+// rounding noise is not a deviation to scale a figure to.
 double max_abs(const std::vector<const grinding::FlankTopology*>& flanks) {
-  double m = 1e-3;
+  double m = render::ColourScale{}.resolution;
   for (const auto* f : flanks)
     if (f)
       for (const auto& p : f->grid) m = std::max(m, std::abs(p.deviation_um));

@@ -84,6 +84,13 @@ TEST(GridTopology, MagnificationAutomaticOrGiven) {
   EXPECT_GT(12.0e-3 * automatic, 0.15 * 28.0 / 2.5);
   g.magnification = 750.0;
   EXPECT_DOUBLE_EQ(grid_magnification(g), 750.0);
+  // Rounding noise (an ideal machine's 1e-9 µm) is magnified as if it were the resolution, 0.01 µm: 0.01 µm shown
+  // as at most 15 % of the grid, not 1e-9 µm.
+  g.magnification = 0.0;
+  g.deviation *= 1e-9 / 12.0;
+  const double noise = grid_magnification(g);
+  EXPECT_LE(0.01e-3 * noise, 0.15 * 28.0 + 1e-9);
+  EXPECT_GT(0.01e-3 * noise, 0.15 * 28.0 / 2.5);
 }
 
 HeatMap residual_map() {

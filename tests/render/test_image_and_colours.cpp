@@ -78,9 +78,30 @@ TEST(ColourMap, RangeModes) {
   fixed.mode = RangeMode::fixed;
   fixed.fixed = {-5.0, 5.0};
   EXPECT_EQ(colour_range(-7.0, 12.0, fixed), (Range{-5.0, 5.0}));
-  EXPECT_EQ(colour_range(0.0, 0.0, {}), (Range{-1.0, 1.0}));
   fixed.fixed = {3.0, 3.0};
   EXPECT_THROW(colour_range(0.0, 1.0, fixed), std::invalid_argument);
+}
+
+// An ideal machine's deviations are rounding noise (1e-9 µm): the range stops at the scale's resolution (0.01 µm by
+// default) instead of magnifying the noise until every tick label reads 0.000000.
+TEST(ColourMap, RangeStopsAtTheResolution) {
+  EXPECT_EQ(colour_range(0.0, 0.0, {}), (Range{-0.01, 0.01}));
+  EXPECT_EQ(colour_range(-3e-9, 1e-9, {}), (Range{-0.01, 0.01}));
+  EXPECT_EQ(colour_range(-0.004, 0.002, {}), (Range{-0.01, 0.01}));
+  EXPECT_EQ(colour_range(-0.02, 0.001, {}), (Range{-0.02, 0.02})); // above the resolution: the data decide
+  ColourScale data;
+  data.mode = RangeMode::data;
+  EXPECT_EQ(colour_range(0.0, 0.004, data), (Range{0.0, 0.01}));    // only the side the data reach
+  EXPECT_EQ(colour_range(-0.004, 0.0, data), (Range{-0.01, 0.0}));
+  EXPECT_EQ(colour_range(-1e-12, 2e-12, data), (Range{-0.01, 0.01})); // rounding noise: both sides
+  ColourScale mrad;
+  mrad.unit = "mrad";
+  mrad.resolution = 1e-4;
+  EXPECT_EQ(colour_range(-3e-9, 1e-9, mrad), (Range{-1e-4, 1e-4}));
+  ColourScale none;
+  none.resolution = 0.0; // no floor: only an empty range falls back to ±1
+  EXPECT_EQ(colour_range(-3e-9, 1e-9, none), (Range{-3e-9, 3e-9}));
+  EXPECT_EQ(colour_range(0.0, 0.0, none), (Range{-1.0, 1.0}));
 }
 
 TEST(ColourMap, ZeroIsWhiteAndEndsAreTheMapEnds) {

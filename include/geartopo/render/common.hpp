@@ -67,6 +67,10 @@ struct ColourScale {
   Range fixed{};
   std::string title = "deviation";
   std::string unit = "µm";
+  /// Smallest half-width of a `symmetric` or `data` range, in `unit` (default 0.01 µm: below what a gear measuring
+  /// machine resolves). Values all smaller than this are drawn near white on a ±resolution bar, not magnified until
+  /// rounding noise fills the colour range and the bar reads "0.000000" at every tick (an ideal machine's 1e-9 µm).
+  double resolution = 0.01;
 };
 
 /// What a render call used: the colour range (colour-mapped figures) and the axis ranges (charts).
