@@ -4,6 +4,7 @@
 #
 #   bash scripts/sanitize.sh            # from the repository root or anywhere
 #   BUILD_DIR=/tmp/asan JOBS=4 bash scripts/sanitize.sh
+#   TIMEOUT_FACTOR=8 bash scripts/sanitize.sh   # the tests' ctest TIMEOUTs × 8 (default × 4) on a loaded machine
 #
 # Duration on the 2-core reference machine: about 22 minutes, 4 of them the tests (docs/performance.md, "Sanitizers").
 # Needs the packages of scripts/install-deps.sh (run it first on a fresh machine).
@@ -23,7 +24,7 @@ cmake -S . -B "$build_dir" -G Ninja \
   -DCMAKE_BUILD_TYPE=Debug \
   -DCMAKE_CXX_FLAGS="$flags $opt" -DCMAKE_C_FLAGS="$flags $opt" \
   -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags" \
-  -DGEARTOPO_BUILD_TESTS=ON -DGEARTOPO_BUILD_BENCH=OFF >/dev/null
+  -DGEARTOPO_BUILD_TESTS=ON -DGEARTOPO_BUILD_BENCH=OFF -DGEARTOPO_TEST_TIMEOUT_FACTOR=${TIMEOUT_FACTOR:-4} >/dev/null
 cmake --build "$build_dir" -j "$jobs"
 built=$(date +%s)
 
@@ -33,6 +34,7 @@ built=$(date +%s)
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 status=0
+# --timeout: tests without their own TIMEOUT (the GoogleTest cases); those with one have it × TIMEOUT_FACTOR.
 ctest --test-dir "$build_dir" --output-on-failure -j "$jobs" --timeout 1500 || status=$?
 end=$(date +%s)
 
