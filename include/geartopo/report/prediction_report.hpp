@@ -28,6 +28,19 @@ std::vector<std::string> prediction_lines(const pipeline::MonteCarloSummary& s);
 /// "after": {…}}}}; names carry their unit (_um, _class).
 nlohmann::json prediction_json(const pipeline::MonteCarloSummary& s);
 
+/// Reads what prediction_json wrote (prediction.json of `geartopo compensate`/`merge`): the samples, the seed and each
+/// quantity's bands. Throws InputError naming the file and the field (e.g. "quantities.F_p_um.after.low") for a file
+/// that is not such JSON, a missing or non-finite number, or a band whose low > median or median > high.
+pipeline::MonteCarloSummary read_prediction_json(const std::filesystem::path& file);
+
+/// One line per quantity of `measured` that the prediction holds (µm quantities; classes and largest |deviation| only
+/// when `with_largest` — a traces measurement has no grid to take it from): label, measured value, the predicted
+/// median and 95 % interval of `side` ("before": the uncorrected gear, "after": the compensated one) and "inside" or
+/// "outside", after a header line. `outside` counts the quantities outside their interval.
+std::vector<std::string> measured_against_prediction(const pipeline::GearQuantities& measured,
+                                                     const pipeline::MonteCarloSummary& prediction,
+                                                     const std::string& side, bool with_largest, int& outside);
+
 /// The report's summary items (<li>…</li>): overall class and the ISO quantities before → after as bands, thickness
 /// and rigid rotation on their own line.
 std::string prediction_summary_html(const pipeline::MonteCarloSummary& s);
