@@ -4,7 +4,10 @@
 // scatter (ISO 21771 geometry written here) with χ² bounds on its sample RMS, and the rounding bound Σ_a |g_a|
 // over the axes from the first-order stroke sensitivities (diagnosis::stroke_sensitivity, another model) at half the
 // resolution.
+#include "geartopo/core/input_error.hpp"
 #include "geartopo/core/statistics.hpp"
+#include "geartopo/pipeline/monte_carlo.hpp"
+#include "geartopo/report/prediction_report.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/diagnosis/measured_points.hpp"
 #include "geartopo/diagnosis/stroke_scatter.hpp"
@@ -13,6 +16,8 @@
 #include "geartopo/workbench/workbench.hpp"
 
 #include <gtest/gtest.h>
+
+#include <iostream>
 
 #include <cmath>
 #include <filesystem>
@@ -115,6 +120,7 @@ TEST(SynthGrinding, StrokeScatterPerFlankRmsIsRbCosBetaBTimesTheCRepeatability) 
     sum_sq += shift * shift;
   }
   const double rms = std::sqrt(sum_sq / static_cast<double>(scatter.size()));
+  std::cout << "per-flank RMS " << rms << " µm, σ = r_b cos β_b s_C = " << sigma_um << " µm\n";
   EXPECT_GT(rms, sigma_um * std::sqrt(chi_squared_upper_quantile(0.9995, z) / z)) << "σ " << sigma_um;
   EXPECT_LT(rms, sigma_um * std::sqrt(chi_squared_upper_quantile(0.0005, z) / z)) << "σ " << sigma_um;
 }
@@ -145,8 +151,9 @@ TEST(SynthGrinding, CorrectionsOfTheSameSceneLeaveOnlyTheRounding) {
   double nominal_after = 0.0; // what the corrections leave on the model itself (compensate's topology_after.csv)
   for (const auto& r : grinding::read_topology_csv(d.path("comp/topology_after.csv"), 20))
     nominal_after = std::max(nominal_after, std::abs(r.deviation_um));
-  double largest_bound = 0.0;
+  double largest_bound = 0.0, largest_corrected = 0.0;
   for (size_t i = 0; i < rows.size(); ++i) {
+    largest_corrected = std::max(largest_corrected, std::abs(rows[i].deviation_um));
     const double bound = g.row(static_cast<Eigen::Index>(i)).cwiseAbs().sum() + nominal_after + 0.005; // 0.005: file digits
     largest_bound = std::max(largest_bound, bound);
     EXPECT_LE(std::abs(rows[i].deviation_um), bound) << "tooth " << rows[i].tooth << " row " << rows[i].row;
@@ -155,7 +162,8 @@ TEST(SynthGrinding, CorrectionsOfTheSameSceneLeaveOnlyTheRounding) {
   for (const auto& r : grinding::read_topology_csv(d.path("plain.csv"), 20))
     largest_plain = std::max(largest_plain, std::abs(r.deviation_um));
   EXPECT_GT(largest_plain, 3.0 * largest_bound) << "the uncorrected gear must carry more than the rounding";
-  std::cout << "largest |dev| uncorrected " << largest_plain << " µm; rounding bound up to " << largest_bound << " µm\n";
+  std::cout << "largest |dev| uncorrected " << largest_plain << " µm, corrected " << largest_corrected
+            << " µm; rounding bound up to " << largest_bound << " µm\n";
 }
 
 // Bad input: a missing corrections file (1), one of another gear (1), a broken row located at its line and column (1),
@@ -177,4 +185,59 @@ TEST(SynthGrinding, BadCorrectionsAndFlagsAreRefused) {
   EXPECT_NE(d.read("log.txt").find("broken.csv:2:1: space: "), std::string::npos) << d.read("log.txt");
   EXPECT_EQ(d.run("synth " + scene + out + " --format gde"), 2);
   EXPECT_FALSE(std::filesystem::exists(d.path("m.csv")));
+}
+
+// evaluate --prediction: each measured quantity beside the predicted band, inside when low ≤ value ≤ high (the ends
+// belong to the interval, JCGM 101 §7.7's [y_(r), y_(r+q)]); what the measurement cannot give (largest |deviation|
+// without a grid) and classes are left out. The bands here are written by hand.
+TEST(EvaluateAgainstPrediction, InsideOutsideAndWhatIsLeftOut) {
+  pipeline::MonteCarloSummary p;
+  p.samples = 40;
+  p.names = {"F_alpha_um", "f_p_um", "largest_abs_um", "F_alpha_class"};
+  p.before = {{1.0, 0.5, 9.0}, {2.0, 1.0, 3.0}, {5.0, 4.0, 6.0}, {3, 2, 4}};
+  p.after = {{1.5, 1.0, 2.0}, {3.0, 1.0, 4.9}, {5.0, 4.0, 6.0}, {3, 2, 4}};
+  pipeline::GearQuantities m;
+  m.names = {"F_alpha_um", "F_alpha_class", "f_p_um", "largest_abs_um", "F_beta_um"};
+  m.values = {2.0, 3.0, 5.0, 9.0, 1.0}; // F_beta: not predicted, left out
+  int outside = -1;
+  const auto after = report::measured_against_prediction(m, p, "after", false, outside);
+  ASSERT_EQ(after.size(), 3u); // header, F_α, f_p
+  EXPECT_EQ(outside, 1);
+  EXPECT_NE(after[1].find("inside"), std::string::npos) << after[1]; // 2.0 at the high end
+  EXPECT_NE(after[2].find("outside (above)"), std::string::npos) << after[2];
+  const auto before = report::measured_against_prediction(m, p, "before", true, outside);
+  ASSERT_EQ(before.size(), 4u); // with largest |deviation|
+  EXPECT_EQ(outside, 2);        // f_p 5 > 3, largest 9 > 6
+  EXPECT_NE(before[3].find("largest |deviation|"), std::string::npos) << before[3];
+
+  // prediction.json as compensate writes it is read back; a broken band is refused by name, and the command stops
+  // before it writes anything.
+  const SynthDir d;
+  const auto file = d.write("prediction.json", report::prediction_json(p).dump(2));
+  const auto back = report::read_prediction_json(file);
+  EXPECT_EQ(back.samples, 40);
+  ASSERT_EQ(back.names.size(), p.names.size());
+  for (size_t i = 0; i < p.names.size(); ++i) {
+    const int k = back.find(p.names[i]);
+    ASSERT_GE(k, 0) << p.names[i];
+    EXPECT_EQ(back.after[static_cast<size_t>(k)].high, p.after[i].high);
+    EXPECT_EQ(back.before[static_cast<size_t>(k)].low, p.before[i].low);
+  }
+  auto j = report::prediction_json(p);
+  j["quantities"]["f_p_um"]["after"]["low"] = 3.5;
+  const auto broken = d.write("broken.json", j.dump());
+  try {
+    report::read_prediction_json(broken);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("quantities.f_p_um.after: low 3.5 ≤ median 3 ≤ high 4.9 does not hold"),
+              std::string::npos) << e.what();
+  }
+  const auto scene = d.write("scene.yaml", synth_scene_text(20, 4, kExactMachine));
+  ASSERT_EQ(d.run("synth " + scene + " --out " + d.path("t.csv") + " --format traces --teeth all"), 0) << d.read("log.txt");
+  EXPECT_EQ(d.run("evaluate " + scene + " --traces " + d.path("t.csv") + " --out " + d.path("e") + " --prediction " + broken), 1);
+  EXPECT_NE(d.read("log.txt").find("broken.json"), std::string::npos) << d.read("log.txt");
+  EXPECT_FALSE(std::filesystem::exists(d.path("e")));
+  EXPECT_EQ(d.run("evaluate " + scene + " --traces " + d.path("t.csv") + " --out " + d.path("e") + " --prediction " + file +
+                  " --prediction-side middle"), 2);
 }

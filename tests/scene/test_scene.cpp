@@ -330,9 +330,15 @@ TEST(SceneEffects, UncertaintiesAndCorrelationsAreRead) {
 }
 
 TEST(SceneEffects, BadUncertaintiesAndCorrelationsAreLocated) {
-  const auto with = [](const std::string& key, const std::string& line) { return with_line(kUncertainEffects, key, line); };
+  // kUncertainEffects with the line that contains `part` replaced by `line`.
+  const auto with = [](const std::string& part, const std::string& line) {
+    const auto pos = kUncertainEffects.find(part);
+    EXPECT_NE(pos, std::string::npos) << part;
+    const auto start = kUncertainEffects.rfind('\n', pos) + 1, end = kUncertainEffects.find('\n', pos);
+    return kUncertainEffects.substr(0, start) + line + kUncertainEffects.substr(end);
+  };
   EXPECT_EQ(error_of(with("uncertainty: {x_growth_um", "    uncertainty: {x_growth_um: -1}")),
-            "scenes/x.yaml:14:31: effects[0].uncertainty.x_growth_um: -1 is outside [0, 1000]");
+            "scenes/x.yaml:14:32: effects[0].uncertainty.x_growth_um: -1 is outside [0, 1000]");
   EXPECT_EQ(error_of(with("uncertainty: {x_growth_um", "    uncertainty: {y_growth_um: 1}")),
             "scenes/x.yaml:14:18: effects[0].uncertainty.y_growth_um: 'y_growth_um' is not a parameter of thermal_drift "
             "(x_growth_um, z_growth_um, time_constant_s)");
@@ -340,7 +346,7 @@ TEST(SceneEffects, BadUncertaintiesAndCorrelationsAreLocated) {
             "scenes/x.yaml:18:18: effects[1].uncertainty.dressing_interval_strokes: 'dressing_interval_strokes' is a "
             "count set up on the machine, not an uncertain value");
   EXPECT_EQ(error_of(with("correlation: [[x_growth", "    correlation: [[x_growth_um, time_constant_s, 1.2]]")),
-            "scenes/x.yaml:15:51: effects[0].correlation[0]: '1.2' is not a correlation coefficient (a number in [-1, 1])");
+            "scenes/x.yaml:15:50: effects[0].correlation[0]: '1.2' is not a correlation coefficient (a number in [-1, 1])");
   EXPECT_EQ(error_of(with("correlation: [[x_growth", "    correlation: [[x_growth_um, 0.8]]")),
             "scenes/x.yaml:15:19: effects[0].correlation[0]: expected [key_a, key_b, r]: two parameter keys and a "
             "correlation coefficient");
