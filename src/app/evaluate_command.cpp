@@ -77,21 +77,22 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       j["units"] = "µm; plus material positive";
       j["iso_direction"] = std::string(evaluation::to_string(opt->iso.direction));
       j["before"] = report::iso_json(iso);
+      // The quantities as the prediction names them; largest |deviation| needs the grid (none in a traces file).
+      std::vector<report::PredictionCheck> checks;
+      if (prediction) {
+        bool has_grid = false;
+        for (const auto& ft : topo) has_grid = has_grid || !ft.grid.empty();
+        checks = report::check_against_prediction(pipeline::gear_quantities(iso, topo), *prediction, opt->side, has_grid);
+        j["against_prediction"] = report::prediction_check_json(checks, *prediction, opt->side);
+        j["against_prediction"]["file"] = opt->prediction;
+      }
       const std::filesystem::path out(opt->out);
       output::OutputFolder folder(out);
       output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
       std::cout << "Source: " << source << "\n" << report::iso_table(iso);
       if (prediction) {
-        // The quantities as the prediction names them; largest |deviation| needs the grid (none in a traces file).
-        bool has_grid = false;
-        for (const auto& ft : topo) has_grid = has_grid || !ft.grid.empty();
-        int outside = 0;
-        const auto lines = report::measured_against_prediction(pipeline::gear_quantities(iso, topo), *prediction,
-                                                               opt->side, has_grid, outside);
         std::cout << "Against " << opt->prediction << ":\n";
-        for (const auto& l : lines) std::cout << "  " << l << "\n";
-        std::cout << fmt::format("  {} of {} inside their 95 % intervals\n", lines.size() - 1 - static_cast<size_t>(outside),
-                                 lines.size() - 1);
+        for (const auto& l : report::prediction_check_lines(checks, *prediction, opt->side)) std::cout << "  " << l << "\n";
       }
       std::cout << "wrote " << (out / "iso1328.json").string() << "\n";
       finish_output_folder(folder);

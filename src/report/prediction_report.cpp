@@ -112,13 +112,10 @@ pipeline::MonteCarloSummary read_prediction_json(const std::filesystem::path& fi
   return s;
 }
 
-std::vector<std::string> measured_against_prediction(const pipeline::GearQuantities& measured,
-                                                     const pipeline::MonteCarloSummary& prediction,
-                                                     const std::string& side, bool with_largest, int& outside) {
-  std::vector<std::string> lines;
-  lines.push_back(fmt::format("{:<20} {:>10}   predicted {} ({} samples): median [95 % interval]", "", "measured",
-                              side == "before" ? "before compensation" : "after compensation", prediction.samples));
-  outside = 0;
+std::vector<PredictionCheck> check_against_prediction(const pipeline::GearQuantities& measured,
+                                                      const pipeline::MonteCarloSummary& prediction,
+                                                      const std::string& side, bool with_largest) {
+  std::vector<PredictionCheck> out;
   for (size_t i = 0; i < measured.names.size(); ++i) {
     const std::string& name = measured.names[i];
     const bool um = name.size() > 3 && name.substr(name.size() - 3) == "_um";
@@ -127,12 +124,42 @@ std::vector<std::string> measured_against_prediction(const pipeline::GearQuantit
     if (k < 0) continue;
     const auto& band = (side == "before" ? prediction.before : prediction.after)[static_cast<size_t>(k)];
     const double v = measured.values[i];
-    const bool inside = band.low <= v && v <= band.high;
-    outside += inside ? 0 : 1;
-    lines.push_back(fmt::format("{:<20} {:>7.2f} µm   {:<26} {}", quantity_label(name), v, band_text(name, band),
-                                inside ? "inside" : v < band.low ? "outside (below)" : "outside (above)"));
+    out.push_back({name, v, band, band.low <= v && v <= band.high});
   }
+  return out;
+}
+
+std::vector<std::string> prediction_check_lines(const std::vector<PredictionCheck>& checks,
+                                                const pipeline::MonteCarloSummary& prediction, const std::string& side) {
+  std::vector<std::string> lines;
+  lines.push_back(fmt::format("{:<20} {:>10}   predicted {} ({} samples): median [95 % interval]", "", "measured",
+                              side == "before" ? "before compensation" : "after compensation", prediction.samples));
+  size_t inside = 0;
+  for (const auto& c : checks) {
+    inside += c.inside ? 1 : 0;
+    lines.push_back(fmt::format("{:<20} {:>7.2f} µm   {:<26} {}", quantity_label(c.name), c.measured_um,
+                                band_text(c.name, c.band),
+                                c.inside ? "inside" : c.measured_um < c.band.low ? "outside (below)" : "outside (above)"));
+  }
+  lines.push_back(fmt::format("{} of {} inside their 95 % intervals", inside, checks.size()));
   return lines;
+}
+
+nlohmann::json prediction_check_json(const std::vector<PredictionCheck>& checks,
+                                     const pipeline::MonteCarloSummary& prediction, const std::string& side) {
+  nlohmann::json q = nlohmann::json::object();
+  int inside = 0;
+  for (const auto& c : checks) {
+    inside += c.inside ? 1 : 0;
+    q[c.name] = {{"measured", c.measured_um}, {"median", c.band.median}, {"low", c.band.low}, {"high", c.band.high},
+                 {"inside", c.inside}};
+  }
+  return {{"side", side},
+          {"samples", prediction.samples},
+          {"coverage_probability", 0.95},
+          {"inside", inside},
+          {"outside", static_cast<int>(checks.size()) - inside},
+          {"quantities", q}};
 }
 
 std::string prediction_summary_html(const pipeline::MonteCarloSummary& s) {

@@ -199,16 +199,24 @@ TEST(EvaluateAgainstPrediction, InsideOutsideAndWhatIsLeftOut) {
   pipeline::GearQuantities m;
   m.names = {"F_alpha_um", "F_alpha_class", "f_p_um", "largest_abs_um", "F_beta_um"};
   m.values = {2.0, 3.0, 5.0, 9.0, 1.0}; // F_beta: not predicted, left out
-  int outside = -1;
-  const auto after = report::measured_against_prediction(m, p, "after", false, outside);
-  ASSERT_EQ(after.size(), 3u); // header, F_α, f_p
-  EXPECT_EQ(outside, 1);
-  EXPECT_NE(after[1].find("inside"), std::string::npos) << after[1]; // 2.0 at the high end
-  EXPECT_NE(after[2].find("outside (above)"), std::string::npos) << after[2];
-  const auto before = report::measured_against_prediction(m, p, "before", true, outside);
-  ASSERT_EQ(before.size(), 4u); // with largest |deviation|
-  EXPECT_EQ(outside, 2);        // f_p 5 > 3, largest 9 > 6
-  EXPECT_NE(before[3].find("largest |deviation|"), std::string::npos) << before[3];
+  const auto after = report::check_against_prediction(m, p, "after", false);
+  ASSERT_EQ(after.size(), 2u); // F_α, f_p
+  EXPECT_EQ(after[0].name, "F_alpha_um");
+  EXPECT_TRUE(after[0].inside); // 2.0 at the high end
+  EXPECT_EQ(after[1].name, "f_p_um");
+  EXPECT_FALSE(after[1].inside); // 5.0 above 4.9
+  const auto lines = report::prediction_check_lines(after, p, "after");
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_NE(lines[2].find("outside (above)"), std::string::npos) << lines[2];
+  EXPECT_EQ(lines[3], "1 of 2 inside their 95 % intervals");
+  const auto json = report::prediction_check_json(after, p, "after");
+  EXPECT_EQ(json["outside"], 1);
+  EXPECT_EQ(json["quantities"]["f_p_um"]["high"], 4.9);
+  const auto before = report::check_against_prediction(m, p, "before", true);
+  ASSERT_EQ(before.size(), 3u); // with largest |deviation|
+  EXPECT_FALSE(before[1].inside); // f_p 5 > 3
+  EXPECT_EQ(before[2].name, "largest_abs_um");
+  EXPECT_FALSE(before[2].inside); // 9 > 6
 
   // prediction.json as compensate writes it is read back; a broken band is refused by name, and the command stops
   // before it writes anything.
