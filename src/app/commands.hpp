@@ -18,11 +18,11 @@ void register_gear_command(CLI::App& app, Action& action);
 void register_machine_command(CLI::App& app, Action& action);
 /// `geartopo simulate SCENE --out DIR [--method exact|linear] [--teeth 1,18|all] [--dense NxM]`
 void register_simulate_command(CLI::App& app, Action& action);
-/// `geartopo evaluate SCENE --out DIR [--method exact|linear] [--traces FILE]`
+/// `geartopo evaluate SCENE --out DIR [--method exact|linear] [--traces FILE] [--prediction FILE]`
 void register_evaluate_command(CLI::App& app, Action& action);
 /// `geartopo compensate SCENE --out DIR [--method paper|flank] [--step MM]`
 void register_compensate_command(CLI::App& app, Action& action);
-/// `geartopo synth TRUTH_SCENE --out FILE [--teeth 1,18] [--noise-um S] [--seed N]`
+/// `geartopo synth TRUTH_SCENE --out FILE [--teeth 1,18] [--noise-um S] [--seed N] [--stroke-scatter] [--corrections F]`
 void register_synth_command(CLI::App& app, Action& action);
 /// `geartopo diagnose SCENE --measured FILE --out DIR [--noise-um S] [--candidates a,b]`
 void register_diagnose_command(CLI::App& app, Action& action);

@@ -6,12 +6,17 @@
 
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/identified_effects.hpp"
 #include "geartopo/diagnosis/klingelnberg.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
 #include "geartopo/diagnosis/stroke_scatter.hpp"
 #include "geartopo/diagnosis/synth.hpp"
 #include "geartopo/effects/registry.hpp"
+#include "geartopo/compensation/compensator.hpp"
+#include "geartopo/core/input_error.hpp"
+#include "geartopo/grinding/topology_csv.hpp"
+#include "geartopo/pipeline/monte_carlo.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -21,32 +26,89 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <random>
+#include <set>
 #include <sstream>
 
 namespace geartopo::app {
 
+namespace {
+
+// The corrections a `synth` gear is ground with: those of a compensate run (rounded to the truth machine's command
+// resolution, as the controller takes them, and the Monte Carlo's gear 2 is ground), each stroke's command scatter
+// (machine.repeatability, drawn as every Monte Carlo sample draws it), both or neither (empty).
+std::optional<compensation::CorrectionTable> synth_corrections(const Workbench& wb, const std::string& corrections_file,
+                                                               bool stroke_scatter, std::uint64_t seed) {
+  if (corrections_file.empty() && !stroke_scatter) return std::nullopt;
+  const int teeth = wb.setup.geometry().teeth();
+  std::set<int> spaces;
+  for (int s = 1; s <= teeth; ++s) spaces.insert(s);
+  std::vector<compensation::CorrectionRow> zero_rows; // one row per space: held over the whole stroke
+  for (const int s : spaces) {
+    compensation::CorrectionRow r;
+    r.space = s;
+    zero_rows.push_back(r);
+  }
+  compensation::CorrectionTable table(std::move(zero_rows));
+  if (!corrections_file.empty()) {
+    const auto read = compensation::CorrectionTable::read_csv(corrections_file);
+    // A table of another gear would leave spaces uncorrected (or correct spaces the gear does not have) in silence.
+    std::set<int> in_file;
+    for (const auto& r : read.rows()) in_file.insert(r.space);
+    if (in_file != spaces)
+      throw InputError(corrections_file, 0, 0, "space",
+                       fmt::format("the table corrects spaces {}..{} ({} of them); the truth scene's gear has {} teeth: "
+                                   "a corrections.csv of `geartopo compensate` on a scene of this gear is needed",
+                                   *in_file.begin(), *in_file.rbegin(), in_file.size(), teeth));
+    table = pipeline::rounded_to_resolution(read, wb.scene.machine.uncertainty.resolution);
+  }
+  if (stroke_scatter) {
+    // Its own stream (seed, 1): the probe noise draws from seed alone.
+    std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32), 1u};
+    std::mt19937_64 gen(seq);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    table = pipeline::with_stroke_offsets(
+        table, pipeline::draw_stroke_offsets(spaces, wb.scene.machine.uncertainty.repeatability, [&] { return normal(gen); }));
+  }
+  return table;
+}
+
+} // namespace
+
 void register_synth_command(CLI::App& app, Action& action) {
   struct Options {
-    std::string scene, out, teeth = "1,18", format = "csv";
+    std::string scene, out, teeth = "1,18", format = "csv", corrections;
     double noise = 0.5;
     std::uint64_t seed = 1;
+    bool stroke_scatter = false;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("synth", "Synthetic CMM measurement (topology CSV, µm) of a truth scene, with "
                                               "Gaussian probe noise");
   cmd->add_option("TRUTH_SCENE", opt->scene, "Truth scene (YAML), possibly with effects the model scene lacks")->required();
   cmd->add_option("--out", opt->out,
-                  "File to write (topology CSV, or a Klingelnberg export with --format klingelnberg); an existing folder "
-                  "or a path ending in '/' is a folder like every other --out: measured.csv (measured.mka) inside it")
+                  "File to write (topology CSV, a traces CSV with --format traces, or a Klingelnberg export with --format "
+                  "klingelnberg); an existing folder or a path ending in '/' is a folder like every other --out: "
+                  "measured.csv (traces.csv, measured.mka) inside it")
       ->required()
       ->check(non_empty_path());
   cmd->add_option("--format", opt->format,
-                  "csv (topology CSV, default) or klingelnberg (TOPOGRAFIE profile traces, transverse µm, raw sign: "
-                  "docs/measurement-formats.md)")
-      ->check(CLI::IsMember({"csv", "klingelnberg"}));
+                  "csv (topology CSV on the scene's grid, default), traces (one profile and one helix trace per flank, "
+                  "the scene's profile_points/helix_points: for geartopo evaluate --traces) or klingelnberg (TOPOGRAFIE "
+                  "profile traces, transverse µm, raw sign: docs/measurement-formats.md)")
+      ->check(CLI::IsMember({"csv", "traces", "klingelnberg"}));
   cmd->add_option("--teeth", opt->teeth, "Measured teeth, e.g. 1,18 (default) or all");
   cmd->add_option("--noise-um", opt->noise, "Standard deviation of the probe noise, µm (default 0.5)")->check(finite_in(0.0, 1000.0));
-  cmd->add_option("--seed", opt->seed, "Random seed, a whole number ≥ 0 (default 1)")->check(digits_only());
+  cmd->add_option("--seed", opt->seed, "Random seed, a whole number ≥ 0 (default 1): probe noise and stroke scatter")
+      ->check(digits_only());
+  cmd->add_flag("--stroke-scatter", opt->stroke_scatter,
+                "Each stroke's axis commands off by a draw of the truth scene's machine.repeatability (one standard "
+                "deviation R/4 per axis, constant over the stroke), as the Monte Carlo grinds (docs/monte-carlo.md)");
+  cmd->add_option("--corrections", opt->corrections,
+                  "Grind with these corrections: corrections.csv of geartopo compensate, rounded to the truth scene's "
+                  "machine.resolution as the controller takes them (docs/monte-carlo.md)")
+      ->check(non_empty_path());
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
@@ -56,19 +118,37 @@ void register_synth_command(CLI::App& app, Action& action) {
       so.cols = wb.scene.grid.cols;
       so.noise_um = opt->noise;
       so.seed = opt->seed;
-      const auto rows = diagnosis::synthesize(wb.setup, wb.process(), so);
+      const auto table = synth_corrections(wb, opt->corrections, opt->stroke_scatter, opt->seed);
+      std::optional<compensation::CompensatedProcess> corrected;
+      if (table) corrected.emplace(wb.process(), *table);
+      const grinding::GrindingProcess& process =
+          corrected ? static_cast<const grinding::GrindingProcess&>(*corrected) : wb.process();
       // Every other command's --out is a folder: a folder here gets the measurement under a fixed name.
       std::filesystem::path file(opt->out);
       if (std::filesystem::is_directory(file) || opt->out.back() == '/')
-        file /= opt->format == "klingelnberg" ? "measured.mka" : "measured.csv";
+        file /= opt->format == "klingelnberg" ? "measured.mka" : opt->format == "traces" ? "traces.csv" : "measured.csv";
       if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
-      output::write_atomically(file, [&](std::ostream& out) {
-        if (opt->format == "klingelnberg")
-          diagnosis::write_klingelnberg(out, wb.setup.geometry(), rows);
-        else
-          grinding::write_topology_rows(out, rows);
-      });
-      std::cout << fmt::format("wrote {} ({} points, noise {} µm, seed {})\n", file.string(), rows.size(), opt->noise, opt->seed);
+      std::size_t points = 0;
+      if (opt->format == "traces") {
+        const auto topo = diagnosis::synthesize_traces(wb.setup, process, so, wb.scene.grid.profile_points,
+                                                       wb.scene.grid.helix_points);
+        for (const auto& ft : topo) points += ft.profile.size() + ft.helix.size();
+        output::write_atomically(file, [&](std::ostream& out) { grinding::write_traces_csv(out, topo); });
+      } else {
+        const auto rows = diagnosis::synthesize(wb.setup, process, so);
+        points = rows.size();
+        output::write_atomically(file, [&](std::ostream& out) {
+          if (opt->format == "klingelnberg")
+            diagnosis::write_klingelnberg(out, wb.setup.geometry(), rows);
+          else
+            grinding::write_topology_rows(out, rows);
+        });
+      }
+      std::string ground;
+      if (!opt->corrections.empty()) ground += ", with the corrections of " + opt->corrections;
+      if (opt->stroke_scatter) ground += ", stroke scatter";
+      std::cout << fmt::format("wrote {} ({} points, noise {} µm, seed {}{})\n", file.string(), points, opt->noise,
+                               opt->seed, ground);
       return 0;
     };
   });
@@ -149,7 +229,10 @@ void register_diagnose_command(CLI::App& app, Action& action) {
           comments.push_back(fmt::format("{}: identified by geartopo diagnose from {} (ΔBIC {:.1f})", e.type,
                                          opt->measured, d.chosen->delta_bic));
         const auto path = out / "scene_with_effect.yaml";
-        diagnosis::write_scene_with_effects(opt->scene, d.chosen->effects, comments, path);
+        // With the fit's uncertainties and correlation: a prediction from this scene draws the effect within them.
+        const auto identified = diagnosis::identified_effects(d, *d.chosen);
+        diagnosis::write_scene_with_effects(opt->scene, identified.effects, comments, path, identified.uncertainties,
+                                            identified.correlation);
         std::cout << "wrote " << (out / "diagnosis.json").string() << " and " << path.string() << "\n";
       } else {
         std::cout << "wrote " << (out / "diagnosis.json").string() << "\n";

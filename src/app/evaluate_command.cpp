@@ -1,6 +1,7 @@
 #include "app/commands.hpp"
 #include "geartopo/core/atomic_file.hpp"
 #include "geartopo/report/iso_report.hpp"
+#include "geartopo/report/prediction_report.hpp"
 #include "app/options.hpp"
 
 #include "geartopo/core/input_file.hpp"
@@ -14,12 +15,13 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace geartopo::app {
 
 void register_evaluate_command(CLI::App& app, Action& action) {
   struct Options {
-    std::string scene, out, method = "exact", traces;
+    std::string scene, out, method = "exact", traces, prediction, side = "after";
     workbench::IsoOptions iso;
     diagnosis::KlingelnbergOptions mka;
   };
@@ -31,11 +33,21 @@ void register_evaluate_command(CLI::App& app, Action& action) {
   cmd->add_option("--method", opt->method, "exact or linear simulation")->check(CLI::IsMember({"exact", "linear"}));
   cmd->add_option("--traces", opt->traces, "Evaluate measured traces instead: traces CSV (docs/grinding.md) or Klingelnberg "
                                            "export (docs/measurement-formats.md), told apart by content");
+  cmd->add_option("--prediction", opt->prediction,
+                  "prediction.json of geartopo compensate: print each quantity beside its predicted median and 95 % "
+                  "interval and whether it lies inside (a report, not a gate: the exit code does not depend on it)")
+      ->check(non_empty_path());
+  cmd->add_option("--prediction-side", opt->side,
+                  "after (default: the gear ground with the corrections) or before (without them)")
+      ->check(CLI::IsMember({"before", "after"}));
   add_iso_options(cmd, opt->iso);
   add_klingelnberg_options(cmd, opt->mka);
   cmd->callback([&action, opt] {
     action = [opt] {
       const Workbench wb(opt->scene);
+      // Read before anything is written: a wrong prediction file leaves the output folder as it was.
+      std::optional<pipeline::MonteCarloSummary> prediction;
+      if (!opt->prediction.empty()) prediction = report::read_prediction_json(opt->prediction);
       const auto& g = wb.setup.geometry();
       std::vector<grinding::FlankTopology> topo;
       std::string source;
@@ -65,10 +77,24 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       j["units"] = "µm; plus material positive";
       j["iso_direction"] = std::string(evaluation::to_string(opt->iso.direction));
       j["before"] = report::iso_json(iso);
+      // The quantities as the prediction names them; largest |deviation| needs the grid (none in a traces file).
+      std::vector<report::PredictionCheck> checks;
+      if (prediction) {
+        bool has_grid = false;
+        for (const auto& ft : topo) has_grid = has_grid || !ft.grid.empty();
+        checks = report::check_against_prediction(pipeline::gear_quantities(iso, topo), *prediction, opt->side, has_grid);
+        j["against_prediction"] = report::prediction_check_json(checks, *prediction, opt->side);
+        j["against_prediction"]["file"] = opt->prediction;
+      }
       const std::filesystem::path out(opt->out);
       output::OutputFolder folder(out);
       output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
-      std::cout << "Source: " << source << "\n" << report::iso_table(iso) << "wrote " << (out / "iso1328.json").string() << "\n";
+      std::cout << "Source: " << source << "\n" << report::iso_table(iso);
+      if (prediction) {
+        std::cout << "Against " << opt->prediction << ":\n";
+        for (const auto& l : report::prediction_check_lines(checks, *prediction, opt->side)) std::cout << "  " << l << "\n";
+      }
+      std::cout << "wrote " << (out / "iso1328.json").string() << "\n";
       finish_output_folder(folder);
       return 0;
     };

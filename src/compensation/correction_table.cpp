@@ -1,5 +1,8 @@
 #include "geartopo/compensation/correction_table.hpp"
 #include "geartopo/core/atomic_file.hpp"
+#include "geartopo/core/input_error.hpp"
+#include "geartopo/core/input_file.hpp"
+#include "geartopo/core/text_field.hpp"
 #include "geartopo/core/units.hpp"
 
 #include <fmt/format.h>
@@ -7,10 +10,19 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <istream>
 #include <numbers>
+#include <set>
 #include <stdexcept>
 
 namespace geartopo::compensation {
+namespace {
+
+constexpr const char* kHeader =
+    "space,z_stroke_mm,time_s,X_mm,Y_mm,Z_mm,A_deg,C_deg,dX_um,dY_um,dZ_um,dA_urad,dC_urad,within_strokes";
+constexpr int kColumns = 14;
+
+} // namespace
 
 CorrectionTable::CorrectionTable(std::vector<CorrectionRow> rows) : rows_(std::move(rows)) {
   std::stable_sort(rows_.begin(), rows_.end(), [](const CorrectionRow& a, const CorrectionRow& b) {
@@ -57,7 +69,7 @@ machine::Vector5d CorrectionTable::max_abs() const {
 }
 
 void CorrectionTable::write_csv(std::ostream& out) const {
-  out << "space,z_stroke_mm,time_s,X_mm,Y_mm,Z_mm,A_deg,C_deg,dX_um,dY_um,dZ_um,dA_urad,dC_urad,within_strokes\n";
+  out << kHeader << "\n";
   for (const auto& r : rows_) {
     const auto& q = r.machine_axes;
     const auto& c = r.correction;
@@ -69,6 +81,86 @@ void CorrectionTable::write_csv(std::ostream& out) const {
 
 void CorrectionTable::write_csv(const std::filesystem::path& file) const {
   output::write_atomically(file, [&](std::ostream& out) { write_csv(out); });
+}
+
+CorrectionTable CorrectionTable::read_csv(std::istream& in, const std::string& source) {
+  const auto fail = [&](int line, int column, const std::string& field, const std::string& message) {
+    throw InputError(source, line, column, field, message);
+  };
+  static const char* const names[kColumns] = {"space", "z_stroke_mm", "time_s",  "X_mm",    "Y_mm",
+                                              "Z_mm",  "A_deg",       "C_deg",   "dX_um",   "dY_um",
+                                              "dZ_um", "dA_urad",     "dC_urad", "within_strokes"};
+  std::vector<CorrectionRow> rows;
+  std::set<std::pair<int, double>> seen;
+  bool header = false;
+  int lineno = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++lineno;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (lineno == 1 && line.rfind(text::kUtf8Bom, 0) == 0) line.erase(0, text::kUtf8Bom.size());
+    if (line.empty() || line[0] == '#') continue;
+    // Fields with the 1-based column of their start, blanks around them trimmed.
+    std::vector<std::pair<std::string, int>> f;
+    for (size_t start = 0;;) {
+      const size_t comma = line.find(',', start);
+      const std::string raw = line.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+      const size_t a = raw.find_first_not_of(" \t"), b = raw.find_last_not_of(" \t");
+      f.emplace_back(a == std::string::npos ? std::string() : raw.substr(a, b - a + 1),
+                     static_cast<int>(start + (a == std::string::npos ? 0 : a)) + 1);
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+    if (!header) {
+      for (int i = 0; i < kColumns; ++i)
+        if (static_cast<int>(f.size()) <= i || f[static_cast<size_t>(i)].first != names[i])
+          fail(lineno, i < static_cast<int>(f.size()) ? f[static_cast<size_t>(i)].second : static_cast<int>(line.size()) + 1,
+               "header", fmt::format("expected the columns {} (column {} should be '{}'): a corrections.csv of "
+                                     "geartopo compensate", kHeader, i + 1, names[i]));
+      header = true;
+      continue;
+    }
+    if (f.size() != kColumns)
+      fail(lineno, f.size() > kColumns ? f[kColumns].second : static_cast<int>(line.size()) + 1, "row",
+           fmt::format("{} fields, expected {}", f.size(), kColumns));
+    const auto number = [&](int i, double limit) {
+      double v = 0.0;
+      const auto& [t, column] = f[static_cast<size_t>(i)];
+      if (text::parse_number(t, v) != std::errc() || !std::isfinite(v))
+        fail(lineno, column, names[i], fmt::format("'{}' is not a finite number", text::excerpt(t)));
+      if (std::abs(v) > limit)
+        fail(lineno, column, names[i], fmt::format("{} is beyond ±{} (a wrong unit?)", text::excerpt(t), limit));
+      return v;
+    };
+    CorrectionRow r;
+    if (text::parse_number(f[0].first, r.space) != std::errc() || r.space < 1)
+      fail(lineno, f[0].second, "space", fmt::format("'{}' is not a tooth space number (1, 2, …)", text::excerpt(f[0].first)));
+    constexpr double kAnyPosition = 1e7; // mm, s, deg: finite is what matters
+    r.z_stroke_mm = number(1, kAnyPosition);
+    r.time_s = number(2, kAnyPosition);
+    r.machine_axes.x = number(3, kAnyPosition);
+    r.machine_axes.y = number(4, kAnyPosition);
+    r.machine_axes.z = number(5, kAnyPosition);
+    r.machine_axes.a = number(6, kAnyPosition) * units::kRadPerDeg;
+    r.machine_axes.c = number(7, kAnyPosition) * units::kRadPerDeg;
+    for (int a = 0; a < 3; ++a) r.correction(a) = units::mm_from_um(number(8 + a, kMaxCorrectionUm));
+    for (int a = 3; a < 5; ++a) r.correction(a) = units::rad_from_urad(number(8 + a, kMaxCorrectionUm));
+    const auto& within = f[13].first;
+    if (within != "yes" && within != "no")
+      fail(lineno, f[13].second, "within_strokes", fmt::format("'{}' is neither yes nor no", text::excerpt(within)));
+    r.within_strokes = within == "yes";
+    if (!seen.emplace(r.space, r.z_stroke_mm).second)
+      fail(lineno, f[1].second, "z_stroke_mm",
+           fmt::format("space {} at {} mm is given twice", r.space, f[1].first));
+    rows.push_back(r);
+  }
+  if (!header) fail(std::max(lineno, 1), 1, "header", fmt::format("missing header {}", kHeader));
+  if (rows.empty()) fail(lineno, 1, "rows", "no correction rows");
+  return CorrectionTable(std::move(rows));
+}
+
+CorrectionTable CorrectionTable::read_csv(const std::filesystem::path& file) {
+  auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "corrections file");
+  return read_csv(in, file.string());
 }
 
 } // namespace geartopo::compensation

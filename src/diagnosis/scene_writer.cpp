@@ -6,27 +6,51 @@
 #include "geartopo/effects/registry.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <sstream>
 #include <stdexcept>
 
 namespace geartopo::diagnosis {
 
-std::string effects_yaml_items(const std::vector<scene::EffectSpec>& effects, const std::vector<std::string>& comments) {
+std::string effects_yaml_items(const std::vector<scene::EffectSpec>& effects, const std::vector<std::string>& comments,
+                               const std::vector<std::vector<double>>& uncertainties, const Eigen::MatrixXd& correlation) {
+  // Every value's effect and key, in order: the correlation's rows and columns.
+  std::vector<std::pair<size_t, std::string>> slots;
+  for (size_t i = 0; i < effects.size(); ++i)
+    for (const auto& p : effects::make_effect(effects[i].type)->parameters()) slots.emplace_back(i, p.key);
+  const auto n = static_cast<Eigen::Index>(slots.size());
+  const bool correlated = correlation.rows() == n && correlation.cols() == n && n > 0;
   std::string out;
+  Eigen::Index at = 0;
   for (size_t i = 0; i < effects.size(); ++i) {
     const auto e = effects::make_effect(effects[i].type);
+    const auto& params = e->parameters();
     if (i < comments.size() && !comments[i].empty()) out += "  # " + comments[i] + "\n";
     out += "  - type: " + effects[i].type + "\n";
-    for (size_t k = 0; k < e->parameters().size(); ++k)
-      out += fmt::format("    {}: {:.6g}\n", e->parameters()[k].key, effects[i].values[k]);
+    for (size_t k = 0; k < params.size(); ++k) out += fmt::format("    {}: {:.6g}\n", params[k].key, effects[i].values[k]);
+    std::vector<std::string> us;
+    for (size_t k = 0; i < uncertainties.size() && k < uncertainties[i].size() && k < params.size(); ++k)
+      if (uncertainties[i][k] > 0.0) us.push_back(fmt::format("{}: {:.6g}", params[k].key, uncertainties[i][k]));
+    if (!us.empty()) out += fmt::format("    uncertainty: {{{}}}\n", fmt::join(us, ", "));
+    std::vector<std::string> pairs;
+    for (Eigen::Index a = at; correlated && a < at + static_cast<Eigen::Index>(params.size()); ++a)
+      for (Eigen::Index b = a + 1; b < n; ++b) {
+        if (correlation(a, b) == 0.0) continue;
+        const auto& [eb, key_b] = slots[static_cast<size_t>(b)];
+        pairs.push_back(fmt::format("[{}, {}, {:.6g}]", slots[static_cast<size_t>(a)].second,
+                                    eb == i ? key_b : effects[eb].type + "." + key_b, correlation(a, b)));
+      }
+    if (!pairs.empty()) out += fmt::format("    correlation: [{}]\n", fmt::join(pairs, ", "));
+    at += static_cast<Eigen::Index>(params.size());
   }
   return out;
 }
 
 std::string scene_with_effects(const std::string& text, const std::vector<scene::EffectSpec>& effects,
-                               const std::vector<std::string>& comments) {
-  const std::string items = effects_yaml_items(effects, comments);
+                               const std::vector<std::string>& comments,
+                               const std::vector<std::vector<double>>& uncertainties, const Eigen::MatrixXd& correlation) {
+  const std::string items = effects_yaml_items(effects, comments, uncertainties, correlation);
   // Find a top-level "effects:" line; its block ends at the next top-level key (a line starting with a letter).
   std::istringstream in(text);
   std::vector<std::string> lines;
@@ -116,9 +140,10 @@ std::string rebase_scene_paths(const std::string& text, const std::filesystem::p
 }
 
 void write_scene_with_effects(const std::filesystem::path& scene_file, const std::vector<scene::EffectSpec>& effects,
-                              const std::vector<std::string>& comments, const std::filesystem::path& out_file) {
-  const std::string completed =
-      scene_with_effects(input::read_input_file(scene_file, input::kMaxSceneBytes, "scene file"), effects, comments);
+                              const std::vector<std::string>& comments, const std::filesystem::path& out_file,
+                              const std::vector<std::vector<double>>& uncertainties, const Eigen::MatrixXd& correlation) {
+  const std::string completed = scene_with_effects(input::read_input_file(scene_file, input::kMaxSceneBytes, "scene file"),
+                                                   effects, comments, uncertainties, correlation);
   output::write_text_atomically(out_file, rebase_scene_paths(completed, scene_file.parent_path(), out_file.parent_path()));
 }
 

@@ -19,4 +19,23 @@ std::vector<grinding::TopologyRow> synthesize(const grinding::GrindingSetup& tru
   return rows;
 }
 
+std::vector<grinding::FlankTopology> synthesize_traces(const grinding::GrindingSetup& truth,
+                                                       const grinding::GrindingProcess& process, const SynthOptions& o,
+                                                       int profile_points, int helix_points) {
+  grinding::SimulationOptions so;
+  so.teeth = o.teeth;
+  so.rows = so.cols = 2; // the grid is not measured here
+  so.profile_points = profile_points;
+  so.helix_points = helix_points;
+  auto topo = grinding::simulate_topology(truth, process, so);
+  std::mt19937_64 rng(o.seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  for (auto& ft : topo) {
+    ft.grid.clear();
+    for (auto* trace : {&ft.profile, &ft.helix})
+      for (auto& p : *trace) p.deviation_um += o.noise_um * noise(rng);
+  }
+  return topo;
+}
+
 } // namespace geartopo::diagnosis

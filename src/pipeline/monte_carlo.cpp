@@ -68,13 +68,6 @@ std::string_view ascii_name(evaluation::Quantity q) {
   return "?";
 }
 
-// Corrections of every row replaced: `base` rows with their correction plus this space's repeatability draw.
-compensation::CorrectionTable with_stroke_offsets(const compensation::CorrectionTable& base,
-                                                  const std::map<int, machine::Vector5d>& offsets) {
-  std::vector<compensation::CorrectionRow> rows = base.rows();
-  for (auto& r : rows) r.correction += offsets.at(r.space);
-  return compensation::CorrectionTable(std::move(rows));
-}
 
 std::vector<machine::ErrorSource> full_map(const std::vector<machine::ErrorSource>& given) {
   std::vector<machine::ErrorSource> all;
@@ -152,6 +145,25 @@ GearQuantities gear_quantities(const workbench::IsoResult& iso, const std::vecto
   return g;
 }
 
+std::map<int, machine::Vector5d> draw_stroke_offsets(const std::set<int>& spaces, const machine::Vector5d& repeatability_sd,
+                                                     const std::function<double()>& standard_normal) {
+  std::map<int, machine::Vector5d> offsets;
+  for (const int s : spaces)
+    for (int a = 0; a < 5; ++a) offsets[s](a) = repeatability_sd(a) * standard_normal();
+  return offsets;
+}
+
+compensation::CorrectionTable with_stroke_offsets(const compensation::CorrectionTable& base,
+                                                  const std::map<int, machine::Vector5d>& offsets) {
+  std::vector<compensation::CorrectionRow> rows = base.rows();
+  for (auto& r : rows) {
+    const auto it = offsets.find(r.space);
+    if (it == offsets.end()) throw std::invalid_argument(fmt::format("no stroke offset for space {}", r.space));
+    r.correction += it->second;
+  }
+  return compensation::CorrectionTable(std::move(rows));
+}
+
 compensation::CorrectionTable rounded_to_resolution(const compensation::CorrectionTable& table,
                                                     const machine::Vector5d& resolution) {
   std::vector<compensation::CorrectionRow> rows = table.rows();
@@ -212,11 +224,9 @@ MonteCarloRun run_sample_range(const workbench::Workbench& wb, const compensatio
     std::vector<machine::ErrorSource> truth;
     truth.reserve(nominal_map.size());
     for (size_t c = 0; c < nominal_map.size(); ++c) truth.push_back(nominal_map[c].shifted(unc.component_u[c] * rng.normal()));
-    std::map<int, machine::Vector5d> off_before, off_after;
-    for (const int s : spaces)
-      for (int a = 0; a < 5; ++a) off_before[s](a) = unc.repeatability(a) * rng.normal();
-    for (const int s : spaces)
-      for (int a = 0; a < 5; ++a) off_after[s](a) = unc.repeatability(a) * rng.normal();
+    const std::function<double()> standard_normal = [&rng] { return rng.normal(); };
+    const auto off_before = draw_stroke_offsets(spaces, unc.repeatability, standard_normal);
+    const auto off_after = draw_stroke_offsets(spaces, unc.repeatability, standard_normal);
 
     // Effects with uncertain values (Scene::effect_uncertainties, e.g. identified by diagnosis): drawn last, each value within its standard
     // uncertainty (independently: the fit's correlations are not carried), held inside the effect's allowed range.

@@ -1,5 +1,7 @@
 #include "geartopo/report/prediction_report.hpp"
 
+#include "geartopo/core/input_error.hpp"
+#include "geartopo/core/input_file.hpp"
 #include "geartopo/evaluation/tolerances.hpp"
 #include "geartopo/render/charts.hpp"
 
@@ -65,6 +67,99 @@ nlohmann::json prediction_json(const pipeline::MonteCarloSummary& s) {
   for (size_t i = 0; i < s.names.size(); ++i) q[s.names[i]] = {{"before", band(s.before[i])}, {"after", band(s.after[i])}};
   j["quantities"] = q;
   return j;
+}
+
+pipeline::MonteCarloSummary read_prediction_json(const std::filesystem::path& file) {
+  const std::string source = file.string();
+  const auto fail = [&](const std::string& field, const std::string& message) -> void {
+    throw InputError(source, 0, 0, field, message);
+  };
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(input::read_input_file(file, input::kMaxSceneBytes, "prediction file"));
+  } catch (const nlohmann::json::parse_error& e) {
+    fail("", fmt::format("not JSON ({}): a prediction.json of geartopo compensate", e.what()));
+  }
+  const auto number = [&](const nlohmann::json& parent, const std::string& key, const std::string& field) {
+    if (!parent.is_object() || !parent.contains(key) || !parent[key].is_number())
+      fail(field, "missing or not a number");
+    const double v = parent[key].get<double>();
+    if (!std::isfinite(v)) fail(field, "not finite");
+    return v;
+  };
+  pipeline::MonteCarloSummary s;
+  const double samples = number(j, "samples", "samples");
+  if (samples < 1 || samples != std::floor(samples)) fail("samples", fmt::format("{} is not a count of samples", samples));
+  s.samples = static_cast<long long>(samples);
+  if (j.contains("seed") && j["seed"].is_number_unsigned()) s.seed = j["seed"].get<std::uint64_t>();
+  if (!j.contains("quantities") || !j["quantities"].is_object() || j["quantities"].empty())
+    fail("quantities", "missing: the predicted quantities (a prediction.json of geartopo compensate with --samples > 0)");
+  for (const auto& [name, q] : j["quantities"].items()) {
+    pipeline::Band sides[2];
+    const char* side_names[2] = {"before", "after"};
+    for (int k = 0; k < 2; ++k) {
+      const std::string field = fmt::format("quantities.{}.{}", name, side_names[k]);
+      if (!q.is_object() || !q.contains(side_names[k])) fail(field, "missing");
+      const auto& b = q[side_names[k]];
+      sides[k] = {number(b, "median", field + ".median"), number(b, "low", field + ".low"), number(b, "high", field + ".high")};
+      if (!(sides[k].low <= sides[k].median && sides[k].median <= sides[k].high))
+        fail(field, fmt::format("low {} ≤ median {} ≤ high {} does not hold", sides[k].low, sides[k].median, sides[k].high));
+    }
+    s.names.push_back(name);
+    s.before.push_back(sides[0]);
+    s.after.push_back(sides[1]);
+  }
+  return s;
+}
+
+std::vector<PredictionCheck> check_against_prediction(const pipeline::GearQuantities& measured,
+                                                      const pipeline::MonteCarloSummary& prediction,
+                                                      const std::string& side, bool with_largest) {
+  std::vector<PredictionCheck> out;
+  for (size_t i = 0; i < measured.names.size(); ++i) {
+    const std::string& name = measured.names[i];
+    const bool um = name.size() > 3 && name.substr(name.size() - 3) == "_um";
+    if (name == "largest_abs_um" ? !with_largest : !um) continue;
+    const int k = prediction.find(name);
+    if (k < 0) continue;
+    const auto& band = (side == "before" ? prediction.before : prediction.after)[static_cast<size_t>(k)];
+    const double v = measured.values[i];
+    out.push_back({name, v, band, band.low <= v && v <= band.high});
+  }
+  return out;
+}
+
+std::vector<std::string> prediction_check_lines(const std::vector<PredictionCheck>& checks,
+                                                const pipeline::MonteCarloSummary& prediction, const std::string& side) {
+  std::vector<std::string> lines;
+  lines.push_back(fmt::format("{:<20} {:>10}   predicted {} ({} samples): median [95 % interval]", "", "measured",
+                              side == "before" ? "before compensation" : "after compensation", prediction.samples));
+  size_t inside = 0;
+  for (const auto& c : checks) {
+    inside += c.inside ? 1 : 0;
+    lines.push_back(fmt::format("{:<20} {:>7.2f} µm   {:<26} {}", quantity_label(c.name), c.measured_um,
+                                band_text(c.name, c.band),
+                                c.inside ? "inside" : c.measured_um < c.band.low ? "outside (below)" : "outside (above)"));
+  }
+  lines.push_back(fmt::format("{} of {} inside their 95 % intervals", inside, checks.size()));
+  return lines;
+}
+
+nlohmann::json prediction_check_json(const std::vector<PredictionCheck>& checks,
+                                     const pipeline::MonteCarloSummary& prediction, const std::string& side) {
+  nlohmann::json q = nlohmann::json::object();
+  int inside = 0;
+  for (const auto& c : checks) {
+    inside += c.inside ? 1 : 0;
+    q[c.name] = {{"measured", c.measured_um}, {"median", c.band.median}, {"low", c.band.low}, {"high", c.band.high},
+                 {"inside", c.inside}};
+  }
+  return {{"side", side},
+          {"samples", prediction.samples},
+          {"coverage_probability", 0.95},
+          {"inside", inside},
+          {"outside", static_cast<int>(checks.size()) - inside},
+          {"quantities", q}};
 }
 
 std::string prediction_summary_html(const pipeline::MonteCarloSummary& s) {

@@ -13,7 +13,10 @@
 #include <fmt/format.h>
 #include <yaml-cpp/depthguard.h> // YAML::DeepRecursion, not included by yaml.h in 0.7
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -280,10 +283,104 @@ grinding::ProcessSpec read_process(MapReader& p) {
   return s;
 }
 
-std::vector<EffectSpec> read_effects(MapReader& top, ReadContext& ctx) {
-  std::vector<EffectSpec> out;
+// One `correlation` entry of an effect, resolved after every effect is read (it may name a later one).
+struct PendingCorrelation {
+  std::string field;         ///< effects[i].correlation[j], for messages
+  YAML::Mark mark;
+  size_t effect = 0;         ///< the effect whose item holds the entry
+  std::string key_a, key_b;  ///< "key" (this effect) or "type.key" (another effect of the list)
+  double r = 0.0;
+};
+
+// The effect's values' standard uncertainties (`uncertainty: {key: u}`, the key's unit; absent: exact) and its
+// correlation entries (`correlation: [[key_a, key_b, r], …]`), resolved by resolve_correlation.
+std::vector<double> read_effect_uncertainty(MapReader& m, const std::string& type, const effects::Effect& effect,
+                                            size_t effect_index, std::vector<PendingCorrelation>& pending) {
+  auto& ctx = m.context();
+  const auto& params = effect.parameters();
+  std::vector<double> us(params.size(), 0.0);
+  if (auto u = m.optional_map("uncertainty")) {
+    for (const auto& key : u->keys()) {
+      const auto it = std::find_if(params.begin(), params.end(), [&](const auto& p) { return p.key == key; });
+      if (it == params.end()) {
+        std::vector<std::string> keys;
+        for (const auto& p : params) keys.push_back(p.key);
+        ctx.fail_field(u->field(key), fmt::format("'{}' is not a parameter of {} ({})", key, type, fmt::join(keys, ", ")));
+      }
+      if (it->whole)
+        ctx.fail_field(u->field(key), fmt::format("'{}' is a count set up on the machine, not an uncertain value", key));
+      // A standard uncertainty wider than the parameter's whole allowed range says nothing a draw could use.
+      us[static_cast<size_t>(it - params.begin())] = u->number(key, {0.0, it->hi - it->lo});
+    }
+    u->finish();
+  }
+  const YAML::Node list = m.raw("correlation");
+  if (!list.IsDefined()) return us;
+  const std::string list_field = m.field("correlation");
+  if (!list.IsSequence()) ctx.fail(list.Mark(), list_field, "expected a list of [key_a, key_b, r]");
+  for (size_t j = 0; j < list.size(); ++j) {
+    const YAML::Node entry = list[j];
+    const std::string field = fmt::format("{}[{}]", list_field, j);
+    if (!entry.IsSequence() || entry.size() != 3 || !entry[0].IsScalar() || !entry[1].IsScalar() || !entry[2].IsScalar())
+      ctx.fail(entry.Mark(), field, "expected [key_a, key_b, r]: two parameter keys and a correlation coefficient");
+    PendingCorrelation c{field, entry.Mark(), effect_index, entry[0].Scalar(), entry[1].Scalar(), 0.0};
+    if (text::parse_number(entry[2].Scalar(), c.r) != std::errc() || !std::isfinite(c.r) || std::abs(c.r) > 1.0)
+      ctx.fail(entry[2].Mark(), field, fmt::format("'{}' is not a correlation coefficient (a number in [-1, 1])",
+                                                   text::excerpt(entry[2].Scalar())));
+    pending.push_back(std::move(c));
+  }
+  return us;
+}
+
+// The N × N correlation over all effects' values (scene order) from the entries; validated: keys that exist, a pair
+// once, not a value with itself, positive semidefinite (within the rounding of written coefficients).
+Eigen::MatrixXd resolve_correlation(const std::vector<EffectSpec>& specs, const std::vector<PendingCorrelation>& pending,
+                                    const ReadContext& ctx) {
+  std::vector<Eigen::Index> first(specs.size() + 1, 0);
+  for (size_t e = 0; e < specs.size(); ++e) first[e + 1] = first[e] + static_cast<Eigen::Index>(specs[e].values.size());
+  const Eigen::Index n = first.back();
+  const auto slot = [&](const PendingCorrelation& c, const std::string& key) -> Eigen::Index {
+    size_t e = c.effect;
+    std::string name = key;
+    if (const auto dot = key.find('.'); dot != std::string::npos) {
+      const std::string type = key.substr(0, dot);
+      const auto it = std::find_if(specs.begin(), specs.end(), [&](const auto& s) { return s.type == type; });
+      if (it == specs.end()) ctx.fail(c.mark, c.field, fmt::format("'{}': no effect of type '{}' in this scene", key, type));
+      e = static_cast<size_t>(it - specs.begin());
+      name = key.substr(dot + 1);
+    }
+    const auto params = effects::make_effect(specs[e].type)->parameters();
+    for (size_t k = 0; k < params.size(); ++k)
+      if (params[k].key == name) return first[e] + static_cast<Eigen::Index>(k);
+    ctx.fail(c.mark, c.field, fmt::format("'{}' is not a parameter of {} (another effect's: type.key)", text::excerpt(key),
+                                          specs[e].type));
+  };
+  Eigen::MatrixXd C = Eigen::MatrixXd::Identity(n, n);
+  Eigen::MatrixXi given = Eigen::MatrixXi::Zero(n, n);
+  for (const auto& c : pending) {
+    const Eigen::Index a = slot(c, c.key_a), b = slot(c, c.key_b);
+    if (a == b) ctx.fail(c.mark, c.field, fmt::format("'{}' with itself: its correlation is 1", c.key_a));
+    if (given(a, b)) ctx.fail(c.mark, c.field, fmt::format("the pair {}, {} is given twice", c.key_a, c.key_b));
+    given(a, b) = given(b, a) = 1;
+    C(a, b) = C(b, a) = c.r;
+  }
+  // A correlation matrix is positive semidefinite; coefficients written to 6 digits may dip below by their rounding.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(C, Eigen::EigenvaluesOnly);
+  if (eig.eigenvalues().minCoeff() < -1e-5 * static_cast<double>(n))
+    ctx.fail(pending.front().mark, pending.front().field,
+             fmt::format("the effects' correlation coefficients are not a correlation matrix (not positive "
+                         "semidefinite: smallest eigenvalue {:.3g}); no joint distribution has them",
+                         eig.eigenvalues().minCoeff()));
+  return C;
+}
+
+void read_effects(MapReader& top, ReadContext& ctx, Scene& scene) {
+  std::vector<EffectSpec>& out = scene.effects;
+  std::vector<std::vector<double>> uncertainties;
+  std::vector<PendingCorrelation> pending;
+  bool any_uncertainty = false;
   const YAML::Node list = top.raw("effects");
-  if (!list.IsDefined()) return out;
+  if (!list.IsDefined()) return;
   if (!list.IsSequence()) ctx.fail(list.Mark(), "effects", "expected a list of effects (- type: …)");
   for (size_t i = 0; i < list.size(); ++i) {
     MapReader m(list[i], fmt::format("effects[{}]", i), ctx);
@@ -306,10 +403,14 @@ std::vector<EffectSpec> read_effects(MapReader& top, ReadContext& ctx) {
         spec.values[k] = *v;
       }
     }
+    uncertainties.push_back(read_effect_uncertainty(m, type, *effect, i, pending));
+    for (double u : uncertainties.back()) any_uncertainty = any_uncertainty || u > 0.0;
     m.finish();
     out.push_back(std::move(spec));
   }
-  return out;
+  // Empty when nothing is uncertain: the effects are then exact (Scene::effect_uncertainties).
+  if (any_uncertainty) scene.effect_uncertainties = std::move(uncertainties);
+  if (!pending.empty()) scene.effect_correlation = resolve_correlation(out, pending, ctx);
 }
 
 MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& base) {
@@ -464,7 +565,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   if (auto p = top.optional_map("process")) scene.process = read_process(*p);
   if (auto m = top.optional_map("measurement"))
     scene.grid = read_grid(*m, scene.gear.teeth, std::filesystem::path(source).parent_path());
-  scene.effects = read_effects(top, ctx);
+  read_effects(top, ctx, scene);
   if (auto r = top.optional_map("report")) {
     scene.report.part = r->optional_text("part").value_or("");
     scene.report.drawing = r->optional_text("drawing").value_or("");

@@ -5,6 +5,7 @@
 
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/identified_effects.hpp"
 #include "geartopo/diagnosis/measured_points.hpp"
 #include "geartopo/diagnosis/stroke_scatter.hpp"
 #include "geartopo/diagnosis/synth.hpp"
@@ -24,6 +25,7 @@
 #include <map>
 #include <numbers>
 #include <random>
+#include <set>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -474,14 +476,10 @@ TEST(MonteCarloClosedLoop, Gear2FromTheTruthFallsInsideThePredictionAndIsBetter)
   const workbench::Workbench truth(scene::parse_scene(mc_scene_text(truth_constants) + hidden, "truth"));
   // Each gear's strokes: command offsets of N(0, s²) per space and axis, s = R/4 of the scene.
   const auto with_repeatability = [&](const compensation::CorrectionTable& t) {
-    std::map<int, machine::Vector5d> off;
-    std::vector<compensation::CorrectionRow> rows = t.rows();
-    for (auto& r : rows) {
-      if (!off.count(r.space))
-        for (int a = 0; a < 5; ++a) off[r.space](a) = u.repeatability(a) * normal(gen);
-      r.correction += off[r.space];
-    }
-    return compensation::CorrectionTable(std::move(rows));
+    std::set<int> spaces;
+    for (const auto& r : t.rows()) spaces.insert(r.space);
+    return pipeline::with_stroke_offsets(
+        t, pipeline::draw_stroke_offsets(spaces, u.repeatability, [&] { return normal(gen); }));
   };
   const auto nominal_rows = nominal_corrections(model).rows();
   std::vector<compensation::CorrectionRow> zero_rows = nominal_rows;
@@ -512,40 +510,18 @@ TEST(MonteCarloClosedLoop, Gear2FromTheTruthFallsInsideThePredictionAndIsBetter)
   // The scatter and the map's deviation the scene declares are not "more than noise" (false alarm 0.001).
   EXPECT_EQ(d.verdict.find("more than noise"), std::string::npos) << d.verdict;
 
-  scene::Scene identified = model.scene;
-  identified.effects = d.chosen->effects;
-  // The fit's standard uncertainties go with the values: the prediction carries what the measurement left open. When
-  // the residual is more than noise, scatter and map explain, they are scaled by the Birge ratio √(χ²/ν) (χ² of the
-  // whitened residual after the fit, ν its degrees of freedom): the fit is then no better than its residual.
-  const double birge = std::sqrt(std::max(1.0, d.chi2_after / d.chi2_dof));
-  std::cout << "Birge ratio " << birge << "\n" << d.verdict << "\n";
+  // The fit's standard uncertainties go with the values, and their correlation, so that amplitude and time constant
+  // are drawn as the fit allows them together: the prediction carries what the measurement left open (what
+  // `diagnose` writes into scene_with_effect.yaml).
+  const auto found = diagnosis::identified_effects(d, *d.chosen);
+  std::cout << "Birge ratio " << found.birge_ratio << "\n" << d.verdict << "\n";
   for (const auto& ps : d.chosen->parameters)
     for (const auto& p : ps) std::cout << p.key << " = " << p.value << " ± " << p.uncertainty << "\n";
   std::cout << "correlation\n" << d.chosen->correlation << "\n";
-  for (size_t e = 0; e < identified.effects.size(); ++e) {
-    const auto& spec = identified.effects[e];
-    const auto params = effects::make_effect(spec.type)->parameters();
-    std::vector<double> us(spec.values.size(), 0.0);
-    for (size_t v = 0; v < params.size(); ++v)
-      for (const auto& fitted : d.chosen->parameters[e])
-        if (fitted.key == params[v].key) us[v] = birge * fitted.uncertainty;
-    identified.effect_uncertainties.push_back(us);
-  }
-  // And their correlation, so that amplitude and time constant are drawn as the fit allows them together: the fit's
-  // p × p correlation placed at the fitted values' slots among all the effects' values (scene order).
-  std::vector<Eigen::Index> slot;
-  Eigen::Index values_count = 0;
-  for (const auto& ps : d.chosen->parameters)
-    for (const auto& p : ps) {
-      if (p.fitted) slot.push_back(values_count);
-      ++values_count;
-    }
-  ASSERT_EQ(static_cast<Eigen::Index>(slot.size()), d.chosen->correlation.rows());
-  identified.effect_correlation = Eigen::MatrixXd::Identity(values_count, values_count);
-  for (size_t a = 0; a < slot.size(); ++a)
-    for (size_t b = 0; b < slot.size(); ++b)
-      identified.effect_correlation(slot[a], slot[b]) =
-          d.chosen->correlation(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
+  scene::Scene identified = model.scene;
+  identified.effects = found.effects;
+  identified.effect_uncertainties = found.uncertainties;
+  identified.effect_correlation = found.correlation;
   const workbench::Workbench wb(std::move(identified));
   const auto table = nominal_corrections(wb);
   pipeline::MonteCarloOptions o;

@@ -293,3 +293,79 @@ TEST(SceneReport, HeaderKeysAreReadAndCheckedAtTheirField) {
   EXPECT_NE(error_of(kGood + "report:\n  tolerance_class: 12\n").find("report.tolerance_class"), std::string::npos);
   EXPECT_NE(error_of(kGood + "report:\n  machine: x\n").find("report.machine"), std::string::npos); // unknown key
 }
+
+namespace {
+
+// Two effects with uncertain values and correlations, one across the effects (kGood has 9 lines: `effects:` is line 10).
+const std::string kUncertainEffects = kGood + R"(effects:
+  - type: thermal_drift
+    x_growth_um: 23
+    time_constant_s: 94
+    uncertainty: {x_growth_um: 4.1, time_constant_s: 48}
+    correlation: [[x_growth_um, time_constant_s, 0.8]]
+  - type: wheel_wear
+    wear_um_per_stroke: 0.05
+    uncertainty: {wear_um_per_stroke: 0.01}
+    correlation: [[wear_um_per_stroke, thermal_drift.x_growth_um, -0.3]]
+)";
+
+} // namespace
+
+// docs/scene-format.md, "Uncertain effects": per-value standard uncertainties in the value's unit and correlation
+// entries [key_a, key_b, r] become Scene::effect_uncertainties and the N × N effect_correlation (values in scene order:
+// x_growth, z_growth, time_constant, wear, dressing_interval).
+TEST(SceneEffects, UncertaintiesAndCorrelationsAreRead) {
+  const auto sc = scene::parse_scene(kUncertainEffects, "mem");
+  ASSERT_EQ(sc.effect_uncertainties.size(), 2u);
+  EXPECT_EQ(sc.effect_uncertainties[0], (std::vector<double>{4.1, 0.0, 48.0}));
+  EXPECT_EQ(sc.effect_uncertainties[1], (std::vector<double>{0.01, 0.0}));
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Identity(5, 5);
+  expected(0, 2) = expected(2, 0) = 0.8;
+  expected(3, 0) = expected(0, 3) = -0.3;
+  EXPECT_EQ(sc.effect_correlation, expected);
+  // Without them the effects are exact and independent, as before.
+  const auto plain = scene::parse_scene(kGood + "effects:\n  - {type: thermal_drift, x_growth_um: 9}\n", "mem");
+  EXPECT_TRUE(plain.effect_uncertainties.empty());
+  EXPECT_EQ(plain.effect_correlation.size(), 0);
+}
+
+TEST(SceneEffects, BadUncertaintiesAndCorrelationsAreLocated) {
+  // kUncertainEffects with the line that contains `part` replaced by `line`.
+  const auto with = [](const std::string& part, const std::string& line) {
+    const auto pos = kUncertainEffects.find(part);
+    EXPECT_NE(pos, std::string::npos) << part;
+    const auto start = kUncertainEffects.rfind('\n', pos) + 1, end = kUncertainEffects.find('\n', pos);
+    return kUncertainEffects.substr(0, start) + line + kUncertainEffects.substr(end);
+  };
+  EXPECT_EQ(error_of(with("uncertainty: {x_growth_um", "    uncertainty: {x_growth_um: -1}")),
+            "scenes/x.yaml:14:32: effects[0].uncertainty.x_growth_um: -1 is outside [0, 1000]");
+  EXPECT_EQ(error_of(with("uncertainty: {x_growth_um", "    uncertainty: {y_growth_um: 1}")),
+            "scenes/x.yaml:14:18: effects[0].uncertainty.y_growth_um: 'y_growth_um' is not a parameter of thermal_drift "
+            "(x_growth_um, z_growth_um, time_constant_s)");
+  EXPECT_EQ(error_of(with("uncertainty: {wear", "    uncertainty: {dressing_interval_strokes: 1}")),
+            "scenes/x.yaml:18:18: effects[1].uncertainty.dressing_interval_strokes: 'dressing_interval_strokes' is a "
+            "count set up on the machine, not an uncertain value");
+  EXPECT_EQ(error_of(with("correlation: [[x_growth", "    correlation: [[x_growth_um, time_constant_s, 1.2]]")),
+            "scenes/x.yaml:15:50: effects[0].correlation[0]: '1.2' is not a correlation coefficient (a number in [-1, 1])");
+  EXPECT_EQ(error_of(with("correlation: [[x_growth", "    correlation: [[x_growth_um, 0.8]]")),
+            "scenes/x.yaml:15:19: effects[0].correlation[0]: expected [key_a, key_b, r]: two parameter keys and a "
+            "correlation coefficient");
+  EXPECT_EQ(error_of(with("correlation: [[x_growth", "    correlation: [[x_growth_um, x_growth_um, 0.5]]")),
+            "scenes/x.yaml:15:19: effects[0].correlation[0]: 'x_growth_um' with itself: its correlation is 1");
+  EXPECT_EQ(error_of(with("correlation: [[wear", "    correlation: [[wear_um_per_stroke, eccentricity.ecc_x_um, 0.1]]")),
+            "scenes/x.yaml:19:19: effects[1].correlation[0]: 'eccentricity.ecc_x_um': no effect of type 'eccentricity' "
+            "in this scene");
+  EXPECT_EQ(error_of(with("correlation: [[wear", "    correlation: [[wear_um_per_stroke, thermal_drift.tau_s, 0.1]]")),
+            "scenes/x.yaml:19:19: effects[1].correlation[0]: 'thermal_drift.tau_s' is not a parameter of thermal_drift "
+            "(another effect's: type.key)");
+  EXPECT_EQ(error_of(with("correlation: [[wear", "    correlation: [[thermal_drift.time_constant_s, thermal_drift.x_growth_um, 0.1]]")),
+            "scenes/x.yaml:19:19: effects[1].correlation[0]: the pair thermal_drift.time_constant_s, "
+            "thermal_drift.x_growth_um is given twice");
+  // Pairwise within [-1, 1] but jointly impossible: a and b, a and c strongly alike, b and c strongly opposite.
+  // Eigenvalues of [[1, .9, .9], [.9, 1, -.9], [.9, -.9, 1]]: 1.9, 1.9, -0.8.
+  const std::string drift_only = kGood + "effects:\n  - type: thermal_drift\n    correlation: [[x_growth_um, z_growth_um, 0.9], "
+                                         "[x_growth_um, time_constant_s, 0.9], [z_growth_um, time_constant_s, -0.9]]\n";
+  EXPECT_EQ(error_of(drift_only),
+            "scenes/x.yaml:12:19: effects[0].correlation[0]: the effects' correlation coefficients are not a "
+            "correlation matrix (not positive semidefinite: smallest eigenvalue -0.8); no joint distribution has them");
+}

@@ -14,6 +14,10 @@
 
 namespace geartopo::compensation {
 
+/// Largest |correction| a correction file may hold, in its units (µm, µrad): a grinder's corrections are some tens of
+/// µm; beyond a millimetre (a milliradian) the file is in another unit or broken.
+inline constexpr double kMaxCorrectionUm = 1000.0;
+
 struct CorrectionRow {
   int space = 1;
   double z_stroke_mm = 0.0;       ///< stroke position in gear coordinates (datum face = 0)
@@ -41,6 +45,13 @@ public:
   /// Header: space,z_stroke_mm,time_s,X_mm,Y_mm,Z_mm,A_deg,C_deg,dX_um,dY_um,dZ_um,dA_urad,dC_urad,within_strokes
   void write_csv(std::ostream& out) const;
   void write_csv(const std::filesystem::path& file) const;
+
+  /// Reads what write_csv wrote (the header above, '#' comment lines and blank lines skipped, a UTF-8 BOM and CRLF
+  /// accepted). Throws InputError at file:line:column and field for a wrong header, a field that is not a finite
+  /// number, a space < 1, a correction beyond ±kMaxCorrectionUm (µm or µrad: a wrong unit), a (space, z_stroke_mm)
+  /// given twice, no rows.
+  static CorrectionTable read_csv(std::istream& in, const std::string& source);
+  static CorrectionTable read_csv(const std::filesystem::path& file);
 
 private:
   std::vector<CorrectionRow> rows_;

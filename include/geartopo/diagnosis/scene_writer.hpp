@@ -4,18 +4,28 @@
 
 #include "geartopo/scene/scene.hpp"
 
+#include <Eigen/Dense>
+
 #include <filesystem>
 #include <string>
 #include <vector>
 
 namespace geartopo::diagnosis {
 
-/// The YAML items ("  - type: …") for effects, values in file units with their keys, and a comment line each.
-std::string effects_yaml_items(const std::vector<scene::EffectSpec>& effects, const std::vector<std::string>& comments);
+/// The YAML items ("  - type: …") for effects, values in file units with their keys, and a comment line each. With
+/// `uncertainties` (parallel to the effects' values, file units; 0: exact) each item gets an `uncertainty` map of its
+/// uncertain values, and with `correlation` (N × N over all the effects' values in order) a `correlation` list of
+/// [key_a, key_b, r] for every non-zero pair, in the item of its first value (another effect's key as type.key):
+/// docs/scene-format.md, "Uncertain effects".
+std::string effects_yaml_items(const std::vector<scene::EffectSpec>& effects, const std::vector<std::string>& comments,
+                               const std::vector<std::vector<double>>& uncertainties = {},
+                               const Eigen::MatrixXd& correlation = Eigen::MatrixXd());
 
 /// `scene_text` with the items added to its top-level `effects:` list (created if absent).
 std::string scene_with_effects(const std::string& scene_text, const std::vector<scene::EffectSpec>& effects,
-                               const std::vector<std::string>& comments);
+                               const std::vector<std::string>& comments,
+                               const std::vector<std::vector<double>>& uncertainties = {},
+                               const Eigen::MatrixXd& correlation = Eigen::MatrixXd());
 
 /// `scene_text` (a scene file read from `from_dir`) with its relative file references — `machine.tables` and
 /// `measurement.measured` — rewritten relative to `to_dir`, so that the text can be saved there. Absolute paths stay.
@@ -25,6 +35,8 @@ std::string rebase_scene_paths(const std::string& scene_text, const std::filesys
 /// Reads `scene_file`, adds the effects (scene_with_effects), rebases its paths to `out_file`'s folder and writes it
 /// there. Throws std::runtime_error naming the file that cannot be read or written.
 void write_scene_with_effects(const std::filesystem::path& scene_file, const std::vector<scene::EffectSpec>& effects,
-                              const std::vector<std::string>& comments, const std::filesystem::path& out_file);
+                              const std::vector<std::string>& comments, const std::filesystem::path& out_file,
+                              const std::vector<std::vector<double>>& uncertainties = {},
+                              const Eigen::MatrixXd& correlation = Eigen::MatrixXd());
 
 } // namespace geartopo::diagnosis

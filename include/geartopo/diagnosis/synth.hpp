@@ -21,4 +21,12 @@ struct SynthOptions {
 std::vector<grinding::TopologyRow> synthesize(const grinding::GrindingSetup& truth, const grinding::GrindingProcess& process,
                                               const SynthOptions& options);
 
+/// The same gear as a gear measuring machine measures it: per flank of the chosen teeth one profile trace (profile_points
+/// along the evaluation range at mid face) and one helix trace (helix_points), as grinding::simulate_topology lays
+/// them, each point plus Gaussian probe noise drawn in file order (flank by flank, profile then helix). For
+/// `geartopo evaluate --traces`.
+std::vector<grinding::FlankTopology> synthesize_traces(const grinding::GrindingSetup& truth,
+                                                       const grinding::GrindingProcess& process, const SynthOptions& options,
+                                                       int profile_points, int helix_points);
+
 } // namespace geartopo::diagnosis

@@ -24,6 +24,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -78,6 +80,18 @@ struct MonteCarloRun {
 /// (X, Y, Z mm; A, C rad; 0 leaves the axis as it is).
 compensation::CorrectionTable rounded_to_resolution(const compensation::CorrectionTable& table,
                                                     const machine::Vector5d& resolution);
+
+/// Each stroke's scatter (ISO 230-2 repeatability, one standard deviation s_a per axis, scene `machine.repeatability`):
+/// for every space of `spaces` in increasing order, the command offsets of X, Y, Z (mm), A, C (rad), each s_a times a
+/// draw of `standard_normal`, in that order — the draw of every Monte Carlo sample (gear 1, then gear 2), of `geartopo
+/// synth --stroke-scatter` and of the closed-loop test. The offsets are constant over the stroke.
+std::map<int, machine::Vector5d> draw_stroke_offsets(const std::set<int>& spaces, const machine::Vector5d& repeatability_sd,
+                                                     const std::function<double()>& standard_normal);
+
+/// `base` with each row's correction plus its space's offset: the corrections a stroke actually receives. Throws
+/// std::invalid_argument for a row whose space has no offset.
+compensation::CorrectionTable with_stroke_offsets(const compensation::CorrectionTable& base,
+                                                  const std::map<int, machine::Vector5d>& offsets);
 
 /// First and one-past-last sample of a shard (1-based shard of shards): contiguous blocks of ⌊M/n⌋ or ⌈M/n⌉.
 std::pair<long long, long long> shard_range(long long samples, int shard, int shards);

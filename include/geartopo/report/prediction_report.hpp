@@ -28,6 +28,35 @@ std::vector<std::string> prediction_lines(const pipeline::MonteCarloSummary& s);
 /// "after": {…}}}}; names carry their unit (_um, _class).
 nlohmann::json prediction_json(const pipeline::MonteCarloSummary& s);
 
+/// Reads what prediction_json wrote (prediction.json of `geartopo compensate`/`merge`): the samples, the seed and each
+/// quantity's bands. Throws InputError naming the file and the field (e.g. "quantities.F_p_um.after.low") for a file
+/// that is not such JSON, a missing or non-finite number, or a band whose low > median or median > high.
+pipeline::MonteCarloSummary read_prediction_json(const std::filesystem::path& file);
+
+/// One measured quantity beside its prediction: inside when low ≤ measured ≤ high (µm).
+struct PredictionCheck {
+  std::string name;  ///< as the prediction names it, with its unit ("F_p_um")
+  double measured_um = 0.0;
+  pipeline::Band band;
+  bool inside = false;
+};
+
+/// The quantities of `measured` that the prediction holds — µm quantities; largest |deviation| only when
+/// `with_largest` (a traces measurement has no grid to take it from); no classes — against the predicted band of
+/// `side` ("before": the uncorrected gear, "after": the compensated one), in the measurement's order.
+std::vector<PredictionCheck> check_against_prediction(const pipeline::GearQuantities& measured,
+                                                      const pipeline::MonteCarloSummary& prediction,
+                                                      const std::string& side, bool with_largest);
+
+/// A header line, then per check: label, measured value, predicted median [95 % interval], "inside" or "outside
+/// (below/above)"; then "n of m inside their 95 % intervals".
+std::vector<std::string> prediction_check_lines(const std::vector<PredictionCheck>& checks,
+                                                const pipeline::MonteCarloSummary& prediction, const std::string& side);
+
+/// {"side", "samples", "inside", "outside", "quantities": {name: {"measured", "median", "low", "high", "inside"}}}.
+nlohmann::json prediction_check_json(const std::vector<PredictionCheck>& checks,
+                                     const pipeline::MonteCarloSummary& prediction, const std::string& side);
+
 /// The report's summary items (<li>…</li>): overall class and the ISO quantities before → after as bands, thickness
 /// and rigid rotation on their own line.
 std::string prediction_summary_html(const pipeline::MonteCarloSummary& s);

@@ -91,11 +91,13 @@ struct Scene {
   ReportHeader report;
   /// Standard uncertainty of each effect value (file units), parallel to `effects` and their values, e.g. from the fit
   /// that identified them (diagnosis); empty or missing entries: exact. The Monte Carlo prediction draws the values
-  /// within them (pipeline/monte_carlo.hpp). Not read from scene files (set by code).
+  /// within them (pipeline/monte_carlo.hpp). From each effect's `uncertainty` map (docs/scene-format.md); empty when
+  /// no effect gives one.
   std::vector<std::vector<double>> effect_uncertainties;
   /// Correlation of those values (N × N, unit-free; N the number of values of all effects, in scene order): a fit's
   /// amplitude and time constant trade against each other, and drawing them independently would make drifts the data
-  /// exclude. Empty: independent. Not read from scene files (set by code).
+  /// exclude. Empty: independent. From the effects' `correlation` lists of [key_a, key_b, r] (docs/scene-format.md);
+  /// pairs not given are uncorrelated.
   Eigen::MatrixXd effect_correlation;
 
   /// Where each field's value stands in the scene file (dotted path → position): errors found after reading, when

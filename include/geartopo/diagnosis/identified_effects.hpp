@@ -1,0 +1,32 @@
+// geartopo — the explanation diagnosis chose, as a scene carries it: the effects with their fitted values, each value's
+// standard uncertainty and their correlation (docs/diagnosis.md, "Into the scene, with the fit's uncertainty"), so that
+// a prediction (pipeline/monte_carlo.hpp) draws the effect within what the measurement left open. Units: each
+// parameter's own (its key).
+#pragma once
+
+#include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/scene/scene.hpp"
+
+#include <Eigen/Dense>
+
+#include <vector>
+
+namespace geartopo::diagnosis {
+
+struct IdentifiedEffects {
+  std::vector<scene::EffectSpec> effects;        ///< the candidate's effects with their fitted values
+  /// Per effect, per value (parameter order): the fit's standard uncertainty × birge_ratio; 0 for a value held fixed.
+  std::vector<std::vector<double>> uncertainties;
+  /// N × N over all the effects' values in order (unit-free): the fit's p × p correlation at the fitted values'
+  /// slots, identity elsewhere.
+  Eigen::MatrixXd correlation;
+  /// √max(1, χ²/ν) of the whitened residual after the fit (Diagnosis::chi2_after, chi2_dof): when the residual is more
+  /// than the noise, scatter and map the fit was told of, its uncertainties are widened by it (the fit is then no
+  /// better than its residual; Birge 1932).
+  double birge_ratio = 1.0;
+};
+
+/// The candidate of a diagnosis `d` (usually *d.chosen) with its uncertainties and correlation.
+IdentifiedEffects identified_effects(const Diagnosis& d, const Candidate& candidate);
+
+} // namespace geartopo::diagnosis

@@ -1,0 +1,42 @@
+// geartopo — the chosen explanation with its uncertainty, as a scene carries it (identified_effects.hpp).
+#include "geartopo/diagnosis/identified_effects.hpp"
+
+#include "geartopo/effects/registry.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace geartopo::diagnosis {
+
+IdentifiedEffects identified_effects(const Diagnosis& d, const Candidate& candidate) {
+  IdentifiedEffects out;
+  out.effects = candidate.effects;
+  out.birge_ratio = d.chi2_dof > 0.0 ? std::sqrt(std::max(1.0, d.chi2_after / d.chi2_dof)) : 1.0;
+  // Each value's slot among all the effects' values, and which of them the fit moved (Candidate::correlation's order).
+  std::vector<Eigen::Index> fitted_slot;
+  Eigen::Index values = 0;
+  for (size_t e = 0; e < out.effects.size(); ++e) {
+    const auto params = effects::make_effect(out.effects[e].type)->parameters();
+    std::vector<double> us(out.effects[e].values.size(), 0.0);
+    for (size_t v = 0; v < params.size(); ++v) {
+      if (e < candidate.parameters.size())
+        for (const auto& p : candidate.parameters[e])
+          if (p.key == params[v].key && p.fitted) {
+            us[v] = out.birge_ratio * p.uncertainty;
+            fitted_slot.push_back(values + static_cast<Eigen::Index>(v));
+          }
+    }
+    values += static_cast<Eigen::Index>(out.effects[e].values.size());
+    out.uncertainties.push_back(std::move(us));
+  }
+  out.correlation = Eigen::MatrixXd::Identity(values, values);
+  if (candidate.correlation.rows() == static_cast<Eigen::Index>(fitted_slot.size()))
+    for (size_t a = 0; a < fitted_slot.size(); ++a)
+      for (size_t b = 0; b < fitted_slot.size(); ++b)
+        if (a != b)
+          out.correlation(fitted_slot[a], fitted_slot[b]) =
+              candidate.correlation(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
+  return out;
+}
+
+} // namespace geartopo::diagnosis

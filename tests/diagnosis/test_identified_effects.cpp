@@ -1,0 +1,88 @@
+// The identified explanation as diagnose writes it into scene_with_effect.yaml and the scene reader reads it back:
+// values, standard uncertainties widened by the Birge ratio √max(1, χ²/ν) (docs/diagnosis.md) and the fit's correlation
+// at the fitted values' slots — the expected numbers written here from the candidate, not from the code.
+#include "geartopo/diagnosis/identified_effects.hpp"
+#include "geartopo/diagnosis/scene_writer.hpp"
+#include "geartopo/scene/scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace geartopo;
+
+namespace {
+
+const std::string kIdentifiedSceneText = R"(gear:
+  normal_module_mm: 4
+  teeth: 20
+  normal_pressure_angle_deg: 20
+  helix_angle_deg: 20
+  profile_shift: 0
+  face_width_mm: 30
+)";
+
+// A pair fitted jointly: thermal drift (x_growth, τ fitted; z_growth held) and wheel wear (wear fitted; the dressing
+// interval a set-up count), χ² = 4 ν: every uncertainty doubles.
+diagnosis::Diagnosis identified_pair() {
+  diagnosis::Candidate c;
+  c.effects = {{"thermal_drift", {23.0123456, 0.0, 94.4}}, {"wheel_wear", {0.0512, 0.0}}};
+  c.parameters = {{{"x_growth_um", 23.0123456, 4.1, true}, {"z_growth_um", 0.0, 0.0, false},
+                   {"time_constant_s", 94.4, 48.25, true}},
+                  {{"wear_um_per_stroke", 0.0512, 0.0031, true}, {"dressing_interval_strokes", 0.0, 0.0, false}}};
+  c.correlation.resize(3, 3);
+  c.correlation << 1.0, 0.8512, -0.25, 0.8512, 1.0, 0.125, -0.25, 0.125, 1.0;
+  diagnosis::Diagnosis d;
+  d.chosen = c;
+  d.chi2_after = 400.0;
+  d.chi2_dof = 100.0;
+  return d;
+}
+
+} // namespace
+
+TEST(IdentifiedEffects, UncertaintiesWidenedByTheBirgeRatioAndCorrelationAtTheFittedSlots) {
+  const auto d = identified_pair();
+  const auto id = diagnosis::identified_effects(d, *d.chosen);
+  EXPECT_DOUBLE_EQ(id.birge_ratio, 2.0);
+  ASSERT_EQ(id.uncertainties.size(), 2u);
+  EXPECT_EQ(id.uncertainties[0], (std::vector<double>{8.2, 0.0, 96.5}));
+  EXPECT_EQ(id.uncertainties[1], (std::vector<double>{0.0062, 0.0}));
+  // Values x_growth 0, z_growth 1, τ 2, wear 3, dressing 4; fitted: 0, 2, 3.
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Identity(5, 5);
+  expected(0, 2) = expected(2, 0) = 0.8512;
+  expected(0, 3) = expected(3, 0) = -0.25;
+  expected(2, 3) = expected(3, 2) = 0.125;
+  EXPECT_EQ(id.correlation, expected);
+  // A residual within its noise (χ² < ν) does not narrow them.
+  auto quiet = d;
+  quiet.chi2_after = 50.0;
+  EXPECT_DOUBLE_EQ(diagnosis::identified_effects(quiet, *quiet.chosen).birge_ratio, 1.0);
+}
+
+// What diagnose writes (scene_with_effects, 6 significant digits) is read back equal to that precision.
+TEST(IdentifiedEffects, WrittenIntoTheSceneAndReadBackEqual) {
+  const auto d = identified_pair();
+  const auto id = diagnosis::identified_effects(d, *d.chosen);
+  const std::string text =
+      diagnosis::scene_with_effects(kIdentifiedSceneText, id.effects, {"found", "found too"}, id.uncertainties, id.correlation);
+  EXPECT_NE(text.find("    uncertainty: {x_growth_um: 8.2, time_constant_s: 96.5}\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("    correlation: [[x_growth_um, time_constant_s, 0.8512], [x_growth_um, wheel_wear.wear_um_per_stroke, "
+                      "-0.25], [time_constant_s, wheel_wear.wear_um_per_stroke, 0.125]]\n"),
+            std::string::npos)
+      << text;
+  const auto back = scene::parse_scene(text, "scene_with_effect.yaml");
+  ASSERT_EQ(back.effects.size(), 2u);
+  const auto near6 = [](double a, double b) { return std::abs(a - b) <= 5e-6 * std::max(std::abs(a), 1e-300); };
+  for (size_t e = 0; e < 2; ++e) {
+    EXPECT_EQ(back.effects[e].type, id.effects[e].type);
+    for (size_t v = 0; v < id.effects[e].values.size(); ++v) {
+      EXPECT_TRUE(near6(back.effects[e].values[v], id.effects[e].values[v]) || back.effects[e].values[v] == id.effects[e].values[v])
+          << e << " " << v << ": " << back.effects[e].values[v];
+      EXPECT_TRUE(near6(back.effect_uncertainties[e][v], id.uncertainties[e][v]) ||
+                  back.effect_uncertainties[e][v] == id.uncertainties[e][v])
+          << e << " " << v;
+    }
+  }
+  EXPECT_TRUE(back.effect_correlation.isApprox(id.correlation, 1e-6)) << back.effect_correlation;
+}
