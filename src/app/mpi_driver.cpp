@@ -18,35 +18,35 @@ namespace {
 
 /// What a rank sends ahead of its samples: the lengths of its two buffers and the run's identity (merge_runs
 /// compares seed, sample count and names, so a rank that computed something else is refused, not mixed in).
-enum HeaderField { kNamesChars, kSampleDoubles, kSamplesTotal, kSeed, kHeaderFields };
+enum RankHeaderField { kRankNamesChars, kRankSampleDoubles, kRankSamplesTotal, kRankSeed, kRankHeaderFields };
 
 /// Number of CPUs this process may run on (mpirun binds each rank: --bind-to core, --map-by …:PE=t, --bind-to none).
-int bound_cpus() {
+int cpus_bound_to_this_rank() {
   cpu_set_t set;
   CPU_ZERO(&set);
   if (sched_getaffinity(0, sizeof(set), &set) != 0) return 0; // unknown: parallel_for takes all hardware threads
   return CPU_COUNT(&set);
 }
 
-int checked_count(std::size_t n, const char* what) {
+int mpi_count_or_throw(std::size_t n, const char* what) {
   if (n > static_cast<std::size_t>(INT_MAX))
     throw std::invalid_argument(fmt::format("{} of one rank's samples: {} elements exceed MPI's int count; use more ranks", what, n));
   return static_cast<int>(n);
 }
 
 /// Rank r's part as a run: names split at '\n', rows of (index, before…, after…).
-pipeline::MonteCarloRun part_of(int rank, const std::array<unsigned long long, kHeaderFields>& header, const char* names,
+pipeline::MonteCarloRun rank_part_as_run(int rank, const std::array<unsigned long long, kRankHeaderFields>& header, const char* names,
                                 const double* values) {
   pipeline::MonteCarloRun part;
-  part.samples_total = static_cast<long long>(header[kSamplesTotal]);
-  part.seed = header[kSeed];
-  const std::string joined(names, header[kNamesChars]);
+  part.samples_total = static_cast<long long>(header[kRankSamplesTotal]);
+  part.seed = header[kRankSeed];
+  const std::string joined(names, header[kRankNamesChars]);
   for (std::size_t start = 0; start < joined.size();) {
     const std::size_t end = std::min(joined.find('\n', start), joined.size());
     part.names.push_back(joined.substr(start, end - start));
     start = end + 1;
   }
-  const std::size_t width = 1 + 2 * part.names.size(), count = header[kSampleDoubles];
+  const std::size_t width = 1 + 2 * part.names.size(), count = header[kRankSampleDoubles];
   if (count % width != 0)
     throw std::invalid_argument(fmt::format("MPI rank {} sent {} values, not whole samples of {} quantities", rank, count,
                                             part.names.size()));
@@ -87,7 +87,7 @@ pipeline::MonteCarloOptions MpiMonteCarloDriver::this_process(const pipeline::Mo
   pipeline::MonteCarloOptions o = options;
   o.shard = rank_ + 1;
   o.shards = size_;
-  if (o.threads <= 0) o.threads = bound_cpus();
+  if (o.threads <= 0) o.threads = cpus_bound_to_this_rank();
   return o;
 }
 
@@ -114,28 +114,28 @@ std::optional<pipeline::MonteCarloRun> MpiMonteCarloDriver::complete(pipeline::M
     values.insert(values.end(), s.before.begin(), s.before.end());
     values.insert(values.end(), s.after.begin(), s.after.end());
   }
-  const int names_count = checked_count(names.size(), "the names");
-  const int values_count = checked_count(values.size(), "the values");
+  const int names_count = mpi_count_or_throw(names.size(), "the names");
+  const int values_count = mpi_count_or_throw(values.size(), "the values");
 
   if (const RankAgreement agreed = settle(0); agreed.exit_code != 0) throw OtherRankFailed(agreed.exit_code);
 
-  const std::array<unsigned long long, kHeaderFields> header{static_cast<unsigned long long>(names_count),
+  const std::array<unsigned long long, kRankHeaderFields> header{static_cast<unsigned long long>(names_count),
                                                              static_cast<unsigned long long>(values_count),
                                                              static_cast<unsigned long long>(local.samples_total),
                                                              local.seed};
-  std::vector<std::array<unsigned long long, kHeaderFields>> headers(rank_ == 0 ? static_cast<std::size_t>(size_) : 0);
-  MPI_Gather(header.data(), kHeaderFields, MPI_UNSIGNED_LONG_LONG, headers.data(), kHeaderFields, MPI_UNSIGNED_LONG_LONG,
+  std::vector<std::array<unsigned long long, kRankHeaderFields>> headers(rank_ == 0 ? static_cast<std::size_t>(size_) : 0);
+  MPI_Gather(header.data(), kRankHeaderFields, MPI_UNSIGNED_LONG_LONG, headers.data(), kRankHeaderFields, MPI_UNSIGNED_LONG_LONG,
              0, comm_);
   // Counts and displacements of the two gathers (rank 0 only); the sums fit an int as each rank's does, times size.
   std::vector<int> names_counts, names_displs, values_counts, values_displs;
   long long names_total = 0, values_total = 0;
   for (const auto& h : headers) {
     names_displs.push_back(static_cast<int>(names_total));
-    names_counts.push_back(static_cast<int>(h[kNamesChars]));
+    names_counts.push_back(static_cast<int>(h[kRankNamesChars]));
     values_displs.push_back(static_cast<int>(values_total));
-    values_counts.push_back(static_cast<int>(h[kSampleDoubles]));
-    names_total += static_cast<long long>(h[kNamesChars]);
-    values_total += static_cast<long long>(h[kSampleDoubles]);
+    values_counts.push_back(static_cast<int>(h[kRankSampleDoubles]));
+    names_total += static_cast<long long>(h[kRankNamesChars]);
+    values_total += static_cast<long long>(h[kRankSampleDoubles]);
   }
   std::vector<char> all_names(static_cast<std::size_t>(names_total));
   std::vector<double> all_values(static_cast<std::size_t>(values_total));
@@ -148,7 +148,7 @@ std::optional<pipeline::MonteCarloRun> MpiMonteCarloDriver::complete(pipeline::M
   std::vector<pipeline::MonteCarloRun> parts;
   for (int r = 0; r < size_; ++r) {
     const auto i = static_cast<std::size_t>(r);
-    parts.push_back(part_of(r, headers[i], all_names.data() + names_displs[i], all_values.data() + values_displs[i]));
+    parts.push_back(rank_part_as_run(r, headers[i], all_names.data() + names_displs[i], all_values.data() + values_displs[i]));
   }
   return pipeline::merge_runs(std::move(parts));
 }

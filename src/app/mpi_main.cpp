@@ -18,14 +18,14 @@ using geartopo::app::MpiMonteCarloDriver;
 
 /// The message of a failure on this rank, printed by the lowest failing rank only (the others failed the same way
 /// on the same input, or succeeded).
-void report(const MpiMonteCarloDriver& driver, int failing_rank, const std::string& message) {
+void report_rank_failure(const MpiMonteCarloDriver& driver, int failing_rank, const std::string& message) {
   if (failing_rank != driver.rank() || message.empty()) return;
   std::cerr << (driver.rank() == 0 ? std::string() : "geartopo-mpi: rank " + std::to_string(driver.rank()) + " of " +
                                                          std::to_string(driver.size()) + ": ")
             << message << "\n";
 }
 
-int run(MpiMonteCarloDriver& driver, int argc, char** argv) {
+int run_on_this_rank(MpiMonteCarloDriver& driver, int argc, char** argv) {
   CLI::App app{"geartopo-mpi — geartopo compensate with the Monte Carlo samples scattered over MPI ranks: "
                "mpirun -n N geartopo-mpi compensate SCENE --out DIR --samples M --seed S (units: mm, µm, deg)"};
   app.require_subcommand(1);
@@ -62,11 +62,11 @@ int run(MpiMonteCarloDriver& driver, int argc, char** argv) {
     message = std::string("geartopo: error: ") + e.what();
   }
   if (driver.settled()) { // past the gather: rank 0 writing the files, its failure its own
-    report(driver, driver.rank(), message);
+    report_rank_failure(driver, driver.rank(), message);
     return code;
   }
   const auto agreed = driver.settle(code);
-  report(driver, agreed.failing_rank, message);
+  report_rank_failure(driver, agreed.failing_rank, message);
   return agreed.exit_code;
 }
 
@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
   {
     MpiMonteCarloDriver driver(MPI_COMM_WORLD);
     geartopo::app::set_monte_carlo_driver(&driver);
-    code = run(driver, argc, argv);
+    code = run_on_this_rank(driver, argc, argv);
     geartopo::app::set_monte_carlo_driver(nullptr);
   }
   MPI_Finalize();
