@@ -40,11 +40,14 @@ int run_on_this_rank(MpiMonteCarloDriver& driver, int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    // Every rank parsed the same words: help, version or the usage error is printed once, by rank 0.
-    const int code = e.get_exit_code() == 0 ? 0 : 2;
-    driver.settle(code);
-    if (driver.rank() == 0) app.exit(e);
-    return code;
+    // Usually every rank parsed the same words: help, version or the usage error is printed once, by rank 0 (by the
+    // lowest failing rank when the ranks were given different words: mpirun's MPMD form `-n 1 … : -n 1 …`).
+    const auto agreed = driver.settle(e.get_exit_code() == 0 ? 0 : 2);
+    if (driver.rank() == (agreed.failing_rank >= 0 ? agreed.failing_rank : 0)) {
+      if (driver.rank() != 0) std::cerr << "geartopo-mpi: rank " << driver.rank() << " of " << driver.size() << ":\n";
+      app.exit(e);
+    }
+    return agreed.exit_code;
   }
   geartopo::app::set_quiet(quiet || driver.rank() != 0); // notes and progress from rank 0 only
 

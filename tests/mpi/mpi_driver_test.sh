@@ -96,6 +96,9 @@ bad-input)
   refused rank0-bad-scene "geartopo: error: $dir/bad.yaml:3" mpirun_local \
     -n 1 "$geartopo_mpi" compensate "$dir/bad.yaml" --out "$dir/rank0-bad-scene" "${common[@]}" : \
     -n 1 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/rank0-bad-scene" "${common[@]}"
+  refused rank1-bad-flag "--no-such-flag" mpirun_local \
+    -n 1 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/rank1-bad-flag" "${common[@]}" : \
+    -n 1 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/rank1-bad-flag" "${common[@]}" --no-such-flag
   # Ranks that ran another seed: rank 0 refuses to merge what is not one run.
   refused other-seed "seed" mpirun_local \
     -n 1 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/other-seed" "${common[@]}" : \
