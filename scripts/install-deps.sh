@@ -16,6 +16,7 @@ packages=(
   libfmt-dev             # formatting
   nlohmann-json3-dev     # JSON output
   libgtest-dev libgmock-dev libbenchmark-dev
+  libopenmpi-dev openmpi-bin # geartopo-mpi, the MPI driver of the Monte Carlo prediction (-DGEARTOPO_MPI=ON)
   chromium               # the report page in a browser: screenshot and PDF (scripts/screenshot-report.sh, test_report)
 )
 

@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DGEARTOPO_MPI=ON >/dev/null
 cmake --build build
 ./build/bin/geartopo run scenes/skmc1200w-mn14-z35.yaml --out out/run
 # The page as customers file it: report.pdf (and screenshot.png) via headless Chromium; skipped with a message without it.

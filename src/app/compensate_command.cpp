@@ -114,14 +114,17 @@ void register_compensate_command(CLI::App& app, Action& action) {
 
       // The after-state as a distribution (docs/monte-carlo.md), before any file is written: a prediction refused by
       // its work estimate (--max-time-s) leaves the output folder as it was.
+      // Under MPI (geartopo-mpi) every rank computes its shard here and rank 0 gathers them; the other ranks leave.
       std::optional<pipeline::MonteCarloRun> mc_run;
       if (mc.samples > 0) {
-        const auto [first, last] = pipeline::shard_range(mc.samples, mc.shard, mc.shards);
-        MonteCarloWatch watch(mc.adaptive_tolerance_um > 0.0 ? mc.adaptive_max_samples : last - first, mc.threads, opt->mc.max_time_s,
-                              "--shard i/n on several machines and geartopo merge", mc.adaptive_tolerance_um > 0.0);
-        pipeline::MonteCarloOptions watched = mc;
+        const MonteCarloDriver& driver = monte_carlo_driver();
+        pipeline::MonteCarloOptions watched = driver.this_process(mc);
+        const auto [first, last] = pipeline::shard_range(watched.samples, watched.shard, watched.shards);
+        MonteCarloWatch watch(mc.adaptive_tolerance_um > 0.0 ? mc.adaptive_max_samples : last - first, watched.threads,
+                              opt->mc.max_time_s, driver.split_hint(), mc.adaptive_tolerance_um > 0.0);
         watched.on_sample_done = watch.callback();
-        mc_run = pipeline::run_monte_carlo(wb, table, watched);
+        mc_run = driver.complete(pipeline::run_monte_carlo(wb, table, watched));
+        if (!mc_run) return 0; // an MPI rank other than 0: its samples are on rank 0, which writes the files
       }
 
       const std::filesystem::path out(opt->out);

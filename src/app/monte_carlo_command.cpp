@@ -60,7 +60,29 @@ pipeline::MonteCarloOptions monte_carlo_options(const MonteCarloFlags& flags) {
   o.adaptive_max_samples = flags.max_samples;
   if (o.adaptive_tolerance_um > 0.0 && n > 1)
     throw CLI::ValidationError("--shard", "an adaptive run (--adaptive-tolerance-um) stops on all its samples: no shards");
+  monte_carlo_driver().check(o);
   return o;
+}
+
+void MonteCarloDriver::check(const pipeline::MonteCarloOptions&) const {}
+
+pipeline::MonteCarloOptions MonteCarloDriver::this_process(const pipeline::MonteCarloOptions& options) const {
+  return options;
+}
+
+std::string MonteCarloDriver::split_hint() const { return "--shard i/n on several machines and geartopo merge"; }
+
+std::optional<pipeline::MonteCarloRun> MonteCarloDriver::complete(pipeline::MonteCarloRun local) const { return local; }
+
+namespace {
+const MonteCarloDriver kInProcessDriver;
+const MonteCarloDriver* g_monte_carlo_driver = &kInProcessDriver;
+} // namespace
+
+const MonteCarloDriver& monte_carlo_driver() { return *g_monte_carlo_driver; }
+
+void set_monte_carlo_driver(const MonteCarloDriver* driver) {
+  g_monte_carlo_driver = driver != nullptr ? driver : &kInProcessDriver;
 }
 
 std::optional<pipeline::MonteCarloOptions> prediction_options(const MonteCarloFlags& flags) {

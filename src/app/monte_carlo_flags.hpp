@@ -28,9 +28,30 @@ struct MonteCarloFlags {
   long long max_samples = 10'000;     ///< the adaptive run's limit
 };
 
+/// Who computes compensate's Monte Carlo samples. The default: this process, the shard its options name
+/// (pipeline::run_monte_carlo). The MPI driver (geartopo-mpi, src/app/mpi_driver.cpp, built with -DGEARTOPO_MPI=ON)
+/// gives every rank the shard rank + 1 of size and gathers all samples on rank 0; the libraries know nothing of MPI.
+class MonteCarloDriver {
+public:
+  virtual ~MonteCarloDriver() = default;
+  /// Checks the parsed options before any work (CLI::ValidationError naming the flag); the default checks nothing.
+  virtual void check(const pipeline::MonteCarloOptions& options) const;
+  /// The options of the samples this process computes (its shard, its threads); the default: `options` as they are.
+  virtual pipeline::MonteCarloOptions this_process(const pipeline::MonteCarloOptions& options) const;
+  /// Alternatives to name when a run's work estimate is refused (MonteCarloWatch).
+  virtual std::string split_hint() const;
+  /// This process's samples → the run the command writes: the default returns `local`; the MPI driver returns every
+  /// rank's samples merged on rank 0 and std::nullopt on the other ranks (they write nothing and leave).
+  virtual std::optional<pipeline::MonteCarloRun> complete(pipeline::MonteCarloRun local) const;
+};
+/// The driver in use (the default one unless a program's main set another). Not thread-safe: set before parsing.
+const MonteCarloDriver& monte_carlo_driver();
+void set_monte_carlo_driver(const MonteCarloDriver* driver); ///< nullptr: the default; the driver must outlive its use
+
 /// --samples, --seed, --max-time-s, --adaptive-tolerance-um and --max-samples; --shard too when `shards` (a command that can write a partial result).
 void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards);
-/// Throws CLI::ValidationError naming --shard for a malformed i/n or more shards than samples.
+/// Throws CLI::ValidationError naming --shard for a malformed i/n or more shards than samples, or what the
+/// driver's check() refuses.
 pipeline::MonteCarloOptions monte_carlo_options(const MonteCarloFlags& flags);
 /// The options of a command that predicts in one go (run, report): nullopt for --samples 0.
 std::optional<pipeline::MonteCarloOptions> prediction_options(const MonteCarloFlags& flags);
