@@ -40,6 +40,14 @@ CubicSpline::CubicSpline(std::vector<double> x, std::vector<double> y, Ends ends
   if (periodic_ && y_.back() != y_.front())
     throw std::invalid_argument("CubicSpline: periodic values must close (y.back() == y.front())");
 
+  // Evenly spaced knots (the shipped tables: every 50 mm, 25 mm, 5°, 10°): locate() computes the interval. The
+  // tolerance only decides whether the computed guess is worth trying; interval() checks it against the knots.
+  const double step = (x_.back() - x_.front()) / static_cast<double>(n - 1);
+  bool even = true;
+  for (std::size_t i = 0; i < n && even; ++i)
+    even = std::abs(x_[i] - (x_.front() + static_cast<double>(i) * step)) <= 1e-9 * step;
+  if (even) inverse_step_ = 1.0 / step;
+
   std::vector<double> h(n - 1), s(n - 1); // interval lengths and slopes
   for (std::size_t i = 0; i + 1 < n; ++i) {
     h[i] = x_[i + 1] - x_[i];
@@ -127,65 +135,84 @@ CubicSpline::CubicSpline(std::vector<double> x, std::vector<double> y, Ends ends
   m_[m] = m_[0];
 }
 
-CubicSpline::Local CubicSpline::locate(double t) const noexcept {
-  const std::size_t n = x_.size();
+std::size_t CubicSpline::interval(double t) const noexcept {
+  // The largest i ≤ n − 2 with x_i ≤ t (0 if none), which is what bisection (upper_bound) gives. On evenly spaced
+  // knots the computed guess is off by at most one interval (rounding), and the two loops move it onto that i.
+  const std::size_t last = x_.size() - 2;
+  if (inverse_step_ > 0.0) {
+    const double guess = (t - x_.front()) * inverse_step_;
+    std::size_t i = guess >= 0.0 ? static_cast<std::size_t>(std::min(guess, static_cast<double>(last))) : 0;
+    while (i > 0 && t < x_[i]) --i;
+    while (i < last && !(t < x_[i + 1])) ++i;
+    return i;
+  }
+  const auto it = std::upper_bound(x_.begin(), x_.end(), t);
+  const auto i = static_cast<std::size_t>(it - x_.begin());
+  return i == 0 ? 0 : std::min(i - 1, last);
+}
+
+CubicSpline::Location CubicSpline::locate(double t) const noexcept {
+  Location l;
   if (periodic_) {
     const double p = x_.back() - x_.front();
     t = x_.front() + std::fmod(t - x_.front(), p);
     if (t < x_.front()) t += p;
     if (t >= x_.back()) t = x_.front(); // fmod rounding at the seam
   } else if (t < x_.front()) {
-    return {0, t, true, false};
+    l.t = t;
+    l.below = true;
+    return l;
   } else if (t > x_.back()) {
-    return {n - 2, t, false, true};
+    l.i = x_.size() - 2;
+    l.t = t;
+    l.above = true;
+    return l;
   }
-  const auto it = std::upper_bound(x_.begin(), x_.end(), t);
-  std::size_t i = static_cast<std::size_t>(it - x_.begin());
-  i = i == 0 ? 0 : std::min(i - 1, n - 2);
-  return {i, t, false, false};
+  l.i = interval(t);
+  l.t = t;
+  l.h = x_[l.i + 1] - x_[l.i];
+  l.a = (x_[l.i + 1] - t) / l.h;
+  l.b = (t - x_[l.i]) / l.h;
+  return l;
 }
 
-double CubicSpline::value_inside(const Local& l) const noexcept {
+double CubicSpline::value_inside(const Location& l) const noexcept {
   const std::size_t i = l.i;
-  const double h = x_[i + 1] - x_[i];
-  const double a = (x_[i + 1] - l.t) / h, b = (l.t - x_[i]) / h;
+  const double a = l.a, b = l.b, h = l.h;
   return a * y_[i] + b * y_[i + 1] + ((a * a * a - a) * m_[i] + (b * b * b - b) * m_[i + 1]) * h * h / 6.0;
 }
 
-double CubicSpline::derivative_inside(const Local& l) const noexcept {
+double CubicSpline::derivative_inside(const Location& l) const noexcept {
   const std::size_t i = l.i;
-  const double h = x_[i + 1] - x_[i];
-  const double a = (x_[i + 1] - l.t) / h, b = (l.t - x_[i]) / h;
+  const double a = l.a, b = l.b, h = l.h;
   return (y_[i + 1] - y_[i]) / h + (-(3.0 * a * a - 1.0) * m_[i] + (3.0 * b * b - 1.0) * m_[i + 1]) * h / 6.0;
 }
 
-double CubicSpline::value(double t) const noexcept {
-  const Local l = locate(t);
+double CubicSpline::value_at(const Location& l) const noexcept {
   if (l.below) return y_.front() + derivative(x_.front()) * (l.t - x_.front());
   if (l.above) return y_.back() + derivative(x_.back()) * (l.t - x_.back());
   return value_inside(l);
 }
 
+double CubicSpline::value(double t) const noexcept { return value_at(locate(t)); }
+
 double CubicSpline::derivative(double t) const noexcept {
-  Local l = locate(t);
-  if (l.below) l = {0, x_.front(), false, false};
-  if (l.above) l = {x_.size() - 2, x_.back(), false, false};
+  Location l = locate(t);
+  if (l.below) l = locate(x_.front()); // the end tangent continues outside
+  if (l.above) l = locate(x_.back());
   return derivative_inside(l);
 }
 
 std::pair<double, double> CubicSpline::value_and_derivative(double t) const noexcept {
-  const Local l = locate(t);
-  if (l.below || l.above) return {value(t), derivative(t)};
+  const Location l = locate(t);
+  if (l.below || l.above) return {value_at(l), derivative(t)};
   return {value_inside(l), derivative_inside(l)};
 }
 
 double CubicSpline::second_derivative(double t) const noexcept {
-  const Local l = locate(t);
+  const Location l = locate(t);
   if (l.below || l.above) return 0.0;
-  const std::size_t i = l.i;
-  const double h = x_[i + 1] - x_[i];
-  const double a = (x_[i + 1] - l.t) / h, b = (l.t - x_[i]) / h;
-  return a * m_[i] + b * m_[i + 1];
+  return l.a * m_[l.i] + l.b * m_[l.i + 1];
 }
 
 } // namespace geartopo

@@ -38,13 +38,15 @@ double FlankDeviation::entry_depth(const gears::FlankPoint& fp, const machine::P
   const machine::Pose gMw = wMg.inverse();
   const Eigen::Vector3d q0 = gMw * fp.p;
   const Eigen::Vector3d m = gMw.linear() * fp.n;
+  const bool wheel_changes = process_.changes_wheel_radius();
   double t = 0.0;
   for (int it = 0; it < 30; ++it) {
     const Eigen::Vector3d q = q0 + t * m;
-    const double rho = std::hypot(q.x(), q.z());
+    // ρ of a point a wheel radius (~10² mm) from the wheel axis: no overflow to guard against, so no std::hypot.
+    const double rho = std::sqrt(q.x() * q.x() + q.z() * q.z());
     const auto [r, slope] = wheel_.radius_and_slope(q.y());
     if (!std::isfinite(r) || rho == 0.0) return kInf;
-    const double f = rho - r - process_.wheel_radius_error_mm(q.y(), pp);
+    const double f = rho - r - (wheel_changes ? process_.wheel_radius_error_mm(q.y(), pp) : 0.0);
     const double df = (q.x() * m.x() + q.z() * m.z()) / rho - slope * m.y();
     if (!(df < 0.0)) return kInf; // the line does not run into the wheel here
     const double step = f / df;

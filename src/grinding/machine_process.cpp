@@ -23,7 +23,10 @@ machine::Pose evaluate_chain(const machine::MachineModel& model, const machine::
 } // namespace
 
 machine::Pose MachineProcess::actual_wMg(const PathPoint& pp) const {
-  return machine::translation(0.0, 0.0, -z0_) * evaluate_chain(model_, machine_axes(pp));
+  // T(0, 0, −z₀)·cMg without the product: the translation's z less z₀.
+  machine::Pose wMg = evaluate_chain(model_, machine_axes(pp));
+  wMg.translation().z() -= z0_;
+  return wMg;
 }
 
 machine::Vector6d MachineProcess::error_twist_w(const PathPoint& pp) const {

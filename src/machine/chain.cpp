@@ -101,7 +101,7 @@ const Pose& actual_kinematics(const ErrorVector& e, const AxisPose& q, MachineDa
   data.wMX = data.wMF * data.FMX;
   data.wMZ = data.wMX * data.XMZ;
   data.wMA = data.wMZ * data.ZMA;
-  data.wMg = data.wMA * data.AMY;
+  data.wMg = data.wMZ * (data.ZMA * data.AMY); // associated as ChainEvaluator, which keeps ZMA·AMY while A, Y stand
   return data.wMg;
 }
 
@@ -115,6 +115,7 @@ ChainEvaluator::ChainEvaluator(const MachineModel& model, const AxisPose& q) : m
   FMX_ = x_joint(e_, q.x);
   ZMA_ = a_joint(e_, q.a, S_A_, S_A_inverse_);
   AMY_ = y_joint(e_, q.y);
+  ZMY_ = ZMA_ * AMY_;
 }
 
 Pose ChainEvaluator::actual_wMg(const MachineModel& model, const AxisPose& q) {
@@ -128,6 +129,7 @@ Pose ChainEvaluator::actual_wMg(const MachineModel& model, const AxisPose& q) {
     model.axis_errors_at(Axis::X, q.x, e_);
     FMX_ = x_joint(e_, q.x);
   }
+  const bool a_or_y_moved = q.a != q_.a || q.y != q_.y;
   if (q.a != q_.a) {
     model.axis_errors_at(Axis::A, q.a, e_);
     ZMA_ = a_joint(e_, q.a, S_A_, S_A_inverse_);
@@ -136,9 +138,10 @@ Pose ChainEvaluator::actual_wMg(const MachineModel& model, const AxisPose& q) {
     model.axis_errors_at(Axis::Y, q.y, e_);
     AMY_ = y_joint(e_, q.y);
   }
+  if (a_or_y_moved) ZMY_ = ZMA_ * AMY_;
   model.axis_errors_at(Axis::Z, q.z, e_);
   q_ = q;
-  return wMF_ * FMX_ * z_joint(e_, q.z) * ZMA_ * AMY_;
+  return wMF_ * FMX_ * z_joint(e_, q.z) * ZMY_;
 }
 
 const Pose& actual_wMg(const MachineModel& model, MachineData& data, const AxisPose& q) {

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <numbers>
@@ -66,7 +67,19 @@ MachineModel::MachineModel(const Strokes& strokes, std::vector<ErrorSource> sour
   }
   for (int i = 0; i < kComponentCount; ++i) {
     const ComponentInfo& c = info(component_at(i));
-    if (c.position_dependent) varying_on_[static_cast<std::size_t>(c.axis)].push_back(i);
+    if (!c.position_dependent) continue;
+    AxisComponents& axis = varying_on_[static_cast<std::size_t>(c.axis)];
+    const CubicSpline* spline = sources_[static_cast<std::size_t>(i)].spline();
+    if (!spline) {
+      axis.others.push_back(i);
+      continue;
+    }
+    const auto same_knots = [&](const std::vector<int>& group) {
+      return sources_[static_cast<std::size_t>(group.front())].spline()->knots() == spline->knots();
+    };
+    const auto group = std::find_if(axis.shared_knots.begin(), axis.shared_knots.end(), same_knots);
+    if (group == axis.shared_knots.end()) axis.shared_knots.push_back({i});
+    else group->push_back(i);
   }
 }
 
@@ -102,13 +115,20 @@ bool MachineModel::within_strokes(const AxisPose& q) const {
 
 void MachineModel::errors_at(const AxisPose& q, ErrorVector& e) const noexcept {
   for (int i = 0; i < kComponentCount; ++i) {
-    const ErrorSource& s = sources_[static_cast<std::size_t>(i)];
-    e(i) = s.value(q[info(s.id()).axis]);
+    const ComponentInfo& c = info(component_at(i));
+    if (!c.position_dependent) e(i) = sources_[static_cast<std::size_t>(i)].value(q[c.axis]);
   }
+  for (const Axis axis : kAxes) axis_errors_at(axis, q[axis], e);
 }
 
 void MachineModel::axis_errors_at(Axis axis, double position, ErrorVector& e) const noexcept {
-  for (const int i : varying_on_[static_cast<std::size_t>(axis)]) e(i) = sources_[static_cast<std::size_t>(i)].value(position);
+  const AxisComponents& components = varying_on_[static_cast<std::size_t>(axis)];
+  const auto source = [this](int i) -> const ErrorSource& { return sources_[static_cast<std::size_t>(i)]; };
+  for (const auto& group : components.shared_knots) {
+    const CubicSpline::Location where = source(group.front()).spline()->locate(position);
+    for (const int i : group) e(i) = source(i).value_at(where);
+  }
+  for (const int i : components.others) e(i) = source(i).value(position);
 }
 
 void MachineModel::error_rates_at(const AxisPose& q, ErrorVector& de) const noexcept {

@@ -1,5 +1,6 @@
 // Compensation: known errors cancelled, the methods' differences shown with numbers, the correction table.
 #include "geartopo/compensation/compensator.hpp"
+#include "geartopo/grinding/flank_deviation.hpp"
 
 #include "../grinding/grinding_fixture.hpp"
 #include "geartopo/scene/scene.hpp"
@@ -204,4 +205,54 @@ TEST(CorrectionTable, InterpolatesLinearlyAndWritesUnits) {
   EXPECT_EQ(header, "space,z_stroke_mm,time_s,X_mm,Y_mm,Z_mm,A_deg,C_deg,dX_um,dY_um,dZ_um,dA_urad,dC_urad,within_strokes");
   EXPECT_EQ(first.rfind("1,5.0000,", 0), 0u) << first; // sorted by space, then stroke position
   EXPECT_NE(csv.str().find(",1.0000,0.0000,0.0000,0.0000,1.0000,yes"), std::string::npos) << csv.str();
+}
+
+namespace {
+
+/// A machine whose wheel is 2 µm bigger in radius everywhere (a dressing error): it changes the wheel radius.
+class BiggerWheel final : public grinding::GrindingProcess {
+public:
+  explicit BiggerWheel(const grinding::GrindingProcess& inner) : inner_(inner) {}
+  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override { return inner_.actual_wMg(pp); }
+  machine::Vector6d error_twist_w(const grinding::PathPoint& pp) const override { return inner_.error_twist_w(pp); }
+  double wheel_radius_error_mm(double, const grinding::PathPoint&) const override { return 2e-3; }
+
+private:
+  const grinding::GrindingProcess& inner_;
+};
+
+} // namespace
+
+// The exact search skips the wheel radius of processes that never change it (GrindingProcess::changes_wheel_radius):
+// a compensated process says what its inner process says. Truth: the inner process simulated on its own — an empty
+// correction table changes no command, so the compensated gear must be the same to the bit, with or without a bigger
+// wheel — and the bigger wheel's gear is thinner by 2 µm·normal_per_radial at each point's contact on the wheel
+// (FormWheel: a radial change moves the wheel surface along its normal by δR/√(1 + R′²)), to 1e-3 µm.
+TEST(CompensatedProcess, AsksTheWheelRadiusWhenTheInnerProcessChangesIt) {
+  const machine::MachineModel model(machine::Strokes::skmc_1200w(), {ErrorSource::constant(ComponentId::delta_yx, 5.0, "um")});
+  const grinding::MachineProcess machine_process(model, kDatumZ);
+  const BiggerWheel bigger(machine_process);
+  const compensation::CorrectionTable none(std::vector<compensation::CorrectionRow>{});
+  const compensation::CompensatedProcess plain(machine_process, none), with_bigger(bigger, none);
+  EXPECT_FALSE(machine_process.changes_wheel_radius());
+  EXPECT_FALSE(plain.changes_wheel_radius());
+  EXPECT_TRUE(bigger.changes_wheel_radius());
+  EXPECT_TRUE(with_bigger.changes_wheel_radius());
+  const auto expect_same = [](const auto& a, const auto& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t f = 0; f < a.size(); ++f)
+      for (size_t i = 0; i < a[f].grid.size(); ++i) EXPECT_EQ(a[f].grid[i].deviation_um, b[f].grid[i].deviation_um);
+  };
+  const auto reference = test::simulate(machine_process, grinding::Method::Exact, {1});
+  const auto reference_bigger = test::simulate(bigger, grinding::Method::Exact, {1});
+  expect_same(test::simulate(plain, grinding::Method::Exact, {1}), reference);
+  expect_same(test::simulate(with_bigger, grinding::Method::Exact, {1}), reference_bigger);
+  const auto& setup = paper_setup();
+  const grinding::FlankDeviation dev(setup.flanks(), setup.wheel(), setup.path(), machine_process);
+  for (size_t f = 0; f < reference.size(); ++f)
+    for (size_t i = 0; i < reference[f].grid.size(); ++i) {
+      const auto& p = reference[f].grid[i];
+      const double expected_um = 2.0 * dev.linear_contact(reference[f].tooth, reference[f].flank, p.roll_length_mm, p.z_mm).normal_per_radial;
+      EXPECT_NEAR(p.deviation_um - reference_bigger[f].grid[i].deviation_um, expected_um, 1e-3);
+    }
 }

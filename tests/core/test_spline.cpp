@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
 
 namespace geartopo::machine {
 namespace {
@@ -95,6 +97,94 @@ TEST(CubicSpline, RejectsBadKnots) {
   EXPECT_THROW(CubicSpline({0.0}, {1.0}, CubicSpline::Ends::NotAKnot), std::invalid_argument);
   EXPECT_THROW(CubicSpline({0.0, 0.0, 1.0}, {1.0, 2.0, 3.0}, CubicSpline::Ends::NotAKnot), std::invalid_argument);
   EXPECT_THROW(CubicSpline({0.0, 1.0, 2.0}, {1.0, 2.0, 3.0}, CubicSpline::Ends::Periodic), std::invalid_argument);
+}
+
+/// The documented interval of t (x_i ≤ t < x_{i+1}, the last one for t = x_{n−1}) by bisection over the knots alone:
+/// the largest i ≤ n − 2 with x_i ≤ t, 0 if none.
+std::size_t bisected_interval(const std::vector<double>& x, double t) {
+  const auto k = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), t) - x.begin());
+  return k == 0 ? 0 : std::min(k - 1, x.size() - 2);
+}
+
+/// Points where a lookup can go wrong: every knot, its neighbours one ulp either side, the midpoints, and random
+/// points over the table.
+std::vector<double> probe_points(const std::vector<double>& x, std::mt19937& rng) {
+  std::vector<double> t;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    t.push_back(x[i]);
+    t.push_back(std::nextafter(x[i], -1e300));
+    t.push_back(std::nextafter(x[i], 1e300));
+    if (i + 1 < x.size()) t.push_back(0.5 * (x[i] + x[i + 1]));
+  }
+  std::uniform_real_distribution<double> u(x.front(), x.back());
+  for (int k = 0; k < 2000; ++k) t.push_back(u(rng));
+  return t;
+}
+
+TEST(CubicSpline, LocatesTheIntervalBisectionFindsOnEvenAndUnevenKnots) {
+  // Even knots as the shipped tables have them (exact multiples of 50 mm; 5° steps in rad, which are not exactly even
+  // in binary; steps of 0.1, not representable) and uneven ones. Truth: bisection over the knots (bisected_interval).
+  std::vector<double> mm, deg5, tenth, uneven = {-3.0, -2.1, -0.4, 0.0, 1.7, 2.2, 4.9, 5.0, 8.3};
+  for (int i = 0; i <= 18; ++i) mm.push_back(50.0 * i);
+  for (int i = 0; i <= 72; ++i) deg5.push_back(5.0 * i * std::numbers::pi / 180.0);
+  for (int i = 0; i <= 40; ++i) tenth.push_back(-2.0 + 0.1 * i);
+  std::mt19937 rng(7);
+  for (const auto* x : {&mm, &deg5, &tenth, &uneven}) {
+    std::vector<double> y;
+    for (double v : *x) y.push_back(std::sin(v));
+    const CubicSpline s(*x, y, CubicSpline::Ends::NotAKnot);
+    EXPECT_EQ(s.evenly_spaced(), x != &uneven);
+    for (double t : probe_points(*x, rng)) {
+      if (t < x->front() || t > x->back()) continue; // outside: the tangent lines (ContinuesAsTheEndTangent…)
+      const CubicSpline::Location l = s.locate(t);
+      ASSERT_FALSE(l.below || l.above);
+      ASSERT_EQ(l.i, bisected_interval(*x, t)) << "t = " << t << " on " << x->size() << " knots";
+      // The local coordinates of the moment form, from their definition.
+      const double h = (*x)[l.i + 1] - (*x)[l.i];
+      EXPECT_EQ(l.a, ((*x)[l.i + 1] - t) / h);
+      EXPECT_EQ(l.b, (t - (*x)[l.i]) / h);
+    }
+  }
+}
+
+TEST(CubicSpline, PeriodicLookupWrapsOntoTheBisectedInterval) {
+  std::vector<double> x, y;
+  for (int i = 0; i <= 36; ++i) {
+    x.push_back(10.0 * i * std::numbers::pi / 180.0);
+    y.push_back(i == 36 ? 0.0 : std::sin(3.0 * x.back()) + 0.1 * (i % 5));
+  }
+  y.back() = y.front();
+  const CubicSpline s(x, y, CubicSpline::Ends::Periodic);
+  ASSERT_TRUE(s.evenly_spaced());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-3.0 * kTwoPi, 3.0 * kTwoPi);
+  for (int k = 0; k < 2000; ++k) {
+    const double t = u(rng);
+    const CubicSpline::Location l = s.locate(t);
+    ASSERT_GE(l.t, x.front());
+    ASSERT_LT(l.t, x.back());
+    EXPECT_NEAR(std::remainder(l.t - t, kTwoPi), 0.0, 1e-14); // the same angle, one turn apart
+    ASSERT_EQ(l.i, bisected_interval(x, l.t));
+  }
+}
+
+TEST(CubicSpline, OneLookupServesEverySplineWithTheSameKnots) {
+  // value_at(another spline's locate(t)) is value(t) bit for bit when the knots are the same (the six error components
+  // of one axis table): the lookup depends on the knots only.
+  std::vector<double> x, y1, y2;
+  for (int i = 0; i <= 20; ++i) {
+    x.push_back(25.0 * i);
+    y1.push_back(std::cos(0.01 * x.back()));
+    y2.push_back(1e-3 * x.back() * x.back());
+  }
+  const CubicSpline a(x, y1, CubicSpline::Ends::NotAKnot), b(x, y2, CubicSpline::Ends::NotAKnot);
+  std::mt19937 rng(3);
+  auto points = probe_points(x, rng);
+  points.insert(points.end(), {-40.0, -1e-9, 500.0 + 1e-9, 612.5}); // outside on both sides: the end tangents
+  for (double t : points) {
+    EXPECT_EQ(b.value_at(a.locate(t)), b.value(t)) << t;
+    EXPECT_EQ(a.value_at(a.locate(t)), a.value(t)) << t;
+  }
 }
 
 } // namespace

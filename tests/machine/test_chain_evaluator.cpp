@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+
 namespace geartopo::machine::test {
 namespace {
 
@@ -29,7 +32,55 @@ MachineModel machine_varying_on_every_axis(std::mt19937& rng) {
   return MachineModel(Strokes::skmc_1200w(), std::move(sources));
 }
 
+/// A spline column over [lo, hi] on n evenly spaced knots (periodic when asked), values of size `scale`.
+ErrorSource table_column(ComponentId id, double lo, double hi, int n, double scale, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> x, y;
+  for (int i = 0; i < n; ++i) {
+    x.push_back(lo + (hi - lo) * i / (n - 1));
+    y.push_back(scale * u(rng));
+  }
+  const bool periodic = info(id).axis == Axis::C;
+  if (periodic) y.back() = y.front();
+  return ErrorSource::table(id, CubicSpline(x, y, periodic ? CubicSpline::Ends::Periodic : CubicSpline::Ends::NotAKnot), {});
+}
+
 } // namespace
+
+TEST(MachineModel, OneSearchPerSharedTableGivesEachComponentsOwnValue) {
+  // axis_errors_at and errors_at search the knots once for the columns of one table (CubicSpline::value_at). Truth:
+  // each component's own ErrorSource::value at its axis' position (its own search). Every axis has its six columns on
+  // one table except X, whose δ_xx column has knots of its own and whose ε_zx is a polynomial: three kinds of entry.
+  std::mt19937 rng(17);
+  std::vector<ErrorSource> sources;
+  for (int i = 0; i < kComponentCount; ++i) {
+    const auto id = component_at(i);
+    const ComponentInfo& c = info(id);
+    const double scale = c.quantity == Quantity::Angle ? 5e-5 : 3e-2;
+    if (!c.position_dependent) continue;
+    if (id == ComponentId::epsilon_zx) {
+      sources.push_back(ErrorSource::polynomial(id, {4.0, 0.02}, "urad", "mm"));
+      continue;
+    }
+    switch (c.axis) {
+    case Axis::X: sources.push_back(table_column(id, 0.0, 900.0, id == ComponentId::delta_xx ? 10 : 19, scale, rng)); break;
+    case Axis::Y: sources.push_back(table_column(id, -200.0, 200.0, 17, scale, rng)); break;
+    case Axis::Z: sources.push_back(table_column(id, 0.0, 800.0, 33, scale, rng)); break;
+    case Axis::A: sources.push_back(table_column(id, -0.8, 0.8, 19, scale, rng)); break;
+    case Axis::C: sources.push_back(table_column(id, 0.0, 2.0 * std::numbers::pi, 73, scale, rng)); break;
+    }
+  }
+  const MachineModel model(Strokes::skmc_1200w(), std::move(sources));
+  for (int k = 0; k < 200; ++k) {
+    const AxisPose q = random_pose(rng);
+    ErrorVector e = ErrorVector::Constant(std::nan(""));
+    model.errors_at(q, e);
+    for (int i = 0; i < kComponentCount; ++i) {
+      const ErrorSource& s = model.source(component_at(i));
+      ASSERT_EQ(e(i), s.value(q[info(s.id()).axis])) << info(s.id()).name << " at pose " << k;
+    }
+  }
+}
 
 TEST(ChainEvaluator, GivesTheExactChainBitForBitWhateverMoves) {
   std::mt19937 rng(31);

@@ -53,6 +53,7 @@ public:
   double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override {
     return inner_.wheel_radius_error_mm(v, corrected(pp));
   }
+  bool changes_wheel_radius() const override { return inner_.changes_wheel_radius(); }
 
   grinding::PathPoint corrected(const grinding::PathPoint& pp) const;
 

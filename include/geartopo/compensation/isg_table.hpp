@@ -102,6 +102,7 @@ public:
   double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override {
     return inner_.wheel_radius_error_mm(v, pp);
   }
+  bool changes_wheel_radius() const override { return inner_.changes_wheel_radius(); }
 
 private:
   const grinding::GrindingProcess& inner_;

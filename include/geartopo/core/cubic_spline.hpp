@@ -38,14 +38,32 @@ public:
   /// The knots x_0 … x_{n−1} (to tell whether a table is equidistant, e.g. for a controller's compensation table).
   const std::vector<double>& knots() const { return x_; }
 
+  /// Where t falls among the knots: the interval i with x_i ≤ t < x_{i+1} (the last interval for t = x_{n−1}; t
+  /// wrapped into the period first for a Periodic spline) and, inside the table, the local coordinates of the moment
+  /// form a = (x_{i+1} − t)/h, b = (t − x_i)/h, h = x_{i+1} − x_i. Found in O(1) when the knots are evenly spaced
+  /// (the interval computed, then checked against the knots), by bisection otherwise: the same interval either way.
+  struct Location {
+    std::size_t i = 0;
+    double t = 0.0;
+    bool below = false, above = false; ///< t < x_0 or t > x_{n−1} (never for Periodic)
+    double h = 0.0, a = 0.0, b = 0.0;  ///< only when neither below nor above
+  };
+  Location locate(double t) const noexcept;
+  /// value(t) for a location found by any spline with the same knots() (e.g. the six error components of one axis
+  /// read from one table): one search for all of them, the same bits as value(t).
+  double value_at(const Location& l) const noexcept;
+  /// True when the knots are evenly spaced (each within 1e-9 of an interval of where i·(x_{n−1} − x_0)/(n − 1)
+  /// puts it): locate() computes the interval instead of bisecting.
+  bool evenly_spaced() const { return inverse_step_ > 0.0; }
+
 private:
-  struct Local { std::size_t i; double t; bool below, above; };
-  Local locate(double t) const noexcept;
-  double value_inside(const Local& l) const noexcept;      ///< l neither below nor above
-  double derivative_inside(const Local& l) const noexcept; ///< l neither below nor above
+  double value_inside(const Location& l) const noexcept;      ///< l neither below nor above
+  double derivative_inside(const Location& l) const noexcept; ///< l neither below nor above
+  std::size_t interval(double t) const noexcept;              ///< i with x_i ≤ t < x_{i+1}, t in [x_0, x_{n−1}]
 
   std::vector<double> x_, y_, m_; // knots, values, second derivatives at the knots
   bool periodic_ = false;
+  double inverse_step_ = 0.0; // (n − 1)/(x_{n−1} − x_0) when evenly spaced, else 0
 };
 
 } // namespace geartopo

@@ -24,6 +24,11 @@ public:
   /// Change of the wheel radius at axial coordinate v (mm, radial; positive: the wheel is bigger and cuts deeper).
   /// The surface then moves along its normal by δR/√(1 + R′²) (FormWheel::normal_per_radial).
   virtual double wheel_radius_error_mm(double /*v*/, const PathPoint& /*pp*/) const { return 0.0; }
+
+  /// False only when wheel_radius_error_mm is 0 everywhere, so that the exact search may skip it at each Newton step
+  /// (a compensated process looks its corrections up for it). True unless a process says otherwise: a process that
+  /// changes the wheel needs to do nothing.
+  virtual bool changes_wheel_radius() const { return true; }
 };
 
 /// The ideal machine: the nominal chain, no errors. Useful as a reference and in tests.
@@ -31,6 +36,7 @@ class IdealProcess final : public GrindingProcess {
 public:
   machine::Pose actual_wMg(const PathPoint& pp) const override;
   machine::Vector6d error_twist_w(const PathPoint&) const override { return machine::Vector6d::Zero(); }
+  bool changes_wheel_radius() const override { return false; }
 };
 
 } // namespace geartopo::grinding

@@ -26,6 +26,7 @@ public:
 
   machine::Pose actual_wMg(const PathPoint& pp) const override;
   machine::Vector6d error_twist_w(const PathPoint& pp) const override;
+  bool changes_wheel_radius() const override { return false; } ///< geometric errors move the wheel, never resize it
   /// The exact pose error twist in w (for comparisons with the first-order model).  // 6×1
   machine::Vector6d exact_error_twist_w(const PathPoint& pp) const;
 

@@ -57,6 +57,7 @@ private:
   AxisPose q_;           ///< the last pose
   Pose S_C_, S_A_, S_A_inverse_; ///< the C and A axis lines (constants)
   Pose wMF_, FMX_, ZMA_, AMY_;   ///< the C, X, A and Y joints at q_
+  Pose ZMY_;                     ///< ZMA_·AMY_: the end of the chain, fixed while A and Y stand still (a stroke)
 };
 
 /// Pose error as twists: w = twist of E_w (in w), g = twist of E_g (in g); (translation mm; rotation rad).

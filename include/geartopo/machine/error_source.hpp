@@ -56,6 +56,9 @@ public:
 
   /// Component value at the position of its own axis (mm or rad in, mm or rad out). No allocation.
   double value(double position) const noexcept;
+  /// value(position) for a table, given where position falls among the knots of a spline with the same knots as
+  /// this table's (CubicSpline::locate): the same bits. Table only.
+  double value_at(const CubicSpline::Location& where) const noexcept { return spline_.value_at(where) + offset_; }
   /// d value / d position (mm/mm, mm/rad, rad/mm or rad/rad). No allocation.
   double rate(double position) const noexcept;
 

@@ -65,7 +65,13 @@ private:
   Strokes strokes_;
   std::vector<ErrorSource> sources_; // kComponentCount entries, indexed by ComponentId
   std::uint64_t id_;
-  std::array<std::vector<int>, kAxisCount> varying_on_; // per axis: its position-dependent components
+  /// Per axis: its position-dependent components, table columns that share their knots grouped (one spline search for
+  /// the group, CubicSpline::value_at), then the others (polynomials, constants of a moving axis).
+  struct AxisComponents {
+    std::vector<std::vector<int>> shared_knots; ///< groups of table components with identical knots
+    std::vector<int> others;
+  };
+  std::array<AxisComponents, kAxisCount> varying_on_;
 };
 
 } // namespace geartopo::machine
