@@ -55,6 +55,28 @@ TEST_P(EveryEffect, FirstOrderTwistIsTheLinearisationOfTheExactPose) {
   }
 }
 
+// An effect that says its table pose is the same at every path point (diagnosis then forms it once per evaluation)
+// keeps its word: the hook itself, at path points over the whole grinding order (every stroke, its start, middle and
+// end), gives the same pose bit for bit, with every fitted parameter away from zero.
+TEST_P(EveryEffect, TablePoseDeclaredConstantIsTheSameAtEveryPathPoint) {
+  const auto& wb = default_scene();
+  auto e = effects::make_effect(GetParam());
+  std::vector<double> v = e->values();
+  for (size_t k = 0; k < v.size(); ++k)
+    if (e->parameters()[k].fitted) v[k] = (k % 2 ? -3.0 : 2.0) * e->parameters()[k].typical;
+  e->set_values(v);
+  e->bind(wb.setup);
+  if (!e->table_in_gear_is_constant()) GTEST_SKIP() << "claims nothing";
+  const auto& strokes = wb.setup.path().strokes();
+  const auto& first = strokes.front();
+  const machine::Pose reference = e->table_in_gear(wb.setup.path().point(first.space, first.z_begin_mm));
+  for (const auto& st : strokes)
+    for (double f : {0.0, 0.5, 1.0}) {
+      const auto pp = wb.setup.path().point(st.space, st.z_begin_mm + f * (st.z_end_mm - st.z_begin_mm));
+      EXPECT_EQ(e->table_in_gear(pp).matrix(), reference.matrix()) << "space " << st.space << ", fraction " << f;
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Library, EveryEffect, ::testing::ValuesIn(effects::effect_types()),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
