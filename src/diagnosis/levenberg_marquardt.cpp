@@ -8,11 +8,17 @@ namespace geartopo::diagnosis {
 namespace {
 
 Eigen::MatrixXd jacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f, const Eigen::VectorXd& x,
-                         const Eigen::VectorXd& r0, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
-  Eigen::MatrixXd J(r0.size(), x.size());
+                         const Eigen::VectorXd& r0, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+                         const JacobianColumn& column) {
+  Eigen::MatrixXd J(r0.size(), x.size()); // n × p
+  Eigen::VectorXd known;                  // n: a closed-form column
   for (Eigen::Index j = 0; j < x.size(); ++j) {
     if (lo(j) == hi(j)) { // held fixed (a profile-likelihood refit): no step can move it, so no prediction for it
       J.col(j).setZero();
+      continue;
+    }
+    if (column && column(x, j, known)) {
+      J.col(j) = known;
       continue;
     }
     double h = 1e-4 * std::max(1.0, std::abs(x(j)));
@@ -27,13 +33,14 @@ Eigen::MatrixXd jacobian(const std::function<Eigen::VectorXd(const Eigen::Vector
 } // namespace
 
 LmResult levenberg_marquardt(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f, const Eigen::VectorXd& x0,
-                             const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, int max_iterations) {
+                             const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, int max_iterations,
+                             const JacobianColumn& column) {
   LmResult res;
   res.x = x0.cwiseMax(lo).cwiseMin(hi);
   Eigen::VectorXd r = f(res.x);
   res.rss = r.squaredNorm();
   double lambda = 1e-3;
-  Eigen::MatrixXd J = jacobian(f, res.x, r, lo, hi);
+  Eigen::MatrixXd J = jacobian(f, res.x, r, lo, hi, column);
   for (int it = 0; it < max_iterations; ++it) {
     res.iterations = it + 1;
     const Eigen::MatrixXd A = J.transpose() * J;
@@ -53,7 +60,7 @@ LmResult levenberg_marquardt(const std::function<Eigen::VectorXd(const Eigen::Ve
         res.rss = rss_new;
         lambda = std::max(lambda * 0.3, 1e-9);
         improved = true;
-        J = jacobian(f, res.x, r, lo, hi);
+        J = jacobian(f, res.x, r, lo, hi, column);
         if (converged) {
           res.JtJ = J.transpose() * J;
           return res;

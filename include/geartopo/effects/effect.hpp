@@ -31,6 +31,11 @@ struct ParameterSpec {
   double plausible_lo = std::numeric_limits<double>::quiet_NaN();
   double plausible_hi = std::numeric_limits<double>::quiet_NaN();
   bool whole = false;    ///< a count (e.g. strokes between dressings): the scene must give a whole number
+  /// The deviation is proportional to this parameter: with the effect's other parameters fixed, it is Σ θ_k b_k over
+  /// its `linear` parameters k (jointly linear, zero when they are all zero). A fit then takes the parameter's
+  /// Jacobian column in closed form, b_k, instead of by finite differences (diagnosis/effect_fit.cpp); tests/diagnosis
+  /// checks every claim against finite differences of the simulator's own first-order model.
+  bool linear = false;
 };
 
 class Effect {
