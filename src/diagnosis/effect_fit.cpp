@@ -89,7 +89,8 @@ public:
     return levenberg_marquardt([&](const Eigen::VectorXd& x) { return residual(x); }, x0, lo, hi, 60,
                                [&](const Eigen::VectorXd& x, Eigen::Index j, Eigen::VectorXd& column) {
                                  return linear_column(x, j, column);
-                               });
+                               },
+                               threads_);
   }
 
   std::vector<scene::EffectSpec> specs() const {

@@ -1,8 +1,12 @@
 #include "geartopo/diagnosis/levenberg_marquardt.hpp"
 
+#include "geartopo/core/parallel.hpp"
+
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace geartopo::diagnosis {
 namespace {
@@ -30,11 +34,32 @@ Eigen::MatrixXd jacobian(const std::function<Eigen::VectorXd(const Eigen::Vector
   return J;
 }
 
+// Rows per block of the normal equations: big enough that a block's p × p product is worth a task, small enough
+// that 10⁵ rows make a dozen tasks. Fixed, so the association of the sums never depends on the thread count.
+constexpr Eigen::Index kRowsPerBlock = 8192;
+
 } // namespace
+
+NormalEquations normal_equations(const Eigen::MatrixXd& J, const Eigen::VectorXd& r, int threads) {
+  const Eigen::Index n = J.rows(), p = J.cols();
+  const int blocks = static_cast<int>((n + kRowsPerBlock - 1) / kRowsPerBlock);
+  std::vector<NormalEquations> part(static_cast<size_t>(blocks));
+  geartopo::parallel_for(blocks, threads, [&](int b) {
+    const Eigen::Index begin = b * kRowsPerBlock, rows = std::min(kRowsPerBlock, n - begin);
+    const auto Jb = J.middleRows(begin, rows); // rows × p
+    part[static_cast<size_t>(b)] = {Jb.transpose() * Jb, Jb.transpose() * r.segment(begin, rows)};
+  });
+  NormalEquations sum{Eigen::MatrixXd::Zero(p, p), Eigen::VectorXd::Zero(p)};
+  for (const auto& q : part) { // in block order
+    sum.JtJ += q.JtJ;
+    sum.Jtr += q.Jtr;
+  }
+  return sum;
+}
 
 LmResult levenberg_marquardt(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f, const Eigen::VectorXd& x0,
                              const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, int max_iterations,
-                             const JacobianColumn& column) {
+                             const JacobianColumn& column, int threads) {
   LmResult res;
   res.x = x0.cwiseMax(lo).cwiseMin(hi);
   Eigen::VectorXd r = f(res.x);
@@ -43,8 +68,9 @@ LmResult levenberg_marquardt(const std::function<Eigen::VectorXd(const Eigen::Ve
   Eigen::MatrixXd J = jacobian(f, res.x, r, lo, hi, column);
   for (int it = 0; it < max_iterations; ++it) {
     res.iterations = it + 1;
-    const Eigen::MatrixXd A = J.transpose() * J;
-    const Eigen::VectorXd g = J.transpose() * r;
+    const NormalEquations ne = normal_equations(J, r, threads);
+    const Eigen::MatrixXd& A = ne.JtJ;
+    const Eigen::VectorXd& g = ne.Jtr;
     bool improved = false;
     for (int tries = 0; tries < 12 && !improved; ++tries) {
       Eigen::MatrixXd M = A;
@@ -62,7 +88,7 @@ LmResult levenberg_marquardt(const std::function<Eigen::VectorXd(const Eigen::Ve
         improved = true;
         J = jacobian(f, res.x, r, lo, hi, column);
         if (converged) {
-          res.JtJ = J.transpose() * J;
+          res.JtJ = normal_equations(J, r, threads).JtJ;
           return res;
         }
       } else {
@@ -71,7 +97,7 @@ LmResult levenberg_marquardt(const std::function<Eigen::VectorXd(const Eigen::Ve
     }
     if (!improved) break;
   }
-  res.JtJ = J.transpose() * J;
+  res.JtJ = normal_equations(J, r, threads).JtJ;
   return res;
 }
 
