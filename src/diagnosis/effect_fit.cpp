@@ -152,7 +152,7 @@ private:
     if (v == c.judged_at) return c.judged;
     if (!c.linear.empty() && c.all_fitted_linear && !columns_current(e)) form_columns(e); // once per fit
     if (!c.linear.empty() && columns_current(e)) {
-      c.judged = Eigen::VectorXd::Zero(judged_r0_.size());
+      c.judged.setZero(judged_r0_.size()); // in place: no new allocation per evaluation
       for (size_t m = 0; m < c.linear.size(); ++m)
         c.judged += v[c.linear[m]] * c.judged_columns.col(static_cast<Eigen::Index>(m));
     } else {

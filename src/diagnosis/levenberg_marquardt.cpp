@@ -11,11 +11,12 @@
 namespace geartopo::diagnosis {
 namespace {
 
-Eigen::MatrixXd jacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f, const Eigen::VectorXd& x,
-                         const Eigen::VectorXd& r0, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
-                         const JacobianColumn& column) {
-  Eigen::MatrixXd J(r0.size(), x.size()); // n × p
-  Eigen::VectorXd known;                  // n: a closed-form column
+// J (n × p) is written in place and `known` (n, a closed-form column) reused: at 10⁶ residuals a fresh J is tens of
+// MB, and the kernel's zeroing of its new pages cost more than filling it (perf, docs/performance.md).
+void jacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f, const Eigen::VectorXd& x,
+              const Eigen::VectorXd& r0, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+              const JacobianColumn& column, Eigen::MatrixXd& J, Eigen::VectorXd& known) {
+  J.resize(r0.size(), x.size()); // n × p; a no-op after the first call
   for (Eigen::Index j = 0; j < x.size(); ++j) {
     if (lo(j) == hi(j)) { // held fixed (a profile-likelihood refit): no step can move it, so no prediction for it
       J.col(j).setZero();
@@ -31,7 +32,6 @@ Eigen::MatrixXd jacobian(const std::function<Eigen::VectorXd(const Eigen::Vector
     xp(j) += h;
     J.col(j) = (f(xp) - r0) / h;
   }
-  return J;
 }
 
 // Rows per block of the normal equations: big enough that a block's p × p product is worth a task, small enough
@@ -65,7 +65,9 @@ LmResult levenberg_marquardt(const std::function<Eigen::VectorXd(const Eigen::Ve
   Eigen::VectorXd r = f(res.x);
   res.rss = r.squaredNorm();
   double lambda = 1e-3;
-  Eigen::MatrixXd J = jacobian(f, res.x, r, lo, hi, column);
+  Eigen::MatrixXd J;     // n × p
+  Eigen::VectorXd known; // n
+  jacobian(f, res.x, r, lo, hi, column, J, known);
   for (int it = 0; it < max_iterations; ++it) {
     res.iterations = it + 1;
     const NormalEquations ne = normal_equations(J, r, threads);
@@ -86,7 +88,7 @@ LmResult levenberg_marquardt(const std::function<Eigen::VectorXd(const Eigen::Ve
         res.rss = rss_new;
         lambda = std::max(lambda * 0.3, 1e-9);
         improved = true;
-        J = jacobian(f, res.x, r, lo, hi, column);
+        jacobian(f, res.x, r, lo, hi, column, J, known);
         if (converged) {
           res.JtJ = normal_equations(J, r, threads).JtJ;
           return res;
