@@ -45,26 +45,54 @@ EffectContribution::EffectContribution(const grinding::GrindingSetup& setup, con
 // effects::EffectsProcess over the ideal machine, first order (effects_process.cpp): the twist is
 // J_twistw_q(q)·(commanded − q) + Σ pose_error_twist(table_in_gear), the wheel's radius error Σ δR_e(v); and
 // grinding::linear_deviation_mm makes n·(δp + δθ × P) − δR·normal_per_radial of them. With n·(δθ × P) = δθ·(P × n)
-// that is a_qᵀ δq + wᵀ ξ_table − δR·normal_per_radial.
-Eigen::VectorXd EffectContribution::evaluate_um(const std::vector<std::unique_ptr<effects::Effect>>& effects,
-                                                int threads) const {
+// that is a_qᵀ δq + wᵀ ξ_table − δR·normal_per_radial (mm).
+Eigen::VectorXd EffectContribution::deviation_um(std::span<const effects::Effect* const> effects, int threads) const {
+  // A table pose that does not depend on the path point (eccentricity's clamping) is the same twist at every point:
+  // formed once here, added per point in the same order as before, so the sums are the same bits.
+  struct Table {
+    bool constant = false;
+    bool identity = true;      ///< an identity pose adds exactly zero, and is skipped
+    machine::Vector6d twist{}; ///< 6: pose_error_twist of the constant pose
+  };
+  std::vector<Table> tables(effects.size());
+  for (std::size_t k = 0; k < effects.size(); ++k) {
+    if (!effects[k]->table_in_gear_is_constant()) continue;
+    const machine::Pose wMc = effects[k]->table_in_gear(points_.empty() ? grinding::PathPoint{} : points_.front().pp);
+    tables[k].constant = true;
+    tables[k].identity = wMc.matrix().isIdentity(0.0);
+    if (!tables[k].identity) tables[k].twist = machine::pose_error_twist(wMc);
+  }
   Eigen::VectorXd out(static_cast<Eigen::Index>(points_.size()));
   for_chunks(points_.size(), threads, [&](std::size_t i) {
     const PointState& s = points_[i];
     machine::Vector5d offset = machine::Vector5d::Zero();
     machine::Vector6d table = machine::Vector6d::Zero();
     double radius_mm = 0.0;
-    for (const auto& e : effects) {
-      offset += e->command_offset(s.pp);
-      const machine::Pose wMc = e->table_in_gear(s.pp);
-      if (!wMc.matrix().isIdentity(0.0)) table += machine::pose_error_twist(wMc); // identity: exactly zero
-      radius_mm += e->wheel_radius_error_mm(s.v, s.pp);
+    for (std::size_t k = 0; k < effects.size(); ++k) {
+      const effects::Effect& e = *effects[k];
+      offset += e.command_offset(s.pp);
+      if (tables[k].constant) {
+        if (!tables[k].identity) table += tables[k].twist;
+      } else {
+        const machine::Pose wMc = e.table_in_gear(s.pp);
+        if (!wMc.matrix().isIdentity(0.0)) table += machine::pose_error_twist(wMc); // identity: exactly zero
+      }
+      radius_mm += e.wheel_radius_error_mm(s.v, s.pp);
     }
     // The commanded axes minus the nominal ones, as EffectsProcess forms them (the same rounding).
     const machine::Vector5d dq = (s.pp.q.vector() + offset) - s.pp.q.vector();
     const double deviation_mm = s.a_q.dot(dq) + s.w.dot(table) - radius_mm * s.normal_per_radial;
-    out(static_cast<Eigen::Index>(i)) = units::um_from_mm(deviation_mm) + offset_um_;
+    out(static_cast<Eigen::Index>(i)) = units::um_from_mm(deviation_mm);
   });
+  return out;
+}
+
+Eigen::VectorXd EffectContribution::evaluate_um(const std::vector<std::unique_ptr<effects::Effect>>& effects,
+                                                int threads) const {
+  std::vector<const effects::Effect*> list;
+  for (const auto& e : effects) list.push_back(e.get());
+  Eigen::VectorXd out = deviation_um(list, threads);
+  out.array() += offset_um_;
   return out;
 }
 

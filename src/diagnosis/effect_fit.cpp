@@ -20,18 +20,34 @@ namespace geartopo::diagnosis {
 namespace {
 
 // One fit of a set of effects: which parameters are free, their scales and bounds, and how to evaluate them.
+// The residual is linear in the effects' deviations, and the effects add independently, so
+//   r(x) = remove(r0 − offset) − Σ_e remove(d_e(θ_e))        (remove: the set-up terms' projection, whitened with GLS)
+// is formed from one judged deviation remove(d_e) per effect, each kept until its own parameters change (a pair's
+// finite-difference column of one effect does not re-evaluate the other). Where an effect's deviation is proportional
+// to some of its parameters (ParameterSpec::linear), d_e = Σ_k θ_k b_k with b_k its deviation per unit of θ_k at the
+// other parameters' values: the columns remove(b_k) are formed once for those values, after which d_e is a weighted
+// sum of them (no hooks evaluated) and ∂r/∂θ_k = −remove(b_k) is the Jacobian column in closed form.
 class EffectFit {
 public:
   EffectFit(const grinding::GrindingSetup& setup, const EffectContribution& at_points, const std::vector<double>& r0,
             const std::vector<std::string>& types, const SetupTermModel& setup_terms, int threads)
-      : at_points_(at_points), r0_(Eigen::Map<const Eigen::VectorXd>(r0.data(), static_cast<Eigen::Index>(r0.size()))),
-        setup_terms_(setup_terms), threads_(threads) {
+      : at_points_(at_points), setup_terms_(setup_terms), threads_(threads) {
+    const Eigen::Map<const Eigen::VectorXd> r(r0.data(), static_cast<Eigen::Index>(r0.size()));
+    judged_r0_ = setup_terms.remove((r.array() - at_points.offset_um()).matrix());
     for (const auto& t : types) {
       effects_.push_back(effects::make_effect(t));
       effects_.back()->bind(setup);
+      PerEffect c;
+      c.scratch = effects_.back()->clone();
+      c.all_fitted_linear = true;
       const auto& params = effects_.back()->parameters();
-      for (size_t k = 0; k < params.size(); ++k)
-        if (params[k].fitted) free_.push_back({effects_.size() - 1, k});
+      for (size_t k = 0; k < params.size(); ++k) {
+        if (!params[k].fitted) continue;
+        free_.push_back({effects_.size() - 1, k});
+        if (params[k].linear) c.linear.push_back(k);
+        else c.all_fitted_linear = false;
+      }
+      per_effect_.push_back(std::move(c));
     }
   }
 
@@ -46,20 +62,35 @@ public:
     }
   }
 
-  /// Effects' first-order contribution at the points (n, µm): predict(…, Method::Linear) of the effects over the
-  /// ideal machine, from the points' stored contact state (effect_contribution.hpp).
-  Eigen::VectorXd contribution() const { return at_points_.evaluate_um(effects_, threads_); }
-
   /// Residual left at the points (µm, one per point) with the parameters x (p, scaled) and the best set-up terms for
   /// them (variable projection: the terms are linear, so they are solved exactly for every x).
   Eigen::VectorXd residual(const Eigen::VectorXd& x) {
     set(x);
-    return setup_terms_.remove(r0_ - contribution());
+    Eigen::VectorXd r = judged_r0_;
+    for (size_t e = 0; e < effects_.size(); ++e) r -= judged_deviation(e);
+    return r;
+  }
+
+  /// The Jacobian column of a parameter the deviation is proportional to (n, µm per scaled unit): −remove(b_k)·typical;
+  /// false for the others (finite differences).
+  bool linear_column(const Eigen::VectorXd& x, Eigen::Index j, Eigen::VectorXd& column) {
+    const auto [e, k] = free_[static_cast<size_t>(j)];
+    const auto& linear = per_effect_[e].linear;
+    const auto at = std::find(linear.begin(), linear.end(), k);
+    if (at == linear.end()) return false;
+    set(x);
+    if (!columns_current(e)) form_columns(e);
+    column = -spec(static_cast<size_t>(j)).typical * per_effect_[e].judged_columns.col(at - linear.begin());
+    return true;
   }
 
   /// Levenberg–Marquardt from x0 within [lo, hi] (all p, scaled).
   LmResult minimise(const Eigen::VectorXd& x0, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
-    return levenberg_marquardt([&](const Eigen::VectorXd& x) { return residual(x); }, x0, lo, hi);
+    return levenberg_marquardt([&](const Eigen::VectorXd& x) { return residual(x); }, x0, lo, hi, 60,
+                               [&](const Eigen::VectorXd& x, Eigen::Index j, Eigen::VectorXd& column) {
+                                 return linear_column(x, j, column);
+                               },
+                               threads_);
   }
 
   std::vector<scene::EffectSpec> specs() const {
@@ -77,11 +108,67 @@ public:
   }
 
 private:
+  /// What is kept per effect between evaluations.
+  struct PerEffect {
+    std::unique_ptr<effects::Effect> scratch; ///< a copy, to evaluate the columns b_k on
+    std::vector<size_t> linear;               ///< fitted parameters the deviation is proportional to
+    bool all_fitted_linear = false;           ///< every fitted parameter is linear: the columns never change in a fit
+    std::vector<double> columns_at;           ///< values the columns were formed at (linear entries unused); empty: none
+    Eigen::MatrixXd judged_columns;           ///< n × linear.size(): remove(b_k), µm per file unit of θ_k
+    std::vector<double> judged_at;            ///< values of the last judged deviation; empty: none
+    Eigen::VectorXd judged;                   ///< n: remove(d_e) at judged_at (µm)
+  };
+
+  /// The columns were formed at the effect's current values of its other (not linear) parameters.
+  bool columns_current(size_t e) const {
+    const PerEffect& c = per_effect_[e];
+    if (c.columns_at.empty()) return false;
+    const auto& v = effects_[e]->values();
+    for (size_t k = 0; k < v.size(); ++k)
+      if (std::find(c.linear.begin(), c.linear.end(), k) == c.linear.end() && v[k] != c.columns_at[k]) return false;
+    return true;
+  }
+
+  /// b_k: the effect's deviation with θ_k = 1 (its file unit), its other linear parameters 0 and the rest as they are.
+  void form_columns(size_t e) {
+    PerEffect& c = per_effect_[e];
+    const auto& v = effects_[e]->values();
+    c.judged_columns.resize(judged_r0_.size(), static_cast<Eigen::Index>(c.linear.size()));
+    for (size_t m = 0; m < c.linear.size(); ++m) {
+      std::vector<double> unit = v;
+      for (size_t k : c.linear) unit[k] = 0.0;
+      unit[c.linear[m]] = 1.0;
+      c.scratch->set_values(std::move(unit));
+      const effects::Effect* one[] = {c.scratch.get()};
+      c.judged_columns.col(static_cast<Eigen::Index>(m)) = setup_terms_.remove(at_points_.deviation_um(one, threads_));
+    }
+    c.columns_at = v;
+  }
+
+  /// remove(d_e) at the effect's current values (n, µm).
+  const Eigen::VectorXd& judged_deviation(size_t e) {
+    PerEffect& c = per_effect_[e];
+    const auto& v = effects_[e]->values();
+    if (v == c.judged_at) return c.judged;
+    if (!c.linear.empty() && c.all_fitted_linear && !columns_current(e)) form_columns(e); // once per fit
+    if (!c.linear.empty() && columns_current(e)) {
+      c.judged.setZero(judged_r0_.size()); // in place: no new allocation per evaluation
+      for (size_t m = 0; m < c.linear.size(); ++m)
+        c.judged += v[c.linear[m]] * c.judged_columns.col(static_cast<Eigen::Index>(m));
+    } else {
+      const effects::Effect* one[] = {effects_[e].get()};
+      c.judged = setup_terms_.remove(at_points_.deviation_um(one, threads_));
+    }
+    c.judged_at = v;
+    return c.judged;
+  }
+
   const EffectContribution& at_points_;
-  const Eigen::Map<const Eigen::VectorXd> r0_; // n, µm
   const SetupTermModel& setup_terms_;
   int threads_;
+  Eigen::VectorXd judged_r0_; ///< n: remove(r0 − offset), µm
   std::vector<std::unique_ptr<effects::Effect>> effects_;
+  std::vector<PerEffect> per_effect_;           // one per effect
   std::vector<std::pair<size_t, size_t>> free_; // (effect, parameter)
 };
 

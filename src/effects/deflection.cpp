@@ -21,7 +21,7 @@ public:
   const std::vector<ParameterSpec>& parameters() const override {
     static const std::vector<ParameterSpec> p{
         {"deflection_um", "radial deflection when the wheel grinds at mid face (away from the wheel: +)", 0.0, -500.0,
-         500.0, 5.0, true, {}, -100.0, 100.0},
+         500.0, 5.0, true, {}, -100.0, 100.0, /*whole*/ false, /*linear*/ true},
         {"arbor_span_mm", "distance between the arbor's supports (gear in the middle)", 600.0, 10.0, 10000.0, 100.0, false}};
     return p;
   }

@@ -26,6 +26,7 @@ public:
     return p;
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<Eccentricity>(*this); }
+  bool table_in_gear_is_constant() const override { return true; } // the clamping does not move along the path
   machine::Pose table_in_gear(const grinding::PathPoint&) const override {
     const double half = 0.5 * setup().geometry().spec().face_width_mm;
     // Pose of the gear in the table frame; the table (where the machine's poses live) in the gear frame is its inverse.

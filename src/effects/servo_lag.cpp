@@ -17,7 +17,7 @@ public:
   }
   const std::vector<ParameterSpec>& parameters() const override {
     static const std::vector<ParameterSpec> p{
-        {"c_lag_ms", "time lag of C behind its command, relative to Z", 0.0, -1000.0, 1000.0, 5.0, true, {}, -50.0, 50.0}};
+        {"c_lag_ms", "time lag of C behind its command, relative to Z", 0.0, -1000.0, 1000.0, 5.0, true, {}, -50.0, 50.0, /*whole*/ false, /*linear*/ true}};
     return p;
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<ServoLag>(*this); }

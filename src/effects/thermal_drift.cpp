@@ -19,8 +19,8 @@ public:
   }
   const std::vector<ParameterSpec>& parameters() const override {
     static const std::vector<ParameterSpec> p{
-        {"x_growth_um", "steady-state growth of X (wheel further out: +)", 0.0, -500.0, 500.0, 5.0, true, {}, -100.0, 100.0},
-        {"z_growth_um", "steady-state growth of Z (along the gear axis)", 0.0, -500.0, 500.0, 5.0, true, {}, -100.0, 100.0},
+        {"x_growth_um", "steady-state growth of X (wheel further out: +)", 0.0, -500.0, 500.0, 5.0, true, {}, -100.0, 100.0, /*whole*/ false, /*linear*/ true},
+        {"z_growth_um", "steady-state growth of Z (along the gear axis)", 0.0, -500.0, 500.0, 5.0, true, {}, -100.0, 100.0, /*whole*/ false, /*linear*/ true},
         {"time_constant_s", "thermal time constant", 1800.0, 10.0, 1e6, 1000.0, true, {300.0, 1000.0, 3000.0, 10000.0}, 60.0, 20000.0}};
     return p;
   }

@@ -22,8 +22,8 @@ public:
   const std::vector<ParameterSpec>& parameters() const override {
     static const std::vector<ParameterSpec> p{
         {"profile_slope_um", "gear profile slope it causes over the active profile (tip minus root)", 0.0, -500.0, 500.0,
-         3.0, true, {}, -100.0, 100.0},
-        {"profile_crowning_um", "gear profile crowning it causes (middle above the ends)", 0.0, -500.0, 500.0, 3.0, true, {}, -100.0, 100.0}};
+         3.0, true, {}, -100.0, 100.0, /*whole*/ false, /*linear*/ true},
+        {"profile_crowning_um", "gear profile crowning it causes (middle above the ends)", 0.0, -500.0, 500.0, 3.0, true, {}, -100.0, 100.0, /*whole*/ false, /*linear*/ true}};
     return p;
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<WheelProfile>(*this); }

@@ -20,8 +20,8 @@ public:
   }
   const std::vector<ParameterSpec>& parameters() const override {
     static const std::vector<ParameterSpec> p{
-        {"cos_um", "radial amplitude, cosine part", 0.0, -500.0, 500.0, 1.0, true, {}, -50.0, 50.0},
-        {"sin_um", "radial amplitude, sine part", 0.0, -500.0, 500.0, 1.0, true, {}, -50.0, 50.0},
+        {"cos_um", "radial amplitude, cosine part", 0.0, -500.0, 500.0, 1.0, true, {}, -50.0, 50.0, /*whole*/ false, /*linear*/ true},
+        {"sin_um", "radial amplitude, sine part", 0.0, -500.0, 500.0, 1.0, true, {}, -50.0, 50.0, /*whole*/ false, /*linear*/ true},
         // Not fitted: strokes of different teeth are ground minutes apart, so a few measured teeth alias the frequency
         // (docs/diagnosis.md). It is a set-up value: the wheel speed / 60, or a vibration measurement.
         {"frequency_hz", "frequency of the radial motion (wheel speed / 60 for runout)", 0.5, 1e-3, 1000.0, 0.2, false}};

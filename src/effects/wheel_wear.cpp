@@ -19,7 +19,7 @@ public:
   }
   const std::vector<ParameterSpec>& parameters() const override {
     static const std::vector<ParameterSpec> p{
-        {"wear_um_per_stroke", "wear (normal to the wheel surface) per stroke (one tooth space)", 0.0, -50.0, 50.0, 0.3, true, {}, -5.0, 5.0},
+        {"wear_um_per_stroke", "wear (normal to the wheel surface) per stroke (one tooth space)", 0.0, -50.0, 50.0, 0.3, true, {}, -5.0, 5.0, /*whole*/ false, /*linear*/ true},
         {"dressing_interval_strokes", "strokes between dressings (0: not dressed during the gear)", 0.0, 0.0, 1e5, 1.0,
          false, {}, NAN, NAN, true}};
     return p;

@@ -134,6 +134,76 @@ TEST(EffectContribution, DoesNotDependOnTheThreadCount) {
   }
 }
 
+// ParameterSpec::linear, the claim the fit's closed-form Jacobian columns rest on (effect_fit.cpp): the fit's column
+// b_k — EffectContribution::deviation_um with θ_k = 1, the effect's other linear parameters 0, the rest at random
+// values — equals the central finite difference of the simulator's own first-order model (diagnosis::predict through
+// EffectsProcess, not the stored contact state) in θ_k, and Σ θ_k b_k is that model's whole deviation (zero when the
+// linear parameters are). A parameter wrongly declared linear would miss by the size of its curvature (e.g. a time
+// constant: µm). Rounding bound: a column is the deviation per 1 µm of θ_k, and the commanded axes minus the nominal
+// ones ((q + δq) − q, as EffectsProcess forms them) round at ε·|q| ≈ 2e-16 · 1000 mm = 2e-13 mm = 2e-10 µm per
+// column; Σ θ_k b_k multiplies that by |θ_k| ≤ 500 µm per µm (the allowed ranges): ≤ 1e-7 µm. 1e-6 µm is that with a
+// margin, a thousand times below a nanometre and a million times below a wrong claim.
+constexpr double kColumnRoundingUm = 1e-6;
+
+TEST(EffectContribution, LinearParametersAreTheClaimedColumnsOfTheUncachedModel) {
+  const auto& setup = contribution_scene().setup;
+  const auto pts = random_flank_points(setup.geometry(), 300, 17);
+  const diagnosis::EffectContribution at_points(setup, pts, 1);
+  const grinding::IdealProcess ideal;
+  const auto uncached_um = [&](const effects::Effect& e) { // the first-order model found afresh (µm, no offset)
+    const effects::EffectsProcess process(ideal, {&e});
+    auto d = diagnosis::predict(setup, process, pts, grinding::Method::Linear, 1);
+    for (double& v : d) v -= at_points.offset_um();
+    return d;
+  };
+  std::mt19937_64 rng(19);
+  int columns_checked = 0;
+  for (const auto& type : effects::effect_types()) {
+    auto e = effects::make_effect(type);
+    e->bind(setup);
+    std::vector<size_t> linear;
+    for (size_t k = 0; k < e->parameters().size(); ++k)
+      if (e->parameters()[k].linear) linear.push_back(k);
+    if (linear.empty()) continue;
+    for (int draw = 0; draw < 3; ++draw) {
+      randomise(*e, rng);
+      const std::vector<double> values = e->values();
+      std::vector<double> sum(pts.size(), 0.0); // Σ θ_k b_k
+      for (size_t k : linear) {
+        auto unit_effect = e->clone();
+        std::vector<double> unit = values;
+        for (size_t m : linear) unit[m] = 0.0;
+        unit[k] = 1.0;
+        unit_effect->set_values(unit);
+        const effects::Effect* one[] = {unit_effect.get()};
+        const Eigen::VectorXd column = at_points.deviation_um(one, 1); // µm per file unit of θ_k
+        const double h = e->parameters()[k].typical;
+        std::vector<double> plus = values, minus = values;
+        plus[k] += h, minus[k] -= h;
+        e->set_values(plus);
+        const auto up = uncached_um(*e);
+        e->set_values(minus);
+        const auto down = uncached_um(*e);
+        e->set_values(values);
+        double worst = 0.0, size = 0.0;
+        for (size_t i = 0; i < pts.size(); ++i) {
+          const double difference = (up[i] - down[i]) / (2.0 * h);
+          worst = std::max(worst, std::abs(column(static_cast<Eigen::Index>(i)) - difference));
+          size = std::max(size, std::abs(difference));
+          sum[i] += values[k] * column(static_cast<Eigen::Index>(i));
+        }
+        EXPECT_LE(worst, kColumnRoundingUm) << type << "." << e->parameters()[k].key << ", draw " << draw;
+        EXPECT_GT(size, 1e-4) << type << "." << e->parameters()[k].key << ": the column must be seen at the points";
+        ++columns_checked;
+      }
+      const auto whole = uncached_um(*e);
+      for (size_t i = 0; i < pts.size(); ++i)
+        ASSERT_LE(std::abs(sum[i] - whole[i]), kColumnRoundingUm) << type << ", draw " << draw << ", point " << i;
+    }
+  }
+  EXPECT_EQ(columns_checked, 3 * 9); // the library's linear parameters: thermal 2, wear 1, deflection 1, profile 2, lag 1, runout 2
+}
+
 // The whole diagnosis (every fit runs on EffectContribution) on the truth scene's thermal drift, teeth 1 and 18: the
 // same ranking, ΔBIC, parameters and verdict, to the last bit, on one thread and on two.
 TEST(EffectContribution, DiagnosisIsIdenticalOnOneAndTwoThreads) {

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace geartopo::diagnosis {
@@ -29,6 +30,12 @@ public:
   /// and equal to it to rounding (the sums are associated differently: tests/diagnosis/test_effect_contribution.cpp).
   /// The effects must be bound to the same set-up. Results do not depend on `threads`.
   Eigen::VectorXd evaluate_um(const std::vector<std::unique_ptr<effects::Effect>>& effects, int threads = 0) const;
+
+  /// The effects' first-order deviation alone (n, µm): evaluate_um without the mean-allowance offset, which it adds
+  /// to this. Effects add independently, so a fit may evaluate each of its effects on its own and sum.
+  Eigen::VectorXd deviation_um(std::span<const effects::Effect* const> effects, int threads = 0) const;
+  /// The constant evaluate_um adds (µm): the gear's mean-allowance offset from the nominal flank.
+  double offset_um() const { return offset_um_; }
 
   std::size_t size() const { return points_.size(); }
 

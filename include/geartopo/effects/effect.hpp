@@ -31,6 +31,11 @@ struct ParameterSpec {
   double plausible_lo = std::numeric_limits<double>::quiet_NaN();
   double plausible_hi = std::numeric_limits<double>::quiet_NaN();
   bool whole = false;    ///< a count (e.g. strokes between dressings): the scene must give a whole number
+  /// The deviation is proportional to this parameter: with the effect's other parameters fixed, it is Σ θ_k b_k over
+  /// its `linear` parameters k (jointly linear, zero when they are all zero). A fit then takes the parameter's
+  /// Jacobian column in closed form, b_k, instead of by finite differences (diagnosis/effect_fit.cpp); tests/diagnosis
+  /// checks every claim against finite differences of the simulator's own first-order model.
+  bool linear = false;
 };
 
 class Effect {
@@ -51,6 +56,11 @@ public:
   virtual machine::Vector5d command_offset(const grinding::PathPoint& /*pp*/) const { return machine::Vector5d::Zero(); }
   /// Pose of the machine's table frame in the gear frame (identity for a perfectly mounted gear).  wMc
   virtual machine::Pose table_in_gear(const grinding::PathPoint& /*pp*/) const { return machine::Pose::Identity(); }
+  /// True when table_in_gear gives the same pose at every path point (a clamping error, fixed for the gear): a caller
+  /// evaluating many points may then call it once per parameter set (diagnosis::EffectContribution). The default
+  /// claims nothing; an effect that keeps the default identity table or mounts the gear once may say true
+  /// (tests/effects checks the claim of every library effect at random path points).
+  virtual bool table_in_gear_is_constant() const { return false; }
   /// Change of the wheel radius at wheel axial coordinate v (mm; positive: bigger wheel, deeper cut).
   virtual double wheel_radius_error_mm(double /*v*/, const grinding::PathPoint& /*pp*/) const { return 0.0; }
 
