@@ -52,13 +52,6 @@ void BM_MonteCarlo(benchmark::State& state) {
 BENCHMARK(BM_MonteCarlo)->Name("MonteCarlo/default/grid7x9")->Arg(20)->Arg(1000)->Iterations(1)->UseRealTime()->MeasureProcessCPUTime()->Unit(benchmark::kSecond);
 
 /// A correction table whose every row is `base`'s plus its space's offset (X, Y, Z, A, C).
-compensation::CorrectionTable offset_by_space(const compensation::CorrectionTable& base,
-                                              const std::map<int, machine::Vector5d>& offsets) {
-  std::vector<compensation::CorrectionRow> rows = base.rows();
-  for (auto& r : rows) r.correction += offsets.at(r.space);
-  return compensation::CorrectionTable(std::move(rows));
-}
-
 void BM_MonteCarloDenseSample(benchmark::State& state) {
   const auto& b = bench::default_scene();
   const auto& unc = b.scene.machine.uncertainty;
@@ -87,19 +80,18 @@ void BM_MonteCarloDenseSample(benchmark::State& state) {
     std::vector<machine::ErrorSource> truth;
     for (int k = 0; k < machine::kComponentCount; ++k)
       truth.push_back(b.machine.source(machine::component_at(k)).shifted(unc.component_u[static_cast<size_t>(k)] * normal(rng)));
-    std::map<int, machine::Vector5d> off_before, off_after; // repeatability draws, one per stroke and axis
-    for (const int s : spaces)
-      for (int a = 0; a < 5; ++a) off_before[s](a) = unc.repeatability(a) * normal(rng);
-    for (const int s : spaces)
-      for (int a = 0; a < 5; ++a) off_after[s](a) = unc.repeatability(a) * normal(rng);
+    // Repeatability draws, one per stroke and axis (the Monte Carlo's own draw and offsetting, pipeline/monte_carlo.hpp).
+    const auto draw = [&] { return normal(rng); };
+    const auto off_before = pipeline::draw_stroke_offsets(spaces, unc.repeatability, draw);
+    const auto off_after = pipeline::draw_stroke_offsets(spaces, unc.repeatability, draw);
     const machine::MachineModel model(b.machine.strokes(), std::move(truth));
     const grinding::MachineProcess machine_process(model, b.scene.machine.datum_face_z_mm);
     std::unique_ptr<effects::EffectsProcess> with_effects;
     if (!b.effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(machine_process, b.effects);
     const grinding::GrindingProcess& true_machine =
         with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : machine_process;
-    const auto table_before = offset_by_space(uncorrected, off_before);
-    const auto table_after = offset_by_space(applied, off_after);
+    const auto table_before = pipeline::with_stroke_offsets(uncorrected, off_before);
+    const auto table_after = pipeline::with_stroke_offsets(applied, off_after);
     const compensation::CompensatedProcess gear1(true_machine, table_before), gear2(true_machine, table_after);
     for (const auto* gear : {&gear1, &gear2}) {
       const auto topo = plan.simulate(*gear, so.threads);
