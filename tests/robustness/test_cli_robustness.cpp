@@ -25,9 +25,10 @@ CliResult run(const std::string& args, const std::string& shell_prefix = "") {
   static int calls = 0;
   const std::string tag = std::to_string(calls++);
   const auto out = temp_path("cli_out_" + tag), err = temp_path("cli_err_" + tag);
-  // `timeout` turns a hang into exit 124 instead of stalling the suite.
+  // `timeout` turns a hang into exit 124 instead of stalling the suite: 120 s per command, times the build's
+  // GEARTOPO_TEST_TIMEOUT_FACTOR (4 under scripts/sanitize.sh, where one compensate of the default scene took > 120 s).
   std::string cmd = shell_prefix;
-  cmd += "timeout 120 ";
+  cmd += "timeout " + std::to_string(120 * GEARTOPO_TEST_TIMEOUT_FACTOR) + " ";
   cmd += GEARTOPO_BINARY;
   cmd += " " + args + " >" + out.string() + " 2>" + err.string();
   const int status = std::system(cmd.c_str());
