@@ -22,7 +22,11 @@ IdentifiedEffects identified_effects(const Diagnosis& d, const Candidate& candid
       if (e < candidate.parameters.size())
         for (const auto& p : candidate.parameters[e])
           if (p.key == params[v].key && p.fitted) {
-            us[v] = out.birge_ratio * p.uncertainty;
+            // The fit's σ already carries the residual: it is √(σ̂² (JᵀJ)⁻¹) with σ̂² = RSS/ν of the whitened
+            // residual, i.e. (χ²/ν)·σ² (fit_effects) — multiplying by the Birge ratio again would count it twice.
+            // At most the parameter's whole allowed range: wider says nothing a draw could use, and the scene
+            // reader refuses it (an undetermined direction of the fit can be far wider).
+            us[v] = std::min(p.uncertainty, params[v].hi - params[v].lo);
             fitted_slot.push_back(values + static_cast<Eigen::Index>(v));
           }
     }

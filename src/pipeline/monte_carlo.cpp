@@ -229,7 +229,8 @@ MonteCarloRun run_sample_range(const workbench::Workbench& wb, const compensatio
     const auto off_after = draw_stroke_offsets(spaces, unc.repeatability, standard_normal);
 
     // Effects with uncertain values (Scene::effect_uncertainties, e.g. identified by diagnosis): drawn last, each value within its standard
-    // uncertainty (independently: the fit's correlations are not carried), held inside the effect's allowed range.
+    // uncertainty and jointly with the scene's correlation of them (effect_correlation_factor), held inside the
+    // effect's allowed range.
     std::vector<std::unique_ptr<effects::Effect>> drawn_effects;
     if (effects_uncertain) {
       std::vector<scene::EffectSpec> specs = wb.scene.effects;

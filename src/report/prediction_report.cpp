@@ -89,7 +89,9 @@ pipeline::MonteCarloSummary read_prediction_json(const std::filesystem::path& fi
   };
   pipeline::MonteCarloSummary s;
   const double samples = number(j, "samples", "samples");
-  if (samples < 1 || samples != std::floor(samples)) fail("samples", fmt::format("{} is not a count of samples", samples));
+  // Bounded before the cast (a double beyond long long's range is undefined to convert): the CLI's --samples limit.
+  if (samples < 1 || samples > 1e6 || samples != std::floor(samples))
+    fail("samples", fmt::format("{} is not a count of samples in [1, 10⁶]", samples));
   s.samples = static_cast<long long>(samples);
   if (j.contains("seed") && j["seed"].is_number_unsigned()) s.seed = j["seed"].get<std::uint64_t>();
   if (!j.contains("quantities") || !j["quantities"].is_object() || j["quantities"].empty())

@@ -1,6 +1,7 @@
 // The identified explanation as diagnose writes it into scene_with_effect.yaml and the scene reader reads it back:
-// values, standard uncertainties widened by the Birge ratio √max(1, χ²/ν) (docs/diagnosis.md) and the fit's correlation
-// at the fitted values' slots — the expected numbers written here from the candidate, not from the code.
+// values, the fit's standard uncertainties (σ̂² = RSS/ν already contains χ²/ν: the Birge ratio is reported, not applied
+// again; docs/diagnosis.md), at most the allowed range, and the fit's correlation at the fitted values' slots — the
+// expected numbers written here from the candidate and the parameters' documented ranges, not from the code.
 #include "geartopo/diagnosis/identified_effects.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
 #include "geartopo/scene/scene.hpp"
@@ -23,7 +24,7 @@ const std::string kIdentifiedSceneText = R"(gear:
 )";
 
 // A pair fitted jointly: thermal drift (x_growth, τ fitted; z_growth held) and wheel wear (wear fitted; the dressing
-// interval a set-up count), χ² = 4 ν: every uncertainty doubles.
+// interval a set-up count), χ² = 4 ν: Birge ratio 2, already in the fit's σ.
 diagnosis::Diagnosis identified_pair() {
   diagnosis::Candidate c;
   c.effects = {{"thermal_drift", {23.0123456, 0.0, 94.4}}, {"wheel_wear", {0.0512, 0.0}}};
@@ -41,13 +42,13 @@ diagnosis::Diagnosis identified_pair() {
 
 } // namespace
 
-TEST(IdentifiedEffects, UncertaintiesWidenedByTheBirgeRatioAndCorrelationAtTheFittedSlots) {
+TEST(IdentifiedEffects, TheFitsUncertaintiesAndCorrelationAtTheFittedSlots) {
   const auto d = identified_pair();
   const auto id = diagnosis::identified_effects(d, *d.chosen);
   EXPECT_DOUBLE_EQ(id.birge_ratio, 2.0);
   ASSERT_EQ(id.uncertainties.size(), 2u);
-  EXPECT_EQ(id.uncertainties[0], (std::vector<double>{8.2, 0.0, 96.5}));
-  EXPECT_EQ(id.uncertainties[1], (std::vector<double>{0.0062, 0.0}));
+  EXPECT_EQ(id.uncertainties[0], (std::vector<double>{4.1, 0.0, 48.25}));
+  EXPECT_EQ(id.uncertainties[1], (std::vector<double>{0.0031, 0.0}));
   // Values x_growth 0, z_growth 1, τ 2, wear 3, dressing 4; fitted: 0, 2, 3.
   Eigen::MatrixXd expected = Eigen::MatrixXd::Identity(5, 5);
   expected(0, 2) = expected(2, 0) = 0.8512;
@@ -60,13 +61,31 @@ TEST(IdentifiedEffects, UncertaintiesWidenedByTheBirgeRatioAndCorrelationAtTheFi
   EXPECT_DOUBLE_EQ(diagnosis::identified_effects(quiet, *quiet.chosen).birge_ratio, 1.0);
 }
 
+// An undetermined direction of a fit (two teeth: amplitude against time constant, docs/tutorial.md §4) can have a σ
+// far beyond the parameter's allowed range; written as is, the scene reader refused diagnose's own
+// scene_with_effect.yaml. It is capped at the range's width (docs/scene-format.md: x_growth_um [-500, 500],
+// time_constant_s [10, 1e6]), and the scene reads back.
+TEST(IdentifiedEffects, AnUndeterminedValueIsCappedAtItsRangeAndTheSceneReadsBack) {
+  auto d = identified_pair();
+  d.chosen->parameters[0][0].uncertainty = 4.9e4; // µm
+  d.chosen->parameters[0][2].uncertainty = 8.2e7; // s
+  const auto id = diagnosis::identified_effects(d, *d.chosen);
+  EXPECT_EQ(id.uncertainties[0], (std::vector<double>{1000.0, 0.0, 1e6 - 10.0}));
+  const std::string text =
+      diagnosis::scene_with_effects(kIdentifiedSceneText, id.effects, {"found", "found too"}, id.uncertainties, id.correlation);
+  const auto back = scene::parse_scene(text, "scene_with_effect.yaml");
+  ASSERT_EQ(back.effect_uncertainties.size(), 2u);
+  EXPECT_EQ(back.effect_uncertainties[0][0], 1000.0);
+  EXPECT_EQ(back.effect_uncertainties[0][2], 999990.0);
+}
+
 // What diagnose writes (scene_with_effects, 6 significant digits) is read back equal to that precision.
 TEST(IdentifiedEffects, WrittenIntoTheSceneAndReadBackEqual) {
   const auto d = identified_pair();
   const auto id = diagnosis::identified_effects(d, *d.chosen);
   const std::string text =
       diagnosis::scene_with_effects(kIdentifiedSceneText, id.effects, {"found", "found too"}, id.uncertainties, id.correlation);
-  EXPECT_NE(text.find("    uncertainty: {x_growth_um: 8.2, time_constant_s: 96.5}\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("    uncertainty: {x_growth_um: 4.1, time_constant_s: 48.25}\n"), std::string::npos) << text;
   EXPECT_NE(text.find("    correlation: [[x_growth_um, time_constant_s, 0.8512], [x_growth_um, wheel_wear.wear_um_per_stroke, "
                       "-0.25], [time_constant_s, wheel_wear.wear_um_per_stroke, 0.125]]\n"),
             std::string::npos)

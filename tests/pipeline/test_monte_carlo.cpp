@@ -455,7 +455,7 @@ TEST(MonteCarloCli, MergedShardsEqualOneRunByteForByte) {
 // carried with their standard uncertainties and correlation; Monte Carlo predicts gear 2; gear 2 ground on the truth
 // machine with those corrections (rounded to the resolution, as the controller takes them) lies inside the predicted
 // 95 % intervals and is better than gear 1. Measured: x_growth 23.0 ± 4.1 µm, z_growth 2.8 ± 2.8 µm, τ 94 ± 48 s
-// (truth 25, 0, 120); gear 2 f_p 2.38 µm in [2.33, 5.84], F_p 4.51 in [4.33, 17.7], largest 10.7 in [4.4, 15.9] µm;
+// (truth 25, 0, 120); gear 2 f_p 2.38 µm in [2.33, 5.79], F_p 4.51 in [4.32, 17.6], largest 10.7 in [4.3, 15.9] µm;
 // gear 1 largest 24.1 µm. One truth, one measurement: near an interval's end (f_p) is where 1 in 40 such truths lie.
 TEST(MonteCarloClosedLoop, Gear2FromTheTruthFallsInsideThePredictionAndIsBetter) {
   const workbench::Workbench model(scene::parse_scene(mc_scene_text(kMapErrors), "model"));

@@ -15,14 +15,16 @@ namespace geartopo::diagnosis {
 
 struct IdentifiedEffects {
   std::vector<scene::EffectSpec> effects;        ///< the candidate's effects with their fitted values
-  /// Per effect, per value (parameter order): the fit's standard uncertainty × birge_ratio; 0 for a value held fixed.
+  /// Per effect, per value (parameter order): the fit's standard uncertainty (from σ̂² = RSS/ν of the whitened
+  /// residual, so already as wide as the residual demands), at most the parameter's allowed range; 0 for a value
+  /// held fixed.
   std::vector<std::vector<double>> uncertainties;
   /// N × N over all the effects' values in order (unit-free): the fit's p × p correlation at the fitted values'
   /// slots, identity elsewhere.
   Eigen::MatrixXd correlation;
-  /// √max(1, χ²/ν) of the whitened residual after the fit (Diagnosis::chi2_after, chi2_dof): when the residual is more
-  /// than the noise, scatter and map the fit was told of, its uncertainties are widened by it (the fit is then no
-  /// better than its residual; Birge 1932).
+  /// √max(1, χ²/ν) of the whitened residual after the fit (Diagnosis::chi2_after, chi2_dof), for the reader: how much
+  /// more the residual is than the noise, scatter and map the fit was told of (Birge 1932). The uncertainties
+  /// already contain it (σ̂² = RSS/ν), so it is not applied again.
   double birge_ratio = 1.0;
 };
 
