@@ -99,28 +99,18 @@ CorrectionTable CorrectionTable::read_csv(std::istream& in, const std::string& s
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (lineno == 1 && line.rfind(text::kUtf8Bom, 0) == 0) line.erase(0, text::kUtf8Bom.size());
     if (line.empty() || line[0] == '#') continue;
-    // Fields with the 1-based column of their start, blanks around them trimmed.
-    std::vector<std::pair<std::string, int>> f;
-    for (size_t start = 0;;) {
-      const size_t comma = line.find(',', start);
-      const std::string raw = line.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-      const size_t a = raw.find_first_not_of(" \t"), b = raw.find_last_not_of(" \t");
-      f.emplace_back(a == std::string::npos ? std::string() : raw.substr(a, b - a + 1),
-                     static_cast<int>(start + (a == std::string::npos ? 0 : a)) + 1);
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
+    const auto f = text::split_fields(line);
     if (!header) {
       for (int i = 0; i < kColumns; ++i)
-        if (static_cast<int>(f.size()) <= i || f[static_cast<size_t>(i)].first != names[i])
-          fail(lineno, i < static_cast<int>(f.size()) ? f[static_cast<size_t>(i)].second : static_cast<int>(line.size()) + 1,
+        if (static_cast<int>(f.size()) <= i || f[static_cast<size_t>(i)].text != names[i])
+          fail(lineno, i < static_cast<int>(f.size()) ? f[static_cast<size_t>(i)].column : static_cast<int>(line.size()) + 1,
                "header", fmt::format("expected the columns {} (column {} should be '{}'): a corrections.csv of "
                                      "geartopo compensate", kHeader, i + 1, names[i]));
       header = true;
       continue;
     }
     if (f.size() != kColumns)
-      fail(lineno, f.size() > kColumns ? f[kColumns].second : static_cast<int>(line.size()) + 1, "row",
+      fail(lineno, f.size() > kColumns ? f[kColumns].column : static_cast<int>(line.size()) + 1, "row",
            fmt::format("{} fields, expected {}", f.size(), kColumns));
     const auto number = [&](int i, double limit) {
       double v = 0.0;
@@ -132,8 +122,8 @@ CorrectionTable CorrectionTable::read_csv(std::istream& in, const std::string& s
       return v;
     };
     CorrectionRow r;
-    if (text::parse_number(f[0].first, r.space) != std::errc() || r.space < 1)
-      fail(lineno, f[0].second, "space", fmt::format("'{}' is not a tooth space number (1, 2, …)", text::excerpt(f[0].first)));
+    if (text::parse_number(f[0].text, r.space) != std::errc() || r.space < 1)
+      fail(lineno, f[0].column, "space", fmt::format("'{}' is not a tooth space number (1, 2, …)", text::excerpt(f[0].text)));
     constexpr double kAnyPosition = 1e7; // mm, s, deg: finite is what matters
     r.z_stroke_mm = number(1, kAnyPosition);
     r.time_s = number(2, kAnyPosition);
@@ -144,13 +134,13 @@ CorrectionTable CorrectionTable::read_csv(std::istream& in, const std::string& s
     r.machine_axes.c = number(7, kAnyPosition) * units::kRadPerDeg;
     for (int a = 0; a < 3; ++a) r.correction(a) = units::mm_from_um(number(8 + a, kMaxCorrectionUm));
     for (int a = 3; a < 5; ++a) r.correction(a) = units::rad_from_urad(number(8 + a, kMaxCorrectionUm));
-    const auto& within = f[13].first;
+    const auto within = f[13].text;
     if (within != "yes" && within != "no")
-      fail(lineno, f[13].second, "within_strokes", fmt::format("'{}' is neither yes nor no", text::excerpt(within)));
+      fail(lineno, f[13].column, "within_strokes", fmt::format("'{}' is neither yes nor no", text::excerpt(within)));
     r.within_strokes = within == "yes";
     if (!seen.emplace(r.space, r.z_stroke_mm).second)
-      fail(lineno, f[1].second, "z_stroke_mm",
-           fmt::format("space {} at {} mm is given twice", r.space, f[1].first));
+      fail(lineno, f[1].column, "z_stroke_mm",
+           fmt::format("space {} at {} mm is given twice", r.space, f[1].text));
     rows.push_back(r);
   }
   if (!header) fail(std::max(lineno, 1), 1, "header", fmt::format("missing header {}", kHeader));

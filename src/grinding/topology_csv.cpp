@@ -26,26 +26,7 @@ std::string clean_line(std::string s, int lineno) {
   return s;
 }
 
-struct Field {
-  std::string text;
-  int column; // 1-based character column of the field's start
-};
-
-std::vector<Field> split(const std::string& line) {
-  std::vector<Field> out;
-  size_t start = 0;
-  for (;;) {
-    const size_t comma = line.find(',', start);
-    std::string f = line.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    // Trim blanks around the field, keeping its column for messages.
-    size_t a = f.find_first_not_of(" \t"), b = f.find_last_not_of(" \t");
-    const int col = static_cast<int>(start + (a == std::string::npos ? 0 : a)) + 1;
-    out.push_back({a == std::string::npos ? std::string() : f.substr(a, b - a + 1), col});
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
+using text::Field;
 
 using text::excerpt;
 
@@ -141,7 +122,7 @@ std::vector<TopologyRow> read_topology_csv(std::istream& in, const std::string& 
     ++lineno;
     line = clean_line(std::move(line), lineno);
     if (line.empty() || line[0] == '#') continue;
-    const auto f = split(line);
+    const auto f = text::split_fields(line);
     if (!header) {
       check_header(f, line, names, kTopologyHeader, src, lineno);
       header = true;
@@ -185,7 +166,7 @@ std::vector<FlankTopology> read_traces_csv(std::istream& in, const std::string& 
     ++lineno;
     line = clean_line(std::move(line), lineno);
     if (line.empty() || line[0] == '#') continue;
-    const auto f = split(line);
+    const auto f = text::split_fields(line);
     if (!header) {
       check_header(f, line, names, kTracesHeader, src, lineno);
       header = true;

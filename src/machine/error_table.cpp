@@ -17,26 +17,8 @@ namespace {
 
 using text::excerpt;
 
-struct Field {
-  std::string_view text; // trimmed
-  int column;            // 1-based character column of the trimmed text
-};
-
-std::vector<Field> split_fields(std::string_view line) {
-  std::vector<Field> out;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = line.find(',', start);
-    const std::size_t end = comma == std::string_view::npos ? line.size() : comma;
-    std::size_t b = start, e = end;
-    while (b < e && (line[b] == ' ' || line[b] == '\t')) ++b;
-    while (e > b && (line[e - 1] == ' ' || line[e - 1] == '\t')) --e;
-    out.push_back({line.substr(b, e - b), static_cast<int>(b) + 1});
-    if (comma == std::string_view::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
+using text::Field;
+using text::split_fields;
 
 struct Column {
   ComponentId id;

@@ -17,32 +17,13 @@
 namespace geartopo::surfaces {
 namespace {
 
-struct Field {
-  std::string_view text; // trimmed
-  int column;            // 1-based character column of the field's first character
-};
-
-constexpr std::string_view kBlanks = " \t";
+using text::Field;
 
 std::string_view trim(std::string_view s) {
-  const size_t a = s.find_first_not_of(kBlanks);
+  constexpr std::string_view blanks = " \t";
+  const size_t a = s.find_first_not_of(blanks);
   if (a == std::string_view::npos) return {};
-  return s.substr(a, s.find_last_not_of(kBlanks) - a + 1);
-}
-
-// Splits into fields, reusing `out`'s storage. Fields view into `line`.
-void split(std::string_view line, std::vector<Field>& out) {
-  out.clear();
-  size_t start = 0;
-  for (;;) {
-    const size_t comma = line.find(',', start);
-    const std::string_view raw =
-        line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
-    const size_t lead = raw.find_first_not_of(kBlanks);
-    out.push_back({trim(raw), static_cast<int>(start + (lead == std::string_view::npos ? 0 : lead)) + 1});
-    if (comma == std::string_view::npos) break;
-    start = comma + 1;
-  }
+  return s.substr(a, s.find_last_not_of(blanks) - a + 1);
 }
 
 [[noreturn]] void fail(const std::string& src, std::int64_t line, int col, std::string_view field,
@@ -198,7 +179,7 @@ std::vector<CloudPoint> read_point_cloud(std::istream& in, const std::string& sr
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     const std::string_view content = trim(line);
     if (content.empty() || content.front() == '#') continue;
-    split(line, f);
+    text::split_fields(line, f);
     for (auto& field : f) field.column += offset;
 
     if (columns == 0) { // the header

@@ -1,5 +1,6 @@
-// geartopo — the one rule for numbers and quoted fields in every text file geartopo reads (scene YAML, error tables,
-// topology and traces CSV, point clouds), so that a file one reader accepts the others read the same way.
+// geartopo — the one rule for numbers, fields and quoted fields in every text file geartopo reads (scene YAML, error
+// tables, topology and traces CSV, point clouds, corrections), so that a file one reader accepts the others read the
+// same way.
 // Header-only; no units (the callers know theirs).
 #pragma once
 
@@ -7,6 +8,7 @@
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <vector>
 
 namespace geartopo::text {
 
@@ -46,6 +48,37 @@ inline std::string_view utf8_prefix(std::string_view s, size_t bytes) {
 inline std::string excerpt(std::string_view s) {
   if (s.size() <= 40) return std::string(s);
   return std::string(utf8_prefix(s, 40)) + "… (" + std::to_string(s.size()) + " characters)";
+}
+
+/// One comma-separated field of a CSV line: its text with the blanks (space, tab) around it trimmed, viewing into the
+/// line, and the 1-based column of its first non-blank character (of the field's start when it is blank), for
+/// messages that point at the field.
+struct Field {
+  std::string_view text;
+  int column;
+};
+
+/// Splits `line` at every comma into `out` (cleared first; its storage is reused, so a reader of 10⁶ rows allocates
+/// once). No quoting: geartopo's CSV files hold numbers and plain words.
+inline void split_fields(std::string_view line, std::vector<Field>& out) {
+  constexpr std::string_view blanks = " \t";
+  out.clear();
+  for (std::size_t start = 0;;) {
+    const std::size_t comma = line.find(',', start);
+    const std::string_view raw = line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    const std::size_t a = raw.find_first_not_of(blanks);
+    const std::string_view trimmed = a == std::string_view::npos ? std::string_view() : raw.substr(a, raw.find_last_not_of(blanks) - a + 1);
+    out.push_back({trimmed, static_cast<int>(start + (a == std::string_view::npos ? 0 : a)) + 1});
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+}
+
+/// split_fields into a new vector.
+inline std::vector<Field> split_fields(std::string_view line) {
+  std::vector<Field> out;
+  split_fields(line, out);
+  return out;
 }
 
 } // namespace geartopo::text
