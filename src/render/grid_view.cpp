@@ -224,7 +224,12 @@ RenderResult render_grid_topology(const GridTopology& g, const std::filesystem::
     const Eigen::Vector3d va(u_axis + side * tick, v0, z_axis), vb(u_axis + side * tick, v1, z_axis);
     scene.add_axis_title(va, vb, centre, t, static_cast<float>(0.3 * px + v_label_w + 0.5 * px));
   }
-  scene.set_insets(static_cast<float>(v_label_w + 2.4 * px), static_cast<float>(2.6 * px));
+  // The height scale's label sticks out of the fitted scene on its side (right of the front corner when u0 is on the
+  // left): room for it, or the colour bar covers "0.01 µm" (issue 15 review).
+  const std::string scale_label = detail::format_value(shown, shown_decimals) + " µm";
+  const double scale_label_room = height ? detail::text_width_estimate(scale_label, label_px) + 0.4 * px : 0.0;
+  scene.set_insets(static_cast<float>(v_label_w + 2.4 * px + (left_is_u0 ? 0.0 : scale_label_room)),
+                   static_cast<float>(2.6 * px), static_cast<float>(left_is_u0 ? scale_label_room : 0.0));
 
   if (height) {
     // A vertical scale beside the front corner on the floor: `shown` µm at the magnification.
@@ -234,7 +239,7 @@ RenderResult render_grid_topology(const GridTopology& g, const std::filesystem::
                     colours::actual, 2.0);
     detail::OverlayText t;
     t.x = (left_is_u0 ? 0.4F : -0.4F) * static_cast<float>(px);
-    t.text = detail::format_value(shown, shown_decimals) + " µm";
+    t.text = scale_label;
     t.px = label_px;
     t.colour = colours::actual;
     t.h = left_is_u0 ? HAlign::left : HAlign::right;

@@ -2,6 +2,7 @@
 // between the title, the caption and the colour bar); layer 1 holds a vtkContextActor with the 2D overlay.
 
 #include "detail/scene3d.hpp"
+#include "detail/layout.hpp"
 #include "detail/offscreen.hpp"
 
 #include <vtkActor.h>
@@ -88,6 +89,7 @@ struct Scene3D::Impl {
   std::optional<Camera> camera;
   float inset_left = 0.0F;
   float inset_bottom = 0.0F;
+  float inset_right = 0.0F;
 
   Impl(ImageSize s, int font_px) : size(s), px(font_px), offscreen(s.width, s.height) {
     vtkGenericOpenGLRenderWindow* window = offscreen.window();
@@ -126,7 +128,7 @@ struct Scene3D::Impl {
     const double top = title.empty() ? 0.6 * px : 2.8 * px;
     const double bottom = caption.empty() ? 0.6 * px : 2.3 * px;
     const double right = bar_range ? colour_bar_reserve(*bar_range, bar_label, px) : 0.6 * px;
-    return {0.6 * px + inset_left, bottom + inset_bottom, size.width - right, size.height - top};
+    return {0.6 * px + inset_left, bottom + inset_bottom, size.width - right - inset_right, size.height - top};
   }
 
   void place_camera() {
@@ -290,9 +292,10 @@ void Scene3D::add_axis_title(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
   impl_->axis_titles.push_back({a, b, away_from, text, offset_px});
 }
 
-void Scene3D::set_insets(float left, float bottom) {
+void Scene3D::set_insets(float left, float bottom, float right) {
   impl_->inset_left = left;
   impl_->inset_bottom = bottom;
+  impl_->inset_right = right;
 }
 void Scene3D::set_title(const std::string& title) { impl_->title = title; }
 void Scene3D::set_caption(const std::string& caption) { impl_->caption = caption; }
@@ -361,10 +364,14 @@ void Scene3D::render(const std::filesystem::path& png) {
   }
   if (!im.caption.empty()) {
     OverlayText t;
-    t.x = static_cast<float>(0.5 * (vp[0] + vp[2]));
-    t.y = static_cast<float>(1.1 * im.px);
     t.text = im.caption;
     t.px = static_cast<int>(std::lround(0.9 * im.px));
+    // Centred under the 3D view, but kept inside the image: a viewport narrowed on one side (insets) would push a
+    // long caption over the edge.
+    const double half_w = 0.5 * text_width_estimate(t.text, t.px), margin = 0.3 * im.px;
+    const double centre = 0.5 * (vp[0] + vp[2]);
+    t.x = static_cast<float>(half_w + margin > 0.5 * W ? 0.5 * W : std::clamp(centre, half_w + margin, W - half_w - margin));
+    t.y = static_cast<float>(1.1 * im.px);
     t.h = HAlign::centre;
     t.v = VAlign::centre;
     overlay.texts.push_back(t);

@@ -38,8 +38,8 @@ public:
   /// the side away from the projection of `away_from` (an axis title).
   void add_axis_title(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& away_from,
                       const OverlayText& text, float offset_px);
-  /// Extra room (px) left of and below the 3D viewport, for labels placed outside the fitted scene.
-  void set_insets(float left, float bottom);
+  /// Extra room (px) left of, below and right of the 3D viewport, for labels placed outside the fitted scene.
+  void set_insets(float left, float bottom, float right = 0.0F);
   void set_title(const std::string& title);
   void set_caption(const std::string& caption);
   void set_colour_bar(Range range, const std::string& label);
