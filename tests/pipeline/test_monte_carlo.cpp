@@ -762,7 +762,7 @@ TEST(MonteCarloCli, PredictionRecordsItsIsoOptionsAndEvaluateUsesThem) {
   const double cos_beta_b = std::cos(std::asin(std::sin(20.0 * units::kRadPerDeg) * std::cos(20.0 * units::kRadPerDeg)));
   for (const char* q : {"F_alpha_um", "F_beta_um"}) {
     const double tv = t["quantities"][q]["before"]["median"], nv = n["quantities"][q]["before"]["median"];
-    ASSERT_GT(tv, 0.5) << q;
+    ASSERT_GT(tv, 0.1) << q; // the map errors give the gear a helix and profile deviation
     EXPECT_NEAR(nv, tv * cos_beta_b, 1e-6 * tv) << q;
   }
   // evaluate: the prediction's options by default, a contradicting flag refused (usage, nothing written), an agreeing
