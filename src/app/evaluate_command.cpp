@@ -35,7 +35,8 @@ void register_evaluate_command(CLI::App& app, Action& action) {
                                            "export (docs/measurement-formats.md), told apart by content");
   cmd->add_option("--prediction", opt->prediction,
                   "prediction.json of geartopo compensate: print each quantity beside its predicted median and 95 % "
-                  "interval and whether it lies inside (a report, not a gate: the exit code does not depend on it)")
+                  "interval and whether it lies inside (a report, not a gate: the exit code does not depend on it); "
+                  "the measurement is evaluated with the ISO options the prediction records")
       ->check(non_empty_path());
   cmd->add_option("--prediction-side", opt->side,
                   "after (default: the gear ground with the corrections) or before (without them)")
