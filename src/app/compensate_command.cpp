@@ -76,7 +76,8 @@ void register_compensate_command(CLI::App& app, Action& action) {
   cmd->callback([&action, opt] {
     action = [opt] {
       JsonSummary json(opt->json);
-      const auto mc = monte_carlo_options(opt->mc); // bad --shard: usage error before any work
+      pipeline::MonteCarloOptions mc = monte_carlo_options(opt->mc); // bad --shard: usage error before any work
+      mc.iso = opt->iso; // the samples evaluated as the nominal gears are (and prediction.json records it)
       const Workbench wb(opt->scene);
       const auto& g = wb.setup.geometry();
       grinding::SimulationOptions so;
@@ -119,11 +120,10 @@ void register_compensate_command(CLI::App& app, Action& action) {
       if (mc.samples > 0) {
         const MonteCarloDriver& driver = monte_carlo_driver();
         pipeline::MonteCarloOptions watched = driver.this_process(mc);
-        const auto [first, last] = pipeline::shard_range(watched.samples, watched.shard, watched.shards);
-        MonteCarloWatch watch(mc.adaptive_tolerance_um > 0.0 ? mc.adaptive_max_samples : last - first, watched.threads,
-                              opt->mc.max_time_s, driver.split_hint(), mc.adaptive_tolerance_um > 0.0);
+        MonteCarloWatch watch(driver.samples_on_this_process(watched), watched.threads, opt->mc.max_time_s,
+                              driver.split_hint(), mc.adaptive_tolerance_um > 0.0);
         watched.on_sample_done = watch.callback();
-        mc_run = driver.complete(pipeline::run_monte_carlo(wb, table, watched));
+        mc_run = driver.run(wb, table, watched);
         if (!mc_run) return 0; // an MPI rank other than 0: its samples are on rank 0, which writes the files
       }
 

@@ -35,19 +35,39 @@ void register_evaluate_command(CLI::App& app, Action& action) {
                                            "export (docs/measurement-formats.md), told apart by content");
   cmd->add_option("--prediction", opt->prediction,
                   "prediction.json of geartopo compensate: print each quantity beside its predicted median and 95 % "
-                  "interval and whether it lies inside (a report, not a gate: the exit code does not depend on it)")
+                  "interval and whether it lies inside (a report, not a gate: the exit code does not depend on it); "
+                  "the measurement is evaluated with the ISO options the prediction records")
       ->check(non_empty_path());
   cmd->add_option("--prediction-side", opt->side,
                   "after (default: the gear ground with the corrections) or before (without them)")
       ->check(CLI::IsMember({"before", "after"}));
   add_iso_options(cmd, opt->iso);
   add_klingelnberg_options(cmd, opt->mka);
-  cmd->callback([&action, opt] {
-    action = [opt] {
+  const CLI::Option* direction_flag = cmd->get_option("--iso-direction");
+  const CLI::Option* sign_flag = cmd->get_option("--helix-slope-sign");
+  cmd->callback([&action, opt, direction_flag, sign_flag] {
+    const bool direction_given = direction_flag->count() > 0, sign_given = sign_flag->count() > 0;
+    action = [opt, direction_given, sign_given] {
       const Workbench wb(opt->scene);
       // Read before anything is written: a wrong prediction file leaves the output folder as it was.
       std::optional<pipeline::MonteCarloSummary> prediction;
       if (!opt->prediction.empty()) prediction = report::read_prediction_json(opt->prediction);
+      // The measurement is evaluated as the prediction's samples were (prediction.json "iso_options"); a flag that
+      // says otherwise would compare values of another convention. A file without the key: the flags, as before.
+      if (prediction && prediction->iso) {
+        const auto& recorded = *prediction->iso;
+        if (direction_given && opt->iso.direction != recorded.direction)
+          throw CLI::ValidationError("--iso-direction",
+                                     fmt::format("{}, but {} was predicted with {}: leave the flag out or predict again",
+                                                 evaluation::to_string(opt->iso.direction), opt->prediction,
+                                                 evaluation::to_string(recorded.direction)));
+        if (sign_given && opt->iso.helix_slope_sign != recorded.helix_slope_sign)
+          throw CLI::ValidationError("--helix-slope-sign",
+                                     fmt::format("{}, but {} was predicted with {}: leave the flag out or predict again",
+                                                 evaluation::to_string(opt->iso.helix_slope_sign), opt->prediction,
+                                                 evaluation::to_string(recorded.helix_slope_sign)));
+        opt->iso = recorded;
+      }
       const auto& g = wb.setup.geometry();
       std::vector<grinding::FlankTopology> topo;
       std::string source;

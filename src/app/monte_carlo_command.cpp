@@ -38,6 +38,10 @@ void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards)
   cmd->add_option("--max-samples", flags.max_samples,
                   fmt::format("The adaptive run's limit (default {})", flags.max_samples))
       ->check(CLI::Range(200LL, 1'000'000LL));
+  cmd->add_option("--probe-noise-um", flags.probe_noise_um,
+                  "Predict the gears as measured: each trace and grid point of every sample's gears plus Gaussian probe "
+                  "noise of this standard deviation, µm (the model of geartopo synth --noise-um; default 0: the true gears)")
+      ->check(finite_in(0.0, 1000.0));
   if (!shards) return;
   cmd->add_option("--shard", flags.shard,
                   "i/n: compute only shard i of n (1 ≤ i ≤ n) and write its raw samples for `geartopo merge` (default 1/1)");
@@ -58,6 +62,7 @@ pipeline::MonteCarloOptions monte_carlo_options(const MonteCarloFlags& flags) {
   o.shards = n;
   o.adaptive_tolerance_um = flags.adaptive_tolerance_um;
   o.adaptive_max_samples = flags.max_samples;
+  o.probe_noise_um = flags.probe_noise_um;
   if (o.adaptive_tolerance_um > 0.0 && n > 1)
     throw CLI::ValidationError("--shard", "an adaptive run (--adaptive-tolerance-um) stops on all its samples: no shards");
   monte_carlo_driver().check(o);
@@ -73,6 +78,18 @@ pipeline::MonteCarloOptions MonteCarloDriver::this_process(const pipeline::Monte
 std::string MonteCarloDriver::split_hint() const { return "--shard i/n on several machines and geartopo merge"; }
 
 std::optional<pipeline::MonteCarloRun> MonteCarloDriver::complete(pipeline::MonteCarloRun local) const { return local; }
+
+long long MonteCarloDriver::samples_on_this_process(const pipeline::MonteCarloOptions& options) const {
+  if (options.adaptive_tolerance_um > 0.0) return options.adaptive_max_samples;
+  const auto [first, last] = pipeline::shard_range(options.samples, options.shard, options.shards);
+  return last - first;
+}
+
+std::optional<pipeline::MonteCarloRun> MonteCarloDriver::run(const workbench::Workbench& wb,
+                                                             const compensation::CorrectionTable& nominal,
+                                                             const pipeline::MonteCarloOptions& options) const {
+  return complete(pipeline::run_monte_carlo(wb, nominal, options));
+}
 
 namespace {
 const MonteCarloDriver kInProcessDriver;

@@ -1,4 +1,5 @@
-// geartopo — the Monte Carlo flags of compensate, run and report (--samples, --seed, --max-time-s, --shard i/n) and the prediction files
+// geartopo — the Monte Carlo flags of compensate, run and report (--samples, --seed, --max-time-s, --shard i/n,
+// --adaptive-tolerance-um, --max-samples, --probe-noise-um) and the prediction files
 // they write (docs/monte-carlo.md).
 #pragma once
 
@@ -26,6 +27,7 @@ struct MonteCarloFlags {
   double max_time_s = kMaxMonteCarloSeconds; ///< --max-time-s (MonteCarloWatch, options.hpp)
   double adaptive_tolerance_um = 0.0; ///< > 0: adaptive stop (JCGM 101 §7.9, docs/monte-carlo.md); --samples is then ignored
   long long max_samples = 10'000;     ///< the adaptive run's limit
+  double probe_noise_um = 0.0;        ///< --probe-noise-um: σ of the probe noise each sample's gears are measured with
 };
 
 /// Who computes compensate's Monte Carlo samples. The default: this process, the shard its options name
@@ -43,12 +45,19 @@ public:
   /// This process's samples → the run the command writes: the default returns `local`; the MPI driver returns every
   /// rank's samples merged on rank 0 and std::nullopt on the other ranks (they write nothing and leave).
   virtual std::optional<pipeline::MonteCarloRun> complete(pipeline::MonteCarloRun local) const;
+  /// How many samples this process computes at most with `options` (this_process's): the work estimate's count.
+  /// The default: its shard's, or the adaptive limit --max-samples.
+  virtual long long samples_on_this_process(const pipeline::MonteCarloOptions& options) const;
+  /// The run the command writes, `options` from this_process(): the default is complete(run_monte_carlo(…)); the MPI
+  /// driver runs an adaptive prediction batch by batch over the ranks, rank 0 deciding the stop.
+  virtual std::optional<pipeline::MonteCarloRun> run(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
+                                                     const pipeline::MonteCarloOptions& options) const;
 };
 /// The driver in use (the default one unless a program's main set another). Not thread-safe: set before parsing.
 const MonteCarloDriver& monte_carlo_driver();
 void set_monte_carlo_driver(const MonteCarloDriver* driver); ///< nullptr: the default; the driver must outlive its use
 
-/// --samples, --seed, --max-time-s, --adaptive-tolerance-um and --max-samples; --shard too when `shards` (a command that can write a partial result).
+/// --samples, --seed, --max-time-s, --adaptive-tolerance-um, --max-samples and --probe-noise-um; --shard too when `shards` (a command that can write a partial result).
 void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards);
 /// Throws CLI::ValidationError naming --shard for a malformed i/n or more shards than samples, or what the
 /// driver's check() refuses.

@@ -1,5 +1,5 @@
-// geartopo-mpi — the MPI driver of compensate's Monte Carlo: shards per rank, one agreement, the gather on rank 0
-// (mpi_driver.hpp). Units: none of its own (the samples are the library's µm and class quantities, moved as doubles).
+// geartopo-mpi — the MPI driver of compensate's Monte Carlo: shards per rank (or blocks of each adaptive batch), one
+// agreement before each gather, the gather on rank 0 (mpi_driver.hpp). Units: none of its own (the samples are the library's µm and class quantities, moved as doubles).
 #include "app/mpi_driver.hpp"
 
 #include <CLI/CLI.hpp>
@@ -8,6 +8,7 @@
 #include <sched.h>
 
 #include <array>
+#include <bit>
 #include <climits>
 #include <cstdint>
 #include <string>
@@ -17,8 +18,18 @@ namespace geartopo::app {
 namespace {
 
 /// What a rank sends ahead of its samples: the lengths of its two buffers and the run's identity (merge_runs
-/// compares seed, sample count and names, so a rank that computed something else is refused, not mixed in).
-enum RankHeaderField { kRankNamesChars, kRankSampleDoubles, kRankSamplesTotal, kRankSeed, kRankHeaderFields };
+/// compares seed, sample count, ISO options, probe noise and names, so a rank that computed something else is refused).
+enum RankHeaderField {
+  kRankNamesChars,
+  kRankSampleDoubles,
+  kRankSamplesTotal,
+  kRankSeed,
+  kRankIsoDirection,
+  kRankHelixSlopeSign,
+  kRankProbeNoiseBits, ///< the double's bits: exact
+  kRankHeaderFields
+};
+using RankHeader = std::array<unsigned long long, kRankHeaderFields>;
 
 /// Number of CPUs this process may run on (mpirun binds each rank: --bind-to core, --map-by …:PE=t, --bind-to none).
 int cpus_bound_to_this_rank() {
@@ -35,11 +46,13 @@ int mpi_count_or_throw(std::size_t n, const char* what) {
 }
 
 /// Rank r's part as a run: names split at '\n', rows of (index, before…, after…).
-pipeline::MonteCarloRun rank_part_as_run(int rank, const std::array<unsigned long long, kRankHeaderFields>& header, const char* names,
-                                const double* values) {
+pipeline::MonteCarloRun rank_part_as_run(int rank, const RankHeader& header, const char* names, const double* values) {
   pipeline::MonteCarloRun part;
   part.samples_total = static_cast<long long>(header[kRankSamplesTotal]);
   part.seed = header[kRankSeed];
+  part.iso.direction = static_cast<evaluation::IsoDirection>(header[kRankIsoDirection]);
+  part.iso.helix_slope_sign = static_cast<evaluation::HelixSlopeSign>(header[kRankHelixSlopeSign]);
+  part.probe_noise_um = std::bit_cast<double>(static_cast<std::uint64_t>(header[kRankProbeNoiseBits]));
   const std::string joined(names, header[kRankNamesChars]);
   for (std::size_t start = 0; start < joined.size();) {
     const std::size_t end = std::min(joined.find('\n', start), joined.size());
@@ -61,71 +74,38 @@ pipeline::MonteCarloRun rank_part_as_run(int rank, const std::array<unsigned lon
   return part;
 }
 
-} // namespace
-
-OtherRankFailed::OtherRankFailed(int code) : std::runtime_error("another MPI rank failed"), exit_code(code) {}
-
-MpiMonteCarloDriver::MpiMonteCarloDriver(MPI_Comm comm) : comm_(comm) {
-  MPI_Comm_rank(comm_, &rank_);
-  MPI_Comm_size(comm_, &size_);
-}
-
-void MpiMonteCarloDriver::check(const pipeline::MonteCarloOptions& options) const {
-  if (options.shards != 1)
-    throw CLI::ValidationError("--shard", "geartopo-mpi gives rank r of n the shard r+1/n: leave --shard out");
-  if (options.samples <= 0) return; // no prediction: nothing to scatter
-  if (options.adaptive_tolerance_um > 0.0)
-    throw CLI::ValidationError("--adaptive-tolerance-um",
-                               "an adaptive run decides after every batch on all samples so far: not under MPI; run it "
-                               "with geartopo compensate, or give geartopo-mpi a fixed --samples N");
-  if (options.samples < size_)
-    throw CLI::ValidationError("--samples", fmt::format("{} MPI ranks for {} samples: every rank needs a sample", size_,
-                                                        options.samples));
-}
-
-pipeline::MonteCarloOptions MpiMonteCarloDriver::this_process(const pipeline::MonteCarloOptions& options) const {
-  pipeline::MonteCarloOptions o = options;
-  o.shard = rank_ + 1;
-  o.shards = size_;
-  if (o.threads <= 0) o.threads = cpus_bound_to_this_rank();
-  return o;
-}
-
-std::string MpiMonteCarloDriver::split_hint() const { return "more MPI ranks (mpirun -n) on more machines"; }
-
-RankAgreement MpiMonteCarloDriver::settle(int exit_code) const {
-  if (settled_) throw std::logic_error("MpiMonteCarloDriver::settle called twice on one rank");
-  settled_ = true;
-  // {largest exit code, size − lowest failing rank}: one MPI_MAX reduction gives both.
-  const std::array<int, 2> mine{exit_code, exit_code != 0 ? size_ - rank_ : 0};
-  std::array<int, 2> all{};
-  MPI_Allreduce(mine.data(), all.data(), 2, MPI_INT, MPI_MAX, comm_);
-  return {all[0], all[1] > 0 ? size_ - all[1] : -1};
-}
-
-std::optional<pipeline::MonteCarloRun> MpiMonteCarloDriver::complete(pipeline::MonteCarloRun local) const {
-  // Everything that can fail on this rank alone happens before settle(): after it, only collectives.
+/// One rank's samples as MPI sends them: the names joined by '\n', rows of (index, before…, after…), the header.
+struct PackedRun {
   std::string names;
-  for (const auto& n : local.names) names += (names.empty() ? "" : "\n") + n;
   std::vector<double> values;
-  values.reserve(local.samples.size() * (1 + 2 * local.names.size()));
+  RankHeader header{};
+};
+
+/// Everything that can fail on this rank alone (the counts beyond MPI's int), before any collective.
+PackedRun pack(const pipeline::MonteCarloRun& local) {
+  PackedRun p;
+  for (const auto& n : local.names) p.names += (p.names.empty() ? "" : "\n") + n;
+  p.values.reserve(local.samples.size() * (1 + 2 * local.names.size()));
   for (const auto& s : local.samples) {
-    values.push_back(static_cast<double>(s.index)); // exact: indices < 2⁵³ (--samples ≤ 10⁶)
-    values.insert(values.end(), s.before.begin(), s.before.end());
-    values.insert(values.end(), s.after.begin(), s.after.end());
+    p.values.push_back(static_cast<double>(s.index)); // exact: indices < 2⁵³ (--samples ≤ 10⁶)
+    p.values.insert(p.values.end(), s.before.begin(), s.before.end());
+    p.values.insert(p.values.end(), s.after.begin(), s.after.end());
   }
-  const int names_count = mpi_count_or_throw(names.size(), "the names");
-  const int values_count = mpi_count_or_throw(values.size(), "the values");
+  p.header = {static_cast<unsigned long long>(mpi_count_or_throw(p.names.size(), "the names")),
+              static_cast<unsigned long long>(mpi_count_or_throw(p.values.size(), "the values")),
+              static_cast<unsigned long long>(local.samples_total),
+              local.seed,
+              static_cast<unsigned long long>(local.iso.direction),
+              static_cast<unsigned long long>(local.iso.helix_slope_sign),
+              std::bit_cast<std::uint64_t>(local.probe_noise_um)};
+  return p;
+}
 
-  if (const RankAgreement agreed = settle(0); agreed.exit_code != 0) throw OtherRankFailed(agreed.exit_code);
-
-  const std::array<unsigned long long, kRankHeaderFields> header{static_cast<unsigned long long>(names_count),
-                                                             static_cast<unsigned long long>(values_count),
-                                                             static_cast<unsigned long long>(local.samples_total),
-                                                             local.seed};
-  std::vector<std::array<unsigned long long, kRankHeaderFields>> headers(rank_ == 0 ? static_cast<std::size_t>(size_) : 0);
-  MPI_Gather(header.data(), kRankHeaderFields, MPI_UNSIGNED_LONG_LONG, headers.data(), kRankHeaderFields, MPI_UNSIGNED_LONG_LONG,
-             0, comm_);
+/// Collectives only: every rank's part on rank 0 (in rank order), std::nullopt on the others.
+std::optional<std::vector<pipeline::MonteCarloRun>> gather_parts(const PackedRun& mine, int rank, int size, MPI_Comm comm) {
+  std::vector<RankHeader> headers(rank == 0 ? static_cast<std::size_t>(size) : 0);
+  MPI_Gather(mine.header.data(), kRankHeaderFields, MPI_UNSIGNED_LONG_LONG, headers.data(), kRankHeaderFields,
+             MPI_UNSIGNED_LONG_LONG, 0, comm);
   // Counts and displacements of the two gathers (rank 0 only). The totals fit an int: --samples ≤ 10⁶ (CLI range),
   // each 1 + 2 × (quantities: 22 on the default scene) doubles, 4.5·10⁷ of 2.1·10⁹.
   std::vector<int> names_counts, names_displs, values_counts, values_displs;
@@ -140,18 +120,160 @@ std::optional<pipeline::MonteCarloRun> MpiMonteCarloDriver::complete(pipeline::M
   }
   std::vector<char> all_names(static_cast<std::size_t>(names_total));
   std::vector<double> all_values(static_cast<std::size_t>(values_total));
-  MPI_Gatherv(names.data(), names_count, MPI_CHAR, all_names.data(), names_counts.data(), names_displs.data(), MPI_CHAR,
-              0, comm_);
-  MPI_Gatherv(values.data(), values_count, MPI_DOUBLE, all_values.data(), values_counts.data(), values_displs.data(),
-              MPI_DOUBLE, 0, comm_);
-  if (rank_ != 0) return std::nullopt;
-
+  MPI_Gatherv(mine.names.data(), static_cast<int>(mine.header[kRankNamesChars]), MPI_CHAR, all_names.data(),
+              names_counts.data(), names_displs.data(), MPI_CHAR, 0, comm);
+  MPI_Gatherv(mine.values.data(), static_cast<int>(mine.header[kRankSampleDoubles]), MPI_DOUBLE, all_values.data(),
+              values_counts.data(), values_displs.data(), MPI_DOUBLE, 0, comm);
+  if (rank != 0) return std::nullopt;
   std::vector<pipeline::MonteCarloRun> parts;
-  for (int r = 0; r < size_; ++r) {
+  for (int r = 0; r < size; ++r) {
     const auto i = static_cast<std::size_t>(r);
     parts.push_back(rank_part_as_run(r, headers[i], all_names.data() + names_displs[i], all_values.data() + values_displs[i]));
   }
-  return pipeline::merge_runs(std::move(parts));
+  return parts;
+}
+
+} // namespace
+
+int exit_code_of(const std::exception_ptr& failure) {
+  try {
+    std::rethrow_exception(failure);
+  } catch (const CLI::ValidationError&) {
+    return 2;
+  } catch (...) {
+    return 1;
+  }
+}
+
+OtherRankFailed::OtherRankFailed(int code) : std::runtime_error("another MPI rank failed"), exit_code(code) {}
+
+MpiMonteCarloDriver::MpiMonteCarloDriver(MPI_Comm comm) : comm_(comm) {
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
+}
+
+void MpiMonteCarloDriver::check(const pipeline::MonteCarloOptions& options) const {
+  if (options.shards != 1)
+    throw CLI::ValidationError("--shard", "geartopo-mpi gives rank r of n the shard r+1/n: leave --shard out");
+  if (options.samples <= 0) return; // no prediction: nothing to scatter
+  if (options.adaptive_tolerance_um > 0.0) {
+    if (options.adaptive_batch < size_)
+      throw CLI::ValidationError("--adaptive-tolerance-um",
+                                 fmt::format("{} MPI ranks for adaptive batches of {} samples: every rank needs a sample of "
+                                             "each batch", size_, options.adaptive_batch));
+    return;
+  }
+  if (options.samples < size_)
+    throw CLI::ValidationError("--samples", fmt::format("{} MPI ranks for {} samples: every rank needs a sample", size_,
+                                                        options.samples));
+}
+
+pipeline::MonteCarloOptions MpiMonteCarloDriver::this_process(const pipeline::MonteCarloOptions& options) const {
+  pipeline::MonteCarloOptions o = options;
+  if (o.adaptive_tolerance_um <= 0.0) { // adaptive: one run of batches, each split by run()
+    o.shard = rank_ + 1;
+    o.shards = size_;
+  }
+  if (o.threads <= 0) o.threads = cpus_bound_to_this_rank();
+  return o;
+}
+
+long long MpiMonteCarloDriver::samples_on_this_process(const pipeline::MonteCarloOptions& options) const {
+  if (options.adaptive_tolerance_um <= 0.0) return MonteCarloDriver::samples_on_this_process(options);
+  const auto [first, last] = pipeline::shard_range(options.adaptive_batch, rank_ + 1, size_);
+  return options.adaptive_max_samples / options.adaptive_batch * (last - first);
+}
+
+std::string MpiMonteCarloDriver::split_hint() const { return "more MPI ranks (mpirun -n) on more machines"; }
+
+RankAgreement MpiMonteCarloDriver::settle(int exit_code) const {
+  if (settled_) throw std::logic_error("MpiMonteCarloDriver::settle called twice on one rank");
+  settled_ = true;
+  return allreduce_agreement(exit_code);
+}
+
+RankAgreement MpiMonteCarloDriver::allreduce_agreement(int exit_code) const {
+  // {largest exit code, size − lowest failing rank}: one MPI_MAX reduction gives both.
+  const std::array<int, 2> mine{exit_code, exit_code != 0 ? size_ - rank_ : 0};
+  std::array<int, 2> all{};
+  MPI_Allreduce(mine.data(), all.data(), 2, MPI_INT, MPI_MAX, comm_);
+  return {all[0], all[1] > 0 ? size_ - all[1] : -1};
+}
+
+std::optional<pipeline::MonteCarloRun> MpiMonteCarloDriver::complete(pipeline::MonteCarloRun local) const {
+  const PackedRun packed = pack(local); // everything that can fail on this rank alone happens before settle()
+  if (const RankAgreement agreed = settle(0); agreed.exit_code != 0) throw OtherRankFailed(agreed.exit_code);
+  auto parts = gather_parts(packed, rank_, size_, comm_);
+  if (!parts) return std::nullopt;
+  return pipeline::merge_runs(std::move(*parts));
+}
+
+void MpiMonteCarloDriver::agree_or_throw(int exit_code, const std::exception_ptr& failure) const {
+  const RankAgreement agreed = allreduce_agreement(exit_code);
+  if (agreed.exit_code == 0) return;
+  settled_ = true; // no collective follows: every rank leaves with the agreed code
+  agreed_failure_ = agreed;
+  if (failure) std::rethrow_exception(failure);
+  throw OtherRankFailed(agreed.exit_code);
+}
+
+std::optional<pipeline::MonteCarloRun> MpiMonteCarloDriver::run(const workbench::Workbench& wb,
+                                                                const compensation::CorrectionTable& nominal,
+                                                                const pipeline::MonteCarloOptions& options) const {
+  if (options.adaptive_tolerance_um <= 0.0) return MonteCarloDriver::run(wb, nominal, options);
+  // This rank's block of every batch: the same offsets within each (shard_range of the batch).
+  const auto [block_first, block_last] = pipeline::shard_range(options.adaptive_batch, rank_ + 1, size_);
+  pipeline::MonteCarloOptions block_options = options;
+  block_options.samples = options.adaptive_max_samples; // the batches' indices lie within the limit
+  long long done_before = 0;
+  if (options.on_sample_done) {
+    const long long total = samples_on_this_process(options);
+    block_options.on_sample_done = [&, total](long long done, long long) { options.on_sample_done(done_before + done, total); };
+  }
+  std::exception_ptr rank0_failure; // rank 0: merging a batch failed; told to the others with the stop
+  auto run = pipeline::run_adaptive_batches(
+      options,
+      [&](long long first, long long last) -> std::optional<pipeline::MonteCarloRun> {
+        PackedRun packed;
+        std::exception_ptr failure;
+        try {
+          pipeline::MonteCarloRun local =
+              pipeline::run_monte_carlo_samples(wb, nominal, block_options, first + block_first, first + block_last);
+          local.samples_total = last; // the run so far, as the in-process loop counts it
+          packed = pack(local);
+        } catch (...) {
+          failure = std::current_exception();
+        }
+        done_before += block_last - block_first;
+        agree_or_throw(failure ? exit_code_of(failure) : 0, failure);
+        auto parts = gather_parts(packed, rank_, size_, comm_);
+        if (!parts) return std::nullopt;
+        try {
+          pipeline::MonteCarloRun batch = pipeline::merge_runs(std::move(*parts));
+          bool whole = batch.samples.size() == static_cast<std::size_t>(last - first);
+          for (std::size_t i = 0; whole && i < batch.samples.size(); ++i)
+            whole = batch.samples[i].index == first + static_cast<long long>(i);
+          if (!whole)
+            throw std::invalid_argument(fmt::format("the MPI ranks sent other samples than {}..{} of the batch", first, last - 1));
+          return batch;
+        } catch (...) {
+          rank0_failure = std::current_exception();
+          return std::nullopt; // the loop then asks agree(), which tells the others
+        }
+      },
+      [&](bool stop) {
+        std::array<int, 2> decision{stop ? 1 : 0, rank0_failure ? exit_code_of(rank0_failure) : 0};
+        MPI_Bcast(decision.data(), 2, MPI_INT, 0, comm_);
+        if (decision[1] != 0) {
+          settled_ = true;
+          agreed_failure_ = RankAgreement{decision[1], 0};
+          if (rank0_failure) std::rethrow_exception(rank0_failure);
+          throw OtherRankFailed(decision[1]);
+        }
+        return decision[0] != 0;
+      });
+  settled_ = true; // past the last collective: rank 0 writes the files, its failure its own
+  return run;
 }
 
 } // namespace geartopo::app

@@ -64,6 +64,10 @@ int run_on_this_rank(MpiMonteCarloDriver& driver, int argc, char** argv) {
     code = 1;
     message = std::string("geartopo: error: ") + e.what();
   }
+  if (const auto& agreed = driver.agreed_failure()) { // the ranks agreed on a failure inside an adaptive run
+    report_rank_failure(driver, agreed->failing_rank, message);
+    return agreed->exit_code;
+  }
   if (driver.settled()) { // past the gather: rank 0 writing the files, its failure its own
     report_rank_failure(driver, driver.rank(), message);
     return code;

@@ -30,12 +30,17 @@ std::vector<grinding::FlankTopology> synthesize_traces(const grinding::GrindingS
   auto topo = grinding::simulate_topology(truth, process, so);
   std::mt19937_64 rng(o.seed);
   std::normal_distribution<double> noise(0.0, 1.0);
-  for (auto& ft : topo) {
-    ft.grid.clear();
-    for (auto* trace : {&ft.profile, &ft.helix})
-      for (auto& p : *trace) p.deviation_um += o.noise_um * noise(rng);
-  }
+  for (auto& ft : topo) ft.grid.clear();
+  add_probe_noise(topo, o.noise_um, [&] { return noise(rng); });
   return topo;
+}
+
+void add_probe_noise(std::vector<grinding::FlankTopology>& topo, double noise_um, const std::function<double()>& standard_normal) {
+  for (auto& ft : topo) {
+    for (auto* trace : {&ft.profile, &ft.helix})
+      for (auto& p : *trace) p.deviation_um += noise_um * standard_normal();
+    for (auto& p : ft.grid) p.deviation_um += noise_um * standard_normal();
+  }
 }
 
 } // namespace geartopo::diagnosis

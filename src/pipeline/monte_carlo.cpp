@@ -6,6 +6,7 @@
 #include "geartopo/core/input_file.hpp"
 #include "geartopo/core/parallel.hpp"
 #include "geartopo/core/text_field.hpp"
+#include "geartopo/diagnosis/synth.hpp"
 #include "geartopo/effects/effects_process.hpp"
 #include "geartopo/effects/registry.hpp"
 #include "geartopo/grinding/machine_process.hpp"
@@ -49,6 +50,18 @@ SplitMix64 sample_stream(std::uint64_t seed, long long k) {
   const std::uint64_t a = mix.next();
   SplitMix64 per_sample{a ^ static_cast<std::uint64_t>(k) * 0xD1B54A32D192ED03ull};
   (void)per_sample.next(); // decorrelate neighbouring k
+  return per_sample;
+}
+
+/// The probe's own stream of sample k (MonteCarloOptions::probe_noise_um): seeded by the second number of the seed's
+/// SplitMix64 sequence (sample_stream takes the first), so the machine's draws of sample k are the same with or
+/// without probe noise.
+SplitMix64 probe_stream(std::uint64_t seed, long long k) {
+  SplitMix64 mix{seed};
+  (void)mix.next();
+  const std::uint64_t b = mix.next();
+  SplitMix64 per_sample{b ^ static_cast<std::uint64_t>(k) * 0xD1B54A32D192ED03ull};
+  (void)per_sample.next();
   return per_sample;
 }
 
@@ -181,11 +194,12 @@ std::pair<long long, long long> shard_range(long long samples, int shard, int sh
   return {at(shard - 1), at(shard)};
 }
 
-namespace {
-
-/// Samples first..last − 1 of the run (seed, options): each from its own (seed, k) stream.
-MonteCarloRun run_sample_range(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
-                               const MonteCarloOptions& options, long long first, long long last) {
+MonteCarloRun run_monte_carlo_samples(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
+                                      const MonteCarloOptions& options, long long first, long long last) {
+  if (first < 0 || first > last || last > options.samples)
+    throw std::invalid_argument(fmt::format("samples [{}, {}) are not within the run's {}", first, last, options.samples));
+  if (!(options.probe_noise_um >= 0.0) || !std::isfinite(options.probe_noise_um))
+    throw std::invalid_argument(fmt::format("probe noise {} µm: need a finite σ ≥ 0", options.probe_noise_um));
   const auto& unc = wb.scene.machine.uncertainty;
   const auto nominal_map = full_map(wb.scene.machine.sources);
   const compensation::CorrectionTable applied = rounded_to_resolution(nominal, unc.resolution);
@@ -212,6 +226,8 @@ MonteCarloRun run_sample_range(const workbench::Workbench& wb, const compensatio
   MonteCarloRun run;
   run.samples_total = options.samples;
   run.seed = options.seed;
+  run.iso = options.iso;
+  run.probe_noise_um = options.probe_noise_um;
   const auto count = static_cast<int>(last - first);
   std::vector<GearQuantities> before(static_cast<size_t>(count)), after(static_cast<size_t>(count));
   std::atomic<long long> done{0};
@@ -257,8 +273,14 @@ MonteCarloRun run_sample_range(const workbench::Workbench& wb, const compensatio
     const auto table_before = with_stroke_offsets(uncorrected, off_before);
     const auto table_after = with_stroke_offsets(applied, off_after);
     const compensation::CompensatedProcess gear1(true_machine, table_before), gear2(true_machine, table_after);
-    const auto topo1 = plan.simulate(gear1, so.threads);
-    const auto topo2 = plan.simulate(gear2, so.threads);
+    auto topo1 = plan.simulate(gear1, so.threads);
+    auto topo2 = plan.simulate(gear2, so.threads);
+    if (options.probe_noise_um > 0.0) { // both gears measured, gear 1 first, from the probe's own stream of (seed, k)
+      SplitMix64 probe = probe_stream(options.seed, k);
+      const std::function<double()> probe_normal = [&probe] { return probe.normal(); };
+      diagnosis::add_probe_noise(topo1, options.probe_noise_um, probe_normal);
+      diagnosis::add_probe_noise(topo2, options.probe_noise_um, probe_normal);
+    }
     before[static_cast<size_t>(i)] = gear_quantities(workbench::evaluate_iso(g, wb.setup.ranges(), topo1, options.iso), topo1);
     after[static_cast<size_t>(i)] = gear_quantities(workbench::evaluate_iso(g, wb.setup.ranges(), topo2, options.iso), topo2);
     if (options.on_sample_done) {
@@ -285,34 +307,54 @@ MonteCarloRun run_sample_range(const workbench::Workbench& wb, const compensatio
   return run;
 }
 
+std::optional<MonteCarloRun> run_adaptive_batches(
+    const MonteCarloOptions& options, const std::function<std::optional<MonteCarloRun>(long long first, long long last)>& run_batch,
+    const std::function<bool(bool stop)>& agree) {
+  if (options.adaptive_batch < 2 || options.adaptive_max_samples < 2 * options.adaptive_batch)
+    throw std::invalid_argument(fmt::format("adaptive Monte Carlo: batch {} and at most {} samples: need a batch ≥ 2 and "
+                                            "room for two batches", options.adaptive_batch, options.adaptive_max_samples));
+  std::optional<MonteCarloRun> run;
+  for (long long h = 1;; ++h) {
+    std::optional<MonteCarloRun> batch = run_batch((h - 1) * options.adaptive_batch, h * options.adaptive_batch);
+    bool stop = false;
+    if (batch) { // the deciding process
+      if (!run) {
+        run.emplace();
+        run->names = batch->names, run->seed = batch->seed, run->iso = batch->iso, run->probe_noise_um = batch->probe_noise_um;
+      }
+      for (auto& smp : batch->samples) run->samples.push_back(std::move(smp));
+      run->samples_total = h * options.adaptive_batch;
+      stop = (h >= 2 && adaptive_stability(*run, options.adaptive_batch, options.adaptive_tolerance_um).stable) ||
+             (h + 1) * options.adaptive_batch > options.adaptive_max_samples; // the limit: the last whole batch within it
+    }
+    if (agree(stop)) break;
+  }
+  return run;
+}
+
+namespace {
+
 MonteCarloRun run_adaptive(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
                            const MonteCarloOptions& options) {
   if (options.shards != 1)
     throw std::invalid_argument("adaptive Monte Carlo runs in one process: its stop depends on all samples (no --shard)");
-  if (options.adaptive_batch < 2 || options.adaptive_max_samples < 2 * options.adaptive_batch)
-    throw std::invalid_argument(fmt::format("adaptive Monte Carlo: batch {} and at most {} samples: need a batch ≥ 2 and "
-                                            "room for two batches", options.adaptive_batch, options.adaptive_max_samples));
-  MonteCarloRun run;
   // Progress counts over the batches towards the limit (the stop is not known before): batch h's samples continue the
   // count where batch h − 1 ended.
   MonteCarloOptions batch_options = options;
+  batch_options.samples = options.adaptive_max_samples;
   long long done_before = 0;
   if (options.on_sample_done)
     batch_options.on_sample_done = [&](long long done, long long) {
       options.on_sample_done(done_before + done, options.adaptive_max_samples);
     };
-  for (long long h = 1;; ++h) {
-    done_before = (h - 1) * options.adaptive_batch;
-    MonteCarloRun batch =
-        run_sample_range(wb, nominal, batch_options, (h - 1) * options.adaptive_batch, h * options.adaptive_batch);
-    if (h == 1) run.names = batch.names, run.seed = batch.seed;
-    for (auto& smp : batch.samples) run.samples.push_back(std::move(smp));
-    run.samples_total = h * options.adaptive_batch;
-    if (h < 2) continue;
-    if (adaptive_stability(run, options.adaptive_batch, options.adaptive_tolerance_um).stable) break;
-    if ((h + 1) * options.adaptive_batch > options.adaptive_max_samples) break;
-  }
-  return run;
+  auto run = run_adaptive_batches(
+      options,
+      [&](long long first, long long last) -> std::optional<MonteCarloRun> {
+        done_before = first;
+        return run_monte_carlo_samples(wb, nominal, batch_options, first, last);
+      },
+      [](bool stop) { return stop; });
+  return std::move(*run);
 }
 
 } // namespace
@@ -321,7 +363,7 @@ MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation
                               const MonteCarloOptions& options) {
   if (options.adaptive_tolerance_um > 0.0) return run_adaptive(wb, nominal, options);
   const auto [first, last] = shard_range(options.samples, options.shard, options.shards);
-  return run_sample_range(wb, nominal, options, first, last);
+  return run_monte_carlo_samples(wb, nominal, options, first, last);
 }
 
 AdaptiveStability adaptive_stability(const MonteCarloRun& run, long long batch, double tolerance_um) {
@@ -368,12 +410,23 @@ MonteCarloRun merge_runs(std::vector<MonteCarloRun> parts) {
   MonteCarloRun out;
   out.samples_total = parts.front().samples_total;
   out.seed = parts.front().seed;
+  out.iso = parts.front().iso;
+  out.probe_noise_um = parts.front().probe_noise_um;
   out.names = parts.front().names;
   for (size_t p = 0; p < parts.size(); ++p) {
     const auto& part = parts[p];
     if (part.samples_total != out.samples_total || part.seed != out.seed)
       throw std::invalid_argument(fmt::format("part {}: {} samples, seed {} (part 1: {} samples, seed {}): not the same run",
                                               p + 1, part.samples_total, part.seed, out.samples_total, out.seed));
+    if (part.iso.direction != out.iso.direction || part.iso.helix_slope_sign != out.iso.helix_slope_sign)
+      throw std::invalid_argument(fmt::format("part {}: ISO options {}, {} (part 1: {}, {}): not the same run", p + 1,
+                                              evaluation::to_string(part.iso.direction),
+                                              evaluation::to_string(part.iso.helix_slope_sign),
+                                              evaluation::to_string(out.iso.direction),
+                                              evaluation::to_string(out.iso.helix_slope_sign)));
+    if (part.probe_noise_um != out.probe_noise_um)
+      throw std::invalid_argument(fmt::format("part {}: probe noise {} µm (part 1: {} µm): not the same run", p + 1,
+                                              part.probe_noise_um, out.probe_noise_um));
     if (part.names != out.names)
       throw std::invalid_argument(fmt::format("part {}: other quantities than part 1 (another scene?)", p + 1));
     for (const auto& s : part.samples) out.samples.push_back(s);
@@ -417,6 +470,8 @@ MonteCarloSummary summarise(const MonteCarloRun& run) {
   MonteCarloSummary s;
   s.samples = run.samples_total;
   s.seed = run.seed;
+  s.iso = run.iso;
+  s.probe_noise_um = run.probe_noise_um;
   s.names = run.names;
   for (size_t n = 0; n < run.names.size(); ++n) {
     std::vector<double> b, a;
@@ -431,6 +486,9 @@ void write_run_csv(const std::filesystem::path& file, const MonteCarloRun& run) 
   output::write_atomically(file, [&](std::ostream& out) {
     out << "# geartopo Monte Carlo partial result (docs/monte-carlo.md); merge with: geartopo merge\n";
     out << "# samples_total: " << run.samples_total << "\n# seed: " << run.seed << "\n";
+    out << "# iso_direction: " << evaluation::to_string(run.iso.direction)
+        << "\n# helix_slope_sign: " << evaluation::to_string(run.iso.helix_slope_sign) << "\n";
+    out << fmt::format("# probe_noise_um: {}\n", run.probe_noise_um);
     out << "sample";
     for (const auto& n : run.names) out << ",before." << n;
     for (const auto& n : run.names) out << ",after." << n;
@@ -472,6 +530,22 @@ MonteCarloRun read_run_csv(const std::filesystem::path& file) {
       };
       take("# samples_total: ", run.samples_total, have_total);
       take("# seed: ", run.seed, have_seed);
+      if (constexpr std::string_view key = "# probe_noise_um: "; view.substr(0, key.size()) == key) {
+        const auto rest = view.substr(key.size());
+        if (text::parse_number(rest, run.probe_noise_um) != std::errc() || !std::isfinite(run.probe_noise_um) ||
+            run.probe_noise_um < 0.0)
+          fail(static_cast<int>(key.size()) + 1, "probe_noise_um", fmt::format("'{}' is not a σ ≥ 0 (µm)", text::excerpt(rest)));
+      }
+      // Words: absent in files written before they were recorded (compensate then always used the defaults).
+      const auto word = [&](std::string_view key, auto parse, auto& value) {
+        if (view.substr(0, key.size()) != key) return;
+        const auto parsed = parse(view.substr(key.size()));
+        if (!parsed) fail(static_cast<int>(key.size()) + 1, std::string(key.substr(2, key.size() - 4)),
+                          fmt::format("'{}' is not one of the words geartopo writes", text::excerpt(view.substr(key.size()))));
+        value = *parsed;
+      };
+      word("# iso_direction: ", evaluation::parse_iso_direction, run.iso.direction);
+      word("# helix_slope_sign: ", evaluation::parse_helix_slope_sign, run.iso.helix_slope_sign);
       continue;
     }
     std::vector<std::string_view> fields;

@@ -47,6 +47,8 @@ std::vector<std::string> prediction_lines(const pipeline::MonteCarloSummary& s) 
   out.push_back(fmt::format("Predicted gear, median [95 % interval] of {} Monte Carlo samples (seed {}): the machine drawn "
                             "within the scene's uncertainties, corrections from the nominal model",
                             s.samples, s.seed));
+  if (s.probe_noise_um > 0.0)
+    out.back() += fmt::format("; each gear measured with probe noise σ {} µm", s.probe_noise_um);
   out.push_back(fmt::format("  {:<22} {:>28} {:>28}", "", "before", "after"));
   for (size_t i = 0; i < s.names.size(); ++i)
     out.push_back(fmt::format("  {:<22} {:>28} {:>28}", quantity_label(s.names[i]), band_text(s.names[i], s.before[i]),
@@ -62,6 +64,10 @@ nlohmann::json prediction_json(const pipeline::MonteCarloSummary& s) {
   j["interval"] = "probabilistically symmetric (JCGM 101:2008 7.7); median of the samples";
   j["model"] = "corrections from the nominal scene; the true machine drawn within machine.uncertainty, repeatability per "
                "stroke, corrections rounded to machine.resolution (docs/monte-carlo.md)";
+  if (s.iso)
+    j["iso_options"] = {{"iso_direction", std::string(evaluation::to_string(s.iso->direction))},
+                        {"helix_slope_sign", std::string(evaluation::to_string(s.iso->helix_slope_sign))}};
+  j["probe_noise_um"] = s.probe_noise_um;
   nlohmann::json q = nlohmann::json::object();
   const auto band = [](const pipeline::Band& b) { return nlohmann::json{{"median", b.median}, {"low", b.low}, {"high", b.high}}; };
   for (size_t i = 0; i < s.names.size(); ++i) q[s.names[i]] = {{"before", band(s.before[i])}, {"after", band(s.after[i])}};
@@ -94,6 +100,23 @@ pipeline::MonteCarloSummary read_prediction_json(const std::filesystem::path& fi
     fail("samples", fmt::format("{} is not a count of samples in [1, 10⁶]", samples));
   s.samples = static_cast<long long>(samples);
   if (j.contains("seed") && j["seed"].is_number_unsigned()) s.seed = j["seed"].get<std::uint64_t>();
+  // Written since the ISO options and the probe noise were recorded; older files: not recorded (nullopt), noise 0.
+  if (j.contains("iso_options")) {
+    const auto& o = j["iso_options"];
+    const auto word = [&](const char* key, auto parse) {
+      const std::string field = std::string("iso_options.") + key;
+      if (!o.is_object() || !o.contains(key) || !o[key].is_string()) fail(field, "missing or not a word");
+      const auto parsed = parse(o[key].get<std::string>());
+      if (!parsed) fail(field, fmt::format("'{}' is not one of the words geartopo writes", o[key].get<std::string>()));
+      return *parsed;
+    };
+    s.iso = workbench::IsoOptions{word("iso_direction", evaluation::parse_iso_direction),
+                                  word("helix_slope_sign", evaluation::parse_helix_slope_sign)};
+  }
+  if (j.contains("probe_noise_um")) {
+    s.probe_noise_um = number(j, "probe_noise_um", "probe_noise_um");
+    if (s.probe_noise_um < 0.0) fail("probe_noise_um", fmt::format("{} is not a σ ≥ 0", s.probe_noise_um));
+  }
   if (!j.contains("quantities") || !j["quantities"].is_object() || j["quantities"].empty())
     fail("quantities", "missing: the predicted quantities (a prediction.json of geartopo compensate with --samples > 0)");
   for (const auto& [name, q] : j["quantities"].items()) {

@@ -3,8 +3,12 @@
 #   same-files: `mpirun -n 2` and `-n 3` (7 samples: 3 + 4 and 2 + 2 + 3) of geartopo-mpi write the very bytes
 #               of one plain `geartopo compensate` run with the same seed and samples — every file of the output folder
 #               and the text on stdout. The truth is the plain run, which knows nothing of MPI.
+#   adaptive:   the adaptive stop (--adaptive-tolerance-um) under `mpirun -n 2` and `-n 3` (each batch of 100 split
+#               50 + 50 and 33 + 33 + 34, rank 0 deciding): the very bytes of the plain adaptive run, once stopping
+#               because stable (after 2 of at most 3 batches) and once at the --max-samples limit (3 batches).
 #   bad-input:  a bad scene, bad flags, a refused work estimate, a rank alone with a bad scene or another seed: a
-#               non-zero exit of mpirun, the message once, no output folder, no hang (ctest TIMEOUT).
+#               non-zero exit of mpirun, the message once, no output folder, no hang (ctest TIMEOUT); for a fixed
+#               number of samples and inside an adaptive run's batches.
 # Usage: mpi_driver_test.sh CASE GEARTOPO GEARTOPO_MPI MPIEXEC
 set -euo pipefail
 case_name=$1 geartopo=$2 geartopo_mpi=$3 mpiexec=$4
@@ -63,21 +67,40 @@ refused() {
   echo "$name: exit $status"
 }
 
+# same_as_plain TAG FLAGS…: geartopo compensate with FLAGS, then geartopo-mpi under mpirun -n 2 and -n 3: every file
+# of the output folder and stdout (but for the folder's name) identical to the plain run's.
+same_as_plain() {
+  local tag=$1
+  shift
+  run "$tag-plain" "$geartopo" compensate "$dir/scene.yaml" --out "$dir/$tag-plain" "$@"
+  [ "$status" = 0 ] || { cat "$dir/$tag-plain.err"; fail "$tag: plain run: exit $status"; return; }
+  [ -s "$dir/$tag-plain/prediction.json" ] || fail "$tag: the plain run wrote no prediction.json"
+  for n in 2 3; do
+    run "$tag-mpi$n" mpirun_local -n "$n" "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/$tag-mpi$n" "$@"
+    [ "$status" = 0 ] || { cat "$dir/$tag-mpi$n.err"; fail "$tag: mpirun -n $n: exit $status"; continue; }
+    before=$failures
+    diff -r "$dir/$tag-plain" "$dir/$tag-mpi$n" || fail "$tag: mpirun -n $n: the output folder differs from the plain run's"
+    # stdout too, but for the folder's name in the "wrote …" line
+    diff <(sed "s|$dir/$tag-plain|OUT|g" "$dir/$tag-plain.out") <(sed "s|$dir/$tag-mpi$n|OUT|g" "$dir/$tag-mpi$n.out") ||
+      fail "$tag: mpirun -n $n: stdout differs from the plain run's"
+    [ "$failures" != "$before" ] ||
+      echo "$tag: mpirun -n $n: $(find "$dir/$tag-mpi$n" -type f | wc -l) files and stdout identical to the plain run's"
+  done
+}
+# samples_of DIR: the sample count prediction.json reports.
+samples_of() { sed -n 's/^  "samples": \([0-9]*\),$/\1/p' "$1/prediction.json"; }
+
 case $case_name in
 same-files)
-  run plain "$geartopo" compensate "$dir/scene.yaml" --out "$dir/plain" "${common[@]}"
-  [ "$status" = 0 ] || { cat "$dir/plain.err"; fail "plain run: exit $status"; }
-  [ -s "$dir/plain/prediction.json" ] || fail "the plain run wrote no prediction.json"
-  for n in 2 3; do
-    run "mpi$n" mpirun_local -n "$n" "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/mpi$n" "${common[@]}"
-    [ "$status" = 0 ] || { cat "$dir/mpi$n.err"; fail "mpirun -n $n: exit $status"; continue; }
-    before=$failures
-    diff -r "$dir/plain" "$dir/mpi$n" || fail "mpirun -n $n: the output folder differs from the plain run's"
-    # stdout too, but for the folder's name in the "wrote …" line
-    diff <(sed "s|$dir/plain|OUT|g" "$dir/plain.out") <(sed "s|$dir/mpi$n|OUT|g" "$dir/mpi$n.out") ||
-      fail "mpirun -n $n: stdout differs from the plain run's"
-    [ "$failures" != "$before" ] || echo "mpirun -n $n: $(find "$dir/mpi$n" -type f | wc -l) files and stdout identical to the plain run's"
-  done
+  same_as_plain fixed "${common[@]}"
+  ;;
+adaptive)
+  # Stable after 2 batches (a tolerance every quantity meets), with room for 3.
+  same_as_plain stable --seed 5 --step 5 --adaptive-tolerance-um 100 --max-samples 300
+  [ "$(samples_of "$dir/stable-plain")" = 200 ] || fail "stable: the plain run stopped at $(samples_of "$dir/stable-plain") samples, not 200"
+  # A tolerance no run meets: the limit, 3 batches (two decisions to go on).
+  same_as_plain limit --seed 5 --step 5 --adaptive-tolerance-um 0.000001 --max-samples 300 --probe-noise-um 0.1
+  [ "$(samples_of "$dir/limit-plain")" = 300 ] || fail "limit: the plain run stopped at $(samples_of "$dir/limit-plain") samples, not 300"
   ;;
 bad-input)
   # Every rank fails the same way: rank 0 says it.
@@ -86,7 +109,6 @@ bad-input)
   refused shard-flag "--shard" mpirun_local -n 2 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/shard-flag" "${common[@]}" --shard 1/2
   refused unknown-flag "--no-such-flag" mpirun_local -n 2 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/unknown-flag" --no-such-flag
   refused too-few-samples "every rank needs a sample" mpirun_local -n 3 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/too-few-samples" --samples 2
-  refused adaptive "--adaptive-tolerance-um" mpirun_local -n 2 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/adaptive" --adaptive-tolerance-um 0.5
   # Refused while the samples run (the work estimate, inside the scatter): every rank leaves through the agreement.
   refused time-limit "--max-time-s" mpirun_local -n 2 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/time-limit" "${common[@]}" --max-time-s 0.001
   # One rank alone fails (MPMD: each rank its own words): that rank says it, the others wait for nobody.
@@ -103,6 +125,16 @@ bad-input)
   refused other-seed "seed" mpirun_local \
     -n 1 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/other-seed" "${common[@]}" : \
     -n 1 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/other-seed" --samples 7 --seed 6 --step 5
+  # The same inside an adaptive run: a refused work estimate in the first batch, a rank with another seed (rank 0
+  # refuses to merge the batch and tells the others with its stop), one rank alone with a bad scene.
+  adaptive=(--step 5 --adaptive-tolerance-um 0.5 --max-samples 300)
+  refused adaptive-time-limit "--max-time-s" mpirun_local -n 2 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/adaptive-time-limit" "${adaptive[@]}" --seed 5 --max-time-s 0.001
+  refused adaptive-other-seed "seed" mpirun_local \
+    -n 1 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/adaptive-other-seed" "${adaptive[@]}" --seed 5 : \
+    -n 1 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/adaptive-other-seed" "${adaptive[@]}" --seed 6
+  refused adaptive-rank1-bad-scene "rank 1 of 2: geartopo: error: $dir/bad.yaml:3" mpirun_local \
+    -n 1 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/adaptive-rank1-bad-scene" "${adaptive[@]}" --seed 5 : \
+    -n 1 "$geartopo_mpi" compensate "$dir/bad.yaml" --out "$dir/adaptive-rank1-bad-scene" "${adaptive[@]}" --seed 5
   ;;
 *)
   echo "unknown case $case_name"

@@ -12,10 +12,12 @@
 #include "geartopo/effects/registry.hpp"
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/core/units.hpp"
+#include "geartopo/evaluation/gear_evaluation.hpp"
 #include "geartopo/scene/scene.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -548,4 +550,247 @@ TEST(MonteCarloClosedLoop, Gear2FromTheTruthFallsInsideThePredictionAndIsBetter)
   }
   EXPECT_LT(value_of(gear2, "largest_abs_um"), value_of(gear1, "largest_abs_um"));
   EXPECT_LT(value_of(gear2, "F_p_um"), value_of(gear1, "F_p_um"));
+}
+
+namespace {
+
+/// ISO 1328-1 total and form deviation of one trace over its evaluation range [s, e], from the definitions written
+/// out here: the trace is the polyline through (x_i, y_i) cut to [s, e] (end values interpolated); the total
+/// deviation is its range; the form deviation is the range of its residuals about its least-squares line over
+/// [s, e], the line found here by fitting 200 evenly spaced samples per segment of the polyline (a discrete
+/// approximation of the continuous fit, independent of the library's closed-form integrals).
+std::pair<double, double> total_and_form_um(const std::vector<double>& x, const std::vector<double>& y, double s, double e) {
+  const auto at = [&](double v) {
+    for (size_t i = 1; i < x.size(); ++i)
+      if (x[i] >= v) return y[i - 1] + (v - x[i - 1]) / (x[i] - x[i - 1]) * (y[i] - y[i - 1]);
+    return y.back();
+  };
+  std::vector<double> u{s}, w{at(s)};
+  for (size_t i = 0; i < x.size(); ++i)
+    if (x[i] > s && x[i] < e) u.push_back(x[i]), w.push_back(y[i]);
+  u.push_back(e), w.push_back(at(e));
+  double su = 0, sw = 0, suu = 0, suw = 0, n = 0;
+  for (size_t i = 1; i < u.size(); ++i)
+    for (int k = 0; k < 200; ++k) {
+      const double t = (k + 0.5) / 200.0, uu = u[i - 1] + t * (u[i] - u[i - 1]), ww = w[i - 1] + t * (w[i] - w[i - 1]);
+      const double weight = u[i] - u[i - 1]; // samples per unit length alike on every segment
+      su += weight * uu, sw += weight * ww, suu += weight * uu * uu, suw += weight * uu * ww, n += weight;
+    }
+  const double b = (n * suw - su * sw) / (n * suu - su * su), a = (sw - b * su) / n;
+  double wmin = w[0], wmax = w[0], rmin = 1e300, rmax = -1e300;
+  for (size_t i = 0; i < u.size(); ++i) {
+    wmin = std::min(wmin, w[i]), wmax = std::max(wmax, w[i]);
+    const double r = w[i] - (a + b * u[i]);
+    rmin = std::min(rmin, r), rmax = std::max(rmax, r);
+  }
+  return {wmax - wmin, rmax - rmin};
+}
+
+double quantile_of(std::vector<double> v, double p) {
+  std::sort(v.begin(), v.end());
+  return v[static_cast<size_t>(p * static_cast<double>(v.size() - 1) + 0.5)];
+}
+
+} // namespace
+
+// Probe noise in the prediction: on a perfect machine (no errors, nothing uncertain, no repeatability or resolution)
+// both gears are exactly involute, so with probe noise σ every helix trace is n = 15 independent N(0, σ²) deviates at
+// its points (evenly over the face width, as the scene lays them), and F_β and f_fβ of a gear are the largest over its
+// 2z = 40 flanks of the trace's total and form deviation over L_β. The truth: the same statistic from the
+// definitions (total_and_form_um) on 4000 gears drawn here with the standard library's generator. The Monte Carlo's
+// median of 200 samples must lie within three standard errors of the truth's median; the standard error of a sample
+// median, √(1/4M)/f(m), with the density f(m) at the median read off the truth's own quantiles
+// (0.1/(q(0.55) − q(0.45))), for both (the truth's own error included). Values in the normal direction
+// (--iso-direction normal): the noise is along the flank normal.
+TEST(MonteCarloProbeNoise, APerfectMachineMeasuredWithNoiseGivesTheNoisesHelixDeviations) {
+  constexpr double kSigmaUm = 0.5;
+  const workbench::Workbench wb(scene::parse_scene(mc_scene_text(kNothingUncertain), "mem"));
+  const auto table = nominal_corrections(wb);
+  pipeline::MonteCarloOptions o;
+  o.samples = 200;
+  o.seed = 3;
+  o.iso.direction = evaluation::IsoDirection::Normal;
+  const auto quiet = pipeline::summarise(pipeline::run_monte_carlo(wb, table, o));
+  ASSERT_LT(quiet.before[static_cast<size_t>(quiet.find("F_beta_um"))].high, 1e-6) << "the machine is not perfect";
+  o.probe_noise_um = kSigmaUm;
+  const auto noisy = pipeline::summarise(pipeline::run_monte_carlo(wb, table, o));
+  EXPECT_EQ(noisy.probe_noise_um, kSigmaUm);
+
+  const auto& r = wb.setup.ranges();
+  const double b = wb.setup.geometry().spec().face_width_mm;
+  std::vector<double> z;
+  for (int i = 0; i < 15; ++i) z.push_back(b * i / 14.0); // 15 helix points evenly over the face width
+  std::mt19937_64 gen(2024);
+  std::normal_distribution<double> normal(0.0, kSigmaUm);
+  std::vector<double> total, form;
+  for (int gear = 0; gear < 4000; ++gear) {
+    double worst_total = 0, worst_form = 0;
+    for (int flank = 0; flank < 40; ++flank) {
+      std::vector<double> y;
+      for (size_t i = 0; i < z.size(); ++i) y.push_back(normal(gen));
+      const auto [t, f] = total_and_form_um(z, y, r.z_eval_start_mm, r.z_eval_end_mm);
+      worst_total = std::max(worst_total, t), worst_form = std::max(worst_form, f);
+    }
+    total.push_back(worst_total), form.push_back(worst_form);
+  }
+  for (const auto& [name, truth] : {std::pair{"F_beta_um", &total}, {"f_fbeta_um", &form}}) {
+    const double median = quantile_of(*truth, 0.5);
+    const double density = 0.1 / (quantile_of(*truth, 0.55) - quantile_of(*truth, 0.45));
+    const double se = std::sqrt(0.25 / 200.0 + 0.25 / 4000.0) / density;
+    for (const auto* side : {&noisy.before, &noisy.after})
+      EXPECT_NEAR((*side)[static_cast<size_t>(noisy.find(name))].median, median, 3 * se) << name;
+    std::cout << name << ": Monte Carlo median before " << noisy.before[static_cast<size_t>(noisy.find(name))].median
+              << ", after " << noisy.after[static_cast<size_t>(noisy.find(name))].median << " µm; from the definition "
+              << median << " ± " << se << " µm (one standard error)\n";
+  }
+}
+
+// The probe draws from a stream of its own: with noise the samples stay the same at any thread count and shard (bit
+// for bit), the partial file and the summary carry σ, and a merge refuses parts with another σ or other ISO options.
+TEST(MonteCarloProbeNoise, NoisySamplesAreReproducibleAndRecorded) {
+  const workbench::Workbench wb(scene::parse_scene(mc_scene_text(kMapErrors), "mem"));
+  const auto table = nominal_corrections(wb);
+  pipeline::MonteCarloOptions o;
+  o.samples = 4;
+  o.seed = 9;
+  o.probe_noise_um = 0.2;
+  o.iso.helix_slope_sign = evaluation::HelixSlopeSign::RiseTowardsPlusZ;
+  o.threads = 1;
+  const auto one = pipeline::run_monte_carlo(wb, table, o);
+  o.threads = 2;
+  o.shards = 2;
+  const auto dir = std::filesystem::temp_directory_path() / ("geartopo_test_mc_noise_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::vector<pipeline::MonteCarloRun> parts;
+  for (int i : {1, 2}) {
+    o.shard = i;
+    pipeline::write_run_csv(dir / "part.csv", pipeline::run_monte_carlo(wb, table, o));
+    parts.push_back(pipeline::read_run_csv(dir / "part.csv"));
+  }
+  EXPECT_EQ(parts[0].probe_noise_um, 0.2);
+  EXPECT_EQ(parts[0].iso.helix_slope_sign, evaluation::HelixSlopeSign::RiseTowardsPlusZ);
+  const auto merged = pipeline::merge_runs(parts);
+  ASSERT_EQ(merged.samples.size(), one.samples.size());
+  for (size_t k = 0; k < one.samples.size(); ++k) {
+    EXPECT_EQ(merged.samples[k].before, one.samples[k].before);
+    EXPECT_EQ(merged.samples[k].after, one.samples[k].after);
+  }
+  // Noise changes the measured gears, not the machine's draws: with σ = 10⁻⁶ µm every µm quantity is within 10⁻⁴ µm
+  // of the noise-free run of the same seed (a machine drawn anew would differ by µm), and F_β is not bit-equal to it.
+  o.shards = o.shard = 1;
+  o.probe_noise_um = 0.0;
+  const auto quiet = pipeline::run_monte_carlo(wb, table, o);
+  o.probe_noise_um = 1e-6;
+  const auto tiny = pipeline::run_monte_carlo(wb, table, o);
+  bool changed = false;
+  for (size_t k = 0; k < quiet.samples.size(); ++k)
+    for (size_t n = 0; n < quiet.names.size(); ++n) {
+      if (!quiet.names[n].ends_with("_um")) continue;
+      EXPECT_NEAR(tiny.samples[k].before[n], quiet.samples[k].before[n], 1e-4) << quiet.names[n];
+      EXPECT_NEAR(tiny.samples[k].after[n], quiet.samples[k].after[n], 1e-4) << quiet.names[n];
+      changed = changed || tiny.samples[k].after[n] != quiet.samples[k].after[n];
+    }
+  EXPECT_TRUE(changed) << "the noise was not applied";
+  auto other_noise = parts[1];
+  other_noise.probe_noise_um = 0.3;
+  EXPECT_THROW(pipeline::merge_runs({parts[0], other_noise}), std::invalid_argument);
+  auto other_iso = parts[1];
+  other_iso.iso.direction = evaluation::IsoDirection::Normal;
+  EXPECT_THROW(pipeline::merge_runs({parts[0], other_iso}), std::invalid_argument);
+  // A partial file written before σ and the ISO options were recorded reads as 0, transverse, helix-angle.
+  {
+    std::ofstream out(dir / "old.csv");
+    out << "# samples_total: 1\n# seed: 1\nsample,before.F_beta_um,after.F_beta_um\n0,1.5,0.5\n";
+  }
+  const auto old = pipeline::read_run_csv(dir / "old.csv");
+  EXPECT_EQ(old.probe_noise_um, 0.0);
+  EXPECT_EQ(old.iso.direction, evaluation::IsoDirection::Transverse);
+  EXPECT_EQ(old.iso.helix_slope_sign, evaluation::HelixSlopeSign::HelixAngle);
+  {
+    std::ofstream out(dir / "bad.csv");
+    out << "# samples_total: 1\n# seed: 1\n# iso_direction: sideways\nsample,before.F_beta_um,after.F_beta_um\n0,1.5,0.5\n";
+  }
+  try {
+    pipeline::read_run_csv(dir / "bad.csv");
+    ADD_FAILURE() << "sideways accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(":3:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("iso_direction"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// Any block [first, last) of a run equals the same samples of the plain run (sample k depends on (seed, k) only):
+// the adaptive batches and the MPI driver's blocks are such ranges.
+TEST(MonteCarlo, ABlockOfSamplesEqualsTheSameSamplesOfTheRun) {
+  const workbench::Workbench wb(scene::parse_scene(mc_scene_text(kMapErrors), "mem"));
+  const auto table = nominal_corrections(wb);
+  pipeline::MonteCarloOptions o;
+  o.samples = 6;
+  o.seed = 4;
+  const auto whole = pipeline::run_monte_carlo(wb, table, o);
+  const auto block = pipeline::run_monte_carlo_samples(wb, table, o, 2, 5);
+  ASSERT_EQ(block.samples.size(), 3u);
+  EXPECT_EQ(block.samples_total, 6);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(block.samples[i].index, static_cast<long long>(2 + i));
+    EXPECT_EQ(block.samples[i].before, whole.samples[2 + i].before);
+    EXPECT_EQ(block.samples[i].after, whole.samples[2 + i].after);
+  }
+  EXPECT_THROW(pipeline::run_monte_carlo_samples(wb, table, o, 4, 7), std::invalid_argument);
+  EXPECT_THROW(pipeline::run_monte_carlo_samples(wb, table, o, 3, 2), std::invalid_argument);
+}
+
+// prediction.json records the ISO options its samples were evaluated with, and `evaluate --prediction` uses them.
+// Truth for the options reaching the samples: ISO 1328-1's transverse values are the normal ones divided by cos β_b
+// (β_b from the gear data, ISO 21771), so on a machine with nothing uncertain (every sample the nominal gear) the
+// predicted F_α and F_β medians of a normal-direction run are those of a transverse run times cos β_b.
+TEST(MonteCarloCli, PredictionRecordsItsIsoOptionsAndEvaluateUsesThem) {
+  const auto dir = std::filesystem::temp_directory_path() / ("geartopo_mc_iso_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  { std::ofstream(dir / "scene.yaml") << mc_scene_text(kMapErrors + kNothingUncertain); }
+  const std::string scene = (dir / "scene.yaml").string(), log = (dir / "log.txt").string();
+  const std::string common = " --samples 2 --seed 5 --step 5";
+  ASSERT_EQ(run_geartopo("compensate " + scene + " --out " + (dir / "t").string() + common, log), 0) << slurp_mc(log);
+  ASSERT_EQ(run_geartopo("compensate " + scene + " --out " + (dir / "n").string() + common +
+                             " --iso-direction normal --helix-slope-sign rise-towards-plus-z", log), 0)
+      << slurp_mc(log);
+  const auto t = nlohmann::json::parse(slurp_mc(dir / "t" / "prediction.json"));
+  const auto n = nlohmann::json::parse(slurp_mc(dir / "n" / "prediction.json"));
+  EXPECT_EQ(t["iso_options"]["iso_direction"], "transverse");
+  EXPECT_EQ(t["iso_options"]["helix_slope_sign"], "helix-angle");
+  EXPECT_EQ(n["iso_options"]["iso_direction"], "normal");
+  EXPECT_EQ(n["iso_options"]["helix_slope_sign"], "rise-towards-plus-z");
+  EXPECT_EQ(n["probe_noise_um"], 0.0);
+  const double cos_beta_b = std::cos(std::asin(std::sin(20.0 * units::kRadPerDeg) * std::cos(20.0 * units::kRadPerDeg)));
+  for (const char* q : {"F_alpha_um", "F_beta_um"}) {
+    const double tv = t["quantities"][q]["before"]["median"], nv = n["quantities"][q]["before"]["median"];
+    ASSERT_GT(tv, 0.1) << q; // the map errors give the gear a helix and profile deviation
+    EXPECT_NEAR(nv, tv * cos_beta_b, 1e-6 * tv) << q;
+  }
+  // evaluate: the prediction's options by default, a contradicting flag refused (usage, nothing written), an agreeing
+  // one accepted.
+  const std::string traces = (dir / "n" / "traces_after.csv").string(), pred = (dir / "n" / "prediction.json").string();
+  const std::string evaluate = "evaluate " + scene + " --traces " + traces + " --prediction " + pred + " --out ";
+  ASSERT_EQ(run_geartopo(evaluate + (dir / "e1").string(), log), 0) << slurp_mc(log);
+  const auto e1 = nlohmann::json::parse(slurp_mc(dir / "e1" / "iso1328.json"));
+  EXPECT_EQ(e1["before"]["iso_direction"], "normal");
+  EXPECT_EQ(e1["before"]["helix_slope_sign"], "rise-towards-plus-z");
+  EXPECT_EQ(run_geartopo(evaluate + (dir / "e2").string() + " --iso-direction transverse", log), 2);
+  EXPECT_NE(slurp_mc(log).find("--iso-direction"), std::string::npos) << slurp_mc(log);
+  EXPECT_NE(slurp_mc(log).find("predicted with normal"), std::string::npos) << slurp_mc(log);
+  EXPECT_FALSE(std::filesystem::exists(dir / "e2"));
+  EXPECT_EQ(run_geartopo(evaluate + (dir / "e3").string() + " --helix-slope-sign helix-angle", log), 2);
+  EXPECT_NE(slurp_mc(log).find("--helix-slope-sign"), std::string::npos) << slurp_mc(log);
+  EXPECT_EQ(run_geartopo(evaluate + (dir / "e4").string() + " --iso-direction normal", log), 0) << slurp_mc(log);
+  // A prediction.json written before the options were recorded: accepted, evaluated with the flags as given.
+  auto old = n;
+  old.erase("iso_options");
+  old.erase("probe_noise_um");
+  { std::ofstream(dir / "old.json") << old.dump(2); }
+  ASSERT_EQ(run_geartopo("evaluate " + scene + " --traces " + traces + " --prediction " + (dir / "old.json").string() +
+                             " --out " + (dir / "e5").string() + " --iso-direction transverse", log), 0)
+      << slurp_mc(log);
+  EXPECT_EQ(nlohmann::json::parse(slurp_mc(dir / "e5" / "iso1328.json"))["before"]["iso_direction"], "transverse");
+  std::filesystem::remove_all(dir);
 }

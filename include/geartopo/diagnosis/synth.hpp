@@ -7,6 +7,7 @@
 #include "geartopo/grinding/topology_csv.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace geartopo::diagnosis {
@@ -20,6 +21,11 @@ struct SynthOptions {
 
 std::vector<grinding::TopologyRow> synthesize(const grinding::GrindingSetup& truth, const grinding::GrindingProcess& process,
                                               const SynthOptions& options);
+
+/// Gaussian probe noise on a measured gear: flank by flank, each point of the profile trace, then of the helix
+/// trace, then of the grid plus noise_um times a draw of `standard_normal`, in that order. The noise of
+/// synthesize_traces (no grid there) and of every Monte Carlo sample with MonteCarloOptions::probe_noise_um.
+void add_probe_noise(std::vector<grinding::FlankTopology>& topo, double noise_um, const std::function<double()>& standard_normal);
 
 /// The same gear as a gear measuring machine measures it: per flank of the chosen teeth one profile trace (profile_points
 /// along the evaluation range at mid face) and one helix trace (helix_points), as grinding::simulate_topology lays

@@ -25,6 +25,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -48,6 +49,11 @@ struct MonteCarloOptions {
   double adaptive_tolerance_um = 0.0;
   long long adaptive_batch = 100;
   long long adaptive_max_samples = 10'000;
+  /// > 0: every sample's gears (before and after) are "measured" before their evaluation: each point of every flank's
+  /// profile trace, helix trace and grid plus probe_noise_um times a standard normal deviate
+  /// (diagnosis::add_probe_noise, the model of `geartopo synth`), drawn from a stream of (seed, k) of its own, so
+  /// the machine's draws of sample k do not depend on it. 0: the true gears (no draw at all).
+  double probe_noise_um = 0.0;
 };
 
 /// The gear quantities one simulated (or measured) gear reduces to, by name with unit: "F_beta_um", "F_beta_class",
@@ -72,6 +78,8 @@ struct MonteCarloSample {
 struct MonteCarloRun {
   long long samples_total = 0;
   std::uint64_t seed = 0;
+  workbench::IsoOptions iso;  ///< how the samples' ISO values were reported (MonteCarloOptions::iso)
+  double probe_noise_um = 0.0; ///< MonteCarloOptions::probe_noise_um
   std::vector<std::string> names;
   std::vector<MonteCarloSample> samples; ///< increasing index
 };
@@ -96,6 +104,24 @@ compensation::CorrectionTable with_stroke_offsets(const compensation::Correction
 /// First and one-past-last sample of a shard (1-based shard of shards): contiguous blocks of ⌊M/n⌋ or ⌈M/n⌉.
 std::pair<long long, long long> shard_range(long long samples, int shard, int shards);
 
+/// Runs samples [first, last) of a run of options.samples (0 ≤ first ≤ last ≤ samples; the adaptive fields and the
+/// shard are ignored): sample k depends on (seed, k) alone, so any block equals the same samples of any run. The
+/// result's samples_total is options.samples. The batches of an adaptive run and the MPI driver's blocks are such
+/// ranges. Throws std::invalid_argument for a range outside [0, samples].
+MonteCarloRun run_monte_carlo_samples(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
+                                      const MonteCarloOptions& options, long long first, long long last);
+
+/// The adaptive loop (JCGM 101:2008 §7.9, adapted: docs/monte-carlo.md) with the batches computed by the caller, for
+/// a process that computes a batch with others (the MPI driver). Batch h = 1, 2, … is samples [(h − 1)·B, h·B),
+/// B = options.adaptive_batch: `run_batch(first, last)` returns all of them on the process that decides and
+/// std::nullopt on any other; the deciding process appends them and, from h = 2 on, asks adaptive_stability;
+/// the deciding process stops when stable or when one more batch would pass options.adaptive_max_samples, and
+/// `agree(stop)` returns its stop on every process (the identity in one process). Returns the run (samples_total
+/// h·B) on the deciding process, std::nullopt on the others. Throws std::invalid_argument for bad adaptive options.
+std::optional<MonteCarloRun> run_adaptive_batches(
+    const MonteCarloOptions& options, const std::function<std::optional<MonteCarloRun>(long long first, long long last)>& run_batch,
+    const std::function<bool(bool stop)>& agree);
+
 /// Runs the samples of options' shard. `nominal` holds the corrections computed on the scene's model (they are
 /// rounded here). Throws std::invalid_argument for bad options.
 MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
@@ -114,7 +140,7 @@ struct AdaptiveStability {
 /// Throws std::invalid_argument unless the run holds samples 0..h·batch − 1 (h ≥ 1) in order.
 AdaptiveStability adaptive_stability(const MonteCarloRun& run, long long batch, double tolerance_um);
 
-/// Partials of one run (same seed, sample count and names) → one run with every sample once. Throws
+/// Partials of one run (same seed, sample count, ISO options, probe noise and names) → one run with every sample once. Throws
 /// std::invalid_argument naming what does not match, a sample given twice or the samples missing.
 MonteCarloRun merge_runs(std::vector<MonteCarloRun> parts);
 
@@ -128,6 +154,10 @@ Band coverage_band(std::vector<double> values, double coverage = 0.95);
 struct MonteCarloSummary {
   long long samples = 0;
   std::uint64_t seed = 0;
+  /// The ISO options the samples were evaluated with; std::nullopt: not recorded (a prediction.json written before
+  /// they were, read by report::read_prediction_json).
+  std::optional<workbench::IsoOptions> iso;
+  double probe_noise_um = 0.0; ///< σ of the probe noise the samples were "measured" with (µm; 0: the true gears)
   std::vector<std::string> names;
   std::vector<Band> before, after; ///< per name
   /// Index of a name, or -1.
@@ -137,9 +167,10 @@ struct MonteCarloSummary {
 MonteCarloSummary summarise(const MonteCarloRun& run);
 
 /// Partial result file (CSV, doubles in shortest round-trip form): comment lines "# samples_total: M",
-/// "# seed: S", then "sample,before.<name>,…,after.<name>,…", one row per sample.
+/// "# seed: S", "# iso_direction: transverse", "# helix_slope_sign: helix-angle", "# probe_noise_um: 0", then "sample,before.<name>,…,after.<name>,…", one row per sample.
 void write_run_csv(const std::filesystem::path& file, const MonteCarloRun& run);
-/// Throws InputError at the file's line and field.
+/// Throws InputError at the file's line and field. A file without the iso_direction, helix_slope_sign or
+/// probe_noise_um lines (written before they were) reads as transverse, helix-angle and 0: what compensate computed then.
 MonteCarloRun read_run_csv(const std::filesystem::path& file);
 
 } // namespace geartopo::pipeline

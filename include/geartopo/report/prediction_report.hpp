@@ -24,11 +24,13 @@ std::string band_text(const std::string& name, const pipeline::Band& b);
 /// thickness and rotation on their own lines; the header names the coverage and the number of samples.
 std::vector<std::string> prediction_lines(const pipeline::MonteCarloSummary& s);
 
-/// {"samples", "seed", "coverage_probability", "interval", "quantities": {name: {"before": {"median", "low", "high"},
+/// {"samples", "seed", "coverage_probability", "interval", "model", "iso_options": {"iso_direction",
+/// "helix_slope_sign"} (the words of the CLI flags), "probe_noise_um", "quantities": {name: {"before": {"median", "low", "high"},
 /// "after": {…}}}}; names carry their unit (_um, _class).
 nlohmann::json prediction_json(const pipeline::MonteCarloSummary& s);
 
-/// Reads what prediction_json wrote (prediction.json of `geartopo compensate`/`merge`): the samples, the seed and each
+/// Reads what prediction_json wrote (prediction.json of `geartopo compensate`/`merge`): the samples, the seed, the ISO
+/// options (std::nullopt in a file written before they were recorded), the probe noise (0 when absent) and each
 /// quantity's bands. Throws InputError naming the file and the field (e.g. "quantities.F_p_um.after.low") for a file
 /// that is not such JSON, a missing or non-finite number, or a band whose low > median or median > high.
 pipeline::MonteCarloSummary read_prediction_json(const std::filesystem::path& file);
