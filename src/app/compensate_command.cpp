@@ -214,7 +214,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
                                table.rows().size(), opt->step, table.rows_outside_strokes());
       std::cout << fmt::format("  largest corrections: X {:.2f} µm, Y {:.2f} µm, Z {:.2f} µm, A {:.2f} µrad, C {:.2f} µrad\n",
                                units::um_from_mm(cmax(0)), units::um_from_mm(cmax(1)), units::um_from_mm(cmax(2)), units::urad_from_rad(cmax(3)), units::urad_from_rad(cmax(4)));
-      std::cout << fmt::format("  topology (all teeth, 7×9 grid): before {:.2f} … {:.2f} µm, nominal after {:.2f} … {:.2f} µm\n", lb, hb, la, ha);
+      std::cout << fmt::format("  topology (all teeth, {}×{} grid): before {:.2f} … {:.2f} µm, nominal after {:.2f} … {:.2f} µm\n", so.rows, so.cols, lb, hb, la, ha);
       if (!prediction)
         std::cout << fmt::format("  largest |deviation|: {:.2f} µm; the nominal model compensating itself: {:.2f} µm "
                                  "(no prediction: --samples 0 or a shard)\n", max_b, max_a);

@@ -15,6 +15,7 @@
 #include "geartopo/effects/registry.hpp"
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/core/input_error.hpp"
+#include "geartopo/core/uncertain_value.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 #include "geartopo/pipeline/monte_carlo.hpp"
 
@@ -212,7 +213,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       for (const auto& c : d.ranked) {
         std::string params;
         for (const auto& p : c.parameters.front())
-          if (p.fitted) params += fmt::format("{} {:.4g} ± {:.2g}  ", p.key, p.value, p.uncertainty);
+          if (p.fitted) params += fmt::format("{} {}  ", p.key, text::with_uncertainty(p.value, p.uncertainty)); // GUM §7.2.6; the files keep every digit
         std::cout << fmt::format("  {:<4} {:<16} {:>9.1f} {:>9.1f}% {:>7.2f} µm  {}{}\n", rank++, c.name(), c.delta_bic,
                                  100.0 * c.explained_fraction, c.rms_after_um, params, !c.rejected.empty() ? "(rejected: " + c.rejected + ")" : c.significant ? std::string() : std::string("(not significant)"));
       }

@@ -5,6 +5,7 @@
 
 #include "geartopo/core/flank.hpp"
 #include "geartopo/core/statistics.hpp"
+#include "geartopo/core/uncertain_value.hpp"
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/residuals/flank_patterns.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
@@ -170,14 +171,15 @@ std::string at_the_end_of_its_range(const Candidate& c) {
   return {};
 }
 
-/// "x_growth_um = 9.1 ± 1.2, time_constant_s = 600 ± 90": the fitted values of a candidate with their 1σ.
+/// "x_growth_um = 9.1 ± 1.2, time_constant_s = 600 ± 90": the fitted values of a candidate with their 1σ, each rounded
+/// to its uncertainty (GUM §7.2.6, text::with_uncertainty).
 std::string parameters_text(const Candidate& c) {
   std::string s;
   for (size_t e = 0; e < c.effects.size(); ++e)
     for (const auto& p : c.parameters[e])
       if (p.fitted)
-        s += fmt::format("{}{}{} = {:.3g} ± {:.2g}", s.empty() ? "" : ", ",
-                         c.effects.size() > 1 ? c.effects[e].type + "." : std::string(), p.key, p.value, p.uncertainty);
+        s += fmt::format("{}{}{} = {}", s.empty() ? "" : ", ", c.effects.size() > 1 ? c.effects[e].type + "." : std::string(),
+                         p.key, text::with_uncertainty(p.value, p.uncertainty));
   return s;
 }
 
@@ -479,12 +481,12 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   }
   const std::string setup_text =
       d.setup.rotation_identified
-          ? fmt::format("Set-up (not process physics, fitted alongside): thickness {:+.2f} ± {:.2f} µm, rotation "
-                        "{:+.2f} ± {:.2f} µrad. ",
-                        d.setup.thickness_um, d.setup.thickness_sd_um, d.setup.rotation_urad, d.setup.rotation_sd_urad)
-          : fmt::format("Set-up (not process physics, fitted alongside): offset {:+.2f} ± {:.2f} µm (one flank side "
+          ? fmt::format("Set-up (not process physics, fitted alongside): thickness {} µm, rotation {} µrad. ",
+                        text::with_uncertainty(d.setup.thickness_um, d.setup.thickness_sd_um, true),
+                        text::with_uncertainty(d.setup.rotation_urad, d.setup.rotation_sd_urad, true))
+          : fmt::format("Set-up (not process physics, fitted alongside): offset {} µm (one flank side "
                         "measured: thickness and rotation not separable). ",
-                        d.setup.thickness_um, d.setup.thickness_sd_um);
+                        text::with_uncertainty(d.setup.thickness_um, d.setup.thickness_sd_um, true));
   const std::string nearest_text =
       d.nearest ? fmt::format("{} ({}; ΔBIC {:.1f}, leaving {:.2f} µm RMS) — rejected: {}", d.nearest->name(),
                               parameters_text(*d.nearest), d.nearest->delta_bic, d.nearest->rms_after_um,

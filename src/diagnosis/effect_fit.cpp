@@ -4,6 +4,7 @@
 #include "effect_fit.hpp"
 
 #include "geartopo/diagnosis/levenberg_marquardt.hpp"
+#include "geartopo/core/uncertain_value.hpp"
 #include "geartopo/effects/registry.hpp"
 
 #include <Eigen/Dense>
@@ -316,8 +317,8 @@ Candidate to_candidate(EffectFit& f, const LmResult& best, const Eigen::VectorXd
       const double outside = std::max(spec.plausible_lo - v, v - spec.plausible_hi); // > 0: outside (file units)
       if (outside > 2.0 * u) {
         const double at_end = 1e-6 * (spec.hi - spec.lo);
-        c.rejected = fmt::format("{}.{} = {:.4g} ± {:.2g} is outside its plausible range [{}, {}]{}", eff.type(),
-                                 spec.key, v, u, spec.plausible_lo, spec.plausible_hi,
+        c.rejected = fmt::format("{}.{} = {} is outside its plausible range [{}, {}]{}", eff.type(), spec.key,
+                                 text::with_uncertainty(v, u), spec.plausible_lo, spec.plausible_hi,
                                  v <= spec.lo + at_end || v >= spec.hi - at_end ? " (at the end of the fit's range)" : "");
       }
     }

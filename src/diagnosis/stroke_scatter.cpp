@@ -45,13 +45,15 @@ Eigen::MatrixXd map_sensitivity(const workbench::Workbench& wb, const std::vecto
   const auto base = predict(wb.setup, wb.machine_process, pts, grinding::Method::Linear, threads);
   const auto& u = wb.scene.machine.uncertainty.component_u;
   for (int c = 0; c < machine::kComponentCount; ++c) {
-    if (u[static_cast<size_t>(c)] <= 0.0) continue;
-    // The scene's map with component c moved by u_c (the effects act on top of the map and cancel in the difference).
+    // The scene's map with component c moved by one standard uncertainty, the Monte Carlo's draw at z = 1: u_c, or
+    // u_c(p) from its table's column (the effects act on top of the map and cancel in the difference).
     const auto id = machine::component_at(c);
     std::vector<machine::ErrorSource> sources = wb.scene.machine.sources;
     const auto it = std::find_if(sources.begin(), sources.end(), [&](const auto& s) { return s.id() == id; });
-    if (it == sources.end()) sources.push_back(machine::ErrorSource::zero(id).shifted(u[static_cast<size_t>(c)]));
-    else *it = it->shifted(u[static_cast<size_t>(c)]);
+    const bool column = it != sources.end() && it->has_uncertainty_column();
+    if (!column && u[static_cast<size_t>(c)] <= 0.0) continue;
+    if (it == sources.end()) sources.push_back(machine::ErrorSource::zero(id).drawn(1.0, u[static_cast<size_t>(c)]));
+    else *it = it->drawn(1.0, u[static_cast<size_t>(c)]);
     const machine::MachineModel moved_model(wb.machine.strokes(), std::move(sources));
     const grinding::MachineProcess moved(moved_model, wb.scene.machine.datum_face_z_mm);
     const auto dev = predict(wb.setup, moved, pts, grinding::Method::Linear, threads);

@@ -67,6 +67,15 @@ ErrorSource ErrorSource::table(ComponentId id, CubicSpline spline, TableOrigin o
   return s;
 }
 
+ErrorSource ErrorSource::table(ComponentId id, CubicSpline spline, TableOrigin origin, CubicSpline uncertainty) {
+  if (uncertainty.knots() != spline.knots() || uncertainty.periodic() != spline.periodic())
+    throw std::invalid_argument(fmt::format("{}: the uncertainty column needs the value column's knots and ends", info(id).name));
+  ErrorSource s = table(id, std::move(spline), std::move(origin));
+  s.uncertainty_ = std::move(uncertainty);
+  s.has_uncertainty_ = true;
+  return s;
+}
+
 double ErrorSource::value(double position) const noexcept {
   switch (kind_) {
   case Kind::Constant: return constant_ + offset_;
@@ -75,15 +84,30 @@ double ErrorSource::value(double position) const noexcept {
     for (auto it = coefficients_.rbegin(); it != coefficients_.rend(); ++it) v = v * position + *it; // Horner
     return v + offset_;
   }
-  case Kind::Table: return spline_.value(position) + offset_;
+  case Kind::Table: {
+    const double v = spline_.value(position) + offset_;
+    return draw_ == 0.0 ? v : v + draw_ * uncertainty(position);
+  }
   }
   return 0.0;
+}
+
+double ErrorSource::uncertainty(double position) const noexcept {
+  return has_uncertainty_ ? clamped_uncertainty(uncertainty_.value(position)) : 0.0;
 }
 
 ErrorSource ErrorSource::shifted(double offset) const {
   if (!std::isfinite(offset)) throw std::invalid_argument(fmt::format("{}: offset {} is not finite", info(id_).name, offset));
   ErrorSource s = *this;
   s.offset_ += offset;
+  return s;
+}
+
+ErrorSource ErrorSource::drawn(double z, double default_u) const {
+  if (!has_uncertainty_) return shifted(default_u * z); // the scene's constant u: as before u columns existed
+  if (!std::isfinite(z)) throw std::invalid_argument(fmt::format("{}: draw {} is not finite", info(id_).name, z));
+  ErrorSource s = *this;
+  s.draw_ += z;
   return s;
 }
 
@@ -95,7 +119,12 @@ double ErrorSource::rate(double position) const noexcept {
     for (std::size_t i = coefficients_.size(); i-- > 1;) v = v * position + static_cast<double>(i) * coefficients_[i];
     return v;
   }
-  case Kind::Table: return spline_.derivative(position);
+  case Kind::Table: {
+    const double d = spline_.derivative(position);
+    if (draw_ == 0.0) return d;
+    // d/dp of draw·max(u(p), 0): the column's slope where u(p) > 0, zero where it is held at 0.
+    return uncertainty_.value(position) > 0.0 ? d + draw_ * uncertainty_.derivative(position) : d;
+  }
   }
   return 0.0;
 }
@@ -104,7 +133,11 @@ std::string ErrorSource::describe() const {
   switch (kind_) {
   case Kind::Constant: return "constant";
   case Kind::Polynomial: return fmt::format("polynomial of degree {}", coefficients_.size() - 1);
-  case Kind::Table: return fmt::format("table {} column {} '{}'", origin_.file, origin_.column, origin_.field);
+  case Kind::Table:
+    if (has_uncertainty_)
+      return fmt::format("table {} column {} '{}' (standard uncertainty: column {} '{}')", origin_.file, origin_.column,
+                         origin_.field, origin_.uncertainty_column, origin_.uncertainty_field);
+    return fmt::format("table {} column {} '{}'", origin_.file, origin_.column, origin_.field);
   }
   return {};
 }

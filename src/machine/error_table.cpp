@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -25,8 +26,13 @@ struct Column {
   std::string field;
   double scale; // file unit → internal
   std::vector<double> values;
-  bool length;   // δ (mm inside) or ε (rad inside): which physical bound applies
+  bool length;      // δ (mm inside) or ε (rad inside): which physical bound applies
+  bool uncertainty; // a `u_<component>_<unit>` column: the standard uncertainty of the component's column
 };
+
+// The prefix of a standard-uncertainty column: `u_delta_xx_um` is the uncertainty of `delta_xx` (no component name
+// starts with "u_").
+constexpr std::string_view kUncertaintyPrefix = "u_";
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
@@ -97,14 +103,19 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
       for (std::size_t k = 1; k < fields.size(); ++k) {
         const Field& f = fields[k];
         const std::string name(f.text);
-        const std::size_t us2 = f.text.rfind('_');
+        // A `u_` column is read like the component column it qualifies: the same component, axis and unit checks.
+        const bool is_u = f.text.starts_with(kUncertaintyPrefix);
+        const std::string_view spec = is_u ? f.text.substr(kUncertaintyPrefix.size()) : f.text;
+        const std::size_t us2 = spec.rfind('_');
         if (us2 == std::string_view::npos || us2 == 0)
-          throw fail(line_no, f.column, name, "an error column must be '<component>_<unit>', e.g. 'delta_xx_um'");
-        const std::string_view stem = f.text.substr(0, us2), vunit = f.text.substr(us2 + 1);
+          throw fail(line_no, f.column, name,
+                     is_u ? "an uncertainty column must be 'u_<component>_<unit>', e.g. 'u_delta_xx_um'"
+                          : "an error column must be '<component>_<unit>', e.g. 'delta_xx_um'");
+        const std::string_view stem = spec.substr(0, us2), vunit = spec.substr(us2 + 1);
         const auto id = component_from_name(stem);
         if (!id) {
           // "delta_xx" without a unit splits as stem "delta", unit "xx": say what is missing.
-          if (component_from_name(f.text))
+          if (component_from_name(spec))
             throw fail(line_no, f.column, name, "the error column has no unit (e.g. '_um' or '_urad')");
           throw fail(line_no, f.column, name, fmt::format("unknown error component '{}'", excerpt(stem)));
         }
@@ -123,8 +134,23 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
                                  c.quantity == Quantity::Length ? "a length" : "an angle", file_unit(c.quantity)));
         }
         for (const Column& other : columns)
-          if (other.id == *id) throw fail(line_no, f.column, name, fmt::format("second column for {}", c.name));
-        columns.push_back({*id, name, *vs, {}, c.quantity == Quantity::Length});
+          if (other.id == *id && other.uncertainty == is_u)
+            throw fail(line_no, f.column, name,
+                       fmt::format("second {}column for {}", is_u ? "uncertainty " : "", c.name));
+        columns.push_back({*id, name, *vs, {}, c.quantity == Quantity::Length, is_u});
+      }
+      for (std::size_t k = 0; k < columns.size(); ++k) {
+        const Column& u = columns[k];
+        if (!u.uncertainty) continue;
+        const bool has_values = std::any_of(columns.begin(), columns.end(),
+                                            [&](const Column& c) { return c.id == u.id && !c.uncertainty; });
+        if (!has_values) {
+          const ComponentInfo& c = info(u.id);
+          throw fail(line_no, fields[k + 1].column, u.field,
+                     fmt::format("the standard uncertainty of {}, but the file has no {} column (e.g. '{}_{}'): an "
+                                 "uncertainty column needs its component's values in the same file",
+                                 c.name, c.name, c.name, file_unit(c.quantity)));
+        }
       }
       if (nl == text.size()) break;
       continue;
@@ -157,6 +183,9 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
         row_lines.push_back(line_no);
       } else {
         const Column& c = columns[k - 1];
+        if (c.uncertainty && v < 0.0)
+          throw fail(line_no, f.column, fname,
+                     fmt::format("'{}' is negative: a standard uncertainty is ≥ 0", excerpt(f.text)));
         const double limit = c.length ? kMaxTableLengthMm : kMaxTableAngleRad;
         if (std::abs(v * c.scale) > limit)
           throw fail(line_no, f.column, fname,
@@ -192,9 +221,8 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
     x.back() = kTwoPi;
   }
 
-  std::vector<ErrorSource> out;
-  out.reserve(columns.size());
-  for (std::size_t k = 0; k < columns.size(); ++k) {
+  const auto ends = periodic ? CubicSpline::Ends::Periodic : CubicSpline::Ends::NotAKnot;
+  const auto spline_of = [&](std::size_t k) { // column k in internal units, values and their uncertainties alike
     Column& col = columns[k];
     if (periodic) {
       const double a = col.values.front(), b = col.values.back();
@@ -207,11 +235,26 @@ std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::st
     }
     std::vector<double> y(col.values.size());
     for (std::size_t i = 0; i < y.size(); ++i) y[i] = col.values[i] * col.scale;
+    return CubicSpline(x, std::move(y), ends);
+  };
+
+  std::vector<ErrorSource> out;
+  out.reserve(columns.size());
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    const Column& col = columns[k];
+    if (col.uncertainty) continue;
     TableOrigin origin{source, header_line, first, last, static_cast<int>(k) + 2, col.field, position_field,
-                       position_unit, position_scale};
-    out.push_back(ErrorSource::table(
-        col.id, CubicSpline(x, std::move(y), periodic ? CubicSpline::Ends::Periodic : CubicSpline::Ends::NotAKnot),
-        std::move(origin)));
+                       position_unit, position_scale, 0, ""};
+    const auto u = std::find_if(columns.begin(), columns.end(),
+                                [&](const Column& c) { return c.uncertainty && c.id == col.id; });
+    if (u == columns.end()) {
+      out.push_back(ErrorSource::table(col.id, spline_of(k), std::move(origin)));
+      continue;
+    }
+    const auto ku = static_cast<std::size_t>(u - columns.begin());
+    origin.uncertainty_column = static_cast<int>(ku) + 2;
+    origin.uncertainty_field = u->field;
+    out.push_back(ErrorSource::table(col.id, spline_of(k), std::move(origin), spline_of(ku)));
   }
   return out;
 }

@@ -239,7 +239,8 @@ MonteCarloRun run_monte_carlo_samples(const workbench::Workbench& wb, const comp
     // Draws in a fixed order: 43 map offsets, then per space (increasing) 5 axes before, then 5 axes after.
     std::vector<machine::ErrorSource> truth;
     truth.reserve(nominal_map.size());
-    for (size_t c = 0; c < nominal_map.size(); ++c) truth.push_back(nominal_map[c].shifted(unc.component_u[c] * rng.normal()));
+    // Each: + z·u, u the scene's constant, or z·u(p) from the component's table column (ErrorSource::drawn).
+    for (size_t c = 0; c < nominal_map.size(); ++c) truth.push_back(nominal_map[c].drawn(rng.normal(), unc.component_u[c]));
     const std::function<double()> standard_normal = [&rng] { return rng.normal(); };
     const auto off_before = draw_stroke_offsets(spaces, unc.repeatability, standard_normal);
     const auto off_after = draw_stroke_offsets(spaces, unc.repeatability, standard_normal);

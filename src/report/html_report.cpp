@@ -1,6 +1,7 @@
 #include "geartopo/report/html_report.hpp"
 #include "geartopo/report/prediction_report.hpp"
 #include "geartopo/core/atomic_file.hpp"
+#include "geartopo/core/uncertain_value.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/report/iso_report.hpp"
 
@@ -404,7 +405,7 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
     for (const auto& c : m.diagnosis.ranked) {
       std::string params;
       for (const auto& p : c.parameters.front())
-        if (p.fitted) params += fmt::format("{} {:.4g} ± {:.2g}; ", p.key, p.value, p.uncertainty);
+        if (p.fitted) params += fmt::format("{} {}; ", p.key, text::with_uncertainty(p.value, p.uncertainty)); // GUM §7.2.6
       h += fmt::format("<tr><td>{}</td><td>{}{}</td><td>{:.1f}</td><td>{:.1f} %</td><td>{:.2f}</td><td>{}</td></tr>", rank++,
                        esc(c.name()), c.significant ? "" : " (not significant)", c.delta_bic, 100 * c.explained_fraction,
                        c.rms_after_um, esc(params));

@@ -117,8 +117,11 @@ double centred_datum_z(const machine::Strokes& st, double face_width) {
 constexpr Range kLengthUncertaintyUm{0.0, machine::kMaxTableLengthMm * units::kUmPerMm};
 constexpr Range kAngleUncertaintyUrad{0.0, machine::kMaxTableAngleRad * units::kUradPerRad};
 
-// machine.uncertainty: per-kind defaults, then per-component values (`components: {epsilon_zc_urad: 2}`).
-void read_uncertainty(MapReader& u, MachineUncertainty& out, ReadContext& ctx) {
+// machine.uncertainty: per-kind defaults, then per-component values (`components: {epsilon_zc_urad: 2}`). A component
+// whose table has a `u_` column takes its uncertainty from there (over its kind's value); naming it in `components`
+// too is refused: one quantity stated twice, and which one the user meant cannot be known.
+void read_uncertainty(MapReader& u, MachineUncertainty& out, ReadContext& ctx,
+                      const std::vector<machine::ErrorSource>& sources) {
   using machine::Axis;
   using machine::ComponentId;
   // (key, applies to): a component of quantity q on axis group g.
@@ -162,6 +165,15 @@ void read_uncertainty(MapReader& u, MachineUncertainty& out, ReadContext& ctx) {
         ctx.fail_field(c->field(key), fmt::format("'{}' is not a unit of {} (use {})", unit,
                                                   q == machine::Quantity::Length ? "a length" : "an angle",
                                                   machine::file_unit(q)));
+      const auto with_column = std::find_if(sources.begin(), sources.end(), [&](const machine::ErrorSource& src) {
+        return src.id() == *id && src.has_uncertainty_column();
+      });
+      if (with_column != sources.end())
+        ctx.fail_field(c->field(key),
+                       fmt::format("{}'s standard uncertainty is already given by table {} column {} '{}': state it in "
+                                   "one place (remove this key or the table's column)",
+                                   name, with_column->origin()->file, with_column->origin()->uncertainty_column,
+                                   with_column->origin()->uncertainty_field));
       const double bound = q == machine::Quantity::Length ? machine::kMaxTableLengthMm : machine::kMaxTableAngleRad;
       const double v = c->number(key, {0.0, bound / *scale});
       out.component_u[static_cast<size_t>(machine::index(*id))] = v * *scale;
@@ -242,7 +254,7 @@ MachineSection read_machine(MapReader& m, const std::filesystem::path& base, dou
     }
     p->finish();
   }
-  if (auto u = m.optional_map("uncertainty")) read_uncertainty(*u, s.uncertainty, ctx);
+  if (auto u = m.optional_map("uncertainty")) read_uncertainty(*u, s.uncertainty, ctx, s.sources);
   // The file gives ISO 230-2's unidirectional repeatability R↑ = 4 s (data sheets quote it); inside: s.
   if (auto r = m.optional_map("repeatability")) read_axis_values(*r, s.uncertainty.repeatability, 0.25);
   if (auto r = m.optional_map("resolution")) read_axis_values(*r, s.uncertainty.resolution, 1.0);

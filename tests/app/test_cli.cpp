@@ -360,6 +360,21 @@ TEST(Cli, CompensateWritesCorrectionsAndBeforeAfter) {
   EXPECT_EQ(run("compensate " + kScene + " --out " + dir.string() + " --step 0").code, 2);
 }
 
+// Issue 15: compensate names the grid the scene asks for (it used to print "7×9 grid" whatever the scene said).
+TEST(Cli, CompensateNamesTheScenesGrid) {
+  const auto scene = write_temp("grid5x6.yaml", "gear:\n  normal_module_mm: 4\n  teeth: 20\n  normal_pressure_angle_deg: 20\n"
+                                                "  helix_angle_deg: 20\n  face_width_mm: 30\n  profile_shift: 0\n"
+                                                "machine: {datum_face_z_mm: 300, constants: {delta_xx_um: 3}}\n"
+                                                "wheel: {outer_diameter_mm: 300}\n"
+                                                "measurement: {rows: 5, cols: 6, profile_points: 15, helix_points: 15}\n");
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_grid");
+  const CliResult r = run("compensate " + scene.string() + " --out " + dir.string() + " --step 5 --samples 0");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("topology (all teeth, 5×6 grid)"), std::string::npos) << r.out;
+  std::filesystem::remove(scene);
+  std::filesystem::remove_all(dir);
+}
+
 // Issue 14: the truth scene's thermal drift at 1.5 µm noise on teeth 1 and 18 cannot be told from wheel wear; `plan`
 // says so and names teeth to measure (truth: the ΔBIC gap is within 10, and the plan's teeth are not measured ones).
 TEST(Cli, PlanNamesTheTeethThatSeparateAmbiguousExplanations) {

@@ -111,7 +111,19 @@ INSTANTIATE_TEST_SUITE_P(
         BadTable{"bad_unknown_component.csv", "bad_unknown_component.csv:1:6: delta_qx_um:", "unknown error component"},
         BadTable{"bad_position_independent.csv", "bad_position_independent.csv:1:6: S_xy_urad:",
                  "position independent"},
-        BadTable{"bad_empty.csv", "bad_empty.csv:", "no header line"}),
+        BadTable{"bad_empty.csv", "bad_empty.csv:", "no header line"},
+        // Standard-uncertainty columns (u_<component>_<unit>): the same checks, plus their own.
+        BadTable{"bad_u_without_component.csv", "bad_u_without_component.csv:1:18: u_delta_yx_um:",
+                 "the file has no delta_yx column"},
+        BadTable{"bad_u_negative.csv", "bad_u_negative.csv:3:9: u_delta_xx_um:", "'-0.1' is negative"},
+        BadTable{"bad_u_nan.csv", "bad_u_nan.csv:3:9: u_delta_xx_um:", "'nan' is not a finite number"},
+        BadTable{"bad_u_unit_kind.csv", "bad_u_unit_kind.csv:1:18: u_delta_xx_urad:", "is a length (use um)"},
+        BadTable{"bad_u_unknown_component.csv", "bad_u_unknown_component.csv:1:18: u_delta_qx_um:",
+                 "unknown error component 'delta_qx'"},
+        BadTable{"bad_u_beyond.csv", "bad_u_beyond.csv:3:9: u_delta_xx_um:", "beyond ±1 mm"},
+        BadTable{"bad_u_twice.csv", "bad_u_twice.csv:1:32: u_delta_xx_nm:", "second uncertainty column for delta_xx"},
+        BadTable{"bad_u_no_name.csv", "bad_u_no_name.csv:1:18: u_:", "'u_<component>_<unit>'"},
+        BadTable{"bad_u_c_not_closed.csv", "bad_u_c_not_closed.csv:5:10: u_epsilon_zc_urad:", "repeat the 0 deg value"}),
     [](const testing::TestParamInfo<BadTable>& param) {
       std::string name = param.param.file;
       name = name.substr(4, name.size() - 8); // strip "bad_" and ".csv"

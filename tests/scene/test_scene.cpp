@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -368,4 +369,70 @@ TEST(SceneEffects, BadUncertaintiesAndCorrelationsAreLocated) {
   EXPECT_EQ(error_of(drift_only),
             "scenes/x.yaml:12:19: effects[0].correlation[0]: the effects' correlation coefficients are not a "
             "correlation matrix (not positive semidefinite: smallest eigenvalue -0.8); no joint distribution has them");
+}
+
+// Standard-uncertainty columns in the scene's tables (docs/error-components.md, "Uncertainty columns"): the example
+// table of docs/examples read through a scene, a components override of the same component refused at its key, a bad
+// column reported in the table file.
+namespace {
+const std::string kExampleTable = "../docs/examples/x_axis_with_uncertainty.csv"; // relative to scenes/
+
+std::string default_with_example_x_table() {
+  return replace(default_text(), "machine/x_axis.csv", kExampleTable);
+}
+
+int line_of(const std::string& text, const std::string& what) {
+  const auto pos = text.find(what);
+  EXPECT_NE(pos, std::string::npos) << what;
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(pos), '\n'));
+}
+} // namespace
+
+TEST(SceneMachine, TheExampleTableBringsItsUncertaintyColumns) {
+  const auto sc = scene::parse_scene(default_with_example_x_table(), kDefault);
+  const auto& sources = sc.machine.sources;
+  const auto source = [&](machine::ComponentId id) -> const machine::ErrorSource& {
+    const auto it = std::find_if(sources.begin(), sources.end(), [&](const auto& s) { return s.id() == id; });
+    EXPECT_NE(it, sources.end());
+    return *it;
+  };
+  EXPECT_TRUE(source(machine::ComponentId::delta_xx).has_uncertainty_column());
+  EXPECT_TRUE(source(machine::ComponentId::epsilon_zx).has_uncertainty_column());
+  EXPECT_FALSE(source(machine::ComponentId::delta_yx).has_uncertainty_column());
+  // u_delta_xx_um at 300 mm is 0.8 µm in the file.
+  EXPECT_NEAR(source(machine::ComponentId::delta_xx).uncertainty(300.0), 0.8e-3, 1e-12);
+  // The scene still builds (strokes covered) and an override of a component without a column is fine.
+  EXPECT_EQ(error_as_default(replace(default_with_example_x_table(), "  constants:",
+                                     "  uncertainty: {components: {delta_yx_um: 0.7}}\n  constants:")),
+            "(no error)");
+}
+
+TEST(SceneMachine, AnOverrideOfAComponentWithAnUncertaintyColumnIsRefused) {
+  const std::string text = replace(default_with_example_x_table(), "  constants:",
+                                   "  uncertainty: {linear_axis_um: 2, components: {delta_xx_um: 0.7}}\n  constants:");
+  const std::string what = error_as_default(text);
+  const std::string where = kDefault + ":" + std::to_string(line_of(text, "components: {delta_xx_um")) + ":";
+  EXPECT_EQ(what.rfind(where, 0), 0u) << what;
+  EXPECT_NE(what.find("machine.uncertainty.components.delta_xx_um: delta_xx's standard uncertainty is already given "
+                      "by table"),
+            std::string::npos)
+      << what;
+  EXPECT_NE(what.find("x_axis_with_uncertainty.csv column 3 'u_delta_xx_um'"), std::string::npos) << what;
+}
+
+TEST(SceneMachine, ABadUncertaintyColumnIsLocatedInTheTableFile) {
+  const auto dir = std::filesystem::temp_directory_path() / ("geartopo_scene_u_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir / "machine");
+  std::ofstream(dir / "machine" / "x.csv") << "x_mm,delta_xx_um,u_delta_xx_um\n0,1,0.5\n450,1.5,-0.5\n900,2,0.5\n";
+  const auto scene_file = dir / "s.yaml";
+  std::ofstream(scene_file) << replace(default_text(), "tables: [machine/x_axis.csv,", "tables: [machine/x.csv,");
+  try {
+    scene::load_scene(scene_file);
+    ADD_FAILURE() << "accepted a negative standard uncertainty";
+  } catch (const geartopo::InputError& e) {
+    EXPECT_EQ(e.file(), (dir / "machine" / "x.csv").string());
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find(":3:9: u_delta_xx_um: '-0.5' is negative"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
 }

@@ -5,7 +5,8 @@
 // A stroke grinds one tooth space; its five axis commands X, Y, Z, A, C are each off by a random δq_a ~ N(0, s_a²),
 // constant over the stroke (ISO 230-2 repeatability R = 4 s, scene `machine.repeatability`). To first order the measured
 // deviation at point i of space s then carries g_iᵀ ξ_s, ξ_s ~ N(0, I₅), with g_i (5) the deviation at i per one s_a
-// of each axis (µm). The error map's components are each off by a constant of N(0, u_c²) (scene `machine.uncertainty`,
+// of each axis (µm). The error map's components are each off by a constant of N(0, u_c²) (scene `machine.uncertainty`;
+// or by z·u_c(p), z ~ N(0, 1), where the component's table has an uncertainty column;
 // the same draw the Monte Carlo makes), common to every point: m_iᵀ η, η ~ N(0, I), m_i the deviation at i per one u_c.
 // With probe noise σ the residual's covariance is
 //     Σ = D + M Mᵀ,   D = blockdiag_s(σ² I + G_s G_sᵀ)       (G_s: the rows g_iᵀ of space s, n_s × 5; M: n × m)
@@ -36,8 +37,8 @@ Eigen::MatrixXd stroke_sensitivity(const grinding::GrindingSetup& setup, const g
                                    int threads = 0);
 
 /// m_i for every point (n × 43, µm): the first-order deviation at each point when one component of the scene's error
-/// map is off by its standard uncertainty u_c (a constant along its axis, as the Monte Carlo draws it); a column of
-/// zeros for a component whose u_c is 0.
+/// map is off by its standard uncertainty u_c (a constant along its axis, as the Monte Carlo draws it; u_c(p) from the
+/// component's table column where it has one, ErrorSource::drawn); a column of zeros for a component whose u_c is 0.
 Eigen::MatrixXd map_sensitivity(const workbench::Workbench& wb, const std::vector<MeasuredPoint>& points, int threads = 0);
 
 /// Σ = blockdiag_s(σ² I + G_s G_sᵀ) + M Mᵀ and its whitening W (W Σ Wᵀ = σ² I).

@@ -1,9 +1,12 @@
 // geartopo — where one error component's values come from: a constant, a polynomial in the axis position,
 // or a measured table interpolated by a C² cubic spline (periodic for C).
 //
+// A table column may carry its standard uncertainty u(p) (k = 1) from a `u_<component>_<unit>` column of the same
+// file (docs/error-components.md, "Uncertainty columns"); drawn() turns it into one Monte Carlo draw.
+//
 // Units: constructors take the user's units by name ("um", "urad", "mm", "deg", …) and convert once; value()
 // and rate() work in internal units — position in mm (X, Y, Z) or rad (A, C), value in mm (δ, offsets) or
-// rad (ε, S, tilts, zero-position errors).
+// rad (ε, S, tilts, zero-position errors); uncertainty() likewise.
 #pragma once
 
 #include "geartopo/core/cubic_spline.hpp"
@@ -26,6 +29,8 @@ struct TableOrigin {
   std::string position_field; ///< header text of the position column, e.g. "x_mm"
   std::string position_unit;  ///< "mm", "deg", … (as in the file, for messages)
   double position_scale = 1;  ///< file position unit → internal (mm or rad)
+  int uncertainty_column = 0; ///< 1-based field number of the column's `u_…` column; 0: the table gives none
+  std::string uncertainty_field; ///< its header text, e.g. "u_delta_xx_um"; empty: none
 };
 
 class ErrorSource {
@@ -46,9 +51,17 @@ public:
                                 std::string_view position_unit);
   /// A table column already checked by the loader (error_table.hpp): spline in internal units.
   static ErrorSource table(ComponentId id, CubicSpline spline, TableOrigin origin);
+  /// The same with the column's standard uncertainty u(p) (k = 1, internal units, ≥ 0 at the knots): a spline with the
+  /// same knots and ends as `spline`, already checked by the loader; origin.uncertainty_column names it.
+  static ErrorSource table(ComponentId id, CubicSpline spline, TableOrigin origin, CubicSpline uncertainty);
   /// The same source plus a constant (internal units: mm or rad), e.g. one Monte Carlo draw of a calibration's
   /// uncertainty (pipeline/monte_carlo.hpp). rate() is unchanged. Throws std::invalid_argument if not finite.
   ErrorSource shifted(double offset) const;
+  /// One draw of the component as a calibration knows it, z a standard normal deviate: value(p) + z·u(p) with u(p) the
+  /// table's uncertainty column, fully correlated along the axis (one z for every position); without a column,
+  /// shifted(default_u·z), the constant u of the scene's `machine.uncertainty` (default_u: mm or rad).
+  /// docs/monte-carlo.md, "The model". Throws std::invalid_argument if the draw is not finite.
+  ErrorSource drawn(double z, double default_u) const;
 
   ComponentId id() const { return id_; }
   Kind kind() const { return kind_; }
@@ -58,9 +71,19 @@ public:
   double value(double position) const noexcept;
   /// value(position) for a table, given where position falls among the knots of a spline with the same knots as
   /// this table's (CubicSpline::locate): the same bits. Table only.
-  double value_at(const CubicSpline::Location& where) const noexcept { return spline_.value_at(where) + offset_; }
+  double value_at(const CubicSpline::Location& where) const noexcept {
+    const double v = spline_.value_at(where) + offset_;
+    return draw_ == 0.0 ? v : v + draw_ * clamped_uncertainty(uncertainty_.value_at(where));
+  }
   /// d value / d position (mm/mm, mm/rad, rad/mm or rad/rad). No allocation.
   double rate(double position) const noexcept;
+
+  /// True for a table column with a `u_…` column (docs/error-components.md, "Uncertainty columns").
+  bool has_uncertainty_column() const { return has_uncertainty_; }
+  /// The column's standard uncertainty at `position` (mm or rad in, mm or rad out): the u column interpolated like
+  /// the values, held at 0 where the spline would dip below (a standard uncertainty is never negative). 0 without a
+  /// column. No allocation.
+  double uncertainty(double position) const noexcept;
 
   /// Table only (nullptr otherwise): origin and spline, for stroke checks and messages.
   const TableOrigin* origin() const { return kind_ == Kind::Table ? &origin_ : nullptr; }
@@ -71,6 +94,7 @@ public:
 
 private:
   ErrorSource(ComponentId id, Kind kind) : id_(id), kind_(kind) {}
+  static double clamped_uncertainty(double u) noexcept { return u > 0.0 ? u : 0.0; }
 
   ComponentId id_;
   Kind kind_;
@@ -79,6 +103,9 @@ private:
   std::vector<double> coefficients_; // internal units, ascending powers
   CubicSpline spline_;
   TableOrigin origin_;
+  CubicSpline uncertainty_;  // the u column, same knots as spline_ (has_uncertainty_), internal units
+  bool has_uncertainty_ = false;
+  double draw_ = 0.0;        // z of drawn(): value adds draw_·u(p)
 };
 
 } // namespace geartopo::machine

@@ -10,6 +10,11 @@
 // column (delta_xx, delta_yx, … against x_mm). C tables are periodic and must span exactly [0, 360] deg
 // (or [0, 2π] rad) with equal values in the first and last row. Values are interpolated by a C² cubic
 // spline (not-a-knot, or periodic for C). That a table covers its axis' stroke is checked by MachineModel.
+// A column "u_<component>_<unit>" (e.g. u_delta_xx_um, any order among the columns) gives the standard uncertainty
+// (k = 1) of that component's column at each row: its component's column must be in the same file; values ≥ 0,
+// finite and bounded like the table values; units of the component's kind; C tables closed (first = last). It is
+// interpolated like the values (ErrorSource::uncertainty) and drawn fully correlated along the axis
+// (ErrorSource::drawn; docs/error-components.md, "Uncertainty columns").
 // Units inside: mm and rad.
 #pragma once
 
@@ -30,7 +35,8 @@ namespace geartopo::machine {
 inline constexpr double kMaxTableLengthMm = 1.0;
 inline constexpr double kMaxTableAngleRad = 0.01;
 
-/// Every component column of one table file, in column order. Throws InputError.
+/// Every component column of one table file, in column order, each with its `u_` column if the file has one.
+/// Throws InputError.
 std::vector<ErrorSource> load_error_tables(const std::filesystem::path& path);
 /// The column of `expected` in a table file (the file may hold other components of the same axis).
 /// Throws InputError, also when the file has no column for `expected`.

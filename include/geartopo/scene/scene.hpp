@@ -42,7 +42,9 @@ struct EffectSpec {
 /// uncertainty (k = 1) of each error component, the axes' repeatability per stroke (one standard deviation) and the
 /// command resolution (the step a correction is rounded to; 0: not rounded). Internal units: mm and rad.
 struct MachineUncertainty {
-  std::array<double, machine::kComponentCount> component_u{}; ///< indexed by ComponentId; mm (δ, offsets) or rad
+  /// Indexed by ComponentId; mm (δ, offsets) or rad. A component whose table has a `u_` column is drawn with that
+  /// column instead (machine::ErrorSource::drawn); its entry here keeps its kind's value, unused by the draws.
+  std::array<double, machine::kComponentCount> component_u{};
   /// One standard deviation s per stroke, X, Y, Z (mm), A, C (rad); the file gives ISO 230-2's R↑ = 4 s.
   machine::Vector5d repeatability = machine::Vector5d::Zero();
   machine::Vector5d resolution = machine::Vector5d::Zero();     ///< X, Y, Z (mm), A, C (rad)
