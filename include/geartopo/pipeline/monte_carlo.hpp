@@ -1,8 +1,9 @@
 // geartopo — the predicted after-state of a compensation as a distribution (docs/monte-carlo.md), GUM Supplement 1
 // style: the corrections come from the NOMINAL model (the scene); the machine that grinds is drawn within the scene's
 // uncertainties (machine.uncertainty, repeatability, resolution). Sample k:
-//   1. the true error map: every component of the scene's map plus a constant drawn from N(0, u²) (u its standard
-//      uncertainty: a calibration offset, fully correlated along the axis);
+//   1. the true error map: every component of the scene's map plus z·u, one z ~ N(0, 1) per component (u its standard
+//      uncertainty: the table's u_ column at the position, else the scene's constant; a calibration offset, fully
+//      correlated along the axis: ErrorSource::drawn);
 //   2. gear 1 ("before"): the true machine grinds without corrections; each stroke's X, Y, Z, A, C are off by a draw
 //      of N(0, σ²) (σ the axis repeatability), constant over the stroke;
 //   3. gear 2 ("after"): the same true machine grinds with the nominal corrections rounded to the command resolution
