@@ -56,10 +56,14 @@ CubicSpline::CubicSpline(std::vector<double> x, std::vector<double> y, Ends ends
   m_.assign(n, 0.0);
 
   if (!periodic_) {
-    if (n == 2) return; // straight line
+    if (n == 2) { // straight line
+      set_bounds();
+      return;
+    }
     if (n == 3) {       // the parabola through the three points
       const double m = 2.0 * (s[1] - s[0]) / (h[0] + h[1]);
       m_.assign(3, m);
+      set_bounds();
       return;
     }
     // Unknowns M_1 … M_{n−2}; M_0 and M_{n−1} eliminated with the not-a-knot conditions
@@ -86,12 +90,16 @@ CubicSpline::CubicSpline(std::vector<double> x, std::vector<double> y, Ends ends
     for (std::size_t j = 0; j < k; ++j) m_[j + 1] = mid[j];
     m_[0] = ((h[0] + h[1]) * m_[1] - h[0] * m_[2]) / h[1];
     m_[n - 1] = ((hl + hr) * m_[n - 2] - hr * m_[n - 3]) / hl;
+    set_bounds();
     return;
   }
 
   // Periodic: unknowns M_0 … M_{m−1}, M_m ≡ M_0, cyclic indices for h and s.
   const std::size_t m = n - 1;
-  if (m == 1) return; // a constant
+  if (m == 1) { // a constant
+    set_bounds();
+    return;
+  }
   auto hc = [&](std::size_t i) { return h[(i + m) % m]; };
   auto sc = [&](std::size_t i) { return s[(i + m) % m]; };
   std::vector<double> sol;
@@ -133,6 +141,14 @@ CubicSpline::CubicSpline(std::vector<double> x, std::vector<double> y, Ends ends
   }
   for (std::size_t i = 0; i < m; ++i) m_[i] = sol[i];
   m_[m] = m_[0];
+  set_bounds();
+}
+
+void CubicSpline::set_bounds() noexcept {
+  min_step_ = x_[1] - x_[0];
+  for (std::size_t i = 1; i + 1 < x_.size(); ++i) min_step_ = std::min(min_step_, x_[i + 1] - x_[i]);
+  max_abs_moment_ = 0.0;
+  for (const double mi : m_) max_abs_moment_ = std::max(max_abs_moment_, std::abs(mi));
 }
 
 std::size_t CubicSpline::interval(double t) const noexcept {
@@ -204,9 +220,22 @@ double CubicSpline::derivative(double t) const noexcept {
 }
 
 std::pair<double, double> CubicSpline::value_and_derivative(double t) const noexcept {
-  const Location l = locate(t);
-  if (l.below || l.above) return {value_at(l), derivative(t)};
+  return value_and_derivative_at(locate(t));
+}
+
+std::pair<double, double> CubicSpline::value_and_derivative_at(const Location& l) const noexcept {
+  if (l.below || l.above) return {value_at(l), derivative(l.t)};
   return {value_inside(l), derivative_inside(l)};
+}
+
+double CubicSpline::second_derivative_bound(const Location& l, double reach) const noexcept {
+  // τ within reach ≤ min_step_ of t ∈ [x_i, x_{i+1}] lies in [x_{i−1}, x_{i+2}], where s″ is linear between the
+  // moments m_{i−1} … m_{i+2} (0 beyond the ends), so its largest |value| is at one of those knots.
+  if (periodic_ || l.below || l.above || !(reach <= min_step_)) return max_abs_moment_;
+  const std::size_t lo = l.i == 0 ? 0 : l.i - 1, hi = std::min(l.i + 2, m_.size() - 1);
+  double bound = 0.0;
+  for (std::size_t j = lo; j <= hi; ++j) bound = std::max(bound, std::abs(m_[j]));
+  return bound;
 }
 
 double CubicSpline::second_derivative(double t) const noexcept {

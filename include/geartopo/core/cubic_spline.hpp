@@ -52,6 +52,13 @@ public:
   /// value(t) for a location found by any spline with the same knots() (e.g. the six error components of one axis
   /// read from one table): one search for all of them, the same bits as value(t).
   double value_at(const Location& l) const noexcept;
+  /// value_and_derivative(t) for t's location (locate(t)): the same bits.
+  std::pair<double, double> value_and_derivative_at(const Location& l) const noexcept;
+  /// An upper bound of |s″(τ)| for every τ within `reach` of l.t. s″ is linear between knots (its values there are the
+  /// moments) and 0 beyond the ends of a NotAKnot spline, so when `reach` is below every knot spacing the largest
+  /// |moment| of the knots x_{i−1} … x_{i+2} around l's interval bounds it; otherwise (or periodic, or t outside
+  /// the knots) the largest |moment| of all. For error bounds of iterations on the spline (flank_deviation.cpp).
+  double second_derivative_bound(const Location& l, double reach) const noexcept;
   /// True when the knots are evenly spaced (each within 1e-9 of an interval of where i·(x_{n−1} − x_0)/(n − 1)
   /// puts it): locate() computes the interval instead of bisecting.
   bool evenly_spaced() const { return inverse_step_ > 0.0; }
@@ -60,10 +67,13 @@ private:
   double value_inside(const Location& l) const noexcept;      ///< l neither below nor above
   double derivative_inside(const Location& l) const noexcept; ///< l neither below nor above
   std::size_t interval(double t) const noexcept;              ///< i with x_i ≤ t < x_{i+1}, t in [x_0, x_{n−1}]
+  void set_bounds() noexcept;                                 ///< min_step_ and max_abs_moment_, once the moments are known
 
   std::vector<double> x_, y_, m_; // knots, values, second derivatives at the knots
   bool periodic_ = false;
   double inverse_step_ = 0.0; // (n − 1)/(x_{n−1} − x_0) when evenly spaced, else 0
+  double min_step_ = 0.0;     // the smallest knot spacing
+  double max_abs_moment_ = 0.0; // max |s″| over the whole spline
 };
 
 } // namespace geartopo
