@@ -46,7 +46,20 @@ CubicSpline::CubicSpline(std::vector<double> x, std::vector<double> y, Ends ends
   bool even = true;
   for (std::size_t i = 0; i < n && even; ++i)
     even = std::abs(x_[i] - (x_.front() + static_cast<double>(i) * step)) <= 1e-9 * step;
-  if (even) inverse_step_ = 1.0 / step;
+  if (even) {
+    inverse_step_ = 1.0 / step;
+  } else {
+    // Bucket b covers [x_0 + b·w, x_0 + (b + 1)·w), w = (x_{n−1} − x_0)/(n − 1); its start is the interval of its left
+    // end. interval() corrects a bucket index that rounding put one off, so the table needs no exact edges.
+    inverse_bucket_ = 1.0 / step;
+    bucket_start_.resize(n - 1);
+    std::size_t i = 0;
+    for (std::size_t b = 0; b + 1 < n; ++b) {
+      const double left = x_.front() + static_cast<double>(b) * step;
+      while (i + 2 < n && x_[i + 1] <= left) ++i;
+      bucket_start_[b] = static_cast<unsigned>(i);
+    }
+  }
 
   std::vector<double> h(n - 1), s(n - 1); // interval lengths and slopes
   for (std::size_t i = 0; i + 1 < n; ++i) {
@@ -153,7 +166,8 @@ void CubicSpline::set_bounds() noexcept {
 
 std::size_t CubicSpline::interval(double t) const noexcept {
   // The largest i ≤ n − 2 with x_i ≤ t (0 if none), which is what bisection (upper_bound) gives. On evenly spaced
-  // knots the computed guess is off by at most one interval (rounding), and the two loops move it onto that i.
+  // knots the computed guess is off by at most one interval (rounding); on uneven ones the bucket's start is at most
+  // the bucket's knots below it. The two loops move either onto that i.
   const std::size_t last = x_.size() - 2;
   if (inverse_step_ > 0.0) {
     const double guess = (t - x_.front()) * inverse_step_;
@@ -162,9 +176,12 @@ std::size_t CubicSpline::interval(double t) const noexcept {
     while (i < last && !(t < x_[i + 1])) ++i;
     return i;
   }
-  const auto it = std::upper_bound(x_.begin(), x_.end(), t);
-  const auto i = static_cast<std::size_t>(it - x_.begin());
-  return i == 0 ? 0 : std::min(i - 1, last);
+  const double bucket = (t - x_.front()) * inverse_bucket_;
+  const std::size_t b = bucket >= 0.0 ? static_cast<std::size_t>(std::min(bucket, static_cast<double>(last))) : 0;
+  std::size_t i = bucket_start_[b];
+  while (i > 0 && t < x_[i]) --i;
+  while (i < last && !(t < x_[i + 1])) ++i;
+  return i;
 }
 
 CubicSpline::Location CubicSpline::locate(double t) const noexcept {

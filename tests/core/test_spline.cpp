@@ -128,12 +128,16 @@ TEST(CubicSpline, LocatesTheIntervalBisectionFindsOnEvenAndUnevenKnots) {
   for (int i = 0; i <= 18; ++i) mm.push_back(50.0 * i);
   for (int i = 0; i <= 72; ++i) deg5.push_back(5.0 * i * std::numbers::pi / 180.0);
   for (int i = 0; i <= 40; ++i) tenth.push_back(-2.0 + 0.1 * i);
+  // Many uneven knots as the wheel profile has them (~2 000): a dense cluster (60 knots in 0.3), sparse ends and
+  // spacings growing along the span, so some of the located buckets hold many knots and many hold none.
+  std::vector<double> clustered{0.0};
+  for (int i = 1; i < 400; ++i) clustered.push_back(clustered.back() + (i > 200 && i <= 260 ? 0.005 : 0.01 + 1e-4 * i));
   std::mt19937 rng(7);
-  for (const auto* x : {&mm, &deg5, &tenth, &uneven}) {
+  for (const auto* x : {&mm, &deg5, &tenth, &uneven, &clustered}) {
     std::vector<double> y;
     for (double v : *x) y.push_back(std::sin(v));
     const CubicSpline s(*x, y, CubicSpline::Ends::NotAKnot);
-    EXPECT_EQ(s.evenly_spaced(), x != &uneven);
+    EXPECT_EQ(s.evenly_spaced(), x != &uneven && x != &clustered);
     for (double t : probe_points(*x, rng)) {
       if (t < x->front() || t > x->back()) continue; // outside: the tangent lines (ContinuesAsTheEndTangent…)
       const CubicSpline::Location l = s.locate(t);

@@ -41,7 +41,8 @@ public:
   /// Where t falls among the knots: the interval i with x_i ≤ t < x_{i+1} (the last interval for t = x_{n−1}; t
   /// wrapped into the period first for a Periodic spline) and, inside the table, the local coordinates of the moment
   /// form a = (x_{i+1} − t)/h, b = (t − x_i)/h, h = x_{i+1} − x_i. Found in O(1) when the knots are evenly spaced
-  /// (the interval computed, then checked against the knots), by bisection otherwise: the same interval either way.
+  /// (the interval computed, then checked against the knots), from a table of equal buckets over the knots otherwise
+  /// (a walk over the knots in t's bucket): the interval bisection finds either way.
   struct Location {
     std::size_t i = 0;
     double t = 0.0;
@@ -72,6 +73,10 @@ private:
   std::vector<double> x_, y_, m_; // knots, values, second derivatives at the knots
   bool periodic_ = false;
   double inverse_step_ = 0.0; // (n − 1)/(x_{n−1} − x_0) when evenly spaced, else 0
+  // Uneven knots (the wheel profile: ~2 000): n − 1 equal buckets over [x_0, x_{n−1}], each with the interval holding
+  // its left end, so locate() starts there and walks the few knots inside the bucket instead of bisecting.
+  double inverse_bucket_ = 0.0;
+  std::vector<unsigned> bucket_start_;
   double min_step_ = 0.0;     // the smallest knot spacing
   double max_abs_moment_ = 0.0; // max |s″| over the whole spline
 };
