@@ -258,24 +258,6 @@ TEST(CompensatedProcess, AsksTheWheelRadiusWhenTheInnerProcessChangesIt) {
     }
 }
 
-namespace {
-
-/// The same process, saying it may change the wheel's radius (by zero): FlankDeviation::entry_depth then runs Newton
-/// until a step is below 1e-12 mm — to rounding, the stopping rule before the bounded early stop.
-class NewtonToRounding final : public grinding::GrindingProcess {
-public:
-  explicit NewtonToRounding(const grinding::GrindingProcess& inner) : inner_(inner) {}
-  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override { return inner_.actual_wMg(pp); }
-  machine::Vector6d error_twist_w(const grinding::PathPoint& pp) const override { return inner_.error_twist_w(pp); }
-  double wheel_radius_error_mm(double, const grinding::PathPoint&) const override { return 0.0; }
-  bool changes_wheel_radius() const override { return true; }
-
-private:
-  const grinding::GrindingProcess& inner_;
-};
-
-} // namespace
-
 // The Monte Carlo's dense sample (bench/bench_monte_carlo.cpp): the default scene's machine ground uncorrected and
 // with its flank corrections, the scene's grid and traces plus a dense 50×100 grid on both flanks of all 35 teeth
 // (743 820 deviations). Newton's bounded early stop (flank_deviation.cpp) against Newton run to rounding: every
@@ -296,7 +278,7 @@ TEST(CompensatedProcess, DenseDefaultSceneEarlyNewtonStopEqualsNewtonToRounding)
   long long compared = 0;
   for (const grinding::GrindingProcess* p : {static_cast<const grinding::GrindingProcess*>(&d.wb.machine_process),
                                              static_cast<const grinding::GrindingProcess*>(&corrected)}) {
-    const NewtonToRounding to_rounding(*p);
+    const test::NewtonToRounding to_rounding(*p);
     const auto early = plan.simulate(*p, 0), full = plan.simulate(to_rounding, 0);
     ASSERT_EQ(early.size(), full.size());
     const auto compare = [&](const auto& a, const auto& b) {

@@ -161,20 +161,8 @@ TEST(ExactSearch, APointTheWheelNeverReachesIsNamed) {
 // Newton's stopping rule in FlankDeviation::entry_depth: it stops once its proven bound puts the depth within
 // kNewtonTolMm (1e-10 µm) of the root, one step before the old rule (|step| < 1e-12 mm) would. The old rule is still
 // what entry_depth does for a process that may change the wheel's radius, so a process saying so (with a zero radius
-// error: the same function f) runs Newton to rounding.
+// error: the same function f, test::NewtonToRounding) runs Newton to rounding.
 namespace {
-
-class RadiusAsking final : public grinding::GrindingProcess {
-public:
-  explicit RadiusAsking(const grinding::GrindingProcess& inner) : inner_(inner) {}
-  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override { return inner_.actual_wMg(pp); }
-  machine::Vector6d error_twist_w(const grinding::PathPoint& pp) const override { return inner_.error_twist_w(pp); }
-  double wheel_radius_error_mm(double, const grinding::PathPoint&) const override { return 0.0; }
-  bool changes_wheel_radius() const override { return true; }
-
-private:
-  const grinding::GrindingProcess& inner_;
-};
 
 // 30 × 30 points over the active flank and the full face width, both flanks of `teeth`.
 template <class F>
@@ -198,7 +186,7 @@ TEST(NewtonStop, EarlyStopAgreesWithNewtonRunToRounding) {
   for (double scale : {1.0, 10.0}) {
     const auto model = random_machine(scale, 23);
     const grinding::MachineProcess process(model, kDatumZ);
-    const RadiusAsking to_rounding(process);
+    const test::NewtonToRounding to_rounding(process);
     const FlankDeviation dev(s.flanks(), s.wheel(), s.path(), process), reference(s.flanks(), s.wheel(), s.path(), to_rounding);
     double worst_depth = 0.0, worst_deviation = 0.0;
     int finite = 0;
