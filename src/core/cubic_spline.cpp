@@ -46,7 +46,20 @@ CubicSpline::CubicSpline(std::vector<double> x, std::vector<double> y, Ends ends
   bool even = true;
   for (std::size_t i = 0; i < n && even; ++i)
     even = std::abs(x_[i] - (x_.front() + static_cast<double>(i) * step)) <= 1e-9 * step;
-  if (even) inverse_step_ = 1.0 / step;
+  if (even) {
+    inverse_step_ = 1.0 / step;
+  } else {
+    // Bucket b covers [x_0 + b·w, x_0 + (b + 1)·w), w = (x_{n−1} − x_0)/(n − 1); its start is the interval of its left
+    // end. interval() corrects a bucket index that rounding put one off, so the table needs no exact edges.
+    inverse_bucket_ = 1.0 / step;
+    bucket_start_.resize(n - 1);
+    std::size_t i = 0;
+    for (std::size_t b = 0; b + 1 < n; ++b) {
+      const double left = x_.front() + static_cast<double>(b) * step;
+      while (i + 2 < n && x_[i + 1] <= left) ++i;
+      bucket_start_[b] = static_cast<unsigned>(i);
+    }
+  }
 
   std::vector<double> h(n - 1), s(n - 1); // interval lengths and slopes
   for (std::size_t i = 0; i + 1 < n; ++i) {
@@ -56,10 +69,14 @@ CubicSpline::CubicSpline(std::vector<double> x, std::vector<double> y, Ends ends
   m_.assign(n, 0.0);
 
   if (!periodic_) {
-    if (n == 2) return; // straight line
+    if (n == 2) { // straight line
+      set_bounds();
+      return;
+    }
     if (n == 3) {       // the parabola through the three points
       const double m = 2.0 * (s[1] - s[0]) / (h[0] + h[1]);
       m_.assign(3, m);
+      set_bounds();
       return;
     }
     // Unknowns M_1 … M_{n−2}; M_0 and M_{n−1} eliminated with the not-a-knot conditions
@@ -86,12 +103,16 @@ CubicSpline::CubicSpline(std::vector<double> x, std::vector<double> y, Ends ends
     for (std::size_t j = 0; j < k; ++j) m_[j + 1] = mid[j];
     m_[0] = ((h[0] + h[1]) * m_[1] - h[0] * m_[2]) / h[1];
     m_[n - 1] = ((hl + hr) * m_[n - 2] - hr * m_[n - 3]) / hl;
+    set_bounds();
     return;
   }
 
   // Periodic: unknowns M_0 … M_{m−1}, M_m ≡ M_0, cyclic indices for h and s.
   const std::size_t m = n - 1;
-  if (m == 1) return; // a constant
+  if (m == 1) { // a constant
+    set_bounds();
+    return;
+  }
   auto hc = [&](std::size_t i) { return h[(i + m) % m]; };
   auto sc = [&](std::size_t i) { return s[(i + m) % m]; };
   std::vector<double> sol;
@@ -133,11 +154,20 @@ CubicSpline::CubicSpline(std::vector<double> x, std::vector<double> y, Ends ends
   }
   for (std::size_t i = 0; i < m; ++i) m_[i] = sol[i];
   m_[m] = m_[0];
+  set_bounds();
+}
+
+void CubicSpline::set_bounds() noexcept {
+  min_step_ = x_[1] - x_[0];
+  for (std::size_t i = 1; i + 1 < x_.size(); ++i) min_step_ = std::min(min_step_, x_[i + 1] - x_[i]);
+  max_abs_moment_ = 0.0;
+  for (const double mi : m_) max_abs_moment_ = std::max(max_abs_moment_, std::abs(mi));
 }
 
 std::size_t CubicSpline::interval(double t) const noexcept {
   // The largest i ≤ n − 2 with x_i ≤ t (0 if none), which is what bisection (upper_bound) gives. On evenly spaced
-  // knots the computed guess is off by at most one interval (rounding), and the two loops move it onto that i.
+  // knots the computed guess is off by at most one interval (rounding); on uneven ones the bucket's start is at most
+  // the bucket's knots below it. The two loops move either onto that i.
   const std::size_t last = x_.size() - 2;
   if (inverse_step_ > 0.0) {
     const double guess = (t - x_.front()) * inverse_step_;
@@ -146,9 +176,12 @@ std::size_t CubicSpline::interval(double t) const noexcept {
     while (i < last && !(t < x_[i + 1])) ++i;
     return i;
   }
-  const auto it = std::upper_bound(x_.begin(), x_.end(), t);
-  const auto i = static_cast<std::size_t>(it - x_.begin());
-  return i == 0 ? 0 : std::min(i - 1, last);
+  const double bucket = (t - x_.front()) * inverse_bucket_;
+  const std::size_t b = bucket >= 0.0 ? static_cast<std::size_t>(std::min(bucket, static_cast<double>(last))) : 0;
+  std::size_t i = bucket_start_[b];
+  while (i > 0 && t < x_[i]) --i;
+  while (i < last && !(t < x_[i + 1])) ++i;
+  return i;
 }
 
 CubicSpline::Location CubicSpline::locate(double t) const noexcept {
@@ -204,9 +237,22 @@ double CubicSpline::derivative(double t) const noexcept {
 }
 
 std::pair<double, double> CubicSpline::value_and_derivative(double t) const noexcept {
-  const Location l = locate(t);
-  if (l.below || l.above) return {value_at(l), derivative(t)};
+  return value_and_derivative_at(locate(t));
+}
+
+std::pair<double, double> CubicSpline::value_and_derivative_at(const Location& l) const noexcept {
+  if (l.below || l.above) return {value_at(l), derivative(l.t)};
   return {value_inside(l), derivative_inside(l)};
+}
+
+double CubicSpline::second_derivative_bound(const Location& l, double reach) const noexcept {
+  // τ within reach ≤ min_step_ of t ∈ [x_i, x_{i+1}] lies in [x_{i−1}, x_{i+2}], where s″ is linear between the
+  // moments m_{i−1} … m_{i+2} (0 beyond the ends), so its largest |value| is at one of those knots.
+  if (periodic_ || l.below || l.above || !(reach <= min_step_)) return max_abs_moment_;
+  const std::size_t lo = l.i == 0 ? 0 : l.i - 1, hi = std::min(l.i + 2, m_.size() - 1);
+  double bound = 0.0;
+  for (std::size_t j = lo; j <= hi; ++j) bound = std::max(bound, std::abs(m_[j]));
+  return bound;
 }
 
 double CubicSpline::second_derivative(double t) const noexcept {

@@ -32,26 +32,39 @@ int space_of(int tooth, geartopo::Flank flank, int teeth) {
   return tooth == 1 ? teeth : tooth - 1;
 }
 
-double FlankDeviation::entry_depth(const gears::FlankPoint& fp, const machine::Pose& wMg, const PathPoint& pp) const {
-  // The normal line in the wheel frame: q(t) = q0 + t m. Solve ρ(q) − R(v(q)) = 0 by Newton from t = 0;
-  // entering the wheel means ρ − R goes from + (outside the wheel) to − (inside).
+double FlankDeviation::entry_depth(const gears::FlankPoint& fp, const machine::Pose& wMg, const PathPoint& pp,
+                                   double t_start_mm) const {
+  // The normal line in the wheel frame: q(t) = q0 + t m. Solve f(t) = ρ(q) − R(v(q)) = 0 by Newton from t_start;
+  // entering the wheel means f goes from + (outside the wheel) to − (inside).
   const machine::Pose gMw = wMg.inverse();
   const Eigen::Vector3d q0 = gMw * fp.p;
   const Eigen::Vector3d m = gMw.linear() * fp.n;
   const bool wheel_changes = process_.changes_wheel_radius();
-  double t = 0.0;
+  double t = t_start_mm;
   for (int it = 0; it < 30; ++it) {
     const Eigen::Vector3d q = q0 + t * m;
     // ρ of a point a wheel radius (~10² mm) from the wheel axis: no overflow to guard against, so no std::hypot.
     const double rho = std::sqrt(q.x() * q.x() + q.z() * q.z());
-    const auto [r, slope] = wheel_.radius_and_slope(q.y());
-    if (!std::isfinite(r) || rho == 0.0) return kInf;
-    const double f = rho - r - (wheel_changes ? process_.wheel_radius_error_mm(q.y(), pp) : 0.0);
-    const double df = (q.x() * m.x() + q.z() * m.z()) / rho - slope * m.y();
+    const FormWheel::ProfilePoint w = wheel_.profile_at(q.y());
+    if (!std::isfinite(w.radius) || rho == 0.0) return kInf;
+    const double f = rho - w.radius - (wheel_changes ? process_.wheel_radius_error_mm(q.y(), pp) : 0.0);
+    const double df = (q.x() * m.x() + q.z() * m.z()) / rho - w.slope * m.y();
     if (!(df < 0.0)) return kInf; // the line does not run into the wheel here
     const double step = f / df;
     t -= step;
     if (std::abs(step) < 1e-12) return t;
+    if (wheel_changes) continue; // the process's radius error has no known bound on its second derivative
+    // Stop once the step just taken leaves t within kNewtonTolMm of the root (Newton–Kantorovich). With |f″| ≤ M on
+    // [t_k − r, t_k + r], r = 2|s| (s = f/f′ the step from t_k): f(t) = ½ f″(ξ) s² by Taylor at t_k, the root t*
+    // lies within r of t_k (Kantorovich: M|s|/|f′| ≤ ½), and |t − t*| = |f(t)|/|f′(η)| ≤ ½ M s² / (|f′(t_k)| − M r).
+    // M: ρ″ = (m_x² + m_z² − ρ′²)/ρ ∈ [0, 1/ρ] with ρ ≥ ρ_k − r, and (R∘v)″ = R″ m_y² with |m_y| ≤ 1 (|m| = 1).
+    // Quadratic convergence makes this save the last step (|s| ~ 1e-6 mm leaves ~1e-14 mm; the step after it is
+    // rounding); docs/performance.md, third round.
+    const double r = 2.0 * std::abs(step);
+    if (!(rho > r) || q.y() - r < wheel_.v_min() || q.y() + r > wheel_.v_max()) continue;
+    const double f2_bound = 1.0 / (rho - r) + wheel_.second_derivative_bound(w, r);
+    const double df_low = -df - f2_bound * r; // |f′| ≥ this on [t_k − r, t_k + r]
+    if (df_low > 0.0 && 0.5 * f2_bound * step * step <= kNewtonTolMm * df_low) return t;
   }
   return t;
 }
@@ -61,9 +74,9 @@ FlankDeviation::Target FlankDeviation::target(int tooth, geartopo::Flank flank, 
           z - wheel_.contact_offset_mm(flank, xi)};
 }
 
-double FlankDeviation::depth_at(const Target& t, double z_stroke_mm) const {
+double FlankDeviation::depth_at(const Target& t, double z_stroke_mm, double t_start_mm) const {
   const PathPoint pp = path_.point(t.space, z_stroke_mm);
-  return entry_depth(t.fp, process_.actual_wMg(pp), pp);
+  return entry_depth(t.fp, process_.actual_wMg(pp), pp, t_start_mm);
 }
 
 LinearContact FlankDeviation::linear_contact(const Target& t) const {
@@ -99,13 +112,16 @@ DeviationResult FlankDeviation::at(const Target& t, Method method) const {
   // depth at u agrees with the parabola's own prediction; otherwise Brent's search decides (tests/grinding:
   // ExactSearch.*).
   constexpr double h = 0.05;
-  const double f_m = depth_at(t, z0 - h), f_0 = depth_at(t, z0), f_p = depth_at(t, z0 + h);
+  // Newton starts from a depth close by: the depth at Z₀ for Z₀ ± h (~1e-5 mm away), the parabola's prediction at u.
+  const double f_0 = depth_at(t, z0, 0.0);
+  const double near_f_0 = std::isfinite(f_0) ? f_0 : 0.0;
+  const double f_m = depth_at(t, z0 - h, near_f_0), f_p = depth_at(t, z0 + h, near_f_0);
   const double curvature = f_p + f_m - 2.0 * f_0; // c h²
   if (std::isfinite(f_m) && std::isfinite(f_0) && std::isfinite(f_p) && curvature > 0.0) {
     const double u = z0 + 0.5 * h * (f_m - f_p) / curvature;
     if (std::abs(u - z0) <= kParabolaReachMm) {
-      const double f_u = depth_at(t, u);
       const double predicted = f_0 - (f_p - f_m) * (f_p - f_m) / (8.0 * curvature);
+      const double f_u = depth_at(t, u, predicted);
       if (std::abs(f_u - predicted) <= kParabolaAgreementMm && f_u <= std::min({f_m, f_0, f_p})) return {f_u, u};
     }
   }
@@ -117,7 +133,7 @@ DeviationResult FlankDeviation::exact_by_brent(int tooth, geartopo::Flank flank,
 }
 
 DeviationResult FlankDeviation::brent_search(const Target& t, double z_tol_mm) const {
-  auto depth = [&](double zs) { return depth_at(t, zs); };
+  auto depth = [&](double zs) { return depth_at(t, zs, 0.0); };
   // The deepest cut moves from Z₀ by (error gradient)/(clearance curvature) — well under 0.2 mm for any realistic
   // error — so ±0.5 mm is searched first, and ±4 mm if the minimum lands on that window's edge. A Z tolerance of
   // 1e-4 mm leaves the depth exact to ½c·1e-8 ≈ 1e-10 mm.

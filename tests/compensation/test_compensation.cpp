@@ -1,6 +1,7 @@
 // Compensation: known errors cancelled, the methods' differences shown with numbers, the correction table.
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/grinding/flank_deviation.hpp"
+#include "geartopo/grinding/topology_plan.hpp"
 
 #include "../grinding/grinding_fixture.hpp"
 #include "geartopo/scene/scene.hpp"
@@ -255,4 +256,44 @@ TEST(CompensatedProcess, AsksTheWheelRadiusWhenTheInnerProcessChangesIt) {
       const double expected_um = 2.0 * dev.linear_contact(reference[f].tooth, reference[f].flank, p.roll_length_mm, p.z_mm).normal_per_radial;
       EXPECT_NEAR(p.deviation_um - reference_bigger[f].grid[i].deviation_um, expected_um, 1e-3);
     }
+}
+
+// The Monte Carlo's dense sample (bench/bench_monte_carlo.cpp): the default scene's machine ground uncorrected and
+// with its flank corrections, the scene's grid and traces plus a dense 50×100 grid on both flanks of all 35 teeth
+// (743 820 deviations). Newton's bounded early stop (flank_deviation.cpp) against Newton run to rounding: every
+// deviation within 1e-6 µm (the stop's bound is 1e-10 µm per depth; the search's vertex moves with the depths).
+TEST(CompensatedProcess, DenseDefaultSceneEarlyNewtonStopEqualsNewtonToRounding) {
+  const DefaultScene& d = default_scene();
+  const auto table = compensation::compute_corrections(d.wb.setup, d.wb.machine_process, d.strokes(), {});
+  const compensation::CompensatedProcess corrected(d.wb.machine_process, table);
+  grinding::SimulationOptions so;
+  so.rows = d.wb.scene.grid.rows;
+  so.cols = d.wb.scene.grid.cols;
+  so.profile_points = d.wb.scene.grid.profile_points;
+  so.helix_points = d.wb.scene.grid.helix_points;
+  so.dense_rows = 50;
+  so.dense_cols = 100;
+  const grinding::TopologyPlan plan(d.wb.setup, so);
+  double worst_um = 0.0;
+  long long compared = 0;
+  for (const grinding::GrindingProcess* p : {static_cast<const grinding::GrindingProcess*>(&d.wb.machine_process),
+                                             static_cast<const grinding::GrindingProcess*>(&corrected)}) {
+    const test::NewtonToRounding to_rounding(*p);
+    const auto early = plan.simulate(*p, 0), full = plan.simulate(to_rounding, 0);
+    ASSERT_EQ(early.size(), full.size());
+    const auto compare = [&](const auto& a, const auto& b) {
+      ASSERT_EQ(a.size(), b.size());
+      for (size_t i = 0; i < a.size(); ++i) worst_um = std::max(worst_um, std::abs(a[i].deviation_um - b[i].deviation_um)), ++compared;
+    };
+    for (size_t f = 0; f < early.size(); ++f) {
+      compare(early[f].grid, full[f].grid);
+      compare(early[f].profile, full[f].profile);
+      compare(early[f].helix, full[f].helix);
+      compare(early[f].dense, full[f].dense);
+    }
+  }
+  std::printf("dense default scene, early Newton stop vs Newton to rounding: %lld deviations, worst %.2e µm\n", compared, worst_um);
+  RecordProperty("worst_um", std::to_string(worst_um));
+  EXPECT_EQ(compared, 2 * plan.points());
+  EXPECT_LT(worst_um, 1e-6);
 }

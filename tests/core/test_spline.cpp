@@ -128,12 +128,16 @@ TEST(CubicSpline, LocatesTheIntervalBisectionFindsOnEvenAndUnevenKnots) {
   for (int i = 0; i <= 18; ++i) mm.push_back(50.0 * i);
   for (int i = 0; i <= 72; ++i) deg5.push_back(5.0 * i * std::numbers::pi / 180.0);
   for (int i = 0; i <= 40; ++i) tenth.push_back(-2.0 + 0.1 * i);
+  // Many uneven knots as the wheel profile has them (~2 000): a dense cluster (60 knots in 0.3), sparse ends and
+  // spacings growing along the span, so some of the located buckets hold many knots and many hold none.
+  std::vector<double> clustered{0.0};
+  for (int i = 1; i < 400; ++i) clustered.push_back(clustered.back() + (i > 200 && i <= 260 ? 0.005 : 0.01 + 1e-4 * i));
   std::mt19937 rng(7);
-  for (const auto* x : {&mm, &deg5, &tenth, &uneven}) {
+  for (const auto* x : {&mm, &deg5, &tenth, &uneven, &clustered}) {
     std::vector<double> y;
     for (double v : *x) y.push_back(std::sin(v));
     const CubicSpline s(*x, y, CubicSpline::Ends::NotAKnot);
-    EXPECT_EQ(s.evenly_spaced(), x != &uneven);
+    EXPECT_EQ(s.evenly_spaced(), x != &uneven && x != &clustered);
     for (double t : probe_points(*x, rng)) {
       if (t < x->front() || t > x->back()) continue; // outside: the tangent lines (ContinuesAsTheEndTangent…)
       const CubicSpline::Location l = s.locate(t);
@@ -189,3 +193,32 @@ TEST(CubicSpline, OneLookupServesEverySplineWithTheSameKnots) {
 
 } // namespace
 } // namespace geartopo::machine
+
+// second_derivative_bound: |s″| within `reach` of t never exceeds it. The truth is the second difference of value()
+// (step 1e-3 on knots ≥ 0.05 apart: exact for a cubic piece, so within rounding ~1e-9 unless τ ± 1e-3 crosses a knot,
+// where it averages the two pieces' s″, still below the bound), at 41 points within reach of t, on uneven knots,
+// for reaches below the smallest spacing (the local bound) and above it (the global one).
+TEST(CubicSpline, SecondDerivativeBoundHoldsWithinItsReach) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> gap(0.05, 0.4), value(-1.0, 1.0);
+  std::vector<double> x{0.0}, y{value(rng)};
+  for (int i = 1; i < 60; ++i) x.push_back(x.back() + gap(rng)), y.push_back(std::sin(3.0 * x.back()) + 0.1 * value(rng));
+  const geartopo::CubicSpline s(x, y, geartopo::CubicSpline::Ends::NotAKnot);
+  const double e = 1e-3;
+  int local_smaller = 0;
+  std::uniform_real_distribution<double> where(x.front() - 0.2, x.back() + 0.2);
+  for (int k = 0; k < 2000; ++k) {
+    const double t = where(rng);
+    const auto l = s.locate(t);
+    for (double reach : {1e-6, 0.01, 0.04, 1.0}) {
+      const double bound = s.second_derivative_bound(l, reach);
+      if (reach < 0.05 && bound < s.second_derivative_bound(l, 1.0)) ++local_smaller;
+      for (int j = -20; j <= 20; ++j) {
+        const double tau = t + reach * j / 20.0;
+        const double d2 = (s.value(tau + e) - 2.0 * s.value(tau) + s.value(tau - e)) / (e * e);
+        ASSERT_LE(std::abs(d2), bound + 1e-6) << "t " << t << " reach " << reach << " tau " << tau;
+      }
+    }
+  }
+  EXPECT_GT(local_smaller, 1000) << "near a point the bound should be the local one, not the whole spline's";
+}

@@ -64,6 +64,21 @@ private:
   std::function<machine::Pose(const grinding::PathPoint&)> f_;
 };
 
+/// The same process, saying it may change the wheel's radius (by zero, so the same function f): the exact search's
+/// Newton (FlankDeviation::entry_depth) then runs until a step is below 1e-12 mm — to rounding, the stopping rule
+/// before the bounded early stop — to check that stop against.
+class NewtonToRounding final : public grinding::GrindingProcess {
+public:
+  explicit NewtonToRounding(const grinding::GrindingProcess& inner) : inner_(inner) {}
+  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override { return inner_.actual_wMg(pp); }
+  machine::Vector6d error_twist_w(const grinding::PathPoint& pp) const override { return inner_.error_twist_w(pp); }
+  double wheel_radius_error_mm(double, const grinding::PathPoint&) const override { return 0.0; }
+  bool changes_wheel_radius() const override { return true; }
+
+private:
+  const grinding::GrindingProcess& inner_;
+};
+
 inline std::vector<grinding::FlankTopology> simulate(const grinding::GrindingProcess& p, grinding::Method m,
                                                      std::vector<int> teeth = {1, 18}) {
   grinding::SimulationOptions o;

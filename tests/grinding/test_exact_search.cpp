@@ -157,3 +157,78 @@ TEST(ExactSearch, APointTheWheelNeverReachesIsNamed) {
   for (const auto& ft : test::simulate(process, Method::Linear, {1}))
     for (const auto& p : ft.profile) EXPECT_TRUE(std::isfinite(p.deviation_um));
 }
+
+// Newton's stopping rule in FlankDeviation::entry_depth: it stops once its proven bound puts the depth within
+// kNewtonTolMm (1e-10 µm) of the root, one step before the old rule (|step| < 1e-12 mm) would. The old rule is still
+// what entry_depth does for a process that may change the wheel's radius, so a process saying so (with a zero radius
+// error: the same function f, test::NewtonToRounding) runs Newton to rounding.
+namespace {
+
+// 30 × 30 points over the active flank and the full face width, both flanks of `teeth`.
+template <class F>
+void for_each_flank_point(std::initializer_list<int> teeth, F&& f) {
+  const auto& s = paper_setup();
+  const auto& r = s.ranges();
+  const double b = s.geometry().spec().face_width_mm;
+  for (int tooth : teeth)
+    for (auto flank : {geartopo::Flank::Left, geartopo::Flank::Right})
+      for (int i = 0; i < 30; ++i)
+        for (int j = 0; j < 30; ++j)
+          f(tooth, flank, r.xi_active_start_mm + (r.xi_active_end_mm - r.xi_active_start_mm) * i / 29.0, b * j / 29.0);
+}
+
+} // namespace
+
+// The early stop against Newton run to rounding, at every depth the search asks for (entry_depth at Z₀ and ±0.3 mm)
+// and at the deviations: within the bound (1e-13 mm) plus the rounding of the residual (|q| ~ 300 mm: ~1e-13 mm).
+TEST(NewtonStop, EarlyStopAgreesWithNewtonRunToRounding) {
+  const auto& s = paper_setup();
+  for (double scale : {1.0, 10.0}) {
+    const auto model = random_machine(scale, 23);
+    const grinding::MachineProcess process(model, kDatumZ);
+    const test::NewtonToRounding to_rounding(process);
+    const FlankDeviation dev(s.flanks(), s.wheel(), s.path(), process), reference(s.flanks(), s.wheel(), s.path(), to_rounding);
+    double worst_depth = 0.0, worst_deviation = 0.0;
+    int finite = 0;
+    for_each_flank_point({1, 12, 24}, [&](int tooth, geartopo::Flank flank, double xi, double z) {
+      const auto target = dev.target(tooth, flank, xi, z);
+      for (double dz : {-0.3, 0.0, 0.3}) {
+        const auto pp = s.path().point(target.space, target.z0 + dz);
+        const auto wMg = process.actual_wMg(pp);
+        const double early = dev.entry_depth(target.fp, wMg, pp), full = reference.entry_depth(target.fp, wMg, pp);
+        ASSERT_EQ(std::isfinite(early), std::isfinite(full));
+        if (std::isfinite(full)) worst_depth = std::max(worst_depth, std::abs(early - full)), ++finite;
+      }
+      const double a = dev.at(target, Method::Exact).deviation_mm, b = reference.at(target, Method::Exact).deviation_mm;
+      ASSERT_EQ(std::isfinite(a), std::isfinite(b));
+      if (std::isfinite(b)) worst_deviation = std::max(worst_deviation, std::abs(a - b));
+    });
+    std::printf("scale %.0f: early stop vs Newton to rounding: depths %.1e mm (%d), deviations %.1e mm\n", scale,
+                worst_depth, finite, worst_deviation);
+    EXPECT_GT(finite, 15000);
+    EXPECT_LT(worst_depth, 2e-13) << "scale " << scale;
+    EXPECT_LT(worst_deviation, 1e-12) << "scale " << scale; // 1e-9 µm
+  }
+}
+
+// A constant C-axis error Δγ turns the wheel by −Δγ about the gear axis, and an involute helicoid turned about its
+// axis is its own parallel surface at r_b cos β_b Δγ (the involute's evolvent property): every right flank reads
+// −r_b cos β_b Δγ, every left flank +r_b cos β_b Δγ more than without the error (the wheel's own small departure from
+// the flank, common to both, cancels). Exact to the search's accuracy, so checked to 1e-6 µm at 30 × 30 points.
+TEST(NewtonStop, ARigidTurnOfTheWheelGivesTheInvoluteOffsetToAMillionthOfAMicron) {
+  const auto& s = paper_setup();
+  const double dgamma = 20e-6;
+  const auto turned = test::machine_with({machine::ErrorSource::constant(machine::ComponentId::epsilon_zc, 20.0, "urad")});
+  const auto nominal = test::machine_with({});
+  const grinding::MachineProcess p_turned(turned, kDatumZ), p_nominal(nominal, kDatumZ);
+  const FlankDeviation dev(s.flanks(), s.wheel(), s.path(), p_turned), dev0(s.flanks(), s.wheel(), s.path(), p_nominal);
+  const auto& g = s.geometry();
+  const double offset_mm = 0.5 * g.base_diameter_mm() * std::cos(g.base_helix_angle()) * dgamma;
+  double worst = 0.0;
+  for_each_flank_point({1, 18}, [&](int tooth, geartopo::Flank flank, double xi, double z) {
+    const double d = dev.at(tooth, flank, xi, z, Method::Exact).deviation_mm - dev0.at(tooth, flank, xi, z, Method::Exact).deviation_mm;
+    worst = std::max(worst, std::abs(d + geartopo::side_sign(flank) * offset_mm));
+  });
+  std::printf("rigid turn of %.0f µrad: offset %.6f µm, worst departure %.1e µm\n", dgamma * 1e6, offset_mm * 1e3, worst * 1e3);
+  EXPECT_LT(worst, 1e-9); // 1e-6 µm
+}

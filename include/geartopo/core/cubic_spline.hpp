@@ -41,7 +41,8 @@ public:
   /// Where t falls among the knots: the interval i with x_i ≤ t < x_{i+1} (the last interval for t = x_{n−1}; t
   /// wrapped into the period first for a Periodic spline) and, inside the table, the local coordinates of the moment
   /// form a = (x_{i+1} − t)/h, b = (t − x_i)/h, h = x_{i+1} − x_i. Found in O(1) when the knots are evenly spaced
-  /// (the interval computed, then checked against the knots), by bisection otherwise: the same interval either way.
+  /// (the interval computed, then checked against the knots), from a table of equal buckets over the knots otherwise
+  /// (a walk over the knots in t's bucket): the interval bisection finds either way.
   struct Location {
     std::size_t i = 0;
     double t = 0.0;
@@ -52,6 +53,13 @@ public:
   /// value(t) for a location found by any spline with the same knots() (e.g. the six error components of one axis
   /// read from one table): one search for all of them, the same bits as value(t).
   double value_at(const Location& l) const noexcept;
+  /// value_and_derivative(t) for t's location (locate(t)): the same bits.
+  std::pair<double, double> value_and_derivative_at(const Location& l) const noexcept;
+  /// An upper bound of |s″(τ)| for every τ within `reach` of l.t. s″ is linear between knots (its values there are the
+  /// moments) and 0 beyond the ends of a NotAKnot spline, so when `reach` is below every knot spacing the largest
+  /// |moment| of the knots x_{i−1} … x_{i+2} around l's interval bounds it; otherwise (or periodic, or t outside
+  /// the knots) the largest |moment| of all. For error bounds of iterations on the spline (flank_deviation.cpp).
+  double second_derivative_bound(const Location& l, double reach) const noexcept;
   /// True when the knots are evenly spaced (each within 1e-9 of an interval of where i·(x_{n−1} − x_0)/(n − 1)
   /// puts it): locate() computes the interval instead of bisecting.
   bool evenly_spaced() const { return inverse_step_ > 0.0; }
@@ -60,10 +68,17 @@ private:
   double value_inside(const Location& l) const noexcept;      ///< l neither below nor above
   double derivative_inside(const Location& l) const noexcept; ///< l neither below nor above
   std::size_t interval(double t) const noexcept;              ///< i with x_i ≤ t < x_{i+1}, t in [x_0, x_{n−1}]
+  void set_bounds() noexcept;                                 ///< min_step_ and max_abs_moment_, once the moments are known
 
   std::vector<double> x_, y_, m_; // knots, values, second derivatives at the knots
   bool periodic_ = false;
   double inverse_step_ = 0.0; // (n − 1)/(x_{n−1} − x_0) when evenly spaced, else 0
+  // Uneven knots (the wheel profile: ~2 000): n − 1 equal buckets over [x_0, x_{n−1}], each with the interval holding
+  // its left end, so locate() starts there and walks the few knots inside the bucket instead of bisecting.
+  double inverse_bucket_ = 0.0;
+  std::vector<unsigned> bucket_start_;
+  double min_step_ = 0.0;     // the smallest knot spacing
+  double max_abs_moment_ = 0.0; // max |s″| over the whole spline
 };
 
 } // namespace geartopo

@@ -67,8 +67,12 @@ public:
   static constexpr double kParabolaReachMm = 0.45;     ///< farthest vertex from Z₀ trusted (Brent's first window is ±0.5)
   static constexpr double kParabolaAgreementMm = 1e-7; ///< |depth at vertex − parabola's prediction| that is trusted
 
-  /// Where the wheel at pose wMg first enters along P + t n (t in mm); +∞ if it misses near the flank.
-  double entry_depth(const gears::FlankPoint& fp, const machine::Pose& wMg, const PathPoint& pp) const;
+  /// Where the wheel at pose wMg first enters along P + t n (t in mm); +∞ if it misses near the flank. Newton's
+  /// method from t_start_mm (a depth known to be close saves steps), to within kNewtonTolMm of the root (a proven
+  /// bound when the process never changes the wheel's radius; else until a step is below 1e-12 mm).
+  double entry_depth(const gears::FlankPoint& fp, const machine::Pose& wMg, const PathPoint& pp,
+                     double t_start_mm = 0.0) const;
+  static constexpr double kNewtonTolMm = 1e-13; ///< |entry depth − root| guaranteed at the end (1e-10 µm)
 
   /// A flank point with what the search around it needs: the space that grinds it and its nominal stroke Z₀. It
   /// depends on the geometry alone, not on the process: simulations of many processes on the same points compute it
@@ -84,7 +88,8 @@ public:
   LinearContact linear_contact(const Target& t) const;
 
 private:
-  double depth_at(const Target& t, double z_stroke_mm) const; ///< entry depth with the wheel at stroke position Z
+  /// Entry depth with the wheel at stroke position Z, Newton from t_start_mm.
+  double depth_at(const Target& t, double z_stroke_mm, double t_start_mm) const;
   DeviationResult brent_search(const Target& t, double z_tol_mm) const;
 
   const gears::InvoluteHelicoid& flanks_;

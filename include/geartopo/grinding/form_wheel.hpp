@@ -35,10 +35,22 @@ public:
   }
   /// dR/dv inside the width.
   double slope(double v) const { return profile_.derivative(v); }
-  /// {radius(v), slope(v)} with one search in the profile (the same bits).
-  std::pair<double, double> radius_and_slope(double v) const {
-    if (v < v_min_ || v > v_max_) return {-std::numeric_limits<double>::infinity(), profile_.derivative(v)};
-    return profile_.value_and_derivative(v);
+  /// {radius(v), slope(v)} with one search in the profile (the same bits), and where v lies in it (for
+  /// second_derivative_bound).
+  struct ProfilePoint {
+    double radius = 0.0; ///< −∞ outside the wheel's width
+    double slope = 0.0;
+    geartopo::CubicSpline::Location where;
+  };
+  ProfilePoint profile_at(double v) const {
+    const auto l = profile_.locate(v);
+    if (v < v_min_ || v > v_max_) return {-std::numeric_limits<double>::infinity(), profile_.derivative(v), l};
+    const auto [r, s] = profile_.value_and_derivative_at(l);
+    return {r, s, l};
+  }
+  /// An upper bound of |R″| within `reach` of the profile point's v (mm⁻¹; CubicSpline::second_derivative_bound).
+  double second_derivative_bound(const ProfilePoint& p, double reach) const {
+    return profile_.second_derivative_bound(p.where, reach);
   }
   /// How far the surface moves along its normal when the radius grows by one unit at v: 1/√(1 + R′(v)²). A radial
   /// change δR of the wheel moves its surface by δR/√(1 + R′²) along the normal — much less on the steep flanks.
