@@ -7,7 +7,6 @@
 #include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/machine/chain.hpp"
 
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 
@@ -20,24 +19,6 @@ using test::random_machine;
 using test::paper_setup;
 
 namespace {
-
-// Counts the wheel poses a search asks for.
-class Counting final : public grinding::GrindingProcess {
-public:
-  explicit Counting(const grinding::GrindingProcess& inner) : inner_(inner) {}
-  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override {
-    ++poses;
-    return inner_.actual_wMg(pp);
-  }
-  machine::Vector6d error_twist_w(const grinding::PathPoint& pp) const override { return inner_.error_twist_w(pp); }
-  double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override {
-    return inner_.wheel_radius_error_mm(v, pp);
-  }
-  mutable std::atomic<long> poses{0};
-
-private:
-  const grinding::GrindingProcess& inner_;
-};
 
 struct Comparison {
   double worst_mm = 0.0;       // largest |shortcut − reference|
@@ -52,7 +33,7 @@ struct Comparison {
 // stores it, factor 1; another factor is a wrong curvature the guards must catch), so the 3-pose search runs.
 void compare(const grinding::GrindingProcess& process, Comparison& c, double curvature_scale = 0.0) {
   const auto& s = paper_setup();
-  const Counting counting(process);
+  const test::CountingPoses counting(process);
   const FlankDeviation dev(s.flanks(), s.wheel(), s.path(), counting);
   const FlankDeviation reference(s.flanks(), s.wheel(), s.path(), process);
   const grinding::IdealProcess ideal;
