@@ -51,6 +51,20 @@ void BM_MonteCarlo(benchmark::State& state) {
 }
 BENCHMARK(BM_MonteCarlo)->Name("MonteCarlo/default/grid7x9")->Arg(20)->Arg(1000)->Iterations(1)->UseRealTime()->MeasureProcessCPUTime()->Unit(benchmark::kSecond);
 
+/// The dense sample's points: the scene's grid, traces and a dense 50×100 grid on all 70 flanks.
+grinding::SimulationOptions dense_sample_options() {
+  const auto& b = bench::default_scene();
+  grinding::SimulationOptions so;
+  so.rows = b.scene.grid.rows;
+  so.cols = b.scene.grid.cols;
+  so.profile_points = b.scene.grid.profile_points;
+  so.helix_points = b.scene.grid.helix_points;
+  so.dense_rows = 50;
+  so.dense_cols = 100;
+  so.threads = 0; // both gears on all cores, parallel over flanks
+  return so;
+}
+
 /// A correction table whose every row is `base`'s plus its space's offset (X, Y, Z, A, C).
 void BM_MonteCarloDenseSample(benchmark::State& state) {
   const auto& b = bench::default_scene();
@@ -62,14 +76,7 @@ void BM_MonteCarloDenseSample(benchmark::State& state) {
   std::set<int> spaces;
   for (const auto& r : applied.rows()) spaces.insert(r.space);
 
-  grinding::SimulationOptions so;
-  so.rows = b.scene.grid.rows;
-  so.cols = b.scene.grid.cols;
-  so.profile_points = b.scene.grid.profile_points;
-  so.helix_points = b.scene.grid.helix_points;
-  so.dense_rows = 50;
-  so.dense_cols = 100;
-  so.threads = 0; // both gears on all cores, parallel over flanks
+  const grinding::SimulationOptions so = dense_sample_options();
   const grinding::TopologyPlan plan(b.setup, so);
   const auto& g = b.setup.geometry();
 
@@ -103,6 +110,23 @@ void BM_MonteCarloDenseSample(benchmark::State& state) {
 }
 BENCHMARK(BM_MonteCarloDenseSample)
     ->Name("MonteCarloSample/dense50x100/all_teeth")
+    ->Iterations(3)
+    ->UseRealTime()
+    ->MeasureProcessCPUTime()
+    ->Unit(benchmark::kSecond);
+
+/// Building the dense sample's plan (once per run: the points' geometry and the ideal depth curvature that lets every
+/// sample ask 3 wheel poses per point instead of 4), to weigh against one sample above.
+void BM_DenseSamplePlan(benchmark::State& state) {
+  const auto& b = bench::default_scene();
+  const grinding::SimulationOptions so = dense_sample_options();
+  for (auto _ : state) {
+    const grinding::TopologyPlan plan(b.setup, so);
+    benchmark::DoNotOptimize(plan.points());
+  }
+}
+BENCHMARK(BM_DenseSamplePlan)
+    ->Name("TopologyPlan/dense50x100/all_teeth")
     ->Iterations(3)
     ->UseRealTime()
     ->MeasureProcessCPUTime()

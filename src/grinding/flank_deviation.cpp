@@ -105,17 +105,59 @@ DeviationResult FlankDeviation::at(const Target& t, Method method) const {
 
   if (method == Method::Linear) return {linear_deviation_mm(linear_contact(t), process_), z0};
 
-  // Near its minimum the depth is t* + ½c(Z − Z*)² + O((Z − Z*)³) with c ≈ 1/R_wheel, and Z* lies within a fraction
+  // Near its minimum the depth is t* + ½c(Z − Z*)² + d(Z − Z*)³ + … with c ≈ 1/R_wheel, and Z* lies within a fraction
   // of a millimetre of Z₀. Three depths at Z₀ − h, Z₀, Z₀ + h give the parabola's vertex u; the depth at u is a real
   // depth (never below the true minimum) and exceeds it by ½c(u − Z*)², where |u − Z*| ~ (3d s² − d h²)/c for the
   // cubic coefficient d and s = Z₀ − Z*: ~1e-9 mm for s ≤ 0.2 mm. The quadratic model is trusted only when the
   // depth at u agrees with the parabola's own prediction; otherwise Brent's search decides (tests/grinding:
   // ExactSearch.*).
-  constexpr double h = 0.05;
+  //
+  // When the target knows the curvature (c_k, the ideal process's: TopologyPlan), the depths at Z₀ ± h alone give
+  // the vertex, and the depth there is the third and last pose. With f(Z) = t* + ½c(Z − Z*)² + d(Z − Z*)³,
+  // f(Z₀ + h) − f(Z₀ − h) = 2c s h + d(6s²h + 2h³), so u = Z₀ − (f₊ − f₋)/(2 c_k h) gives
+  //   u − Z* = s (1 − c/c_k) − d (3s² + h²)/c_k,
+  // and the depth at u exceeds t* by ½c(u − Z*)². The curvature's relative error ε = 1 − c/c_k is the process's
+  // (µm and µrad change it by ~1e-4) plus the change of the curvature between Z₀ and Z* (6ds/c): with s ≤ 0.2 mm and
+  // ε ≤ 1e-3 the first term is ≤ 2e-4 mm and the excess ≤ ½·7e-3·(2e-4)² ≈ 1e-10 mm; the cubic term is the 4-pose
+  // search's own. It is not taken on trust: the parabola through all three depths (at Z₀ − h, u, Z₀ + h — its
+  // curvature the measured one, not c_k) has its vertex u₂, and the depth at u is kept only when its excess over that
+  // parabola's minimum, a(u − u₂)² with a = c/2, is ≤ kKnownCurvatureExcessMm (1e-8 µm), besides the 4-pose
+  // search's guards (reach, agreement with the prediction, not above the samples). Otherwise the 4-pose search
+  // continues from the two depths (one pose more, then its vertex), and Brent's search behind it.
+  constexpr double h = kCurvatureStepMm;
+  const double c_known = t.depth_curvature_per_mm;
+  if (c_known > 0.0) {
+    const double f_m = depth_at(t, z0 - h, 0.0);
+    const double f_p = depth_at(t, z0 + h, std::isfinite(f_m) ? f_m : 0.0);
+    if (std::isfinite(f_m) && std::isfinite(f_p)) {
+      const double u = z0 - (f_p - f_m) / (2.0 * c_known * h);
+      // Away from both samples by 1 % of h at least, so the parabola through the three is well conditioned.
+      if (std::abs(u - z0) <= kParabolaReachMm && std::abs(std::abs(u - z0) - h) >= 0.01 * h) {
+        const double predicted = 0.5 * (f_m + f_p) - 0.5 * c_known * (h * h + (u - z0) * (u - z0));
+        const double f_u = depth_at(t, u, predicted);
+        if (std::abs(f_u - predicted) <= kParabolaAgreementMm && f_u <= std::min(f_m, f_p)) {
+          // Newton's divided differences of (Z₀ − h, f₋), (u, f_u), (Z₀ + h, f₊): p(Z) = f₋ + d₁(Z − Z₀ + h) + a(Z − Z₀ + h)(Z − u).
+          const double d1 = (f_u - f_m) / (u - (z0 - h));
+          const double a = ((f_p - f_u) / (z0 + h - u) - d1) / (2.0 * h);
+          if (a > 0.0) {
+            const double u2 = 0.5 * (z0 - h + u) - d1 / (2.0 * a);
+            if (a * (u - u2) * (u - u2) <= kKnownCurvatureExcessMm) return {f_u, u};
+          }
+        }
+      }
+    }
+    return four_pose_search(t, f_m, depth_at(t, z0, std::isfinite(f_m) ? f_m : 0.0), f_p);
+  }
   // Newton starts from a depth close by: the depth at Z₀ for Z₀ ± h (~1e-5 mm away), the parabola's prediction at u.
   const double f_0 = depth_at(t, z0, 0.0);
   const double near_f_0 = std::isfinite(f_0) ? f_0 : 0.0;
   const double f_m = depth_at(t, z0 - h, near_f_0), f_p = depth_at(t, z0 + h, near_f_0);
+  return four_pose_search(t, f_m, f_0, f_p);
+}
+
+DeviationResult FlankDeviation::four_pose_search(const Target& t, double f_m, double f_0, double f_p) const {
+  constexpr double h = kCurvatureStepMm;
+  const double z0 = t.z0;
   const double curvature = f_p + f_m - 2.0 * f_0; // c h²
   if (std::isfinite(f_m) && std::isfinite(f_0) && std::isfinite(f_p) && curvature > 0.0) {
     const double u = z0 + 0.5 * h * (f_m - f_p) / curvature;
@@ -126,6 +168,15 @@ DeviationResult FlankDeviation::at(const Target& t, Method method) const {
     }
   }
   return brent_search(t, kBrentTolMm);
+}
+
+double FlankDeviation::depth_curvature_per_mm(const Target& t) const {
+  constexpr double h = kCurvatureStepMm;
+  const double f_0 = depth_at(t, t.z0, 0.0);
+  if (!std::isfinite(f_0)) return 0.0;
+  const double f_m = depth_at(t, t.z0 - h, f_0), f_p = depth_at(t, t.z0 + h, f_0);
+  const double c = (f_p + f_m - 2.0 * f_0) / (h * h);
+  return std::isfinite(c) && c > 0.0 ? c : 0.0;
 }
 
 DeviationResult FlankDeviation::exact_by_brent(int tooth, geartopo::Flank flank, double xi, double z, double z_tol_mm) const {

@@ -26,6 +26,14 @@ TopologyPlan::TopologyPlan(const GrindingSetup& setup, const SimulationOptions& 
       if (!pts.dense_rows.empty()) f.dense = grid(tooth, flank, pts.dense_rows, pts.dense_cols);
       flanks_.push_back(std::move(f));
     }
+  // The depth's curvature along Z per target, from the ideal process (3 poses each, once per plan): with it every
+  // simulate() asks 3 poses per point instead of 4 (FlankDeviation::at). Each flank writes its own targets, so the
+  // result does not depend on the thread count.
+  parallel_for(static_cast<int>(flanks_.size()), options.threads, [&](int i) {
+    FlankPlan& f = flanks_[static_cast<size_t>(i)];
+    for (auto* targets : {&f.grid, &f.profile, &f.helix, &f.dense})
+      for (auto& t : *targets) t.depth_curvature_per_mm = dev.depth_curvature_per_mm(t);
+  });
   rows_ = pts.rows;
   cols_ = pts.cols;
   prof_xi_ = pts.profile_roll_lengths;

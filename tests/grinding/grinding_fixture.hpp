@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <random>
@@ -74,6 +75,24 @@ public:
   machine::Vector6d error_twist_w(const grinding::PathPoint& pp) const override { return inner_.error_twist_w(pp); }
   double wheel_radius_error_mm(double, const grinding::PathPoint&) const override { return 0.0; }
   bool changes_wheel_radius() const override { return true; }
+
+private:
+  const grinding::GrindingProcess& inner_;
+};
+
+/// The same process, counting the wheel poses a search asks for (from any thread).
+class CountingPoses final : public grinding::GrindingProcess {
+public:
+  explicit CountingPoses(const grinding::GrindingProcess& inner) : inner_(inner) {}
+  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override {
+    ++poses;
+    return inner_.actual_wMg(pp);
+  }
+  machine::Vector6d error_twist_w(const grinding::PathPoint& pp) const override { return inner_.error_twist_w(pp); }
+  double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override {
+    return inner_.wheel_radius_error_mm(v, pp);
+  }
+  mutable std::atomic<long> poses{0};
 
 private:
   const grinding::GrindingProcess& inner_;

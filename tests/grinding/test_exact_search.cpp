@@ -7,7 +7,6 @@
 #include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/machine/chain.hpp"
 
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 
@@ -21,24 +20,6 @@ using test::paper_setup;
 
 namespace {
 
-// Counts the wheel poses a search asks for.
-class Counting final : public grinding::GrindingProcess {
-public:
-  explicit Counting(const grinding::GrindingProcess& inner) : inner_(inner) {}
-  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override {
-    ++poses;
-    return inner_.actual_wMg(pp);
-  }
-  machine::Vector6d error_twist_w(const grinding::PathPoint& pp) const override { return inner_.error_twist_w(pp); }
-  double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override {
-    return inner_.wheel_radius_error_mm(v, pp);
-  }
-  mutable std::atomic<long> poses{0};
-
-private:
-  const grinding::GrindingProcess& inner_;
-};
-
 struct Comparison {
   double worst_mm = 0.0;       // largest |shortcut − reference|
   double most_below_mm = 0.0;  // largest amount by which the shortcut is below the reference (it never should be)
@@ -47,12 +28,16 @@ struct Comparison {
   int unreached = 0;           // points the wheel never reaches (deviation +∞ from both searches)
 };
 
-// 15 × 15 points over the active flank and the full face width, both flanks of teeth 1, 12 and 24.
-void compare(const grinding::GrindingProcess& process, Comparison& c) {
+// 15 × 15 points over the active flank and the full face width, both flanks of teeth 1, 12 and 24. With
+// curvature_scale > 0 each target carries the ideal process's depth curvature times that factor (as TopologyPlan
+// stores it, factor 1; another factor is a wrong curvature the guards must catch), so the 3-pose search runs.
+void compare(const grinding::GrindingProcess& process, Comparison& c, double curvature_scale = 0.0) {
   const auto& s = paper_setup();
-  const Counting counting(process);
+  const test::CountingPoses counting(process);
   const FlankDeviation dev(s.flanks(), s.wheel(), s.path(), counting);
   const FlankDeviation reference(s.flanks(), s.wheel(), s.path(), process);
+  const grinding::IdealProcess ideal;
+  const FlankDeviation ideal_dev(s.flanks(), s.wheel(), s.path(), ideal);
   const auto& r = s.ranges();
   const double b = s.geometry().spec().face_width_mm;
   double lo = 1e9, hi = -1e9;
@@ -63,7 +48,12 @@ void compare(const grinding::GrindingProcess& process, Comparison& c) {
         for (int j = 0; j < 15; ++j) {
           const double xi = r.xi_active_start_mm + (r.xi_active_end_mm - r.xi_active_start_mm) * i / 14.0;
           const double z = b * j / 14.0;
-          const double fast = dev.at(tooth, flank, xi, z, Method::Exact).deviation_mm;
+          auto target = dev.target(tooth, flank, xi, z);
+          target.depth_curvature_per_mm = curvature_scale * ideal_dev.depth_curvature_per_mm(target);
+          if (curvature_scale > 0.0) {
+            EXPECT_GT(target.depth_curvature_per_mm, 0.0);
+          }
+          const double fast = dev.at(target, Method::Exact).deviation_mm;
           const double ref = reference.exact_by_brent(tooth, flank, xi, z, 1e-7).deviation_mm;
           ++points;
           // Where the wheel never reaches the point's normal line (beyond the wheel's profile), both say so.
@@ -96,6 +86,30 @@ TEST(ExactSearch, ParabolicShortcutMatchesATightBrentSearch) {
   EXPECT_LT(c.most_below_mm, 1e-12); // a depth found is a real depth: never below the minimum
   EXPECT_EQ(c.unreached, 0);
   EXPECT_LT(c.poses_per_point, 4.05) << "the shortcut should decide almost everywhere";
+}
+
+// The 3-pose search (the depth's curvature known from the ideal process, as TopologyPlan gives it) against Brent's
+// search run to 1e-7 mm in Z (truth: an independent search that knows nothing of the curvature), on realistic and
+// tenfold errors, at the tolerances of the 4-pose search's tests; and with the curvature wrong by ±30 %, where the
+// a-posteriori check must hand the points to the 4-pose search and the result must stay exact.
+TEST(ExactSearch, KnownCurvatureSearchMatchesATightBrentSearch) {
+  for (const double scale : {1.0, 10.0}) {
+    const auto model = random_machine(scale, scale == 1.0 ? 11 : 5);
+    const grinding::MachineProcess process(model, kDatumZ);
+    for (const double curvature_scale : {1.0, 0.7, 1.3}) {
+      Comparison c;
+      compare(process, c, curvature_scale);
+      EXPECT_GT(c.range_mm, 5e-3 * scale);
+      EXPECT_LT(c.worst_mm, scale == 1.0 ? 1e-9 : 1e-8) << "errors ×" << scale << ", curvature ×" << curvature_scale;
+      EXPECT_LT(c.most_below_mm, 1e-12);
+      if (scale == 1.0 && curvature_scale == 1.0) {
+        EXPECT_LT(c.poses_per_point, 3.05) << "the 3-pose vertex should decide almost everywhere";
+      }
+      if (curvature_scale != 1.0) {
+        EXPECT_GT(c.poses_per_point, 3.5) << "a curvature 30 % wrong must be caught (4-pose search)";
+      }
+    }
+  }
 }
 
 // Ten times larger (≤ 0.5 mm, 1 mrad): still exact, whichever way each point is decided.

@@ -4,8 +4,9 @@
 //         P + t n (n out of the material), the wheel at stroke position Z first enters at t_in(Z); the material left is
 //         t < min_Z t_in(Z). The deviation (plus material positive) is that minimum. Z is searched continuously
 //         around the nominal generating position Z₀ = z − z_c(ξ), so there are no scallops from a pose step: first
-//         by the vertex of the parabola through three depths (4 poses per point), and by Brent's method (±0.5 mm,
-//         then ±4 mm) wherever the depth is not locally quadratic enough to trust that vertex.
+//         by the vertex of the parabola through three depths (4 poses per point) — or through two depths and the
+//         depth's curvature along Z when a TopologyPlan knows it from the ideal process (3 poses per point) — and by
+//         Brent's method (±0.5 mm, then ±4 mm) wherever the depth is not locally quadratic enough to trust a vertex.
 // linear: the first-order deviation n·(δp + δθ × P) − δR(v)/√(1 + R′(v)²) of the pose error twist and the radial
 //         wheel-radius error (moved onto the wheel's normal) at the generating pose (envelope theorem: moving the contact along the stroke changes it only to second order).
 // Units: mm in, mm out (callers convert to µm).
@@ -66,6 +67,10 @@ public:
   static constexpr double kBrentTolMm = 1e-4;          ///< Z tolerance of the fallback search
   static constexpr double kParabolaReachMm = 0.45;     ///< farthest vertex from Z₀ trusted (Brent's first window is ±0.5)
   static constexpr double kParabolaAgreementMm = 1e-7; ///< |depth at vertex − parabola's prediction| that is trusted
+  /// Largest excess of the 3-pose vertex's depth over the minimum of the parabola through all three depths that is
+  /// trusted (1e-8 µm); beyond it the 4-pose search decides (flank_deviation.cpp).
+  static constexpr double kKnownCurvatureExcessMm = 1e-11;
+  static constexpr double kCurvatureStepMm = 0.05; ///< h: the depths at Z₀ ± h of both searches and of the curvature
 
   /// Where the wheel at pose wMg first enters along P + t n (t in mm); +∞ if it misses near the flank. Newton's
   /// method from t_start_mm (a depth known to be close saves steps), to within kNewtonTolMm of the root (a proven
@@ -81,8 +86,15 @@ public:
     int space;
     gears::FlankPoint fp;
     double z0;
+    /// c = d²(entry depth)/dZ² near Z₀ (1/mm), the geometry's (the ideal process's: machine errors of µm and µrad
+    /// change it by ~1e-4 relative); 0 when not known. When known, at() asks 3 poses instead of 4.
+    double depth_curvature_per_mm = 0.0;
   };
   Target target(int tooth, geartopo::Flank flank, double roll_length_mm, double z_mm) const;
+  /// The second difference (f(Z₀ + h) + f(Z₀ − h) − 2 f(Z₀))/h² of this process's entry depth f, h =
+  /// kCurvatureStepMm: on an IdealProcess, the curvature a Target stores (TopologyPlan). 0 where a depth is not
+  /// finite or the difference is not positive (the target then keeps the 4-pose search).
+  double depth_curvature_per_mm(const Target& t) const;
   /// at() for a target computed before (bit for bit the same result).
   DeviationResult at(const Target& t, Method method) const;
   LinearContact linear_contact(const Target& t) const;
@@ -91,6 +103,8 @@ private:
   /// Entry depth with the wheel at stroke position Z, Newton from t_start_mm.
   double depth_at(const Target& t, double z_stroke_mm, double t_start_mm) const;
   DeviationResult brent_search(const Target& t, double z_tol_mm) const;
+  /// The 4-pose search given the depths at Z₀ − h, Z₀, Z₀ + h; Brent's where its vertex is not trusted.
+  DeviationResult four_pose_search(const Target& t, double f_m, double f_0, double f_p) const;
 
   const gears::InvoluteHelicoid& flanks_;
   const FormWheel& wheel_;
