@@ -178,10 +178,15 @@ TEST(MonteCarlo, NothingUncertainReproducesTheNominalGears) {
   o.samples = 3;
   const auto run = pipeline::run_monte_carlo(wb, table, o);
   ASSERT_EQ(run.names, qb.names);
+  // The Monte Carlo grinds through a TopologyPlan, whose exact search takes the depth's curvature from the ideal
+  // process (3 poses per point); simulate_topology above searches without it (4 poses). Both land within ~1e-10 mm of
+  // the true deepest cut, and the plan is held to the plain path at 1e-6 µm (TopologyPlan.*, docs/grinding.md): that
+  // is the bound here too, 10⁴ below the 0.01 µm a flank is reported to: a draw leaking into a sample still fails it.
+  constexpr double kSearchAgreementUm = 1e-6;
   for (const auto& s : run.samples)
     for (size_t i = 0; i < run.names.size(); ++i) {
-      EXPECT_NEAR(s.before[i], qb.values[i], 1e-9) << run.names[i];
-      EXPECT_NEAR(s.after[i], qa.values[i], 1e-9) << run.names[i];
+      EXPECT_NEAR(s.before[i], qb.values[i], kSearchAgreementUm) << run.names[i];
+      EXPECT_NEAR(s.after[i], qa.values[i], kSearchAgreementUm) << run.names[i];
     }
 }
 
