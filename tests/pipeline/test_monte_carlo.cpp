@@ -14,6 +14,7 @@
 #include "geartopo/core/units.hpp"
 #include "geartopo/evaluation/gear_evaluation.hpp"
 #include "geartopo/scene/scene.hpp"
+#include "small_gear_scene.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -36,20 +37,7 @@ using namespace geartopo;
 namespace {
 
 // A small helical gear (fast to simulate), no error tables; `machine_extra` is appended to the machine section.
-std::string mc_scene_text(const std::string& machine_extra) {
-  return "gear:\n"
-         "  normal_module_mm: 4\n"
-         "  teeth: 20\n"
-         "  normal_pressure_angle_deg: 20\n"
-         "  helix_angle_deg: 20\n"
-         "  profile_shift: 0\n"
-         "  face_width_mm: 30\n"
-         "machine:\n"
-         "  datum_face_z_mm: 300\n" +
-         machine_extra +
-         "wheel: {outer_diameter_mm: 300}\n"
-         "measurement: {rows: 5, cols: 5, profile_points: 15, helix_points: 15}\n";
-}
+std::string mc_scene_text(const std::string& machine_extra) { return test::small_gear_scene_text(machine_extra); }
 
 const std::string kNothingUncertain =
     "  uncertainty: {linear_axis_um: 0, linear_axis_urad: 0, rotary_axis_um: 0, rotary_axis_urad: 0,\n"

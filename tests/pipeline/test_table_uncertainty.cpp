@@ -5,6 +5,7 @@
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/pipeline/monte_carlo.hpp"
 #include "geartopo/scene/scene.hpp"
+#include "small_gear_scene.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,19 +24,7 @@ workbench::Workbench table_uncertainty_workbench(const std::filesystem::path& di
                                                  const std::string& machine_extra) {
   std::ofstream(dir / "x.csv") << table_text;
   const auto scene_file = dir / "scene.yaml";
-  std::ofstream(scene_file) << "gear:\n"
-                               "  normal_module_mm: 4\n"
-                               "  teeth: 20\n"
-                               "  normal_pressure_angle_deg: 20\n"
-                               "  helix_angle_deg: 20\n"
-                               "  profile_shift: 0\n"
-                               "  face_width_mm: 30\n"
-                               "machine:\n"
-                               "  datum_face_z_mm: 300\n"
-                               "  tables: [x.csv]\n" +
-                                   machine_extra +
-                                   "wheel: {outer_diameter_mm: 300}\n"
-                                   "measurement: {rows: 5, cols: 5, profile_points: 15, helix_points: 15}\n";
+  std::ofstream(scene_file) << test::small_gear_scene_text("  tables: [x.csv]\n" + machine_extra);
   return workbench::Workbench(scene::load_scene(scene_file));
 }
 
