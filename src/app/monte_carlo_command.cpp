@@ -26,8 +26,10 @@ void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards)
   cmd->add_option("--seed", flags.seed, "Seed of the Monte Carlo draws (default 1): sample k depends on (seed, k) only")
       ->check(digits_only());
   cmd->add_option("--max-time-s", flags.max_time_s,
-                  fmt::format("Refuse a prediction whose estimate (after its first sample) exceeds this wall time, s "
-                              "(default {:g}: one day)",
+                  fmt::format("{} exceeds this wall time, s (default {:g}: one day)",
+                              shards ? "Refuse a prediction whose estimate (after its first sample)"
+                                     : "Refuse the job when the time spent plus the estimate of a simulation (after its "
+                                       "first flank) or of the prediction (after its first sample)",
                               flags.max_time_s))
       ->check(finite_in(1e-3, 1e9));
   cmd->add_option("--adaptive-tolerance-um", flags.adaptive_tolerance_um,

@@ -238,13 +238,52 @@ void print_notes(const workbench::Workbench& wb) {
   for (const auto& n : wb.notes) std::fprintf(stderr, "geartopo: note: %s\n", n.c_str());
 }
 
-void print_work_estimate(long long points, long long flanks, bool exact) {
-  if (points < kEstimateFromPoints || quiet() || ::isatty(STDERR_FILENO) == 0) return;
-  const double rate = exact ? 260e3 : 1.7e6; // points/s, 2 cores (docs/performance.md, "Against the targets")
+void print_work_estimate(long long points, long long flanks, bool exact, int passes) {
+  if (points < kEstimateFromPoints || quiet()) return;
+  const double rate = exact ? 260e3 : 1.7e6; // points/s, 2 cores (docs/performance.md)
+  const std::string times = passes > 1 ? fmt::format(", {} times", passes) : std::string();
   std::fprintf(stderr, "geartopo: %s\n",
-               fmt::format("{} points on {} flanks ({}): about {:.0f} s on 2 cores", points, flanks,
-                           exact ? "exact" : "linear", static_cast<double>(points) / rate)
+               fmt::format("{} points on {} flanks ({}{}): about {:.0f} s on 2 cores", points, flanks,
+                           exact ? "exact" : "linear", times, static_cast<double>(points) * passes / rate)
                    .c_str());
+}
+
+SimulationWatch::SimulationWatch(std::string stage, long long flanks, int threads, double max_seconds,
+                                 std::chrono::steady_clock::time_point job_start, std::string hint)
+    : stage_(std::move(stage)),
+      flanks_(flanks),
+      threads_(static_cast<int>(std::max<long long>(
+          1, std::min<long long>(flanks, threads > 0 ? threads : std::max(1u, std::thread::hardware_concurrency()))))),
+      max_seconds_(max_seconds),
+      job_start_(job_start),
+      hint_(std::move(hint)),
+      progress_(stage_, flanks, "flanks") {}
+
+void SimulationWatch::flank_done(long long done, long long total) {
+  if (done == 1 && flanks_ > 1) { // the first flank: every thread started one at the same time, this one finished first
+    const auto now = std::chrono::steady_clock::now();
+    const double first = std::chrono::duration<double>(now - start_).count();
+    const double spent = std::chrono::duration<double>(now - job_start_).count();
+    const long long rounds = (flanks_ + threads_ - 1) / threads_;
+    const double estimate = first * static_cast<double>(rounds);
+    const std::string what = fmt::format("{} {} flanks at {:.2g} s each on {} thread(s): about {:.{}f} s", stage_, flanks_,
+                                         first, threads_, estimate, estimate < 10.0 ? 1 : 0);
+    if (spent - first + estimate > max_seconds_)
+      throw CLI::ValidationError("--max-time-s", fmt::format("the job would take too long: {}{}, beyond the limit of {:g} s "
+                                                             "(--max-time-s): use {}",
+                                                             what,
+                                                             spent - first > 1.0
+                                                                 ? fmt::format(" after {:.0f} s already spent", spent - first)
+                                                                 : std::string(),
+                                                             max_seconds_, hint_));
+    if (!quiet() && estimate >= kPrintEstimateFromSeconds)
+      std::fputs(fmt::format("{}geartopo: {}\n", ::isatty(STDERR_FILENO) != 0 ? "\r\033[K" : "", what).c_str(), stderr);
+  }
+  progress_.update(done, total);
+}
+
+std::function<void(long long, long long)> SimulationWatch::callback() {
+  return [this](long long done, long long total) { flank_done(done, total); };
 }
 
 std::vector<int> parse_teeth(const std::string& text, int teeth) {

@@ -17,6 +17,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -79,22 +81,30 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
 }
 
 /// Progress of the pipeline's stages on stderr (a terminal, not --quiet; options.hpp Progress): the flanks of each
-/// simulation, the prediction's samples after its work estimate (MonteCarloWatch: refused beyond --max-time-s), the
-/// diagnosis's candidate fits. Installs its callbacks into `po`, which must not outlive it.
+/// simulation after its measured work estimate (SimulationWatch), the prediction's samples after theirs
+/// (MonteCarloWatch), the diagnosis's candidate fits. The whole job is refused when the time it has spent plus a
+/// stage's estimate exceeds max_time_s (--max-time-s). Installs its callbacks into `po`, which must not outlive it.
 class StageProgress {
 public:
   StageProgress(pipeline::PipelineOptions& po, double max_time_s) {
     po.stage = [this, &po, max_time_s](const std::string& stage, long long size) {
       finish();
+      const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - job_start_).count();
       if (stage == pipeline::kPredictionStage)
-        watch_ = std::make_unique<MonteCarloWatch>(size, po.prediction ? po.prediction->threads : 0, max_time_s,
+        watch_ = std::make_unique<MonteCarloWatch>(size, po.prediction ? po.prediction->threads : 0,
+                                                   std::max(1e-3, max_time_s - spent),
                                                    "compensate --shard i/n on several machines and geartopo merge",
                                                    po.prediction && po.prediction->adaptive_tolerance_um > 0.0);
+      else if (size > 0 && stage.starts_with("simulate"))
+        simulation_ = std::make_unique<SimulationWatch>(
+            stage, size, 0, max_time_s, job_start_,
+            "a coarser grid (measurement.rows/cols) or fewer --teeth, or raise --max-time-s");
       else
         progress_ = std::make_unique<Progress>(stage, size, stage == pipeline::kDiagnoseStage ? "candidate fits" : "flanks");
     };
     po.progress = [this](long long done, long long total) {
-      if (progress_) progress_->update(done, total);
+      if (simulation_) simulation_->flank_done(done, total);
+      else if (progress_) progress_->update(done, total);
     };
     if (po.prediction)
       po.prediction->on_sample_done = [this](long long done, long long total) {
@@ -106,13 +116,26 @@ public:
   /// Clears the progress line (before the results are printed).
   void finish() {
     watch_.reset();
+    simulation_.reset();
     progress_.reset();
   }
 
 private:
+  std::chrono::steady_clock::time_point job_start_ = std::chrono::steady_clock::now();
   std::unique_ptr<Progress> progress_;
+  std::unique_ptr<SimulationWatch> simulation_;
   std::unique_ptr<MonteCarloWatch> watch_;
 };
+
+/// Before the job: its two simulations (the gear before and after compensation) at the calibrated rate, when large
+/// (print_work_estimate).
+void print_pipeline_estimate(const Workbench& wb, const pipeline::PipelineOptions& po) {
+  const auto& grid = wb.scene.grid;
+  const auto& teeth = po.teeth.empty() ? grid.teeth : po.teeth;
+  const long long flanks = 2LL * static_cast<long long>(teeth.empty() ? wb.setup.geometry().teeth() : teeth.size());
+  const long long per_flank = static_cast<long long>(grid.rows) * grid.cols + grid.profile_points + grid.helix_points;
+  print_work_estimate(flanks * per_flank, flanks, po.method == grinding::Method::Exact, 2);
+}
 
 void print_summary(const fs::path& dir, const pipeline::PipelineResult& r) {
   const auto& cb = r.iso_before.evaluation.classification;
@@ -167,6 +190,7 @@ void register_report_command(CLI::App& app, Action& action) {
       po.measurement_format = opt->mka;
       po.iso = opt->iso;
       po.prediction = prediction_options(opt->mc);
+      print_pipeline_estimate(wb, po);
       StageProgress progress(po, opt->mc.max_time_s);
       const auto r = pipeline::run_pipeline(wb, po);
       progress.finish();
@@ -235,6 +259,7 @@ void register_run_command(CLI::App& app, Action& action) {
       output::OutputFolder folder(dir);
       if (!quiet()) std::cerr << "geartopo run: " << (wb.scene.name.empty() ? opt->scene : wb.scene.name) << "\n";
       print_notes(wb);
+      print_pipeline_estimate(wb, po);
       StageProgress progress(po, opt->mc.max_time_s);
       const auto r = pipeline::run_pipeline(wb, po);
       progress.finish();

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -19,6 +20,7 @@ namespace geartopo::app {
 void register_simulate_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, out, method = "exact", teeth, dense;
+    double max_time_s = kMaxJobSeconds;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("simulate", "Simulate line-contact profile grinding with the scene's machine "
@@ -29,9 +31,15 @@ void register_simulate_command(CLI::App& app, Action& action) {
       ->check(CLI::IsMember({"exact", "linear"}));
   CLI::Option* teeth = cmd->add_option("--teeth", opt->teeth, "Teeth to simulate: all (default, or the scene's list) or e.g. 1,18");
   cmd->add_option("--dense", opt->dense, "Also a dense grid per flank, ROWSxCOLS (e.g. 50x100) → dense.csv");
+  cmd->add_option("--max-time-s", opt->max_time_s,
+                  fmt::format("Refuse a simulation whose estimate (after its first flank) exceeds this wall time, s "
+                              "(default {:g}: one day)",
+                              opt->max_time_s))
+      ->check(finite_in(1e-3, 1e9));
   cmd->callback([&action, opt, teeth] {
     const bool teeth_given = teeth->count() > 0;
     action = [opt, teeth_given] {
+      const auto job_start = std::chrono::steady_clock::now();
       const Workbench wb(opt->scene);
       print_notes(wb);
       grinding::SimulationOptions so;
@@ -56,7 +64,8 @@ void register_simulate_command(CLI::App& app, Action& action) {
                                                           "simulation may hold: choose a coarser grid or fewer --teeth",
                                                           opt->dense, points, flanks, grinding::kMaxPointsPerSimulation));
       print_work_estimate(points, flanks, so.method == grinding::Method::Exact);
-      Progress progress("simulate", flanks, "flanks");
+      SimulationWatch progress("simulate", flanks, so.threads, opt->max_time_s, job_start,
+                               "a coarser grid (measurement.rows/cols, --dense) or fewer --teeth, or raise --max-time-s");
       so.progress = progress.callback();
       const auto topo = grinding::simulate_topology(wb.setup, wb.process(), so);
       progress.finish();

@@ -273,3 +273,48 @@ TEST(ProgressCli, APredictionBeyondTheTimeLimitIsRefusedBeforeAnyFile) {
   EXPECT_FALSE(std::filesystem::exists(dir / "iso1328.json"));
   std::filesystem::remove_all(dir);
 }
+
+// Long work says its cost up front (issue 25): a simulation whose measured estimate (the first flank's time ×
+// ⌈flanks / threads⌉) exceeds --max-time-s is refused as bad usage of --max-time-s, naming the stage, the estimate and
+// the limit, before any output file is written — for simulate, and for run through its first simulation stage.
+TEST(ProgressCli, ASimulationBeyondTheTimeLimitIsRefusedBeforeAnyFile) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_simulate_refused");
+  // A 60×60 grid: 3 655 points per flank take ≈ 14 ms at the documented 260 k points/s, far beyond the 1 ms limit
+  // even on a much faster machine, so the first stage is the one refused.
+  std::string text = progress_scene_text("");
+  const std::string small_grid = "rows: 5, cols: 5";
+  text.replace(text.find(small_grid), small_grid.size(), "rows: 60, cols: 60");
+  const auto scene = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_refused_scene.yaml");
+  std::ofstream(scene) << text;
+  const CliRun sim = run_in_pipe("simulate " + scene.string() + " --max-time-s 0.001 --out " + dir.string());
+  EXPECT_EQ(sim.code, 2) << sim.err;
+  EXPECT_NE(sim.err.find("simulate 4 flanks at"), std::string::npos) << sim.err; // teeth 1 and 11, both flanks
+  EXPECT_NE(sim.err.find("beyond the limit of 0.001 s (--max-time-s)"), std::string::npos) << sim.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "topology.csv"));
+  const CliRun run = run_in_pipe("run " + scene.string() + " --samples 0 --max-time-s 0.001 --out " + dir.string());
+  EXPECT_EQ(run.code, 2) << run.err;
+  EXPECT_NE(run.err.find("simulate 4 flanks at"), std::string::npos) << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "index.html"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "iso1328.json"));
+  std::filesystem::remove_all(dir);
+  std::filesystem::remove(scene);
+}
+
+// A large simulation prints its a-priori estimate (points at the documented rate) even into a log, where nothing
+// else of the progress appears; a small one prints nothing, and --quiet silences it.
+TEST(ProgressCli, ALargeSimulationSaysItsCostEvenInALog) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_simulate_estimate");
+  // 2 flanks × (710 × 710 dense + 25 grid + 30 trace points) = 1 008 310 points ≥ kEstimateFromPoints (1 000 000).
+  const std::string large = "simulate " + progress_scene_file() + " --teeth 1 --dense 710x710 --method linear --out " + dir.string();
+  const CliRun told = run_in_pipe(large);
+  ASSERT_EQ(told.code, 0) << told.err;
+  EXPECT_NE(told.err.find("geartopo: 1008310 points on 2 flanks (linear): about"), std::string::npos) << told.err;
+  EXPECT_EQ(told.err.find('\r'), std::string::npos) << told.err;
+  const CliRun quiet = run_in_pipe(large + " --quiet");
+  ASSERT_EQ(quiet.code, 0) << quiet.err;
+  EXPECT_EQ(quiet.err.find("points on"), std::string::npos) << quiet.err;
+  const CliRun small = run_in_pipe("simulate " + progress_scene_file() + " --out " + dir.string());
+  ASSERT_EQ(small.code, 0) << small.err;
+  EXPECT_EQ(small.err.find("points on"), std::string::npos) << small.err;
+  std::filesystem::remove_all(dir);
+}

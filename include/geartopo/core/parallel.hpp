@@ -1,5 +1,6 @@
 // geartopo — a minimal parallel loop over independent tasks. Results depend only on the task index, never on the
-// thread count or schedule (each task writes its own slot).
+// thread count or schedule (each task writes its own slot). The first exception stops the loop: tasks already
+// running finish, no further task starts, and it is rethrown once all workers are done.
 #pragma once
 
 #include <algorithm>
@@ -29,6 +30,7 @@ void parallel_for(int count, int threads, Fn&& fn) {
       } catch (...) {
         std::lock_guard lock(error_mutex);
         if (!error) error = std::current_exception();
+        next.store(count); // the loop fails: start no further task (a refused work estimate stops the work)
       }
     }
   };
