@@ -55,6 +55,7 @@ PoseResult paper_at(const grinding::GrindingProcess& process, const grinding::Pa
 struct ContactPoint {
   Eigen::Matrix<double, 1, 6> a; // d(normal deviation)/d(twist in w): [nᵀ, (P × n)ᵀ]
   Eigen::Vector3d p;
+  double target_mm = 0.0; // the design's helix part at the point: what the axis motions must leave there
 };
 
 // Nominal contact points of both flanks of space s with the wheel at stroke position Z.
@@ -70,6 +71,7 @@ std::vector<ContactPoint> contact_points(const grinding::GrindingSetup& setup, i
       ContactPoint c;
       c.a << fp.n.transpose(), fp.p.cross(fp.n).transpose();
       c.p = fp.p;
+      c.target_mm = units::mm_from_um(setup.wheel().design().helix_um(flank, z + setup.wheel().contact_offset_mm(flank, xi)));
       pts.push_back(c);
     }
   return pts;
@@ -90,15 +92,16 @@ struct FlankObjective {
     for (long i = 0; i < A.rows(); ++i) A.row(i) = pts[static_cast<size_t>(i)].a;
   }
 
-  /// Predicted normal deviations at the contact points (m, mm) with the corrections dq: the pose error and the wheel
-  /// radius error of the process at the corrected command.
+  /// Predicted normal deviations from the design at the contact points (m, mm) with the corrections dq: the pose
+  /// error and the wheel radius error of the process at the corrected command, less the design's helix part.
   Eigen::VectorXd deviations(const Vector5d& dq) const {
     const grinding::PathPoint c = with_correction(pp, dq);
     const Vector6d t = error_w(process.actual_wMg(c), ideal);
     Eigen::VectorXd d = A * t;
     for (long i = 0; i < A.rows(); ++i) {
-      const double v = (gMw * pts[static_cast<size_t>(i)].p).y();
-      d(i) -= process.wheel_radius_error_mm(v, c) * setup.wheel().normal_per_radial(v);
+      const auto& point = pts[static_cast<size_t>(i)];
+      const double v = (gMw * point.p).y();
+      d(i) -= process.wheel_radius_error_mm(v, c) * setup.wheel().normal_per_radial(v) + point.target_mm;
     }
     return d;
   }
@@ -114,8 +117,8 @@ struct FlankObjective {
 };
 
 PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
-                    const grinding::PathPoint& pp, const CompensationOptions& o, const Vector5d& start = Vector5d::Zero(),
-                    const AxisMask& free = AxisMask::Ones()) {
+                    const grinding::PathPoint& pp, const CompensationOptions& o, const Vector5d& start,
+                    const AxisMask& free) {
   const FlankObjective f(setup, process, pp, o);
   const auto& A = f.A;
   const auto& D = f.D;
@@ -221,7 +224,7 @@ CorrectionTable compute_corrections(const grinding::GrindingSetup& setup, const 
     const auto& pp = samples[static_cast<size_t>(i)];
     const PoseResult r = o.method == Method::Paper   ? paper_at(process, pp, o.max_iterations)
                          : o.method == Method::Cycle ? flank_at(setup, process, pp, o, gear_start, cycle_axes)
-                                                     : flank_at(setup, process, pp, o);
+                                                     : flank_at(setup, process, pp, o, Vector5d::Zero(), o.free_axes);
     CorrectionRow& row = rows[static_cast<size_t>(i)];
     row.space = pp.space;
     row.z_stroke_mm = pp.z_stroke_mm;

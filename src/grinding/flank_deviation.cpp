@@ -1,4 +1,5 @@
 #include "geartopo/grinding/flank_deviation.hpp"
+#include "geartopo/core/units.hpp"
 
 #include "geartopo/core/minimize.hpp"
 #include "geartopo/machine/chain.hpp"
@@ -70,8 +71,14 @@ double FlankDeviation::entry_depth(const gears::FlankPoint& fp, const machine::P
 }
 
 FlankDeviation::Target FlankDeviation::target(int tooth, geartopo::Flank flank, double xi, double z) const {
-  return {space_of(tooth, flank, flanks_.geometry().teeth()), flanks_.at(tooth, flank, xi, z),
-          z - wheel_.contact_offset_mm(flank, xi)};
+  Target t{space_of(tooth, flank, flanks_.geometry().teeth()), flanks_.at(tooth, flank, xi, z),
+           z - wheel_.contact_offset_mm(flank, xi)};
+  const auto& design = wheel_.design();
+  if (!design.empty()) {
+    t.design_profile_mm = units::mm_from_um(design.profile_um(flank, xi));
+    t.design_mm = t.design_profile_mm + units::mm_from_um(design.helix_um(flank, z));
+  }
+  return t;
 }
 
 double FlankDeviation::depth_at(const Target& t, double z_stroke_mm, double t_start_mm) const {
@@ -101,6 +108,12 @@ DeviationResult FlankDeviation::at(int tooth, geartopo::Flank flank, double xi, 
 }
 
 DeviationResult FlankDeviation::at(const Target& t, Method method) const {
+  DeviationResult r = from_involute(t, method);
+  r.deviation_mm -= method == Method::Linear ? t.design_mm - t.design_profile_mm : t.design_mm;
+  return r;
+}
+
+DeviationResult FlankDeviation::from_involute(const Target& t, Method method) const {
   const double z0 = t.z0;
 
   if (method == Method::Linear) return {linear_deviation_mm(linear_contact(t), process_), z0};
@@ -180,7 +193,10 @@ double FlankDeviation::depth_curvature_per_mm(const Target& t) const {
 }
 
 DeviationResult FlankDeviation::exact_by_brent(int tooth, geartopo::Flank flank, double xi, double z, double z_tol_mm) const {
-  return brent_search(target(tooth, flank, xi, z), z_tol_mm);
+  const Target t = target(tooth, flank, xi, z);
+  DeviationResult r = brent_search(t, z_tol_mm);
+  r.deviation_mm -= t.design_mm;
+  return r;
 }
 
 DeviationResult FlankDeviation::brent_search(const Target& t, double z_tol_mm) const {

@@ -1,6 +1,7 @@
 #include "geartopo/grinding/form_wheel.hpp"
 
 #include "geartopo/gears/involute_helicoid.hpp"
+#include "geartopo/core/units.hpp"
 #include "geartopo/machine/chain.hpp"
 
 #include <fmt/format.h>
@@ -17,9 +18,28 @@ struct ContactSample {
   double xi, z_c, v, r;
 };
 
-// Contact points of one flank with the wheel at pose wMg, for roll lengths xi_lo..xi_hi (continuation in ξ).
-std::vector<ContactSample> contact_line(const gears::InvoluteHelicoid& flanks, int tooth, geartopo::Flank flank,
-                                        const machine::Pose& wMg, double xi_lo, double xi_hi, int n) {
+/// The designed tooth space the dresser is programmed from (gears/flank_modifications.hpp): the flank point moved
+/// along its normal by the design's profile part m(ξ), and that surface's normal. S = P + m n has the tangents
+/// S_ξ = P_ξ + m′ n + m n_ξ and S_z = P_z + m n_z; to first order in m its normal is n − m′ ∇ξ, ∇ξ the surface
+/// gradient of ξ (inverse metric of P_ξ, P_z). The terms m n_ξ, m n_z tilt it by m/ρ ≈ 10⁻⁵ rad and are left out.
+struct DesignedPoint {
+  Eigen::Vector3d p, n;
+};
+DesignedPoint designed(const gears::FlankPoint& fp, const gears::FlankDesign* design, geartopo::Flank flank, double xi) {
+  if (design == nullptr || !design->modifications().of(flank).has_profile()) return {fp.p, fp.n};
+  constexpr double h = 1e-3; // mm: the relief's kink is smoothed over ±1 µm of roll length, far below the 0.05 mm samples
+  const double m = units::mm_from_um(design->profile_um(flank, xi));
+  const double dm = units::mm_from_um(design->profile_um(flank, xi + h) - design->profile_um(flank, xi - h)) / (2 * h);
+  const double aa = fp.d_xi.dot(fp.d_xi), ab = fp.d_xi.dot(fp.d_z), bb = fp.d_z.dot(fp.d_z), det = aa * bb - ab * ab;
+  const Eigen::Vector3d grad_xi = (bb * fp.d_xi - ab * fp.d_z) / det;
+  return {fp.p + m * fp.n, (fp.n - dm * grad_xi).normalized()};
+}
+
+// Contact points of one flank with the wheel at pose wMg, for roll lengths xi_lo..xi_hi (continuation in ξ), on the
+// designed flank (`design`'s profile part; null: the bare involute).
+std::vector<ContactSample> contact_line(const gears::InvoluteHelicoid& flanks, const gears::FlankDesign* design,
+                                        int tooth, geartopo::Flank flank, const machine::Pose& wMg, double xi_lo,
+                                        double xi_hi, int n) {
   const Eigen::Vector3d O = wMg.translation();
   const Eigen::Vector3d u = wMg.linear().col(1);
   const machine::Pose gMw = wMg.inverse();
@@ -33,8 +53,10 @@ std::vector<ContactSample> contact_line(const gears::InvoluteHelicoid& flanks, i
     bool converged = false;
     for (int it = 0; it < 50; ++it) {
       const auto fp = flanks.at(tooth, flank, xi, z);
+      const DesignedPoint d = designed(fp, design, flank, xi);
+      // g on the designed flank; its derivative from the bare one (they differ by ~m′: Newton still converges).
+      const double gz = (d.p - O).dot(d.n.cross(u));
       const Eigen::Vector3d nxu = fp.n.cross(u);
-      const double gz = (fp.p - O).dot(nxu);
       const Eigen::Vector3d dn = k * Eigen::Vector3d::UnitZ().cross(fp.n);
       const double dg = fp.d_z.dot(nxu) + (fp.p - O).dot(dn.cross(u));
       if (dg == 0.0) break;
@@ -47,7 +69,7 @@ std::vector<ContactSample> contact_line(const gears::InvoluteHelicoid& flanks, i
     }
     if (!converged || !std::isfinite(z))
       throw std::runtime_error(fmt::format("form wheel: no contact point at roll length {:.3f} mm", xi));
-    const Eigen::Vector3d q = gMw * flanks.at(tooth, flank, xi, z).p;
+    const Eigen::Vector3d q = gMw * designed(flanks.at(tooth, flank, xi, z), design, flank, xi).p;
     out.push_back({xi, z, q.y(), std::hypot(q.x(), q.z())});
   }
   return out;
@@ -66,7 +88,8 @@ void hermite(double v0, double r0, double s0, double v1, double r1, double s1, i
 
 } // namespace
 
-FormWheel::FormWheel(const gears::GearGeometry& g, const WheelSetting& setting) {
+FormWheel::FormWheel(const gears::GearGeometry& g, const WheelSetting& setting, gears::FlankDesign design)
+    : design_(std::move(design)) {
   const gears::InvoluteHelicoid flanks(g);
   const double xi_ff = g.roll_length_at(g.root_form_diameter_mm());
   const double xi_a = g.roll_length_at(g.tip_diameter_mm());
@@ -81,8 +104,8 @@ FormWheel::FormWheel(const gears::GearGeometry& g, const WheelSetting& setting) 
   wMg_ref_ = machine::ideal_wMg(q);
 
   // Space 1: right flank of tooth 1 and left flank of tooth 2.
-  auto right = contact_line(flanks, 1, geartopo::Flank::Right, wMg_ref_, xi_lo, xi_hi, n);
-  auto left = contact_line(flanks, 2, geartopo::Flank::Left, wMg_ref_, xi_lo, xi_hi, n);
+  auto right = contact_line(flanks, &design_, 1, geartopo::Flank::Right, wMg_ref_, xi_lo, xi_hi, n);
+  auto left = contact_line(flanks, &design_, 2, geartopo::Flank::Left, wMg_ref_, xi_lo, xi_hi, n);
 
   std::vector<double> xi_r, zc_r, xi_l, zc_l;
   for (const auto& s : right) xi_r.push_back(s.xi), zc_r.push_back(s.z_c);

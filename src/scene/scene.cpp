@@ -3,6 +3,8 @@
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/core/field_error.hpp"
+#include "geartopo/gears/evaluation_ranges.hpp"
+#include "geartopo/gears/flank_modifications.hpp"
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/core/text_field.hpp"
 #include "yaml_reader.hpp"
@@ -24,6 +26,47 @@
 namespace geartopo::scene {
 namespace {
 
+
+// One flank's modification keys (gear.modifications.both / left / right), each over `base` (both's values for left and
+// right). Amounts ≥ 0 except the slopes; 1 mm (1000 µm) bounds every amount far above any drawing's few tens of µm.
+gears::FlankModifications read_flank_modifications(MapReader& m, gears::FlankModifications f) {
+  constexpr Range kAmountUm{0.0, 1000.0};
+  constexpr Range kSlopeUm{-1000.0, 1000.0};
+  constexpr Range kDiameterMm{0.0, 50000.0, true, false};
+  constexpr Range kLengthMm{0.0, 5000.0, true, false};
+  const auto shape = [&m](const std::string& key, gears::ReliefShape fallback) {
+    const auto c = m.optional_choice(key, {"linear", "arc"});
+    return c ? (*c == "arc" ? gears::ReliefShape::Arc : gears::ReliefShape::Linear) : fallback;
+  };
+  f.profile_crowning_um = m.optional_number("profile_crowning_um", kAmountUm).value_or(f.profile_crowning_um);
+  f.profile_slope_um = m.optional_number("profile_slope_um", kSlopeUm).value_or(f.profile_slope_um);
+  f.tip_relief_um = m.optional_number("tip_relief_um", kAmountUm).value_or(f.tip_relief_um);
+  f.tip_relief_start_diameter_mm =
+      m.optional_number("tip_relief_start_diameter_mm", kDiameterMm).value_or(f.tip_relief_start_diameter_mm);
+  f.tip_relief_shape = shape("tip_relief_shape", f.tip_relief_shape);
+  f.root_relief_um = m.optional_number("root_relief_um", kAmountUm).value_or(f.root_relief_um);
+  f.root_relief_start_diameter_mm =
+      m.optional_number("root_relief_start_diameter_mm", kDiameterMm).value_or(f.root_relief_start_diameter_mm);
+  f.root_relief_shape = shape("root_relief_shape", f.root_relief_shape);
+  f.helix_crowning_um = m.optional_number("helix_crowning_um", kAmountUm).value_or(f.helix_crowning_um);
+  f.helix_slope_um = m.optional_number("helix_slope_um", kSlopeUm).value_or(f.helix_slope_um);
+  f.end_relief_um = m.optional_number("end_relief_um", kAmountUm).value_or(f.end_relief_um);
+  f.end_relief_length_mm = m.optional_number("end_relief_length_mm", kLengthMm).value_or(f.end_relief_length_mm);
+  f.end_relief_shape = shape("end_relief_shape", f.end_relief_shape);
+  m.finish();
+  return f;
+}
+
+// gear.modifications: `both` for the two flanks, `left` / `right` overriding it key by key (DIN ISO 21771 flanks).
+gears::DesignModifications read_modifications(MapReader& m) {
+  gears::FlankModifications both;
+  if (auto b = m.optional_map("both")) both = read_flank_modifications(*b, both);
+  gears::DesignModifications d{both, both};
+  if (auto l = m.optional_map("left")) d.left = read_flank_modifications(*l, both);
+  if (auto r = m.optional_map("right")) d.right = read_flank_modifications(*r, both);
+  m.finish();
+  return d;
+}
 
 gears::GearSpec read_gear(MapReader& g, Scene& scene) {
   gears::GearSpec s;
@@ -78,6 +121,7 @@ gears::GearSpec read_gear(MapReader& g, Scene& scene) {
   s.thickness_allowance_upper_mm = units::mm_from_um(upper_um);
   s.thickness_allowance_lower_mm = units::mm_from_um(lower_um);
   s.ball_diameter_mm = g.optional_number("ball_diameter_mm", {0.0, 1000.0, true, false});
+  if (auto m = g.optional_map("modifications")) s.modifications = read_modifications(*m);
   scene.assumed = g.optional_text_list("assumed");
   for (const auto& key : scene.assumed) {
     if (key == "assumed" || !g.has(key))
@@ -291,6 +335,8 @@ grinding::ProcessSpec read_process(MapReader& p) {
     s.direction = *d == "up" ? grinding::StrokeDirection::Up
                   : *d == "down" ? grinding::StrokeDirection::Down
                                  : grinding::StrokeDirection::Alternate;
+  if (auto c = p.optional_choice("lead_crowning", {"twist_free", "radial_infeed"}))
+    s.lead_crowning = *c == "radial_infeed" ? grinding::LeadCrowning::RadialInfeed : grinding::LeadCrowning::TwistFree;
   p.finish();
   return s;
 }
@@ -593,6 +639,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   // what it reports in the file.
   try {
     gears::GearGeometry check(scene.gear);
+    gears::FlankDesign design(check, gears::iso1328_ranges(check), scene.gear.modifications); // where reliefs start
   } catch (const FieldError& e) {
     ctx.fail_field(e.field(), e.what());
   }

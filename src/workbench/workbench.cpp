@@ -1,4 +1,5 @@
 #include "geartopo/workbench/workbench.hpp"
+#include "geartopo/compensation/design_motion.hpp"
 
 #include "geartopo/core/field_error.hpp"
 #include "geartopo/core/units.hpp"
@@ -104,6 +105,11 @@ Workbench::Workbench(scene::Scene s)
       machine_process(machine, scene.machine.datum_face_z_mm), effects(make_effects(scene.effects, setup)) {
   check_strokes(scene, setup);
   if (!effects.empty()) effects_process = std::make_unique<effects::EffectsProcess>(machine_process, effects);
+  if (setup.design().modifications().has_helix()) {
+    design_motion = std::make_unique<compensation::CorrectionTable>(compensation::design_motions(
+        setup, scene.process.lead_crowning, {machine, scene.machine.datum_face_z_mm}));
+    design_process = std::make_unique<compensation::CompensatedProcess>(machine_and_effects(), *design_motion);
+  }
 }
 
 Workbench::Workbench(const std::filesystem::path& scene_file) : Workbench(scene::load_scene(scene_file)) {}

@@ -4,8 +4,9 @@
 //        actual wheel against the ideal one is driven to zero in the least-squares sense by axis corrections,
 //        Δq ← Δq − pinv(J_M)·E(q + Δq), with J_M the 6×5 body Jacobian (jacobian.hpp) and the errors re-evaluated at
 //        the corrected command until the step vanishes. pinv mixes mm and rad exactly as the paper's formula does.
-// flank: at every pose choose the corrections that minimise the predicted normal deviations of the nominal contact
-//        points on both flanks of the space (equal weights along the contact lines, all modelled sources: pose and
+// flank: at every pose choose the corrections that minimise the predicted normal deviations FROM THE DESIGN of the
+//        nominal contact points on both flanks of the space (the target is the drawing's helix part at each contact
+//        point, FormWheel::design(): the profile part is dressed into the wheel) (equal weights along the contact lines, all modelled sources: pose and
 //        wheel radius). Directions that do not change the ground surface — spin about the wheel axis, motion along
 //        the helicoid's screw — have no effect on that objective; among equivalent corrections the smallest is taken
 //        (minimum norm with rotary corrections scaled by the reference radius, so mm and rad weigh alike).
@@ -29,6 +30,9 @@ struct CompensationOptions {
   double step_mm = 2.0;      ///< path sampling of the correction table along each stroke
   int contact_points = 15;   ///< per flank along the contact line (flank method)
   int max_iterations = 12;   ///< Newton iterations per pose
+  /// Axes the flank method may move at every pose (1 free, 0 held; X, Y, Z, A, C): all, or e.g. X alone for the
+  /// radial infeed that grinds a designed helix crowning (docs/modifications.md).
+  Eigen::Matrix<double, 5, 1> free_axes = Eigen::Matrix<double, 5, 1>::Ones();
 };
 
 /// Machine strokes check for corrected commands: the machine model and where the gear's datum face sits.

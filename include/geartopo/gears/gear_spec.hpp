@@ -4,6 +4,7 @@
 #pragma once
 
 #include "geartopo/core/flank.hpp"
+#include "geartopo/gears/flank_modifications.hpp"
 
 #include <optional>
 #include <string>
@@ -33,6 +34,8 @@ struct GearSpec {
   double thickness_allowance_lower_mm = 0.0;
   /// Measuring-ball diameter D_M for the dimension over balls; absent: GearGeometry::customary_ball_diameter_mm().
   std::optional<double> ball_diameter_mm;
+  /// The drawing's flank modifications (flank_modifications.hpp); none: the bare involute helicoid.
+  DesignModifications modifications;
 
   Hand hand() const { return helix_angle_rad > 0 ? Hand::Right : helix_angle_rad < 0 ? Hand::Left : Hand::Spur; }
 };

@@ -54,6 +54,10 @@ public:
                  const GrindingProcess& process)
       : flanks_(flanks), wheel_(wheel), path_(path), process_(process) {}
 
+  /// The deviation of the ground flank from the DESIGN at a point (plus material positive, mm): the material left
+  /// along the bare involute's normal line, less the drawing's design value there (FormWheel::design(); 0 without
+  /// modifications). Linear: the first-order deviation of the process from the wheel's nominal (dressed) surface,
+  /// plus the profile part dressed into it, less the design.
   DeviationResult at(int tooth, geartopo::Flank flank, double roll_length_mm, double z_mm, Method method) const;
 
   /// The process-independent part of the linear model at a point: at(…, Method::Linear) is
@@ -89,6 +93,9 @@ public:
     /// c = d²(entry depth)/dZ² near Z₀ (1/mm), the geometry's (the ideal process's: machine errors of µm and µrad
     /// change it by ~1e-4 relative); 0 when not known. When known, at() asks 3 poses instead of 4.
     double depth_curvature_per_mm = 0.0;
+    /// The drawing's design at the point (gears/flank_modifications.hpp), mm: the whole value, and its profile part,
+    /// which the wheel is dressed with (so the linear model's nominal surface already carries it).
+    double design_mm = 0.0, design_profile_mm = 0.0;
   };
   Target target(int tooth, geartopo::Flank flank, double roll_length_mm, double z_mm) const;
   /// The second difference (f(Z₀ + h) + f(Z₀ − h) − 2 f(Z₀))/h² of this process's entry depth f, h =
@@ -100,6 +107,9 @@ public:
   LinearContact linear_contact(const Target& t) const;
 
 private:
+  /// The material left along the bare involute's normal (exact) or the first-order deviation from the nominal surface
+  /// (linear), before the design is taken off.
+  DeviationResult from_involute(const Target& t, Method method) const;
   /// Entry depth with the wheel at stroke position Z, Newton from t_start_mm.
   double depth_at(const Target& t, double z_stroke_mm, double t_start_mm) const;
   DeviationResult brent_search(const Target& t, double z_tol_mm) const;

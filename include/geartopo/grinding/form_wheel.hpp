@@ -9,10 +9,13 @@
 // two flanks of the space; turning these contact lines about the wheel axis gives R(v). The screw motion of the path
 // keeps the contact line fixed relative to the wheel, so the same wheel grinds every space and every z.
 // Below the root form diameter the wheel tip is a smooth blend that reaches the root diameter.
+// Designed profile modifications (crowning, slope, tip and root relief) are dressed into the wheel: the synthesis runs
+// on the designed flank P + m(ξ) n instead of P, so the same wheel grinds them on every space and z.
 // Units: mm.
 #pragma once
 
 #include "geartopo/core/flank.hpp"
+#include "geartopo/gears/flank_modifications.hpp"
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/grinding/wheel_setting.hpp"
 #include "geartopo/core/cubic_spline.hpp"
@@ -26,7 +29,10 @@ namespace geartopo::grinding {
 
 class FormWheel {
 public:
-  FormWheel(const gears::GearGeometry& g, const WheelSetting& setting);
+  /// `design`: the drawing's modifications; the wheel is dressed with their profile part (the dresser is programmed
+  /// from the designed tooth space: contact points on the flank moved by m(ξ) along the normal, contact condition on
+  /// that surface). Empty: the bare involute.
+  FormWheel(const gears::GearGeometry& g, const WheelSetting& setting, gears::FlankDesign design = {});
 
   /// R(v): wheel radius at axial coordinate v; −∞ outside the wheel's width (no material there).
   double radius(double v) const {
@@ -74,8 +80,11 @@ public:
 
   /// Nominal wheel pose of the synthesis (space 1, Z = 0).  wMg
   const machine::Pose& reference_wMg() const { return wMg_ref_; }
+  /// The design the wheel was dressed from: its profile part is in R(v); deviations are taken against all of it.
+  const gears::FlankDesign& design() const { return design_; }
 
 private:
+  gears::FlankDesign design_;
   geartopo::CubicSpline profile_;
   geartopo::CubicSpline contact_right_, contact_left_; // z_c(ξ) per flank type
   std::vector<double> v_, r_;

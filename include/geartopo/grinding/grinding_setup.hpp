@@ -3,6 +3,7 @@
 #pragma once
 
 #include "geartopo/gears/evaluation_ranges.hpp"
+#include "geartopo/gears/flank_modifications.hpp"
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/gears/involute_helicoid.hpp"
 #include "geartopo/grinding/form_wheel.hpp"
@@ -23,6 +24,9 @@ public:
   const gears::GearGeometry& geometry() const { return geometry_; }
   const gears::InvoluteHelicoid& flanks() const { return flanks_; }
   const gears::EvaluationRanges& ranges() const { return ranges_; }
+  /// The drawing's design topology (gear.modifications): the wheel is dressed with its profile part, axis motions
+  /// along the stroke make its helix part, and every deviation is measured against it.
+  const gears::FlankDesign& design() const { return wheel_.design(); }
   const WheelSetting& setting() const { return setting_; }
   const FormWheel& wheel() const { return wheel_; }
   const WheelPath& path() const { return path_; }

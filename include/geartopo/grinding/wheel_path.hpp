@@ -19,6 +19,11 @@ namespace geartopo::grinding {
 
 enum class StrokeDirection { Up, Down, Alternate }; ///< Up: from the datum face (z = 0) towards z = b
 
+/// How the helix modifications of the drawing (crowning, slope, end relief) are ground (docs/modifications.md):
+/// RadialInfeed — X alone along the stroke (leaves twist on a helical gear); TwistFree — X, Y, A and C along the
+/// stroke, solved so that the flank takes the design.
+enum class LeadCrowning { TwistFree, RadialInfeed };
+
 struct ProcessSpec {
   double feed_mm_per_min = 1000.0; ///< axial feed along Z
   double overtravel_mm = 10.0;     ///< beyond the contact at both faces
@@ -26,6 +31,7 @@ struct ProcessSpec {
   int index_step = 1;              ///< 1: sequential; n > 1: skip indexing (gcd(n, z) must be 1)
   int first_space = 1;
   StrokeDirection direction = StrokeDirection::Up;
+  LeadCrowning lead_crowning = LeadCrowning::TwistFree;
 };
 
 /// A point of the path: which space, where along the stroke, when, and the commanded axes.

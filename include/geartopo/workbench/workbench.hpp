@@ -5,6 +5,7 @@
 // refer to the model.
 #pragma once
 
+#include "geartopo/compensation/compensator.hpp"
 #include "geartopo/effects/effect.hpp"
 #include "geartopo/effects/effects_process.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
@@ -36,9 +37,19 @@ struct Workbench {
   grinding::MachineProcess machine_process; ///< geometric errors only
   std::vector<std::unique_ptr<effects::Effect>> effects; ///< the scene's effects, bound to setup
   std::unique_ptr<effects::EffectsProcess> effects_process; ///< null when the scene has no effects
+  /// The NC program's motions that grind the drawing's helix modifications (compensation/design_motion.hpp, the
+  /// scene's process.lead_crowning), and the machine running them; null when the design has no helix part.
+  std::unique_ptr<compensation::CorrectionTable> design_motion;
+  std::unique_ptr<compensation::CompensatedProcess> design_process;
 
-  /// What the machine does: geometric errors plus the scene's effects.
+  /// What the machine does: geometric errors plus the scene's effects, running the design motions.
   const grinding::GrindingProcess& process() const {
+    if (design_process) return *design_process;
+    return effects_process ? static_cast<const grinding::GrindingProcess&>(*effects_process) : machine_process;
+  }
+  /// The process without the design motions: geometric errors plus the scene's effects. Processes drawn or fitted
+  /// on top of the scene's machine (the Monte Carlo's) wrap it and then run design_motion themselves.
+  const grinding::GrindingProcess& machine_and_effects() const {
     return effects_process ? static_cast<const grinding::GrindingProcess&>(*effects_process) : machine_process;
   }
   /// The types of the scene's effects, in scene order ("thermal_drift", …): what diagnosis must not propose again.

@@ -1,0 +1,127 @@
+// The axis motions that grind a designed helix crowning (compensation/design_motion.hpp), on an ideal machine.
+// Truths from outside the grinder:
+//  - radial infeed: the ground flank (exact envelope) equals the first-order field of the X offset ΔX(Z_gen) at each
+//    point's generating stroke position, written here from the documented chain (machine::ideal_wMg of the command with
+//    and without ΔX, applied to the point, along its normal) — and so carries the twist that field has;
+//  - twist free: the ground flank is the design to within 20 % of the radial infeed's twist (issue 26).
+#include "../gears/gear_fixtures.hpp"
+#include "geartopo/compensation/design_motion.hpp"
+#include "geartopo/grinding/flank_deviation.hpp"
+#include "geartopo/machine/chain.hpp"
+#include "geartopo/machine/machine_model.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+using namespace geartopo;
+
+namespace {
+
+constexpr double kCrowningUm = 6.0;
+
+grinding::GrindingSetup crowned_paper_gear() {
+  gears::GearSpec spec = test::paper_gear();
+  gears::FlankModifications m;
+  m.helix_crowning_um = kCrowningUm;
+  spec.modifications = {m, m};
+  return grinding::GrindingSetup(spec, {350.0, 0.0}, {});
+}
+
+const grinding::GrindingSetup& setup() {
+  static const grinding::GrindingSetup s = crowned_paper_gear();
+  return s;
+}
+
+compensation::CorrectionTable motions(grinding::LeadCrowning mode) {
+  const machine::MachineModel model(machine::Strokes::skmc_1200w(), {});
+  return compensation::design_motions(setup(), mode, {model, 300.0});
+}
+
+struct Grid {
+  std::vector<double> xi, z;
+};
+Grid grid() {
+  const auto& r = setup().ranges();
+  Grid g;
+  for (int i = 0; i < 7; ++i) g.xi.push_back(r.xi_eval_start_mm + r.profile_evaluation_length() * i / 6.0);
+  for (int j = 0; j < 9; ++j) g.z.push_back(r.z_eval_start_mm + r.helix_evaluation_length() * j / 8.0);
+  return g;
+}
+
+/// Least-squares slope × range (µm over the range): the slope deviation of a line of values, as f_Hα / f_Hβ.
+double slope_over_range(const std::vector<double>& x, const std::vector<double>& y) {
+  double mx = 0, my = 0;
+  for (size_t i = 0; i < x.size(); ++i) mx += x[i], my += y[i];
+  mx /= static_cast<double>(x.size()), my /= static_cast<double>(y.size());
+  double sxy = 0, sxx = 0;
+  for (size_t i = 0; i < x.size(); ++i) sxy += (x[i] - mx) * (y[i] - my), sxx += (x[i] - mx) * (x[i] - mx);
+  return sxy / sxx * (x.back() - x.front());
+}
+
+/// Profile twist S_α: the profile slope at the last column of L_β less the one at the first (µm), from a 7×9 field.
+double profile_twist_um(const Grid& g, const std::vector<std::vector<double>>& field) {
+  std::vector<double> first, last;
+  for (size_t i = 0; i < g.xi.size(); ++i) first.push_back(field[i].front()), last.push_back(field[i].back());
+  return slope_over_range(g.xi, last) - slope_over_range(g.xi, first);
+}
+
+} // namespace
+
+TEST(DesignMotion, RadialInfeedGrindsTheFirstOrderFieldOfItsXOffsetAndItsTwist) {
+  const auto table = motions(grinding::LeadCrowning::RadialInfeed);
+  for (const auto& row : table.rows()) ASSERT_EQ(row.correction.tail<4>().norm(), 0.0) << "X alone moves";
+  const grinding::IdealProcess ideal;
+  const compensation::CompensatedProcess process(ideal, table); // holds references: both named
+  const auto& s = setup();
+  const grinding::FlankDeviation dev(s.flanks(), s.wheel(), s.path(), process);
+  const grinding::FlankDeviation nominal(s.flanks(), s.wheel(), s.path(), ideal);
+  const Grid g = grid();
+  double worst = 0.0, largest_field = 0.0;
+  for (auto flank : {Flank::Left, Flank::Right}) {
+    std::vector<std::vector<double>> ground(g.xi.size(), std::vector<double>(g.z.size()));
+    auto field = ground;
+    for (size_t i = 0; i < g.xi.size(); ++i)
+      for (size_t j = 0; j < g.z.size(); ++j) {
+        const auto t = dev.target(3, flank, g.xi[i], g.z[j]);
+        ground[i][j] = 1e3 * (dev.at(t, grinding::Method::Exact).deviation_mm + t.design_mm);
+        // The generating pose of the point on the ideal machine, and the chain with and without the table's ΔX there.
+        const double z_gen = nominal.at(t, grinding::Method::Exact).z_stroke_mm;
+        const grinding::PathPoint pp = s.path().point(t.space, z_gen);
+        machine::AxisPose moved = pp.q;
+        moved.x += table.at(t.space, z_gen)(0);
+        const machine::Pose shift = machine::ideal_wMg(moved) * machine::ideal_wMg(pp.q).inverse();
+        field[i][j] = 1e3 * t.fp.n.dot(shift * t.fp.p - t.fp.p);
+        worst = std::max(worst, std::abs(ground[i][j] - field[i][j]));
+        largest_field = std::max(largest_field, std::abs(field[i][j]));
+      }
+    const double s_ground = profile_twist_um(g, ground), s_field = profile_twist_um(g, field);
+    std::printf("%s flank: profile twist S_alpha ground %.3f um, first-order field %.3f um\n", std::string(to_string(flank)).c_str(),
+                s_ground, s_field);
+    EXPECT_NEAR(s_ground, s_field, 0.05);
+    EXPECT_GT(std::abs(s_field), 1.0) << "a 6 µm crowning by radial infeed twists this helical flank by µm";
+  }
+  std::printf("radial infeed: largest |ground - field| %.4f um, largest field %.3f um\n", worst, largest_field);
+  EXPECT_LT(worst, 0.05);
+  EXPECT_GT(largest_field, 0.5 * kCrowningUm);
+}
+
+TEST(DesignMotion, TwistFreeMotionsLeaveLessThanAFifthOfTheRadialInfeedsTwist) {
+  const auto& s = setup();
+  const Grid g = grid();
+  const auto largest_from_design_um = [&](const compensation::CorrectionTable& table) {
+    const grinding::IdealProcess ideal;
+    const compensation::CompensatedProcess process(ideal, table);
+    const grinding::FlankDeviation dev(s.flanks(), s.wheel(), s.path(), process);
+    double worst = 0.0;
+    for (auto flank : {Flank::Left, Flank::Right})
+      for (double xi : g.xi)
+        for (double z : g.z) worst = std::max(worst, std::abs(1e3 * dev.at(3, flank, xi, z, grinding::Method::Exact).deviation_mm));
+    return worst;
+  };
+  const double infeed = largest_from_design_um(motions(grinding::LeadCrowning::RadialInfeed));
+  const double twist_free = largest_from_design_um(motions(grinding::LeadCrowning::TwistFree));
+  std::printf("largest |deviation from the design|: radial infeed %.3f um, twist free %.3f um\n", infeed, twist_free);
+  EXPECT_LT(twist_free, 0.2 * infeed);
+}
