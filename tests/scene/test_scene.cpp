@@ -436,3 +436,47 @@ TEST(SceneMachine, ABadUncertaintyColumnIsLocatedInTheTableFile) {
   }
   std::filesystem::remove_all(dir);
 }
+
+// gear.modifications and process.lead_crowning (issue 26): values read per flank over `both`, and every bad value
+// located at its key with the allowed range — nan, inf, negative amounts, huge values, unknown shapes, a relief that
+// starts outside the active profile (both numbers named), an end relief of half the face width or more.
+TEST(Scene, ModificationsAreReadPerFlankAndBadValuesLocated) {
+  const std::string mods = kGood + "  modifications:\n"
+                                   "    both: {profile_crowning_um: 4, helix_crowning_um: 6, tip_relief_um: 8, tip_relief_start_diameter_mm: 592}\n"
+                                   "    right: {helix_crowning_um: 3, end_relief_shape: arc}\n"
+                                   "process: {lead_crowning: radial_infeed}\n";
+  const auto sc = scene::parse_scene(mods, "mem");
+  EXPECT_EQ(sc.gear.modifications.left.helix_crowning_um, 6.0);
+  EXPECT_EQ(sc.gear.modifications.right.helix_crowning_um, 3.0);
+  EXPECT_EQ(sc.gear.modifications.right.profile_crowning_um, 4.0); // from both
+  EXPECT_EQ(sc.gear.modifications.right.tip_relief_start_diameter_mm, 592.0);
+  EXPECT_EQ(sc.gear.modifications.right.end_relief_shape, gears::ReliefShape::Arc);
+  EXPECT_EQ(sc.process.lead_crowning, grinding::LeadCrowning::RadialInfeed);
+  EXPECT_EQ(scene::parse_scene(kGood, "mem").process.lead_crowning, grinding::LeadCrowning::TwistFree);
+
+  const auto with_both = [](const std::string& both) { return kGood + "  modifications:\n    both: {" + both + "}\n"; };
+  EXPECT_EQ(error_of(with_both("profile_crowning_um: .nan")),
+            "scenes/x.yaml:11:33: gear.modifications.both.profile_crowning_um: '.nan' is not a number");
+  EXPECT_EQ(error_of(with_both("helix_crowning_um: .inf")),
+            "scenes/x.yaml:11:31: gear.modifications.both.helix_crowning_um: '.inf' is not a number");
+  EXPECT_EQ(error_of(with_both("tip_relief_um: -2")),
+            "scenes/x.yaml:11:27: gear.modifications.both.tip_relief_um: -2 is outside [0, 1000]");
+  EXPECT_EQ(error_of(with_both("helix_slope_um: 1e9")),
+            "scenes/x.yaml:11:28: gear.modifications.both.helix_slope_um: 1e9 is outside [-1000, 1000]");
+  EXPECT_NE(error_of(with_both("tip_relief_shape: round")).find("gear.modifications.both.tip_relief_shape: 'round' is not one of: linear, arc"),
+            std::string::npos);
+  EXPECT_NE(error_of(with_both("crowning_um: 3")).find("gear.modifications.both.crowning_um: unknown key"), std::string::npos);
+  const std::string outside = error_of(with_both("tip_relief_um: 8, tip_relief_start_diameter_mm: 610"));
+  EXPECT_EQ(outside.rfind("scenes/x.yaml:11:60: gear.modifications.both.tip_relief_start_diameter_mm: 610 mm is outside the "
+                          "active profile",
+                          0),
+            0u)
+      << outside;
+  EXPECT_NE(outside.find("d_a = 601.475 mm"), std::string::npos) << outside;
+  const std::string end = error_of(kGood + "  modifications:\n    left: {end_relief_um: 5, end_relief_length_mm: 75}\n");
+  EXPECT_EQ(end.rfind("scenes/x.yaml:11:52: gear.modifications.left.end_relief_length_mm: 75 mm is outside the face width", 0),
+            0u)
+      << end;
+  EXPECT_NE(error_of(kGood + "process: {lead_crowning: hobbed}\n").find("process.lead_crowning: 'hobbed' is not one of: twist_free, radial_infeed"),
+            std::string::npos);
+}
