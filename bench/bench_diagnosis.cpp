@@ -19,12 +19,12 @@ using namespace geartopo;
 
 namespace {
 
-const std::vector<diagnosis::MeasuredPoint>& measured() {
+const std::vector<measurement::MeasuredPoint>& measured() {
   static const auto pts = [] {
     const auto& truth = bench::truth_scene();
     diagnosis::SynthOptions o; // teeth 1 and 18, 7×9, 0.5 µm, seed 1
-    return diagnosis::measured_points(diagnosis::synthesize(truth.setup, truth.process(), o), truth.setup.geometry(),
-                                      "synthetic");
+    return measurement::measured_points(diagnosis::synthesize(truth.setup, truth.process(), o), truth.setup.geometry(),
+                                        "synthetic");
   }();
   return pts;
 }
@@ -58,8 +58,8 @@ void BM_Diagnose(benchmark::State& state) {
 BENCHMARK(BM_Diagnose)->Name("Diagnose/all_library_effects/teeth1+18")->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(2);
 
 // Every tooth, rows × cols per flank (rows = cols = side), 0.5 µm noise, seed 1: 70·side² points.
-const std::vector<diagnosis::MeasuredPoint>& dense_measurement(int side) {
-  static std::map<int, std::vector<diagnosis::MeasuredPoint>> cache;
+const std::vector<measurement::MeasuredPoint>& dense_measurement(int side) {
+  static std::map<int, std::vector<measurement::MeasuredPoint>> cache;
   auto it = cache.find(side);
   if (it == cache.end()) {
     const auto& truth = bench::truth_scene();
@@ -67,8 +67,8 @@ const std::vector<diagnosis::MeasuredPoint>& dense_measurement(int side) {
     o.teeth.resize(static_cast<size_t>(truth.setup.geometry().teeth()));
     std::iota(o.teeth.begin(), o.teeth.end(), 1);
     o.rows = o.cols = side;
-    it = cache.emplace(side, diagnosis::measured_points(diagnosis::synthesize(truth.setup, truth.process(), o),
-                                                        truth.setup.geometry(), "synthetic")).first;
+    it = cache.emplace(side, measurement::measured_points(diagnosis::synthesize(truth.setup, truth.process(), o),
+                                                          truth.setup.geometry(), "synthetic")).first;
   }
   return it->second;
 }

@@ -21,8 +21,12 @@ function(geartopo_reuse_pch target kind)
 endfunction()
 
 # geartopo_add_library(<name> SOURCES … [PUBLIC …] [PRIVATE …] [PCH <header> …] [UNITY])
-# One library of geartopo: target geartopo_<name>, alias geartopo::<name>, public headers under
-# include/geartopo/<name>/ (included as "geartopo/<name>/x.hpp"), sources and private headers under src/<name>/.
+# One library of geartopo: target geartopo_<name>, alias geartopo::<name>, public headers included as
+# "geartopo/<name>/x.hpp". Two shapes (docs/architecture.md):
+#   - under src/: public headers in include/geartopo/<name>/, sources and private headers in src/<name>/;
+#   - self-contained at the top level (gears/, surfaces/, evaluation/): <name>/CMakeLists.txt, public headers in
+#     <name>/include/geartopo/<name>/, sources and private headers in <name>/src/; the headers are installed to the
+#     same include/geartopo/<name>/ as the others'.
 # Every library is exported for find_package(geartopo) (cmake/geartopoConfig.cmake.in).
 function(geartopo_add_library name)
   cmake_parse_arguments(arg "UNITY" "" "SOURCES;PUBLIC;PRIVATE;PCH" ${ARGN})
@@ -30,9 +34,17 @@ function(geartopo_add_library name)
   add_library(${target} STATIC ${arg_SOURCES})
   add_library(geartopo::${name} ALIAS ${target})
   set_target_properties(${target} PROPERTIES EXPORT_NAME ${name} POSITION_INDEPENDENT_CODE ON)
+  if(IS_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include) # self-contained
+    set(public_dir ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    set(private_dir ${CMAKE_CURRENT_SOURCE_DIR}/src)
+    install(DIRECTORY ${public_dir}/geartopo DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  else() # the root CMakeLists.txt installs include/geartopo
+    set(public_dir ${PROJECT_SOURCE_DIR}/include)
+    set(private_dir ${CMAKE_CURRENT_SOURCE_DIR})
+  endif()
   target_include_directories(${target}
-    PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>
-    PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
+    PUBLIC $<BUILD_INTERFACE:${public_dir}> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>
+    PRIVATE ${private_dir})
   target_compile_features(${target} PUBLIC cxx_std_20)
   target_link_libraries(${target} PUBLIC ${arg_PUBLIC} PRIVATE ${arg_PRIVATE})
   # Precompiled headers: the library's own list (PCH …) when it has heavier ones, else the shared set.

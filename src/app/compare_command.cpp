@@ -23,7 +23,7 @@ void register_compare_command(CLI::App& app, Action& action) {
     std::string scene, measured, out;
     double noise = 0.0;
     bool json = false;
-    diagnosis::KlingelnbergOptions mka;
+    measurement::KlingelnbergOptions mka;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("compare", "Measured − model (µm) at every measured point: statistics, where the model "

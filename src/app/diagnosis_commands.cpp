@@ -7,7 +7,7 @@
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/identified_effects.hpp"
-#include "geartopo/diagnosis/klingelnberg.hpp"
+#include "geartopo/measurement/klingelnberg.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
 #include "geartopo/diagnosis/stroke_scatter.hpp"
@@ -140,7 +140,7 @@ void register_synth_command(CLI::App& app, Action& action) {
         points = rows.size();
         output::write_atomically(file, [&](std::ostream& out) {
           if (opt->format == "klingelnberg")
-            diagnosis::write_klingelnberg(out, wb.setup.geometry(), rows);
+            measurement::write_klingelnberg(out, wb.setup.geometry(), rows);
           else
             grinding::write_topology_rows(out, rows);
         });
@@ -161,7 +161,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
     double noise = 0.0;
     bool json = false, scene_uncertainty = false;
     std::vector<std::string> candidates;
-    diagnosis::KlingelnbergOptions mka;
+    measurement::KlingelnbergOptions mka;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("diagnose", "Which physical effect is the model missing? Fits every library effect "

@@ -4,9 +4,7 @@
 #include "geartopo/report/prediction_report.hpp"
 #include "app/options.hpp"
 
-#include "geartopo/core/input_file.hpp"
-#include "geartopo/diagnosis/klingelnberg.hpp"
-#include "geartopo/grinding/topology_csv.hpp"
+#include "geartopo/measurement/any_measurement.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -23,7 +21,7 @@ void register_evaluate_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, out, method = "exact", traces, prediction, side = "after";
     workbench::IsoOptions iso;
-    diagnosis::KlingelnbergOptions mka;
+    measurement::KlingelnbergOptions mka;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("evaluate", "ISO 1328-1:2013 deviations (µm) and flank tolerance classes of the "
@@ -72,16 +70,10 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       std::vector<grinding::FlankTopology> topo;
       std::string source;
       if (!opt->traces.empty()) {
-        auto in = input::open_input_file(opt->traces, input::kMaxMeasurementBytes, "traces file");
-        if (diagnosis::looks_like_klingelnberg(in)) {
-          std::vector<std::string> warnings;
-          topo = diagnosis::klingelnberg_traces(diagnosis::read_klingelnberg(opt->traces), g, opt->mka, &warnings);
-          for (const auto& w : warnings) std::cerr << "geartopo: warning: " << w << "\n";
-          source = "measured traces (Klingelnberg export) " + opt->traces;
-        } else {
-          topo = grinding::read_traces_csv(opt->traces, g.teeth());
-          source = "measured traces " + opt->traces;
-        }
+        auto traces = measurement::read_any_traces(opt->traces, g, opt->mka);
+        for (const auto& w : traces.warnings) std::cerr << "geartopo: warning: " << w << "\n";
+        topo = std::move(traces.flanks);
+        source = (traces.klingelnberg ? "measured traces (Klingelnberg export) " : "measured traces ") + opt->traces;
       } else {
         grinding::SimulationOptions so;
         so.method = opt->method == "linear" ? grinding::Method::Linear : grinding::Method::Exact;

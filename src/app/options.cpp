@@ -3,7 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include "geartopo/diagnosis/compare.hpp"
+#include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/grinding/topology.hpp"
 #include "geartopo/pipeline/pipeline.hpp"
 
@@ -317,10 +317,10 @@ std::pair<int, int> parse_grid_size(const std::string& text) {
   return {r, c};
 }
 
-void add_klingelnberg_options(CLI::App* cmd, diagnosis::KlingelnbergOptions& o) {
-  using diagnosis::DeviationDirection;
-  using diagnosis::ProfileSpacing;
-  using diagnosis::SignConvention;
+void add_klingelnberg_options(CLI::App* cmd, measurement::KlingelnbergOptions& o) {
+  using measurement::DeviationDirection;
+  using measurement::ProfileSpacing;
+  using measurement::SignConvention;
   cmd->add_option("--mka-spacing", o.spacing,
                   "Klingelnberg export: profile points evenly in roll-length (default) or diameter")
       ->transform(CLI::CheckedTransformer(std::map<std::string, ProfileSpacing>{{"roll-length", ProfileSpacing::RollLength},
@@ -354,7 +354,7 @@ void add_iso_options(CLI::App* cmd, workbench::IsoOptions& o) {
       ->option_text("helix-angle|rise-towards-plus-z");
 }
 
-void add_measurement_options(CLI::App* cmd, std::string& file, diagnosis::KlingelnbergOptions& options, bool required) {
+void add_measurement_options(CLI::App* cmd, std::string& file, measurement::KlingelnbergOptions& options, bool required) {
   cmd->add_option("--measured", file,
                   std::string("Measurement: topology CSV (µm), traces CSV, point cloud x_mm,y_mm,z_mm[,id] or Klingelnberg "
                               "export (docs/measurement-formats.md); told apart by content") +
@@ -363,10 +363,10 @@ void add_measurement_options(CLI::App* cmd, std::string& file, diagnosis::Klinge
   add_klingelnberg_options(cmd, options);
 }
 
-std::vector<diagnosis::MeasuredPoint> read_measured_points(const workbench::Workbench& wb, const std::string& file,
-                                                           const diagnosis::KlingelnbergOptions& options) {
+std::vector<measurement::MeasuredPoint> read_measured_points(const workbench::Workbench& wb, const std::string& file,
+                                                             const measurement::KlingelnbergOptions& options) {
   std::vector<std::string> warnings;
-  auto points = diagnosis::read_any_measurement(file, wb.setup, &warnings, options);
+  auto points = measurement::read_any_measurement(file, wb.setup, &warnings, options);
   for (const auto& w : warnings) std::fprintf(stderr, "geartopo: warning: %s\n", w.c_str());
   return points;
 }

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "geartopo/core/output_folder.hpp"
-#include "geartopo/diagnosis/klingelnberg.hpp"
+#include "geartopo/measurement/klingelnberg.hpp"
 #include "geartopo/pipeline/monte_carlo.hpp"
 #include "geartopo/workbench/iso_evaluation.hpp"
 #include "geartopo/workbench/workbench.hpp"
@@ -174,17 +174,17 @@ std::pair<int, int> parse_grid_size(const std::string& text);
 
 /// The Klingelnberg reader's options as flags of a command that reads measurements (docs/measurement-formats.md):
 /// --mka-spacing roll-length|diameter, --mka-direction transverse|normal, --mka-signs raw|din.
-void add_klingelnberg_options(CLI::App* cmd, diagnosis::KlingelnbergOptions& options);
+void add_klingelnberg_options(CLI::App* cmd, measurement::KlingelnbergOptions& options);
 
 /// `--measured FILE` (every format the readers tell apart by content, docs/measurement-formats.md) and the
 /// Klingelnberg options: one text for compare, diagnose and plan (required) and run and report (optional: the
 /// scene's measurement.measured when not given).
-void add_measurement_options(CLI::App* cmd, std::string& file, diagnosis::KlingelnbergOptions& options,
+void add_measurement_options(CLI::App* cmd, std::string& file, measurement::KlingelnbergOptions& options,
                              bool required = true);
-/// The measured points of `file` on the workbench's gear (diagnosis::read_any_measurement); the reader's warnings
+/// The measured points of `file` on the workbench's gear (measurement::read_any_measurement); the reader's warnings
 /// (blocks of an export it did not use, …) on stderr. Throws InputError.
-std::vector<diagnosis::MeasuredPoint> read_measured_points(const workbench::Workbench& wb, const std::string& file,
-                                                           const diagnosis::KlingelnbergOptions& options);
+std::vector<measurement::MeasuredPoint> read_measured_points(const workbench::Workbench& wb, const std::string& file,
+                                                             const measurement::KlingelnbergOptions& options);
 
 /// How a command that prints ISO 1328-1 values reports them (docs/iso1328.md): --iso-direction transverse|normal
 /// (default transverse, the standard's), --helix-slope-sign helix-angle|rise-towards-plus-z (default helix-angle).

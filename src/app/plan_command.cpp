@@ -6,7 +6,7 @@
 
 #include "geartopo/core/atomic_file.hpp"
 #include "geartopo/diagnosis/compare.hpp"
-#include "geartopo/diagnosis/klingelnberg.hpp"
+#include "geartopo/measurement/klingelnberg.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
 #include <CLI/CLI.hpp>
@@ -23,7 +23,7 @@ void register_plan_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, measured, out;
     double noise = 0.0;
-    diagnosis::KlingelnbergOptions mka;
+    measurement::KlingelnbergOptions mka;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("plan", "What to measure next: when explanations of the residual are within the "

@@ -168,7 +168,7 @@ void print_summary(const fs::path& dir, const pipeline::PipelineResult& r) {
 void register_report_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, measured, out;
-    diagnosis::KlingelnbergOptions mka;
+    measurement::KlingelnbergOptions mka;
     workbench::IsoOptions iso;
     MonteCarloFlags mc;
   };
@@ -209,7 +209,7 @@ void register_run_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, out, measured, teeth, method = "flank", simulation = "exact";
     double step = 2.0, noise = 0.0;
-    diagnosis::KlingelnbergOptions mka;
+    measurement::KlingelnbergOptions mka;
     workbench::IsoOptions iso;
     MonteCarloFlags mc;
     bool json = false;

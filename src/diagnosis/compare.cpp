@@ -1,16 +1,11 @@
 #include "geartopo/diagnosis/compare.hpp"
-#include "geartopo/core/input_file.hpp"
-#include "geartopo/core/units.hpp"
 
 #include "geartopo/diagnosis/diagnose.hpp"
-#include "geartopo/diagnosis/klingelnberg.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
-#include "geartopo/surfaces/point_cloud.hpp"
 
 #include <fmt/format.h>
 
 #include <cmath>
-#include <fstream>
 #include <map>
 
 namespace geartopo::diagnosis {
@@ -86,41 +81,6 @@ std::vector<FlankResiduals> flank_residuals(const gears::EvaluationRanges& r, co
   for (const auto& [key, k] : index) ordered.push_back(std::move(flanks[k])), ordered_index.push_back(std::move(members[k]));
   if (point_index) *point_index = std::move(ordered_index);
   return ordered;
-}
-
-std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file, const gears::InvoluteHelicoid& flanks,
-                                                        double max_offset_mm) {
-  const auto cloud = surfaces::read_point_cloud(std::filesystem::path(file));
-  const auto samples = surfaces::assign_to_flanks(cloud, flanks, max_offset_mm, file);
-  std::vector<MeasuredPoint> out;
-  out.reserve(samples.size());
-  for (const auto& s : samples) {
-    MeasuredPoint p;
-    p.tooth = s.tooth;
-    p.flank = s.flank;
-    p.roll_length_mm = s.roll_length_mm;
-    p.diameter_mm = s.diameter_mm;
-    p.z_mm = s.z_mm;
-    p.deviation_um = units::um_from_mm(s.normal_distance_mm);
-    p.line = static_cast<int>(s.line);
-    p.id = s.id;
-    out.push_back(p);
-  }
-  return out;
-}
-
-std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
-                                                std::vector<std::string>* warnings, const KlingelnbergOptions& mka) {
-  auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "measurement");
-  // First: an export's header lines and trace heads are not numbers, so neither other reader would take it anyway.
-  if (looks_like_klingelnberg(in)) {
-    auto res = klingelnberg_points(read_klingelnberg(file), setup.geometry(), mka);
-    if (warnings) warnings->insert(warnings->end(), res.warnings.begin(), res.warnings.end());
-    return std::move(res.points);
-  }
-  if (grinding::starts_like_traces_csv(in)) return read_traces_measurement(file, setup.geometry());
-  if (surfaces::starts_like_point_cloud(in)) return read_point_cloud_measurement(file, setup.flanks());
-  return read_measurement(file, setup.geometry());
 }
 
 } // namespace geartopo::diagnosis

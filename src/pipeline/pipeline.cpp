@@ -4,6 +4,7 @@
 
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
+#include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/effects/effects_process.hpp"
 
 
@@ -51,7 +52,7 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
   if (!o.measured_file.empty()) {
     MeasurementResult m;
     m.file = o.measured_file;
-    m.points = diagnosis::read_any_measurement(o.measured_file, wb.setup, &m.warnings, o.measurement_format);
+    m.points = measurement::read_any_measurement(o.measured_file, wb.setup, &m.warnings, o.measurement_format);
     stage("compare", 0);
     m.before = diagnosis::compare(wb.setup, wb.process(), m.points, o.noise_um);
     stage(kDiagnoseStage, 0);

@@ -24,7 +24,7 @@ nlohmann::json wave_json(const diagnosis::WavinessScan& w) {
 
 } // namespace
 
-void write_residuals_csv(const std::filesystem::path& file, const std::vector<diagnosis::MeasuredPoint>& points,
+void write_residuals_csv(const std::filesystem::path& file, const std::vector<measurement::MeasuredPoint>& points,
                          const diagnosis::Comparison& c) {
   output::write_atomically(file, [&](std::ostream& csv) {
     csv << "tooth,flank,row,col,diameter_mm,z_mm,measured_um,model_um,residual_um,source_line,point_id\n";
@@ -37,7 +37,7 @@ void write_residuals_csv(const std::filesystem::path& file, const std::vector<di
 }
 
 nlohmann::json compare_json(const std::string& scene, const std::string& measured,
-                            const std::vector<diagnosis::MeasuredPoint>& points, const diagnosis::Comparison& comparison) {
+                            const std::vector<measurement::MeasuredPoint>& points, const diagnosis::Comparison& comparison) {
   nlohmann::json j;
   j["scene"] = scene;
   j["measured"] = measured;

@@ -5,7 +5,7 @@
 // refuses a prediction whose estimate exceeds --max-time-s before it writes anything.
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
-#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/diagnosis/synth.hpp"
 #include "geartopo/pipeline/monte_carlo.hpp"
 #include "geartopo/scene/scene.hpp"
@@ -208,8 +208,8 @@ TEST(ProgressDiagnose, OnCandidateFittedCountsSinglesThenPairs) {
   so.rows = 5;
   so.cols = 5;
   so.noise_um = 0.3;
-  const auto pts = diagnosis::measured_points(diagnosis::synthesize(truth.setup, truth.process(), so),
-                                              model.setup.geometry(), "synth");
+  const auto pts = measurement::measured_points(diagnosis::synthesize(truth.setup, truth.process(), so),
+                                                model.setup.geometry(), "synth");
   diagnosis::DiagnoseOptions o;
   o.noise_um = so.noise_um;
   o.candidates = {"thermal_drift", "wheel_wear", "eccentricity"};

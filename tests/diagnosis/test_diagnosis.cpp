@@ -42,8 +42,8 @@ scene::EffectSpec spec(const std::string& type, const std::vector<std::pair<std:
   return {type, v};
 }
 
-std::vector<diagnosis::MeasuredPoint> measure(const std::vector<scene::EffectSpec>& hidden, std::uint64_t seed,
-                                              const effects::Effect* extra = nullptr) {
+std::vector<measurement::MeasuredPoint> measure(const std::vector<scene::EffectSpec>& hidden, std::uint64_t seed,
+                                                const effects::Effect* extra = nullptr) {
   const std::string text = hidden.empty() ? default_text() : diagnosis::scene_with_effects(default_text(), hidden, {});
   const workbench::Workbench truth(scene::parse_scene(text, kDefault)); // table paths resolve next to the default scene
   diagnosis::SynthOptions o;
@@ -58,10 +58,10 @@ std::vector<diagnosis::MeasuredPoint> measure(const std::vector<scene::EffectSpe
   } else {
     rows = diagnosis::synthesize(truth.setup, truth.process(), o);
   }
-  return diagnosis::measured_points(rows, truth.setup.geometry(), "synthetic");
+  return measurement::measured_points(rows, truth.setup.geometry(), "synthetic");
 }
 
-diagnosis::Diagnosis run(const std::vector<diagnosis::MeasuredPoint>& pts) {
+diagnosis::Diagnosis run(const std::vector<measurement::MeasuredPoint>& pts) {
   diagnosis::DiagnoseOptions o;
   o.noise_um = kNoise;
   return diagnosis::diagnose(model_scene().setup, model_scene().process(), pts, {}, o);

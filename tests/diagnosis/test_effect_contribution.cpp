@@ -26,12 +26,12 @@ const workbench::Workbench& contribution_scene() {
 }
 
 // Points anywhere on the active flanks (d_Ff … d_a, 0 … b) of random teeth and flanks.
-std::vector<diagnosis::MeasuredPoint> random_flank_points(const gears::GearGeometry& g, int count, std::uint64_t seed) {
+std::vector<measurement::MeasuredPoint> random_flank_points(const gears::GearGeometry& g, int count, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<int> tooth(1, g.teeth()), side(0, 1);
   std::uniform_real_distribution<double> xi(g.roll_length_at(g.root_form_diameter_mm()), g.roll_length_at(g.tip_diameter_mm())),
       z(0.0, g.spec().face_width_mm);
-  std::vector<diagnosis::MeasuredPoint> pts(static_cast<size_t>(count));
+  std::vector<measurement::MeasuredPoint> pts(static_cast<size_t>(count));
   for (auto& p : pts) {
     p.tooth = tooth(rng);
     p.flank = side(rng) ? Flank::Right : Flank::Left;
@@ -56,7 +56,7 @@ void randomise(effects::Effect& e, std::mt19937_64& rng) {
 
 // Largest |stored-contact − predict| (µm) over the points, for these effects.
 double largest_disagreement_um(const diagnosis::EffectContribution& at_points,
-                               const std::vector<diagnosis::MeasuredPoint>& pts,
+                               const std::vector<measurement::MeasuredPoint>& pts,
                                const std::vector<std::unique_ptr<effects::Effect>>& effs, double& largest_value_um) {
   const auto& setup = contribution_scene().setup;
   const grinding::IdealProcess ideal;
@@ -208,8 +208,8 @@ TEST(EffectContribution, LinearParametersAreTheClaimedColumnsOfTheUncachedModel)
 // same ranking, ΔBIC, parameters and verdict, to the last bit, on one thread and on two.
 TEST(EffectContribution, DiagnosisIsIdenticalOnOneAndTwoThreads) {
   const workbench::Workbench truth(std::string(GEARTOPO_SOURCE_DIR) + "/scenes/truth-skmc1200w-mn14-z35.yaml");
-  const auto pts = diagnosis::measured_points(diagnosis::synthesize(truth.setup, truth.process(), diagnosis::SynthOptions{}),
-                                              truth.setup.geometry(), "synthetic");
+  const auto pts = measurement::measured_points(diagnosis::synthesize(truth.setup, truth.process(), diagnosis::SynthOptions{}),
+                                                truth.setup.geometry(), "synthetic");
   const auto& model = contribution_scene();
   diagnosis::DiagnoseOptions o;
   o.threads = 1;

@@ -55,7 +55,7 @@ struct Contact {
 /// A noise-free measurement of the scene as modelled (the simulator's exact deviation) on the given teeth, with the
 /// contact of every point. Built once per layout.
 struct Layout {
-  std::vector<diagnosis::MeasuredPoint> points;
+  std::vector<measurement::MeasuredPoint> points;
   std::vector<Contact> contacts;
 };
 
@@ -67,7 +67,7 @@ Layout make_layout(const std::vector<int>& teeth, int rows, int cols) {
   o.cols = cols;
   o.noise_um = 0.0;
   Layout l;
-  l.points = diagnosis::measured_points(diagnosis::synthesize(s, bench().process(), o), s.geometry(), "independent");
+  l.points = measurement::measured_points(diagnosis::synthesize(s, bench().process(), o), s.geometry(), "independent");
   const grinding::IdealProcess ideal;
   const grinding::FlankDeviation generating(s.flanks(), s.wheel(), s.path(), ideal);
   for (const auto& p : l.points) {
@@ -172,7 +172,7 @@ struct Score {
   std::string report;
 };
 
-std::vector<diagnosis::MeasuredPoint> measure(const Layout& l, const Truth& t, std::uint64_t seed) {
+std::vector<measurement::MeasuredPoint> measure(const Layout& l, const Truth& t, std::uint64_t seed) {
   const auto& g = bench().setup.geometry();
   const double um_per_urad = 0.5 * g.base_diameter_mm() * std::cos(g.base_helix_angle()) * 1e-3; // r_b cos β_b
   std::mt19937_64 rng(seed);
@@ -266,7 +266,7 @@ Score score(const Truth& t, const diagnosis::Diagnosis& d) {
   return s;
 }
 
-diagnosis::Diagnosis run(const std::vector<diagnosis::MeasuredPoint>& pts, double noise_um) {
+diagnosis::Diagnosis run(const std::vector<measurement::MeasuredPoint>& pts, double noise_um) {
   diagnosis::DiagnoseOptions o;
   o.noise_um = noise_um;
   return diagnosis::diagnose(bench().setup, bench().process(), pts, {}, o);
@@ -298,8 +298,8 @@ std::vector<Truth> library_set() {
 
 /// The measured points and the plan's recommendation followed literally: its new teeth on its grid, synthesised from
 /// the same truth with a new noise seed, added to the points already measured.
-std::vector<diagnosis::MeasuredPoint> follow(const std::vector<diagnosis::MeasuredPoint>& measured, const Truth& t,
-                                             const diagnosis::MeasurementOption& m, std::uint64_t seed) {
+std::vector<measurement::MeasuredPoint> follow(const std::vector<measurement::MeasuredPoint>& measured, const Truth& t,
+                                               const diagnosis::MeasurementOption& m, std::uint64_t seed) {
   auto pts = measured;
   const auto more = measure(make_layout(m.teeth, m.rows, m.cols), t, seed);
   pts.insert(pts.end(), more.begin(), more.end());

@@ -6,7 +6,8 @@
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
-#include "geartopo/diagnosis/klingelnberg.hpp"
+#include "geartopo/measurement/klingelnberg.hpp"
+#include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/workbench/iso_evaluation.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
@@ -94,7 +95,7 @@ TEST(MeasuredTraces, TracesCsvComparesLikeATopologyCsv) {
   grinding::write_traces_csv(file.path, measured);
 
   std::vector<std::string> warnings;
-  const auto pts = diagnosis::read_any_measurement(file.path.string(), traces_model().setup, &warnings);
+  const auto pts = measurement::read_any_measurement(file.path.string(), traces_model().setup, &warnings);
   ASSERT_EQ(pts.size(), traces_point_count(measured));
   EXPECT_TRUE(warnings.empty());
   const auto c = diagnosis::compare(traces_model().setup, traces_model().process(), pts, 0.5);
@@ -122,7 +123,7 @@ TEST(MeasuredTraces, TracePointOffTheFlankNamesItsLine) {
   // The bad point is the last profile point of the second flank: line = header + the first flank's points + 25.
   const int line = 1 + static_cast<int>(measured[0].profile.size() + measured[0].helix.size()) + 25;
   try {
-    diagnosis::read_any_measurement(file.path.string(), traces_model().setup);
+    measurement::read_any_measurement(file.path.string(), traces_model().setup);
     FAIL() << "an off-flank trace point was accepted";
   } catch (const InputError& e) {
     const std::string what = e.what();
@@ -137,7 +138,7 @@ TEST(MeasuredTraces, TracesCsvGoesThroughDiagnose) {
   const auto measured = traces_plus([&](double, double) { return offset_um; });
   TracesTempFile file("diagnose_traces.csv");
   grinding::write_traces_csv(file.path, measured);
-  const auto pts = diagnosis::read_any_measurement(file.path.string(), traces_model().setup);
+  const auto pts = measurement::read_any_measurement(file.path.string(), traces_model().setup);
   diagnosis::DiagnoseOptions o;
   o.noise_um = 0.5;
   o.candidates = {"thermal_drift"};
@@ -189,7 +190,7 @@ TEST(AllowanceOffset, GearGroundToTheMeanAllowanceComparesWithoutOffset) {
 
   const workbench::Workbench with(scene::parse_scene(
       traces_scene_text("  thickness_allowance_upper_um: -40\n  thickness_allowance_lower_um: -80\n"), kTracesDefaultScene));
-  const auto pts = diagnosis::read_any_measurement(file.path.string(), with.setup);
+  const auto pts = measurement::read_any_measurement(file.path.string(), with.setup);
   const auto c_with = diagnosis::compare(with.setup, with.process(), pts, 0.5);
   const auto c_without = diagnosis::compare(traces_model().setup, traces_model().process(), pts, 0.5);
   EXPECT_NEAR(c_with.allowance_offset_um, dn_um, 1e-9);
@@ -235,7 +236,7 @@ TEST(MeasuredTraces, KlingelnbergExportTracesAreEvaluatedToIso) {
   TracesTempFile file("export.mka");
   { std::ofstream(file.path) << text; }
   std::vector<std::string> warnings;
-  const auto traces = diagnosis::klingelnberg_traces(diagnosis::read_klingelnberg(file.path.string()), g, {}, &warnings);
+  const auto traces = measurement::klingelnberg_traces(measurement::read_klingelnberg(file.path.string()), g, {}, &warnings);
   ASSERT_EQ(traces.size(), 2u);
   const auto iso = workbench::evaluate_iso(g, wb.setup.ranges(), traces);
   const auto& r = wb.setup.ranges();
@@ -265,10 +266,10 @@ TEST(MeasuredTraces, KlingelnbergExportGoesThroughCompareAndDiagnose) {
   TracesTempFile file("grid.mka");
   {
     std::ofstream out(file.path);
-    diagnosis::write_klingelnberg(out, wb.setup.geometry(), rows);
+    measurement::write_klingelnberg(out, wb.setup.geometry(), rows);
   }
   std::vector<std::string> warnings;
-  const auto pts = diagnosis::read_any_measurement(file.path.string(), wb.setup, &warnings);
+  const auto pts = measurement::read_any_measurement(file.path.string(), wb.setup, &warnings);
   ASSERT_EQ(pts.size(), rows.size());
   EXPECT_TRUE(warnings.empty());
   const auto c = diagnosis::compare(wb.setup, wb.process(), pts, 0.5);

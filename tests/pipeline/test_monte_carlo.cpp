@@ -6,7 +6,7 @@
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/identified_effects.hpp"
-#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/diagnosis/stroke_scatter.hpp"
 #include "geartopo/diagnosis/synth.hpp"
 #include "geartopo/effects/registry.hpp"
@@ -489,7 +489,7 @@ TEST(MonteCarloClosedLoop, Gear2FromTheTruthFallsInsideThePredictionAndIsBetter)
   so.noise_um = 0.3;
   so.seed = 3;
   const auto gear1_points =
-      diagnosis::measured_points(diagnosis::synthesize(truth.setup, gear1_process, so), model.setup.geometry(), "gear1");
+      measurement::measured_points(diagnosis::synthesize(truth.setup, gear1_process, so), model.setup.geometry(), "gear1");
   diagnosis::DiagnoseOptions dopt;
   dopt.noise_um = so.noise_um;
   // What the scene declares the residual carries besides probe noise: each stroke's scatter and the map's uncertainty.

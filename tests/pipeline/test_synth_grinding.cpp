@@ -9,7 +9,7 @@
 #include "geartopo/pipeline/monte_carlo.hpp"
 #include "geartopo/report/prediction_report.hpp"
 #include "geartopo/core/units.hpp"
-#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/diagnosis/stroke_scatter.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 #include "geartopo/scene/scene.hpp"
@@ -145,7 +145,7 @@ TEST(SynthGrinding, CorrectionsOfTheSameSceneLeaveOnlyTheRounding) {
 
   const workbench::Workbench wb(scene::load_scene(scene));
   const auto rows = grinding::read_topology_csv(d.path("gear2.csv"), 20);
-  const auto pts = diagnosis::measured_points(rows, wb.setup.geometry(), "gear2");
+  const auto pts = measurement::measured_points(rows, wb.setup.geometry(), "gear2");
   const auto& res = wb.scene.machine.uncertainty.resolution;
   const Eigen::MatrixXd g = diagnosis::stroke_sensitivity(wb.setup, wb.process(), pts, 0.5 * res); // n × 5, µm
   double nominal_after = 0.0; // what the corrections leave on the model itself (compensate's topology_after.csv)

@@ -4,12 +4,12 @@
 // accepted NaN (a file that loads is a failure).
 //
 // Readers: scenes → workbench::Workbench (reads the scene, builds and checks the set-up); error_tables → machine::load_error_tables; topology → grinding::read_topology_csv
-// (traces_* → grinding::read_traces_csv) and diagnosis::read_measurement; point_clouds → surfaces::read_point_cloud;
-// topology and point clouds also through diagnosis::read_any_measurement (tells the two apart by the header).
+// (traces_* → grinding::read_traces_csv) and measurement::read_measurement; point_clouds → surfaces::read_point_cloud;
+// topology and point clouds also through measurement::read_any_measurement (tells the two apart by the header).
 #include "robustness_support.hpp"
 
-#include "geartopo/diagnosis/compare.hpp"
-#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/measurement/any_measurement.hpp"
+#include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 #include "geartopo/machine/error_table.hpp"
 #include "geartopo/scene/scene.hpp"
@@ -147,15 +147,15 @@ TEST_P(Corpus, IsRefusedWithAClearMessage) {
     if (c.file != "off_the_flank.csv")
       check_message(c, catch_from([&] { (void)grinding::read_topology_csv(path, g.teeth()); }),
                     "grinding::read_topology_csv");
-    check_message(c, catch_from([&] { (void)diagnosis::read_measurement(path.string(), g); }),
-                  "diagnosis::read_measurement");
-    check_message(c, catch_from([&] { (void)diagnosis::read_any_measurement(path.string(), default_scene().setup); }),
-                  "diagnosis::read_any_measurement", false);
+    check_message(c, catch_from([&] { (void)measurement::read_measurement(path.string(), g); }),
+                  "measurement::read_measurement");
+    check_message(c, catch_from([&] { (void)measurement::read_any_measurement(path.string(), default_scene().setup); }),
+                  "measurement::read_any_measurement", false);
   } else if (c.folder == "point_clouds") {
     check_message(c, catch_from([&] { (void)surfaces::read_point_cloud(path); }), "surfaces::read_point_cloud");
     // Through the measurement front end the header decides the format; the file must still be refused clearly.
-    const Caught any = catch_from([&] { (void)diagnosis::read_any_measurement(path.string(), default_scene().setup); });
-    SCOPED_TRACE("diagnosis::read_any_measurement");
+    const Caught any = catch_from([&] { (void)measurement::read_any_measurement(path.string(), default_scene().setup); });
+    SCOPED_TRACE("measurement::read_any_measurement");
     ASSERT_FALSE(any.type.empty()) << "accepted";
     EXPECT_NE(any.what.find(c.file), std::string::npos) << any.what;
   } else {

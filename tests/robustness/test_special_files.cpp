@@ -6,7 +6,7 @@
 
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/core/input_file.hpp"
-#include "geartopo/diagnosis/compare.hpp"
+#include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 #include "geartopo/machine/error_table.hpp"
 #include "geartopo/scene/scene.hpp"
@@ -38,7 +38,7 @@ std::vector<Reader> readers() {
       {"grinding::read_topology_csv", [](const fs::path& p) { (void)grinding::read_topology_csv(p, 35); }, input::kMaxMeasurementBytes},
       {"grinding::read_traces_csv", [](const fs::path& p) { (void)grinding::read_traces_csv(p, 35); }, input::kMaxMeasurementBytes},
       {"surfaces::read_point_cloud", [](const fs::path& p) { (void)surfaces::read_point_cloud(p); }, input::kMaxMeasurementBytes},
-      {"diagnosis::read_any_measurement", [&setup](const fs::path& p) { (void)diagnosis::read_any_measurement(p.string(), setup); },
+      {"measurement::read_any_measurement", [&setup](const fs::path& p) { (void)measurement::read_any_measurement(p.string(), setup); },
        input::kMaxMeasurementBytes},
   };
 }

@@ -3,8 +3,7 @@
 // Units: µm, mm.
 #pragma once
 
-#include "geartopo/diagnosis/klingelnberg.hpp"
-#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/diagnosis/residuals/failing_regions.hpp"
 #include "geartopo/diagnosis/residuals/flank_patterns.hpp"
 #include "geartopo/diagnosis/residuals/residual_summary.hpp"
@@ -18,6 +17,8 @@
 #include <vector>
 
 namespace geartopo::diagnosis {
+
+using measurement::MeasuredPoint; ///< what diagnosis works on: measured points, read by the measurement library
 
 struct Comparison {
   std::vector<double> model_um, residual_um;             ///< per measured point (model at the mean allowance)
@@ -42,17 +43,5 @@ std::vector<FlankResiduals> flank_residuals(const gears::EvaluationRanges& range
 /// noise_um ≤ 0: estimated (quadratic surface per flank).
 Comparison compare(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
                    const std::vector<MeasuredPoint>& points, double noise_um);
-
-/// Points of a point cloud file (x_mm,y_mm,z_mm in the workpiece frame): each projected onto its flank on the exact
-/// helicoid; its deviation is the signed normal distance (plus material). Points farther than max_offset_mm from
-/// any flank, or off the active flank, are errors naming the line.
-std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file, const gears::InvoluteHelicoid& flanks,
-                                                        double max_offset_mm = 0.5);
-
-/// Topology CSV, traces CSV, point cloud or Klingelnberg export (read with `mka`), told apart by their content. Findings that are
-/// not errors (blocks a reader skipped, undefined points) go to `warnings` when given.
-std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
-                                                std::vector<std::string>* warnings = nullptr,
-                                                const KlingelnbergOptions& mka = {});
 
 } // namespace geartopo::diagnosis

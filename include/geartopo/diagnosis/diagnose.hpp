@@ -15,7 +15,7 @@
 // key).
 #pragma once
 
-#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/grinding/grinding_process.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
 #include "geartopo/machine/axis_pose.hpp"
@@ -30,6 +30,8 @@
 #include <vector>
 
 namespace geartopo::diagnosis {
+
+using measurement::MeasuredPoint; ///< what diagnosis works on: measured points, read by the measurement library
 
 struct FittedParameter {
   std::string key;           ///< with its unit, e.g. "x_growth_um"

@@ -6,7 +6,7 @@
 // an effect"). Units: mm and rad inside, µm out.
 #pragma once
 
-#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/effects/effect.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
 #include "geartopo/grinding/wheel_path.hpp"
@@ -18,6 +18,8 @@
 #include <vector>
 
 namespace geartopo::diagnosis {
+
+using measurement::MeasuredPoint; ///< what diagnosis works on: measured points, read by the measurement library
 
 class EffectContribution {
 public:

@@ -2,13 +2,15 @@
 // first-order deviation (linear) at each point's own tooth, flank, roll length and axial position.
 #pragma once
 
-#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
 
 #include <vector>
 
 namespace geartopo::diagnosis {
+
+using measurement::MeasuredPoint; ///< what diagnosis works on: measured points, read by the measurement library
 
 /// The plus-material offset (µm, along the flank normal, the same on every flank) of the flank a gear is ground to at
 /// the mean of its normal tooth-thickness allowances, against the zero-allowance nominal flank (docs/conventions.md,

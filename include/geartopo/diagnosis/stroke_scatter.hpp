@@ -17,7 +17,7 @@
 // (σ̂² (JᵀJ)⁻¹, χ², BIC) holds for it.
 #pragma once
 
-#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/grinding/grinding_process.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
 #include "geartopo/machine/axis_pose.hpp"
@@ -28,6 +28,8 @@
 #include <vector>
 
 namespace geartopo::diagnosis {
+
+using measurement::MeasuredPoint; ///< what diagnosis works on: measured points, read by the measurement library
 
 /// g_i for every point (n × 5, µm): the first-order deviation at each point when its space's stroke is commanded off by
 /// one standard deviation s_a of axis a (X, Y, Z in mm, A, C in rad; ISO 230-2 R/4). The model's process carries the

@@ -9,7 +9,7 @@
 #include "geartopo/compensation/correction_table.hpp"
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
-#include "geartopo/diagnosis/klingelnberg.hpp"
+#include "geartopo/measurement/klingelnberg.hpp"
 #include "geartopo/grinding/topology.hpp"
 #include "geartopo/pipeline/monte_carlo.hpp"
 
@@ -23,7 +23,7 @@ namespace geartopo::pipeline {
 
 struct MeasurementResult {
   std::string file;
-  std::vector<diagnosis::MeasuredPoint> points;
+  std::vector<measurement::MeasuredPoint> points;
   diagnosis::Comparison before;             ///< against the scene's model
   diagnosis::Diagnosis diagnosis;
   std::optional<diagnosis::Comparison> after; ///< against the model with the chosen effect(s) added
@@ -54,7 +54,7 @@ struct PipelineOptions {
   double step_mm = 2.0;                              ///< correction table spacing along each stroke
   double noise_um = 0.0;                             ///< probe noise σ of the measurement; 0: estimated
   std::string measured_file;                         ///< empty: no comparison or diagnosis
-  diagnosis::KlingelnbergOptions measurement_format; ///< how a Klingelnberg export is read (--mka-*)
+  measurement::KlingelnbergOptions measurement_format; ///< how a Klingelnberg export is read (--mka-*)
   /// How the ISO 1328-1 values are reported (default: the standard's transverse direction, docs/iso1328.md).
   workbench::IsoOptions iso;
   /// With it (samples ≥ 1, one shard), the compensated gear is also predicted by Monte Carlo (monte_carlo.hpp).

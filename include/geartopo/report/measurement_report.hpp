@@ -4,7 +4,7 @@
 
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
-#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/measurement/measured_points.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -18,12 +18,12 @@ namespace geartopo::report {
 /// tooth,flank,row,col,diameter_mm,z_mm,measured_um,model_um,residual_um,source_line,point_id
 /// (row/col 0 when the file has no grid indices; source_line: the point's line in the measurement file; point_id: a
 /// point cloud's id column, −1 when it has none). Written atomically.
-void write_residuals_csv(const std::filesystem::path& file, const std::vector<diagnosis::MeasuredPoint>& points,
+void write_residuals_csv(const std::filesystem::path& file, const std::vector<measurement::MeasuredPoint>& points,
                          const diagnosis::Comparison& comparison);
 
 /// compare.json: statistics, patterns per flank, tooth-to-tooth trends, failing regions.
 nlohmann::json compare_json(const std::string& scene, const std::string& measured,
-                            const std::vector<diagnosis::MeasuredPoint>& points, const diagnosis::Comparison& comparison);
+                            const std::vector<measurement::MeasuredPoint>& points, const diagnosis::Comparison& comparison);
 
 /// The unit of a parameter key: from its first unit token to the end ("wear_um_per_stroke" → "um_per_stroke",
 /// "x_growth_um" → "um", "dressing_interval_strokes" → "strokes"); empty when it names none.

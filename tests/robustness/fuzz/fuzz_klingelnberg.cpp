@@ -1,10 +1,10 @@
-// libFuzzer target: diagnosis::parse_klingelnberg and klingelnberg_points on arbitrary text, against the gear of the
-// shipped example export (tests/diagnosis/data/klingelnberg_example.mka: m_n 2, z 24, β 15°). Documented: InputError
+// libFuzzer target: measurement::parse_klingelnberg and klingelnberg_points on arbitrary text, against the gear of the
+// shipped example export (tests/measurement/data/klingelnberg_example.mka: m_n 2, z 24, β 15°). Documented: InputError
 // (a std::runtime_error, "file:line:column: field: message"); accepted points are finite and on the flank.
 #include "fuzz_common.hpp"
 
 #include "geartopo/core/units.hpp"
-#include "geartopo/diagnosis/klingelnberg.hpp"
+#include "geartopo/measurement/klingelnberg.hpp"
 
 #include <cstdint>
 #include <string_view>
@@ -33,10 +33,10 @@ const gears::GearGeometry& example_gear() {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   fuzz::run_expecting<std::runtime_error>([&] {
-    const auto file = diagnosis::parse_klingelnberg(text, "fuzz.mka");
+    const auto file = measurement::parse_klingelnberg(text, "fuzz.mka");
     // values_um holds NaN for the export's undefined value by design: the points, not the raw values, must be finite.
     const auto& g = example_gear();
-    for (const auto& p : diagnosis::klingelnberg_points(file, g).points) {
+    for (const auto& p : measurement::klingelnberg_points(file, g).points) {
       fuzz::require_finite(p.deviation_um, "deviation_um");
       fuzz::require_finite(p.diameter_mm, "diameter_mm");
       fuzz::require_finite(p.z_mm, "z_mm");

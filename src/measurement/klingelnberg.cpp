@@ -1,4 +1,4 @@
-#include "geartopo/diagnosis/klingelnberg.hpp"
+#include "geartopo/measurement/klingelnberg.hpp"
 
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/core/input_file.hpp"
@@ -18,7 +18,7 @@
 #include <sstream>
 #include <tuple>
 
-namespace geartopo::diagnosis {
+namespace geartopo::measurement {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -604,4 +604,4 @@ void write_klingelnberg(std::ostream& out, const gears::GearGeometry& g, const s
   }
 }
 
-} // namespace geartopo::diagnosis
+} // namespace geartopo::measurement

@@ -1,4 +1,4 @@
-#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/measurement/measured_points.hpp"
 
 #include "geartopo/core/input_error.hpp"
 
@@ -6,7 +6,7 @@
 
 #include <stdexcept>
 
-namespace geartopo::diagnosis {
+namespace geartopo::measurement {
 
 std::vector<MeasuredPoint> measured_points(const std::vector<grinding::TopologyRow>& rows, const gears::GearGeometry& g,
                                            const std::string& source) {
@@ -55,4 +55,4 @@ std::vector<MeasuredPoint> read_traces_measurement(const std::string& file, cons
   return trace_points(grinding::read_traces_csv(std::filesystem::path(file), g.teeth()), g, file);
 }
 
-} // namespace geartopo::diagnosis
+} // namespace geartopo::measurement

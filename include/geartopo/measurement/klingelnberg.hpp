@@ -5,7 +5,7 @@
 #pragma once
 
 #include "geartopo/core/flank.hpp"
-#include "geartopo/diagnosis/measured_points.hpp"
+#include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 
@@ -15,7 +15,7 @@
 #include <string_view>
 #include <vector>
 
-namespace geartopo::diagnosis {
+namespace geartopo::measurement {
 
 /// How the N values of a profile trace are spread over the measuring range da … de. The evidence (gearcore's
 /// regression on 68 real files: printed f_Hα reproduced to 0.04 µm) is for roll length; Diameter is for exports that
@@ -113,4 +113,4 @@ std::vector<grinding::FlankTopology> klingelnberg_traces(const KlingelnbergFile&
 void write_klingelnberg(std::ostream& out, const gears::GearGeometry& g, const std::vector<grinding::TopologyRow>& rows,
                         const KlingelnbergOptions& options = {});
 
-} // namespace geartopo::diagnosis
+} // namespace geartopo::measurement

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace geartopo::diagnosis {
+namespace geartopo::measurement {
 
 struct MeasuredPoint {
   int tooth = 1;
@@ -41,4 +41,4 @@ std::vector<MeasuredPoint> trace_points(const std::vector<grinding::FlankTopolog
 /// The same for a whole traces CSV file.
 std::vector<MeasuredPoint> read_traces_measurement(const std::string& file, const gears::GearGeometry& g);
 
-} // namespace geartopo::diagnosis
+} // namespace geartopo::measurement

@@ -1,7 +1,7 @@
 // The Klingelnberg export reader (docs/measurement-formats.md) on a hand-written file whose values follow known
 // patterns, its error messages, and the round trip through the writer `synth --format klingelnberg` uses.
 #include "geartopo/core/input_error.hpp"
-#include "geartopo/diagnosis/klingelnberg.hpp"
+#include "geartopo/measurement/klingelnberg.hpp"
 #include "geartopo/diagnosis/synth.hpp"
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/workbench/workbench.hpp"
@@ -17,7 +17,7 @@ using namespace geartopo;
 
 namespace {
 
-const std::string kExample = std::string(GEARTOPO_SOURCE_DIR) + "/tests/diagnosis/data/klingelnberg_example.mka";
+const std::string kExample = std::string(GEARTOPO_SOURCE_DIR) + "/tests/measurement/data/klingelnberg_example.mka";
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 // The gear the example file describes: m_n = 2, z = 24, α_n = 20°, β = 15°, x = 0, b = 20, conventional d_a, d_f.
@@ -48,7 +48,7 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 
 std::string points_error(const std::string& text, const gears::GearGeometry& g) {
   try {
-    (void)diagnosis::klingelnberg_points(diagnosis::parse_klingelnberg(text, "x.mka"), g);
+    (void)measurement::klingelnberg_points(measurement::parse_klingelnberg(text, "x.mka"), g);
   } catch (const InputError& e) {
     return e.what();
   }
@@ -62,7 +62,7 @@ const double kCosBetaB = std::cos(std::asin(std::sin(15.0 * kDeg) * std::cos(20.
 
 TEST(Klingelnberg, ExampleFileGivesTheKnownPattern) {
   const auto g = example_gear();
-  const auto file = diagnosis::read_klingelnberg(kExample);
+  const auto file = measurement::read_klingelnberg(kExample);
   EXPECT_EQ(file.traces.size(), 5u);
   EXPECT_EQ(file.undefined_points, 1);
   EXPECT_TRUE(file.skipped_blocks.empty());
@@ -77,7 +77,7 @@ TEST(Klingelnberg, ExampleFileGivesTheKnownPattern) {
   // Line 27 says "da" too, but only measuring/evaluation lines define the range: da is line 41's 47.5.
   EXPECT_DOUBLE_EQ(file.ranges.at("da").values.at(0), 47.5);
 
-  const auto res = diagnosis::klingelnberg_points(file, g);
+  const auto res = measurement::klingelnberg_points(file, g);
   ASSERT_EQ(res.points.size(), 20u); // 5 + 5 + 3 (one undefined) + 4 + 3
   ASSERT_EQ(res.warnings.size(), 1u);
   EXPECT_EQ(res.warnings[0], kExample + ": 1 undefined values (-2147483.648) skipped");
@@ -133,11 +133,11 @@ TEST(Klingelnberg, ExampleFileGivesTheKnownPattern) {
 
 TEST(Klingelnberg, OptionsChangeSpacingDirectionAndSign) {
   const auto g = example_gear();
-  diagnosis::KlingelnbergOptions o;
-  o.spacing = diagnosis::ProfileSpacing::Diameter;
-  o.direction = diagnosis::DeviationDirection::Normal;
-  o.signs = diagnosis::SignConvention::Din;
-  const auto res = diagnosis::klingelnberg_points(diagnosis::read_klingelnberg(kExample), g, o);
+  measurement::KlingelnbergOptions o;
+  o.spacing = measurement::ProfileSpacing::Diameter;
+  o.direction = measurement::DeviationDirection::Normal;
+  o.signs = measurement::SignConvention::Din;
+  const auto res = measurement::klingelnberg_points(measurement::read_klingelnberg(kExample), g, o);
   for (int i = 0; i < 5; ++i) {
     EXPECT_NEAR(res.points[static_cast<size_t>(i)].diameter_mm, 47.5 + i / 4.0 * 5.7, 1e-9);
     EXPECT_NEAR(res.points[static_cast<size_t>(i)].deviation_um, 1.0 * i, 1e-12);
@@ -157,11 +157,11 @@ TEST(Klingelnberg, Latin1AndLfReadTheSame) {
     }
   }
   const auto g = example_gear();
-  const auto a = diagnosis::klingelnberg_points(diagnosis::parse_klingelnberg(latin1, "l.mka"), g);
-  const auto b = diagnosis::klingelnberg_points(diagnosis::read_klingelnberg(kExample), g);
+  const auto a = measurement::klingelnberg_points(measurement::parse_klingelnberg(latin1, "l.mka"), g);
+  const auto b = measurement::klingelnberg_points(measurement::read_klingelnberg(kExample), g);
   ASSERT_EQ(a.points.size(), b.points.size());
   for (size_t i = 0; i < a.points.size(); ++i) EXPECT_EQ(a.points[i].deviation_um, b.points[i].deviation_um);
-  EXPECT_EQ(diagnosis::parse_klingelnberg(latin1, "l.mka").codes.at(22).label, "Zähnezahl z");
+  EXPECT_EQ(measurement::parse_klingelnberg(latin1, "l.mka").codes.at(22).label, "Zähnezahl z");
 }
 
 TEST(Klingelnberg, HeaderMustMatchTheScene) {
@@ -175,7 +175,7 @@ TEST(Klingelnberg, UnknownBlocksAreListedNotUsed) {
   const std::string text = example_text() +
                            "Verschränkung: Zahn-Nr.: 1k /Flankenlinie:3 links / 2  Werte  x= 10.263\r\n  1.0  2.0\r\n"
                            "Teilung:\r\nZ-Nr. Seite PHI X Y Z\r\n  1   R  0.0000  .1198  25.5249  87.2302\r\n";
-  const auto res = diagnosis::klingelnberg_points(diagnosis::parse_klingelnberg(text, "x.mka"), example_gear());
+  const auto res = measurement::klingelnberg_points(measurement::parse_klingelnberg(text, "x.mka"), example_gear());
   EXPECT_EQ(res.points.size(), 20u);
   ASSERT_EQ(res.warnings.size(), 2u);
   EXPECT_EQ(res.warnings[0], "x.mka: blocks not read (this reader knows Profil, Flankenlinie, TOPOGRAFIE and the pitch "
@@ -203,9 +203,9 @@ TEST(Klingelnberg, NothingUsableIsAnError) {
 
 TEST(Klingelnberg, IsRecognisedByItsContent) {
   std::ifstream in(kExample, std::ios::binary);
-  EXPECT_TRUE(diagnosis::looks_like_klingelnberg(in));
+  EXPECT_TRUE(measurement::looks_like_klingelnberg(in));
   std::istringstream csv("tooth,flank,row,col,diameter_mm,z_mm,deviation_um\n");
-  EXPECT_FALSE(diagnosis::looks_like_klingelnberg(csv));
+  EXPECT_FALSE(measurement::looks_like_klingelnberg(csv));
 }
 
 // Writer and reader are inverse to the printed precision: positions 1e-6 mm, deviations 0.001 µm (× 1/cos β_b in the
@@ -216,12 +216,12 @@ TEST(Klingelnberg, SynthesizedTopographyRoundTrips) {
   so.teeth = {1, 18};
   const auto rows = diagnosis::synthesize(wb.setup, wb.process(), so);
   std::ostringstream out;
-  diagnosis::write_klingelnberg(out, wb.setup.geometry(), rows);
-  const auto res = diagnosis::klingelnberg_points(diagnosis::parse_klingelnberg(out.str(), "synth.mka"), wb.setup.geometry());
+  measurement::write_klingelnberg(out, wb.setup.geometry(), rows);
+  const auto res = measurement::klingelnberg_points(measurement::parse_klingelnberg(out.str(), "synth.mka"), wb.setup.geometry());
   ASSERT_EQ(res.points.size(), rows.size());
   EXPECT_TRUE(res.warnings.empty());
   for (const auto& r : rows) {
-    const auto it = std::find_if(res.points.begin(), res.points.end(), [&](const diagnosis::MeasuredPoint& p) {
+    const auto it = std::find_if(res.points.begin(), res.points.end(), [&](const measurement::MeasuredPoint& p) {
       return p.tooth == r.tooth && p.flank == r.flank && std::abs(p.z_mm - r.z_mm) < 1e-5 &&
              std::abs(p.diameter_mm - r.diameter_mm) < 1e-5;
     });
@@ -232,7 +232,7 @@ TEST(Klingelnberg, SynthesizedTopographyRoundTrips) {
 
 TEST(Klingelnberg, DifferentAnglesAreAWarning) {
   const auto text = replaced(example_text(), "beta [Grad]......: 15.0000", "beta [Grad]......: -20.0000");
-  const auto res = diagnosis::klingelnberg_points(diagnosis::parse_klingelnberg(text, "x.mka"), example_gear());
+  const auto res = measurement::klingelnberg_points(measurement::parse_klingelnberg(text, "x.mka"), example_gear());
   ASSERT_EQ(res.warnings.size(), 2u);
   EXPECT_EQ(res.warnings[0], "x.mka:8: 23 Schrägungswinkel beta [Grad]: -20° in the file, 15° in the scene (|β| and α_n "
                              "are compared)");

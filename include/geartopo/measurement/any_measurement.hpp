@@ -1,0 +1,43 @@
+// geartopo — one entry for every measurement file a command reads: topology CSV, traces CSV, point cloud or
+// Klingelnberg export, told apart by their content (docs/measurement-formats.md), as measured points on the gear or,
+// for the ISO 1328-1 evaluator, as traces.
+// Units: mm, µm (deviation along the flank normal, plus material positive).
+#pragma once
+
+#include "geartopo/gears/gear_geometry.hpp"
+#include "geartopo/gears/involute_helicoid.hpp"
+#include "geartopo/grinding/grinding_setup.hpp"
+#include "geartopo/grinding/topology.hpp"
+#include "geartopo/measurement/klingelnberg.hpp"
+#include "geartopo/measurement/measured_points.hpp"
+
+#include <string>
+#include <vector>
+
+namespace geartopo::measurement {
+
+/// Points of a point cloud file (x_mm,y_mm,z_mm in the workpiece frame): each projected onto its flank on the exact
+/// helicoid; its deviation is the signed normal distance (plus material). Points farther than max_offset_mm from
+/// any flank, or off the active flank, are errors naming the line.
+std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file, const gears::InvoluteHelicoid& flanks,
+                                                        double max_offset_mm = 0.5);
+
+/// Topology CSV, traces CSV, point cloud or Klingelnberg export (read with `mka`), told apart by their content.
+/// Findings that are not errors (blocks a reader skipped, undefined points) go to `warnings` when given.
+std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
+                                                std::vector<std::string>* warnings = nullptr,
+                                                const KlingelnbergOptions& mka = {});
+
+/// Measured traces for the ISO 1328-1 evaluator (`geartopo evaluate --traces`).
+struct MeasuredTraces {
+  std::vector<grinding::FlankTopology> flanks;
+  bool klingelnberg = false;         ///< read from a Klingelnberg export (else a traces CSV)
+  std::vector<std::string> warnings; ///< the export reader's findings that are not errors
+};
+
+/// A traces CSV (grinding/topology_csv.hpp) or a Klingelnberg export (klingelnberg_traces, read with `mka`), told
+/// apart by their content.
+MeasuredTraces read_any_traces(const std::string& file, const gears::GearGeometry& g,
+                               const KlingelnbergOptions& mka = {});
+
+} // namespace geartopo::measurement
