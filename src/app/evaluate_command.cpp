@@ -70,7 +70,7 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       std::vector<grinding::FlankTopology> topo;
       std::string source;
       if (!opt->traces.empty()) {
-        auto traces = measurement::read_any_traces(opt->traces, g, opt->mka);
+        auto traces = measurement::read_any_traces(opt->traces, wb.setup, opt->mka);
         for (const auto& w : traces.warnings) std::cerr << "geartopo: warning: " << w << "\n";
         topo = std::move(traces.flanks);
         source = (traces.klingelnberg ? "measured traces (Klingelnberg export) " : "measured traces ") + opt->traces;

@@ -104,7 +104,18 @@ std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const G
     if (o.progress) o.progress(++flanks_done, static_cast<long long>(out.size()));
   });
   require_all_reached(out);
+  attach_design(out, setup.design());
   return out;
+}
+
+void attach_design(std::vector<FlankTopology>& topo, const gears::FlankDesign& design) {
+  if (design.empty()) return;
+  for (auto& ft : topo) {
+    for (auto* grid : {&ft.grid, &ft.dense})
+      for (auto& p : *grid) p.design_um = design.at_um(ft.flank, p.roll_length_mm, p.z_mm);
+    for (auto* trace : {&ft.profile, &ft.helix})
+      for (auto& p : *trace) p.design_um = design.at_um(ft.flank, p.roll_length_mm, p.z_mm);
+  }
 }
 
 void require_all_reached(const std::vector<FlankTopology>& topo) {

@@ -60,14 +60,36 @@ int whole(const Field& f, const std::string& src, int line, const char* name) {
   return v;
 }
 
-// The header line must hold exactly these columns, in this order.
-void check_header(const std::vector<Field>& f, const std::string& line, const char* const* names, const char* header,
-                  const std::string& src, int lineno) {
+// The header line must hold exactly these columns, in this order, and may end with design_um: the number of
+// columns every row must have (7 or 8).
+size_t check_header(const std::vector<Field>& f, const std::string& line, const char* const* names, const char* header,
+                    const std::string& src, int lineno) {
   for (size_t i = 0; i < 7; ++i)
     if (i >= f.size() || f[i].text != names[i])
       fail(src, lineno, i < f.size() ? f[i].column : static_cast<int>(line.size()) + 1, "header",
-           fmt::format("expected the columns {} (column {} should be '{}')", header, i + 1, names[i]));
-  if (f.size() != 7) fail(src, lineno, f[7].column, "header", fmt::format("unexpected column '{}'", excerpt(f[7].text)));
+           fmt::format("expected the columns {}[,{}] (column {} should be '{}')", header, kDesignColumn, i + 1, names[i]));
+  if (f.size() > 7 && f[7].text != kDesignColumn)
+    fail(src, lineno, f[7].column, "header",
+         fmt::format("unexpected column '{}' (the only column after deviation_um is {})", excerpt(f[7].text), kDesignColumn));
+  if (f.size() > 8) fail(src, lineno, f[8].column, "header", fmt::format("unexpected column '{}'", excerpt(f[8].text)));
+  return f.size();
+}
+
+// A row's field count against the header's.
+void check_row_size(const std::vector<Field>& f, size_t columns, const std::string& line, const std::string& src, int lineno) {
+  if (f.size() != columns)
+    fail(src, lineno, f.size() > columns ? f[columns].column : static_cast<int>(line.size()) + 1, "row",
+         fmt::format("{} fields, expected {}", f.size(), columns));
+}
+
+// The design value of a row: the same bounds as a deviation.
+double design(const Field& f, const std::string& src, int line) {
+  const double v = number(f, src, line, kDesignColumn);
+  if (std::abs(v) > kMaxDeviationUm)
+    fail(src, line, f.column, kDesignColumn,
+         fmt::format("{} µm is beyond ±{} µm, more than a drawing modifies a flank (a wrong unit?)", excerpt(f.text),
+                     kMaxDeviationUm));
+  return v;
 }
 
 } // namespace
@@ -76,7 +98,7 @@ std::vector<TopologyRow> topology_rows(const std::vector<FlankTopology>& topo, G
   std::vector<TopologyRow> rows;
   for (const auto& ft : topo)
     for (const auto& p : kind == GridKind::Topology ? ft.grid : ft.dense)
-      rows.push_back({ft.tooth, ft.flank, p.row, p.col, p.diameter_mm, p.z_mm, p.deviation_um, 0});
+      rows.push_back({ft.tooth, ft.flank, p.row, p.col, p.diameter_mm, p.z_mm, p.deviation_um, 0, p.design_um});
   return rows;
 }
 
@@ -85,21 +107,21 @@ void write_topology_csv(std::ostream& out, const std::vector<FlankTopology>& top
 }
 
 void write_topology_rows(std::ostream& out, const std::vector<TopologyRow>& rows) {
-  out << kTopologyHeader << "\n";
+  out << kTopologyHeader << "," << kDesignColumn << "\n";
   for (const auto& r : rows)
-    out << fmt::format("{},{},{},{},{:.6f},{:.6f},{:.4f}\n", r.tooth, gears::to_string(r.flank), r.row, r.col,
-                       r.diameter_mm, r.z_mm, r.deviation_um);
+    out << fmt::format("{},{},{},{},{:.6f},{:.6f},{:.4f},{:.4f}\n", r.tooth, gears::to_string(r.flank), r.row, r.col,
+                       r.diameter_mm, r.z_mm, r.deviation_um, r.design_um);
 }
 
 void write_traces_csv(std::ostream& out, const std::vector<FlankTopology>& topo) {
-  out << kTracesHeader << "\n";
+  out << kTracesHeader << "," << kDesignColumn << "\n";
   for (const auto& ft : topo) {
     for (const auto& p : ft.profile)
-      out << fmt::format("{},{},profile,{:.6f},{:.6f},{:.6f},{:.4f}\n", ft.tooth, gears::to_string(ft.flank),
-                         p.roll_length_mm, p.diameter_mm, p.z_mm, p.deviation_um);
+      out << fmt::format("{},{},profile,{:.6f},{:.6f},{:.6f},{:.4f},{:.4f}\n", ft.tooth, gears::to_string(ft.flank),
+                         p.roll_length_mm, p.diameter_mm, p.z_mm, p.deviation_um, p.design_um);
     for (const auto& p : ft.helix)
-      out << fmt::format("{},{},helix,{:.6f},{:.6f},{:.6f},{:.4f}\n", ft.tooth, gears::to_string(ft.flank),
-                         p.roll_length_mm, p.diameter_mm, p.z_mm, p.deviation_um);
+      out << fmt::format("{},{},helix,{:.6f},{:.6f},{:.6f},{:.4f},{:.4f}\n", ft.tooth, gears::to_string(ft.flank),
+                         p.roll_length_mm, p.diameter_mm, p.z_mm, p.deviation_um, p.design_um);
   }
 }
 
@@ -118,19 +140,18 @@ std::vector<TopologyRow> read_topology_csv(std::istream& in, const std::string& 
   std::string line;
   int lineno = 0;
   bool header = false;
+  size_t columns = 7;
   while (std::getline(in, line)) {
     ++lineno;
     line = clean_line(std::move(line), lineno);
     if (line.empty() || line[0] == '#') continue;
     const auto f = text::split_fields(line);
     if (!header) {
-      check_header(f, line, names, kTopologyHeader, src, lineno);
+      columns = check_header(f, line, names, kTopologyHeader, src, lineno);
       header = true;
       continue;
     }
-    if (f.size() != 7)
-      fail(src, lineno, f.size() > 7 ? f[7].column : static_cast<int>(line.size()) + 1, "row",
-           fmt::format("{} fields, expected 7", f.size()));
+    check_row_size(f, columns, line, src, lineno);
     TopologyRow r;
     r.line = lineno;
     r.tooth = whole(f[0], src, lineno, "tooth");
@@ -146,6 +167,7 @@ std::vector<TopologyRow> read_topology_csv(std::istream& in, const std::string& 
     if (!(r.diameter_mm > 0.0)) fail(src, lineno, f[4].column, "diameter_mm", fmt::format("{} must be > 0", f[4].text));
     r.z_mm = number(f[5], src, lineno, "z_mm");
     r.deviation_um = deviation(f[6], src, lineno);
+    if (columns == 8) r.design_um = design(f[7], src, lineno);
     if (!seen.insert({r.tooth, static_cast<int>(r.flank), r.row, r.col}).second)
       fail(src, lineno, f[0].column, "row", fmt::format("duplicate point: tooth {} {} row {} col {}", r.tooth,
                                                          gears::to_string(r.flank), r.row, r.col));
@@ -162,19 +184,18 @@ std::vector<FlankTopology> read_traces_csv(std::istream& in, const std::string& 
   std::string line;
   int lineno = 0;
   bool header = false;
+  size_t columns = 7;
   while (std::getline(in, line)) {
     ++lineno;
     line = clean_line(std::move(line), lineno);
     if (line.empty() || line[0] == '#') continue;
     const auto f = text::split_fields(line);
     if (!header) {
-      check_header(f, line, names, kTracesHeader, src, lineno);
+      columns = check_header(f, line, names, kTracesHeader, src, lineno);
       header = true;
       continue;
     }
-    if (f.size() != 7)
-      fail(src, lineno, f.size() > 7 ? f[7].column : static_cast<int>(line.size()) + 1, "row",
-           fmt::format("{} fields, expected 7", f.size()));
+    check_row_size(f, columns, line, src, lineno);
     const int tooth = whole(f[0], src, lineno, "tooth");
     if (tooth < 1 || tooth > teeth) fail(src, lineno, f[0].column, "tooth", fmt::format("{} is not one of 1..{}", tooth, teeth));
     const auto flank = geartopo::parse_flank(f[1].text);
@@ -182,7 +203,8 @@ std::vector<FlankTopology> read_traces_csv(std::istream& in, const std::string& 
     const bool profile = f[2].text == "profile";
     if (!profile && f[2].text != "helix") fail(src, lineno, f[2].column, "trace", fmt::format("'{}' is neither profile nor helix", excerpt(f[2].text)));
     TracePoint p{number(f[3], src, lineno, "roll_length_mm"), number(f[4], src, lineno, "diameter_mm"),
-                 number(f[5], src, lineno, "z_mm"), deviation(f[6], src, lineno), lineno};
+                 number(f[5], src, lineno, "z_mm"), deviation(f[6], src, lineno), lineno,
+                 columns == 8 ? design(f[7], src, lineno) : 0.0};
     if (!(p.diameter_mm > 0.0)) fail(src, lineno, f[4].column, "diameter_mm", fmt::format("{} must be > 0", f[4].text));
     if (!(p.roll_length_mm >= 0.0)) fail(src, lineno, f[3].column, "roll_length_mm", fmt::format("{} must be >= 0", f[3].text));
     FlankTopology& ft = flanks[{tooth, static_cast<int>(*flank)}];
@@ -212,7 +234,7 @@ bool starts_like_traces_csv(std::istream& in) {
   for (int lineno = 1; std::getline(in, line); ++lineno) {
     line = clean_line(std::move(line), lineno);
     if (line.empty() || line[0] == '#') continue;
-    traces = line == kTracesHeader;
+    traces = line == kTracesHeader || line == std::string(kTracesHeader) + "," + kDesignColumn;
     break;
   }
   in.clear();

@@ -83,6 +83,7 @@ std::vector<FlankTopology> TopologyPlan::simulate(const GrindingProcess& process
     if (!f.dense.empty()) ft.dense = grid(f.dense, dense_rows_, dense_cols_);
   });
   require_all_reached(out);
+  attach_design(out, setup_.design());
   return out;
 }
 

@@ -33,23 +33,31 @@ std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file,
 std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
                                                 std::vector<std::string>* warnings, const KlingelnbergOptions& mka) {
   auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "measurement");
+  std::vector<MeasuredPoint> points;
   // First: an export's header lines and trace heads are not numbers, so neither other reader would take it anyway.
   if (looks_like_klingelnberg(in)) {
     auto res = klingelnberg_points(read_klingelnberg(file), setup.geometry(), mka);
     if (warnings) warnings->insert(warnings->end(), res.warnings.begin(), res.warnings.end());
-    return std::move(res.points);
+    points = std::move(res.points);
+  } else if (grinding::starts_like_traces_csv(in)) {
+    points = read_traces_measurement(file, setup.geometry());
+  } else if (surfaces::starts_like_point_cloud(in)) {
+    points = read_point_cloud_measurement(file, setup.flanks());
+  } else {
+    points = read_measurement(file, setup.geometry());
   }
-  if (grinding::starts_like_traces_csv(in)) return read_traces_measurement(file, setup.geometry());
-  if (surfaces::starts_like_point_cloud(in)) return read_point_cloud_measurement(file, setup.flanks());
-  return read_measurement(file, setup.geometry());
+  refer_to_design(points, setup.design()); // the model's deviations are from the scene's drawing too
+  return points;
 }
 
-MeasuredTraces read_any_traces(const std::string& file, const gears::GearGeometry& g, const KlingelnbergOptions& mka) {
+MeasuredTraces read_any_traces(const std::string& file, const grinding::GrindingSetup& setup, const KlingelnbergOptions& mka) {
   MeasuredTraces t;
+  const auto& g = setup.geometry();
   auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "traces file");
   t.klingelnberg = looks_like_klingelnberg(in);
   t.flanks = t.klingelnberg ? klingelnberg_traces(read_klingelnberg(file), g, mka, &t.warnings)
                             : grinding::read_traces_csv(file, g.teeth());
+  refer_to_design(t.flanks, setup.design());
   return t;
 }
 

@@ -597,8 +597,10 @@ void write_klingelnberg(std::ostream& out, const gears::GearGeometry& g, const s
     const double factor = sign_factor(probe, o.signs) * to_file;
     out << fmt::format("TOPOGRAFIE: Zahn-Nr.: {} /Profil:{} {} / {} Werte / z= {:.6f}\r\n", tooth, std::get<2>(key),
                        flank == Flank::Left ? "links" : "rechts", sorted.size(), sorted.front()->z_mm);
+    // The export carries no design line: its values are the flank from the bare involute (deviation + design),
+    // as the reader takes an export's values (refer_to_design).
     for (size_t i = 0; i < sorted.size(); ++i) {
-      out << fmt::format("{:9.3f}", factor * sorted[i]->deviation_um);
+      out << fmt::format("{:9.3f}", factor * (sorted[i]->deviation_um + sorted[i]->design_um));
       out << ((i + 1) % 12 == 0 || i + 1 == sorted.size() ? "\r\n" : " ");
     }
   }

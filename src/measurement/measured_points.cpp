@@ -31,10 +31,29 @@ std::vector<MeasuredPoint> measured_points(const std::vector<grinding::TopologyR
     p.roll_length_mm = g.roll_length_at(p.diameter_mm);
     p.z_mm = std::clamp(r.z_mm, 0.0, b);
     p.deviation_um = r.deviation_um;
+    p.design_um = r.design_um;
     p.line = r.line;
     out.push_back(p);
   }
   return out;
+}
+
+void refer_to_design(std::vector<MeasuredPoint>& points, const gears::FlankDesign& design) {
+  for (auto& p : points) {
+    const double d = design.at_um(p.flank, p.roll_length_mm, p.z_mm);
+    p.deviation_um += p.design_um - d;
+    p.design_um = d;
+  }
+}
+
+void refer_to_design(std::vector<grinding::FlankTopology>& traces, const gears::FlankDesign& design) {
+  for (auto& ft : traces)
+    for (auto* trace : {&ft.profile, &ft.helix})
+      for (auto& p : *trace) {
+        const double d = design.at_um(ft.flank, p.roll_length_mm, p.z_mm);
+        p.deviation_um += p.design_um - d;
+        p.design_um = d;
+      }
 }
 
 std::vector<MeasuredPoint> read_measurement(const std::string& file, const gears::GearGeometry& g) {
@@ -47,7 +66,8 @@ std::vector<MeasuredPoint> trace_points(const std::vector<grinding::FlankTopolog
   std::vector<grinding::TopologyRow> rows;
   for (const auto& ft : traces)
     for (const auto* trace : {&ft.profile, &ft.helix})
-      for (const auto& p : *trace) rows.push_back({ft.tooth, ft.flank, 0, 0, p.diameter_mm, p.z_mm, p.deviation_um, p.line});
+      for (const auto& p : *trace)
+        rows.push_back({ft.tooth, ft.flank, 0, 0, p.diameter_mm, p.z_mm, p.deviation_um, p.line, p.design_um});
   return measured_points(rows, g, source);
 }
 

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <algorithm>
 #include <map>
 #include <numbers>
 
@@ -87,6 +88,11 @@ nlohmann::json iso_json(const IsoResult& res) {
       fj["radial_position_um"] = nullptr;
     }
     fj["classes"] = classes;
+    // Flank twist of the deviation from the design (docs/modifications.md): null without a grid (measured traces).
+    const auto tw = std::find_if(res.twists.begin(), res.twists.end(),
+                                 [&](const auto& t) { return t.tooth == f.tooth && t.flank == f.side; });
+    fj["S_alpha_um"] = tw != res.twists.end() ? nlohmann::json(tw->twist.profile_twist_um) : nlohmann::json(nullptr);
+    fj["S_beta_um"] = tw != res.twists.end() ? nlohmann::json(tw->twist.helix_twist_um) : nlohmann::json(nullptr);
     flanks.push_back(fj);
   }
   j["flanks"] = flanks;

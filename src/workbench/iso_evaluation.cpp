@@ -61,8 +61,13 @@ evaluation::GearMeasurement gear_measurement(const gears::GearGeometry& g, const
 
 IsoResult evaluate_iso(const gears::GearGeometry& g, const gears::EvaluationRanges& r,
                        const std::vector<grinding::FlankTopology>& topo, const IsoOptions& o) {
-  IsoResult res{gear_parameters(g), {}};
+  IsoResult res{gear_parameters(g), {}, {}};
   res.evaluation = evaluation::evaluate_gear(gear_measurement(g, r, topo, o), res.parameters);
+  for (const auto& ft : topo) {
+    std::vector<evaluation::TwistGridPoint> grid;
+    for (const auto& p : ft.grid) grid.push_back({p.row, p.col, p.roll_length_mm, p.z_mm, p.deviation_um});
+    if (grid.size() >= 4) res.twists.push_back({ft.tooth, ft.flank, evaluation::flank_twist(grid)});
+  }
   return res;
 }
 

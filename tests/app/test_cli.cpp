@@ -120,7 +120,7 @@ TEST(Cli, SimulateWritesTopologyTracesAndMeshes) {
   std::ifstream topo(out / "topology.csv");
   std::string header;
   std::getline(topo, header);
-  EXPECT_EQ(header, "tooth,flank,row,col,diameter_mm,z_mm,deviation_um");
+  EXPECT_EQ(header, "tooth,flank,row,col,diameter_mm,z_mm,deviation_um,design_um");
   int lines = 0;
   for (std::string l; std::getline(topo, l);) ++lines;
   EXPECT_EQ(lines, 4 * 63);

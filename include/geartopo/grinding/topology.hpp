@@ -19,13 +19,15 @@ namespace geartopo::grinding {
 struct GridPoint {
   int row = 0, col = 0; ///< 1-based: row from root to tip, col from the datum face
   double roll_length_mm = 0.0, diameter_mm = 0.0, z_mm = 0.0;
-  double deviation_um = 0.0;
+  double deviation_um = 0.0; ///< from the design (FlankDeviation::at)
+  double design_um = 0.0;    ///< the design there (FormWheel::design(); 0: the bare involute)
 };
 
 struct TracePoint {
   double roll_length_mm = 0.0, diameter_mm = 0.0, z_mm = 0.0;
-  double deviation_um = 0.0;
+  double deviation_um = 0.0; ///< from the design
   int line = 0; ///< 1-based line in the traces file it was read from (0 when simulated)
+  double design_um = 0.0;    ///< the design there
 };
 
 struct FlankTopology {
@@ -72,6 +74,8 @@ std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const G
 
 /// Throws std::runtime_error (require_reached) at the first point, in the topology's order, the wheel never reached.
 void require_all_reached(const std::vector<FlankTopology>& topo);
+/// Sets every point's design_um from `design` (the simulators call it on what they return).
+void attach_design(std::vector<FlankTopology>& topo, const gears::FlankDesign& design);
 
 /// Largest |deviation| (µm) over the grids of all flanks.
 double largest_abs_deviation_um(const std::vector<FlankTopology>& topo);

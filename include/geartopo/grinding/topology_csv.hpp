@@ -1,9 +1,9 @@
 // geartopo — flank topology and trace files: one format for predictions and measurements (docs/file-formats.md).
 //
-// topology CSV, header exactly:  tooth,flank,row,col,diameter_mm,z_mm,deviation_um
+// topology CSV, header exactly:  tooth,flank,row,col,diameter_mm,z_mm,deviation_um[,design_um]
 //   tooth 1..z; flank left|right; row 1..R from root to tip; col 1..C from the datum face; z from the datum face;
-//   deviation along the flank normal, plus material positive.
-// traces CSV, header exactly:    tooth,flank,trace,roll_length_mm,diameter_mm,z_mm,deviation_um
+//   deviation along the flank normal from the design, plus material positive; design_um the design there.
+// traces CSV, header exactly:    tooth,flank,trace,roll_length_mm,diameter_mm,z_mm,deviation_um[,design_um]
 //   trace profile|helix.
 // Readers are strict: every bad line, field or value is an error naming file:line:column and the field, and nothing
 // of a bad file is returned.
@@ -21,6 +21,10 @@ namespace geartopo::grinding {
 
 inline constexpr const char* kTopologyHeader = "tooth,flank,row,col,diameter_mm,z_mm,deviation_um";
 inline constexpr const char* kTracesHeader = "tooth,flank,trace,roll_length_mm,diameter_mm,z_mm,deviation_um";
+/// The optional last column of both files: the drawing's design value at the point (µm, plus material;
+/// gears/flank_modifications.hpp), beside deviation_um, the deviation FROM that design. geartopo writes it always;
+/// a file without it is taken as measured against the bare involute (design 0).
+inline constexpr const char* kDesignColumn = "design_um";
 
 /// The largest |deviation_um| a topology or traces file may hold (1 mm): beyond it the readers refuse the value.
 inline constexpr double kMaxDeviationUm = 1000.0;
@@ -32,6 +36,7 @@ struct TopologyRow {
   int row = 0, col = 0;
   double diameter_mm = 0.0, z_mm = 0.0, deviation_um = 0.0;
   int line = 0; ///< 1-based line in the file it was read from (0 when made in memory)
+  double design_um = 0.0; ///< the design the deviation is measured from (kDesignColumn; 0 when the file has none)
 };
 
 enum class GridKind { Topology, Dense };

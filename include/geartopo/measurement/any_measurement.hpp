@@ -22,7 +22,9 @@ namespace geartopo::measurement {
 std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file, const gears::InvoluteHelicoid& flanks,
                                                         double max_offset_mm = 0.5);
 
-/// Topology CSV, traces CSV, point cloud or Klingelnberg export (read with `mka`), told apart by their content.
+/// Topology CSV, traces CSV, point cloud or Klingelnberg export (read with `mka`), told apart by their content, with
+/// the deviations referred to the set-up's design (refer_to_design: a file without a design column is read as measured
+/// against the bare involute).
 /// Findings that are not errors (blocks a reader skipped, undefined points) go to `warnings` when given.
 std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
                                                 std::vector<std::string>* warnings = nullptr,
@@ -36,8 +38,8 @@ struct MeasuredTraces {
 };
 
 /// A traces CSV (grinding/topology_csv.hpp) or a Klingelnberg export (klingelnberg_traces, read with `mka`), told
-/// apart by their content.
-MeasuredTraces read_any_traces(const std::string& file, const gears::GearGeometry& g,
+/// apart by their content, with the deviations referred to the set-up's design (refer_to_design).
+MeasuredTraces read_any_traces(const std::string& file, const grinding::GrindingSetup& setup,
                                const KlingelnbergOptions& mka = {});
 
 } // namespace geartopo::measurement

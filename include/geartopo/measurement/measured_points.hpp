@@ -3,6 +3,7 @@
 #pragma once
 
 #include "geartopo/gears/evaluation_ranges.hpp"
+#include "geartopo/gears/flank_modifications.hpp"
 #include "geartopo/core/flank.hpp"
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
@@ -20,10 +21,18 @@ struct MeasuredPoint {
   double roll_length_mm = 0.0;
   double diameter_mm = 0.0;
   double z_mm = 0.0;
-  double deviation_um = 0.0;     ///< measured
+  double deviation_um = 0.0;     ///< measured, from design_um
+  double design_um = 0.0;        ///< the design the deviation is measured from: the file's (design_um column; 0 when
+                                 ///< it has none: the bare involute), the scene's after read_any_measurement
   int line = 0;                  ///< line in the measurement file
   std::int64_t id = -1;          ///< a point cloud's id column (the measuring machine's point number); −1: none
 };
+
+/// Refers measured deviations to `design` (the scene's drawing): the measured flank is deviation_um + design_um of
+/// the file; from the scene's design d it deviates by that less d. Files without a design column (design 0) are so
+/// read as measured against the bare involute.
+void refer_to_design(std::vector<MeasuredPoint>& points, const gears::FlankDesign& design);
+void refer_to_design(std::vector<grinding::FlankTopology>& traces, const gears::FlankDesign& design);
 
 /// Points of a topology file on the gear. A point outside the active profile (d_Ff … d_a, 1 µm slack) or the face
 /// width is "off the flank": std::runtime_error naming file:line and the field.

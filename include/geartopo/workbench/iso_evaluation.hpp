@@ -5,6 +5,7 @@
 
 #include "geartopo/evaluation/gear_evaluation.hpp"
 #include "geartopo/evaluation/tolerances.hpp"
+#include "geartopo/evaluation/twist.hpp"
 #include "geartopo/gears/evaluation_ranges.hpp"
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/grinding/topology.hpp"
@@ -28,9 +29,16 @@ evaluation::IsoConventions iso_conventions(const gears::GearGeometry& g, const I
 evaluation::GearMeasurement gear_measurement(const gears::GearGeometry& g, const gears::EvaluationRanges& r,
                                              const std::vector<grinding::FlankTopology>& topo, const IsoOptions& o = {});
 
+struct FlankTwistResult {
+  int tooth = 1;
+  geartopo::Flank flank = geartopo::Flank::Left;
+  evaluation::FlankTwist twist; ///< of the deviation from the design, along the flank normal (evaluation/twist.hpp)
+};
+
 struct IsoResult {
   evaluation::GearParameters parameters;
   evaluation::GearEvaluation evaluation;
+  std::vector<FlankTwistResult> twists; ///< every flank with a grid (none from measured traces)
 };
 
 /// ISO 1328-1 values of the flanks, by default in the standard's (transverse) direction and sign rules.
