@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -118,6 +119,9 @@ public:
   /// `adaptive`: `samples` is the adaptive run's limit (--max-samples), the estimate an upper bound.
   MonteCarloWatch(long long samples, int threads, double max_seconds, std::string split_hint, bool adaptive = false);
   void sample_done(long long done, long long total);
+  /// For MonteCarloOptions::on_prepared: the samples start now (the estimate times the first from here, not from the
+  /// preparation: sensitivities and the exact samples that check them). Ignored once a sample is done.
+  void prepared();
   /// For MonteCarloOptions::on_sample_done: sample_done() of this object, which must outlive the run.
   std::function<void(long long, long long)> callback();
 
@@ -128,6 +132,7 @@ private:
   double max_seconds_;
   std::string split_hint_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::atomic<bool> any_done_{false};
   Progress progress_;
 };
 

@@ -316,7 +316,7 @@ TEST(MonteCarloAdaptive, TheStabilityStatisticIsTwiceTheStandardDeviationOfTheBa
   run.names = {"F_p_um", "overall_class"};
   run.samples_total = kBatch * kBatches;
   for (long long k = 0; k < run.samples_total; ++k)
-    run.samples.push_back({k, {before(rng), static_cast<double>(k % 7)}, {after(rng), static_cast<double>(k % 5)}});
+    run.samples.push_back({k, {before(rng), static_cast<double>(k % 7)}, {after(rng), static_cast<double>(k % 5)}, {}});
   double worst = 0.0;
   for (const bool is_after : {false, true})
     for (int what = 0; what < 3; ++what) { // median, low, high
@@ -439,6 +439,91 @@ TEST(MonteCarloCli, MergedShardsEqualOneRunByteForByte) {
   EXPECT_NE(slurp_mc(log).find("merge every shard"), std::string::npos) << slurp_mc(log);
   EXPECT_EQ(run_geartopo("compensate " + scene + " --out " + (dir / "bad").string() + common + " --shard 3/2", log), 2);
   EXPECT_NE(slurp_mc(log).find("--shard"), std::string::npos) << slurp_mc(log);
+  std::filesystem::remove_all(dir);
+}
+
+// A Slurm array job (docs/monte-carlo.md, "Slurm array job"): without --shard, each task's shard comes from
+// SLURM_ARRAY_TASK_ID − SLURM_ARRAY_TASK_MIN + 1 of SLURM_ARRAY_TASK_COUNT, said on stderr; the tasks of a 0-based
+// array (--array=0-1) merged give the bytes of one run without the variables (the truth: a run that knows no Slurm).
+// An explicit --shard wins; an array with a step (tasks 1, 3, 5: the ID is not the place) is refused naming --shard.
+TEST(MonteCarloCli, ASlurmArrayTaskTakesItsShardFromTheEnvironment) {
+  const auto dir = std::filesystem::temp_directory_path() / ("geartopo_mc_slurm_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  { std::ofstream(dir / "scene.yaml") << mc_scene_text(kMapErrors); }
+  const std::string scene = (dir / "scene.yaml").string(), log = (dir / "log.txt").string();
+  const std::string common = " --samples 6 --seed 5 --step 5";
+  const auto slurm = [](int id, int min, int max, int count) {
+    return "env SLURM_ARRAY_TASK_ID=" + std::to_string(id) + " SLURM_ARRAY_TASK_MIN=" + std::to_string(min) +
+           " SLURM_ARRAY_TASK_MAX=" + std::to_string(max) + " SLURM_ARRAY_TASK_COUNT=" + std::to_string(count) + " ";
+  };
+  const auto run_env = [&](const std::string& env, const std::string& args) {
+    const int status = std::system((env + GEARTOPO_BINARY + " " + args + " >" + log + " 2>&1").c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  ASSERT_EQ(run_env("env -u SLURM_ARRAY_TASK_ID ", "compensate " + scene + " --out " + (dir / "one").string() + common), 0)
+      << slurp_mc(log);
+  for (int id : {0, 1}) {
+    ASSERT_EQ(run_env(slurm(id, 0, 1, 2), "compensate " + scene + " --out " + (dir / ("t" + std::to_string(id))).string() + common), 0)
+        << slurp_mc(log);
+    EXPECT_NE(slurp_mc(log).find(fmt::format("--shard {}/2 from the Slurm array job", id + 1)), std::string::npos) << slurp_mc(log);
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "t0" / "prediction.json")); // a shard
+  ASSERT_EQ(run_geartopo("merge " + (dir / "t0" / "prediction_samples.csv").string() + " " +
+                             (dir / "t1" / "prediction_samples.csv").string() + " --out " + (dir / "merged").string(), log), 0)
+      << slurp_mc(log);
+  for (const char* f : {"prediction.json", "prediction_samples.csv", "prediction.txt"})
+    EXPECT_EQ(slurp_mc(dir / "one" / f), slurp_mc(dir / "merged" / f)) << f;
+  // --shard given: the environment is not read.
+  ASSERT_EQ(run_env(slurm(0, 0, 1, 2), "compensate " + scene + " --out " + (dir / "given").string() + common + " --shard 1/1"), 0)
+      << slurp_mc(log);
+  EXPECT_EQ(slurp_mc(log).find("Slurm"), std::string::npos) << slurp_mc(log);
+  EXPECT_EQ(slurp_mc(dir / "one" / "prediction.json"), slurp_mc(dir / "given" / "prediction.json"));
+  // --array=1-5:2 (tasks 1, 3, 5): refused.
+  EXPECT_EQ(run_env(slurm(3, 1, 5, 3), "compensate " + scene + " --out " + (dir / "step").string() + common), 2);
+  EXPECT_NE(slurp_mc(log).find("--shard"), std::string::npos) << slurp_mc(log);
+  EXPECT_FALSE(std::filesystem::exists(dir / "step"));
+  std::filesystem::remove_all(dir);
+}
+
+// What limits the default gear after compensation, from arithmetic on the scene's numbers (docs/monte-carlo.md, "What
+// limits the gear after compensation"): with the default scene's 0.1 µm / 0.1 mdeg resolution a C step is 1.75 µrad,
+// ±0.4 µm at most on the flanks (r_b cos β_b = 230 mm), while each stroke's C scatters by s = 0.25 mdeg = 4.4 µrad,
+// 1.0 µm on the flanks, and X, Y, Z by 0.75 µm: the repeatability sets the pitch and the class. With the built-in
+// 1 µm / 1 mdeg, a C step is 4.0 µm on the flanks, four times the stroke scatter, as steps of form along the strokes
+// where the corrections cross a step: the rounding sets the class, the gear is worse than without compensation, and the
+// warning names the rounding with the class measured without it.
+TEST(MonteCarloCli, TheMainJobNamesWhatLimitsTheClassAfterCompensation) {
+  const auto dir = std::filesystem::temp_directory_path() / ("geartopo_mc_limit_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string source_dir = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/";
+  std::string text = slurp_mc(source_dir + "skmc1200w-mn14-z35.yaml");
+  for (size_t at = text.find("machine/"); at != std::string::npos; at = text.find("machine/", at + source_dir.size() + 8))
+    text.insert(at, source_dir);
+  text.replace(text.find("demo/measured.csv"), 0, source_dir);
+  const std::string fine = "resolution: {x_um: 0.1, y_um: 0.1, z_um: 0.1, a_mdeg: 0.1, c_mdeg: 0.1}";
+  ASSERT_NE(text.find(fine), std::string::npos) << "the default scene states its controller's resolution";
+  { std::ofstream(dir / "fine.yaml") << text; }
+  std::string coarse = text;
+  coarse.replace(coarse.find(fine), fine.size(), "resolution: {x_um: 1, y_um: 1, z_um: 1, a_mdeg: 1, c_mdeg: 1}");
+  { std::ofstream(dir / "coarse.yaml") << coarse; }
+  const std::string log = (dir / "log.txt").string();
+  ASSERT_EQ(run_geartopo("compensate " + (dir / "fine.yaml").string() + " --out " + (dir / "fine").string() + " --samples 40", log), 0)
+      << slurp_mc(log);
+  const auto fine_json = nlohmann::json::parse(slurp_mc(dir / "fine" / "prediction.json"));
+  EXPECT_EQ(fine_json["sampling"]["method"], "linear");
+  EXPECT_EQ(fine_json["limit"]["dominant"], "repeatability") << fine_json["limit"].dump(1);
+  EXPECT_NE(slurp_mc(log).find("limit after compensation: the repeatability"), std::string::npos) << slurp_mc(log);
+  ASSERT_EQ(run_geartopo("compensate " + (dir / "coarse.yaml").string() + " --out " + (dir / "coarse").string() + " --samples 40", log), 0)
+      << slurp_mc(log);
+  const auto coarse_json = nlohmann::json::parse(slurp_mc(dir / "coarse" / "prediction.json"));
+  EXPECT_EQ(coarse_json["limit"]["dominant"], "resolution_rounding") << coarse_json["limit"].dump(1);
+  const auto& q = coarse_json["quantities"]["overall_class"];
+  EXPECT_GT(q["after"]["median"].get<double>(), q["before"]["median"].get<double>()) << "the 1 mdeg steps make it worse";
+  const double without = coarse_json["limit"]["without"]["resolution_rounding"]["overall_class"].get<double>();
+  EXPECT_LT(without, q["after"]["median"].get<double>());
+  EXPECT_NE(slurp_mc(log).find(fmt::format("without the rounding to machine.resolution the median class is {:g}", without)),
+            std::string::npos)
+      << slurp_mc(log);
   std::filesystem::remove_all(dir);
 }
 
