@@ -217,7 +217,11 @@ MonteCarloWatch::MonteCarloWatch(long long samples, int threads, double max_seco
       progress_(pipeline::kPredictionStage, samples, "samples") {}
 
 void MonteCarloWatch::prepared() {
-  if (!any_done_) start_ = std::chrono::steady_clock::now();
+  if (any_done_ || prepared_) return; // the first preparation only (an MPI rank prepares each adaptive batch)
+  const auto now = std::chrono::steady_clock::now();
+  preparation_s_ = std::chrono::duration<double>(now - start_).count();
+  start_ = now;
+  prepared_ = true;
 }
 
 void MonteCarloWatch::sample_done(long long done, long long total) {
@@ -225,9 +229,11 @@ void MonteCarloWatch::sample_done(long long done, long long total) {
   if (done == 1) { // the first sample: every thread started one at the same time, this one finished first
     const double first = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     const long long rounds = (samples_ + threads_ - 1) / std::max(1, threads_);
-    const double estimate = first * static_cast<double>(rounds);
-    const std::string what = fmt::format("{} samples at {:.2g} s each on {} thread(s): about {:.{}f} s{}", samples_, first,
-                                         threads_, estimate, estimate < 10.0 ? 1 : 0,
+    const double estimate = preparation_s_ + first * static_cast<double>(rounds);
+    const std::string what = fmt::format("{} samples at {:.2g} s each on {} thread(s){}: about {:.{}f} s{}", samples_, first,
+                                         threads_,
+                                         prepared_ ? fmt::format(" after {:.2g} s of preparation", preparation_s_) : "",
+                                         estimate, estimate < 10.0 ? 1 : 0,
                                          adaptive_ ? " at most (the adaptive run may stop earlier)" : "");
     if (estimate > max_seconds_)
       throw CLI::ValidationError("--samples", fmt::format("the Monte Carlo prediction would take too long: {}, beyond "

@@ -108,6 +108,20 @@ SampleModel::SampleModel(const workbench::Workbench& wb, const compensation::Cor
     space_slot_.push_back(it->second);
   }
 
+  if (any_uncertain(effect_values_)) {
+    std::vector<diagnosis::MeasuredPoint> points;
+    for (const auto& ft : layout_) {
+      for (const auto& p : ft.grid) points.push_back({ft.tooth, ft.flank, p.row, p.col, p.roll_length_mm, p.diameter_mm, p.z_mm});
+      for (const auto* trace : {&ft.profile, &ft.helix})
+        for (const auto& p : *trace) points.push_back({ft.tooth, ft.flank, 0, 0, p.roll_length_mm, p.diameter_mm, p.z_mm});
+      for (const auto& p : ft.dense) points.push_back({ft.tooth, ft.flank, p.row, p.col, p.roll_length_mm, p.diameter_mm, p.z_mm});
+    }
+    effect_points_ = std::make_unique<diagnosis::EffectContribution>(wb.setup, points, options.threads);
+    std::vector<const effects::Effect*> nominal_effects;
+    for (const auto& e : wb.effects) nominal_effects.push_back(e.get());
+    effect_nominal_um_ = effect_points_->deviation_um(nominal_effects, options.threads);
+  }
+
   const auto& unc = wb.scene.machine.uncertainty;
   if (!after_->map_um.isZero(0.0)) without_.push_back("map_uncertainty");
   if (!unc.repeatability.isZero(0.0)) without_.push_back("repeatability");
@@ -133,6 +147,18 @@ SampleDraw SampleModel::draw(long long k) const {
   return d;
 }
 
+std::vector<std::unique_ptr<effects::Effect>> SampleModel::drawn_effects(const SampleDraw& d) const {
+  if (d.z_effects.size() == 0) return {};
+  // Each uncertain value within its standard uncertainty, held inside the effect's range.
+  std::vector<scene::EffectSpec> specs = wb_.scene.effects;
+  for (size_t j = 0; j < effect_values_.size(); ++j) {
+    const auto& v = effect_values_[j];
+    auto& value = specs[v.effect].values[v.value];
+    value = std::clamp(value + v.u * d.z_effects(static_cast<Eigen::Index>(j)), v.lo, v.hi);
+  }
+  return workbench::make_effects(specs, wb_.setup);
+}
+
 SampleGears SampleModel::exact(const SampleDraw& d) const {
   const auto& unc = wb_.scene.machine.uncertainty;
   std::vector<machine::ErrorSource> truth;
@@ -140,18 +166,8 @@ SampleGears SampleModel::exact(const SampleDraw& d) const {
   // Each: + z·u, u the scene's constant, or z·u(p) from the component's table column (ErrorSource::drawn).
   for (size_t c = 0; c < nominal_map_.size(); ++c)
     truth.push_back(nominal_map_[c].drawn(d.z_map(static_cast<Eigen::Index>(c)), unc.component_u[c]));
-  // Effects with uncertain values: each value within its standard uncertainty, held inside the effect's range.
-  std::vector<std::unique_ptr<effects::Effect>> drawn_effects;
-  if (d.z_effects.size() > 0) {
-    std::vector<scene::EffectSpec> specs = wb_.scene.effects;
-    for (size_t j = 0; j < effect_values_.size(); ++j) {
-      const auto& v = effect_values_[j];
-      auto& value = specs[v.effect].values[v.value];
-      value = std::clamp(value + v.u * d.z_effects(static_cast<Eigen::Index>(j)), v.lo, v.hi);
-    }
-    drawn_effects = workbench::make_effects(specs, wb_.setup);
-  }
-  const auto& sample_effects = d.z_effects.size() > 0 ? drawn_effects : wb_.effects;
+  const auto drawn = drawn_effects(d);
+  const auto& sample_effects = d.z_effects.size() > 0 ? drawn : wb_.effects;
 
   const machine::MachineModel model(wb_.machine.strokes(), std::move(truth));
   const grinding::MachineProcess machine_process(model, wb_.scene.machine.datum_face_z_mm);
@@ -185,17 +201,18 @@ LinearGears SampleModel::linear(const SampleDraw& d, bool decompose) const {
     stroke_b(i) = before_->stroke_um.row(i).dot(off_b.col(slot));
     stroke_a(i) = after_->stroke_um.row(i).dot(off_a.col(slot));
   }
-  Eigen::VectorXd eff_b = Eigen::VectorXd::Zero(n), eff_a = Eigen::VectorXd::Zero(n);
-  if (d.z_effects.size() > 0) {
-    Eigen::VectorXd dv(static_cast<Eigen::Index>(effect_values_.size()));
-    for (size_t j = 0; j < effect_values_.size(); ++j) {
-      const auto& v = effect_values_[j];
-      const double value = wb_.scene.effects[v.effect].values[v.value];
-      dv(static_cast<Eigen::Index>(j)) = std::clamp(value + v.u * d.z_effects(static_cast<Eigen::Index>(j)), v.lo, v.hi) - value;
-    }
-    eff_b = before_->effect_um * dv;
-    eff_a = after_->effect_um * dv;
+  // The effects at the drawn values less at the scene's: exact in the values (a time constant is not linear in its
+  // draw), first order in the µm they move the wheel; the same at both gears' points (µm of correction do not change
+  // where and when a point is ground).
+  Eigen::VectorXd eff = Eigen::VectorXd::Zero(n);
+  if (d.z_effects.size() > 0 && effect_points_) {
+    const auto drawn = drawn_effects(d);
+    std::vector<const effects::Effect*> ptrs;
+    for (const auto& e : drawn) ptrs.push_back(e.get());
+    eff = effect_points_->deviation_um(ptrs, 1) - effect_nominal_um_;
   }
+  const Eigen::VectorXd& eff_b = eff;
+  const Eigen::VectorXd& eff_a = eff;
   LinearGears g;
   g.before = before_->nominal_um + map_b + stroke_b + eff_b;
   g.after = after_->nominal_um + map_a + stroke_a + eff_a;

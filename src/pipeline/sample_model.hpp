@@ -1,10 +1,12 @@
 // geartopo — what one Monte Carlo sample is (private to pipeline; docs/monte-carlo.md): its draws from the streams of
 // (seed, k), and its two gears, computed exactly (the drawn machine simulated) or to first order (the nominal gears
-// plus the sensitivities times the draw, topology_sensitivities.hpp). Prepared once per run: the plan, the nominal
-// corrections (rounded and not), and for linear samples the sensitivities of both gears.
+// plus the sensitivities times the draw, topology_sensitivities.hpp; the effects' drawn values exactly in the values,
+// to first order in the µm they move the wheel: diagnosis::EffectContribution). Prepared once per run: the plan, the
+// nominal corrections (rounded and not), and for linear samples the sensitivities of both gears.
 #pragma once
 
 #include "geartopo/core/random.hpp"
+#include "geartopo/diagnosis/effect_contribution.hpp"
 #include "geartopo/pipeline/monte_carlo.hpp"
 #include "geartopo/pipeline/topology_sensitivities.hpp"
 
@@ -74,7 +76,13 @@ private:
   std::optional<TopologySensitivities> before_, after_;
   Eigen::VectorXd after_unrounded_um_;
   std::vector<grinding::FlankTopology> layout_;
+  /// The effects with sample d's drawn values (held inside their ranges).
+  std::vector<std::unique_ptr<effects::Effect>> drawn_effects(const SampleDraw& d) const;
   std::vector<int> space_slot_; // per point: index of its space in spaces_
+  // Uncertain effects: their first-order deviation at the points for any values (a sample's drawn ones), and at the
+  // scene's values (what d₀ holds already).
+  std::unique_ptr<diagnosis::EffectContribution> effect_points_;
+  Eigen::VectorXd effect_nominal_um_;
   std::vector<std::string> without_;
 };
 

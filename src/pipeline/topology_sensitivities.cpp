@@ -60,20 +60,16 @@ std::vector<machine::ErrorSource> drawn_map(const workbench::Workbench& wb, doub
   return all;
 }
 
-/// The process the nominal scene grinds with: its machine, its effects (with `specs`' values when given).
+/// The process the nominal scene grinds with: its machine and its effects.
 struct NominalProcess {
-  NominalProcess(const workbench::Workbench& wb, const machine::MachineModel& model,
-                 const std::vector<scene::EffectSpec>* specs)
+  NominalProcess(const workbench::Workbench& wb, const machine::MachineModel& model)
       : machine(model, wb.scene.machine.datum_face_z_mm) {
-    if (specs != nullptr) owned = workbench::make_effects(*specs, wb.setup);
-    const auto& effects = specs != nullptr ? owned : wb.effects;
-    if (!effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(machine, effects);
+    if (!wb.effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(machine, wb.effects);
   }
   const grinding::GrindingProcess& process() const {
     return with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : machine;
   }
   grinding::MachineProcess machine;
-  std::vector<std::unique_ptr<effects::Effect>> owned;
   std::unique_ptr<effects::EffectsProcess> with_effects;
 };
 
@@ -83,7 +79,7 @@ TopologySensitivities topology_sensitivities(const workbench::Workbench& wb, con
                                              const compensation::CorrectionTable& table, int threads) {
   const machine::MachineModel nominal_model(wb.machine.strokes(), drawn_map(wb, 0.0));
   const machine::MachineModel unit_model(wb.machine.strokes(), drawn_map(wb, 1.0)); // every component + its u
-  const NominalProcess nominal(wb, nominal_model, nullptr);
+  const NominalProcess nominal(wb, nominal_model);
   const compensation::CompensatedProcess ground(nominal.process(), table);
 
   TopologySensitivities s;
@@ -121,27 +117,6 @@ TopologySensitivities topology_sensitivities(const workbench::Workbench& wb, con
     }
   });
 
-  // Effects: central differences of the linear deviation over each uncertain value ± u (held in its range).
-  const auto slots = uncertain_effect_values(wb.scene);
-  s.effect_um.setZero(n, static_cast<Eigen::Index>(slots.size()));
-  for (size_t j = 0; j < slots.size(); ++j) {
-    const auto& slot = slots[j];
-    const double v = wb.scene.effects[slot.effect].values[slot.value];
-    const double hi = std::clamp(v + slot.u, slot.lo, slot.hi), lo = std::clamp(v - slot.u, slot.lo, slot.hi);
-    if (!(hi > lo)) continue; // no uncertainty, or a range of one value: the draw cannot move it
-    std::vector<scene::EffectSpec> plus = wb.scene.effects, minus = wb.scene.effects;
-    plus[slot.effect].values[slot.value] = hi;
-    minus[slot.effect].values[slot.value] = lo;
-    const NominalProcess p_plus(wb, nominal_model, &plus), p_minus(wb, nominal_model, &minus);
-    const compensation::CompensatedProcess g_plus(p_plus.process(), table), g_minus(p_minus.process(), table);
-    parallel_for(blocks, threads, [&](int b) {
-      for (Eigen::Index i = Eigen::Index(b) * kBlock; i < std::min<Eigen::Index>(n, Eigen::Index(b + 1) * kBlock); ++i) {
-        const auto& c = contacts[static_cast<size_t>(i)];
-        s.effect_um(i, static_cast<Eigen::Index>(j)) =
-            units::um_from_mm(grinding::linear_deviation_mm(c, g_plus) - grinding::linear_deviation_mm(c, g_minus)) / (hi - lo);
-      }
-    });
-  }
   return s;
 }
 

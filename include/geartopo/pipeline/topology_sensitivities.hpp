@@ -1,16 +1,16 @@
-// geartopo — a gear's topology to first order in what a Monte Carlo sample draws (docs/monte-carlo.md, "Linear
-// samples"): the exact topology of the nominal machine grinding with a correction table, plus the first-order change
-// of every point's deviation per drawn quantity,
-//   d(p) = d₀(p) + Σ_c J_map(p, c)·z_c + J_stroke(p, ·)·δq_s(p) + Σ_j J_effect(p, j)·Δv_j        (µm)
+// geartopo — a gear's topology to first order in what a Monte Carlo sample draws of the machine (docs/monte-carlo.md,
+// "Linear samples"): the exact topology of the nominal machine grinding with a correction table, plus the first-order
+// change of every point's deviation per drawn quantity,
+//   d(p) = d₀(p) + Σ_c J_map(p, c)·z_c + J_stroke(p, ·)·δq_s(p)                                        (µm)
 // z_c the standard normal draw of map component c (its standard uncertainty u_c, or u_c(position) from the table's u
-// column: ErrorSource::drawn), δq_s(p) the command offset (X, Y, Z mm; A, C rad) of the stroke that grinds p, Δv_j the
-// drawn change of an uncertain effect value (file units). The sensitivities are the project's first-order model at each
-// point's generating pose (grinding::linear_deviation_mm: n·(δp + δθ × P) − δR·normal_per_radial): the map's through
-// the machine's first-order error Jacobian J_twistw_e (machine/first_order.hpp) moved to the gear's datum as
-// MachineProcess does, the strokes' through the ideal axis Jacobian J_twistw_q as CompensatedProcess adds a correction,
-// the effects' by central differences of that linear deviation over the effect value ± its uncertainty.
-// Checked against the exact simulation by finite differences (tests/pipeline/test_linear_samples.cpp).
-// Units: µm per unit draw; per mm or rad of a stroke offset; per file unit of an effect value.
+// column: ErrorSource::drawn), δq_s(p) the command offset (X, Y, Z mm; A, C rad) of the stroke that grinds p. The
+// sensitivities are the project's first-order model at each point's generating pose (grinding::linear_deviation_mm:
+// n·(δp + δθ × P)): the map's through the machine's first-order error Jacobian J_twistw_e (machine/first_order.hpp)
+// moved to the gear's datum as MachineProcess does, the strokes' through the ideal axis Jacobian J_twistw_q as
+// CompensatedProcess adds a correction. (The effects' uncertain values are not linear in the draw — a time constant —
+// and are evaluated per sample: diagnosis::EffectContribution, pipeline/sample_model.cpp.) Checked against the exact
+// simulation by finite differences (tests/pipeline/test_linear_samples.cpp).
+// Units: µm per unit draw; per mm or rad of a stroke offset.
 #pragma once
 
 #include "geartopo/compensation/correction_table.hpp"
@@ -36,7 +36,6 @@ struct TopologySensitivities {
   Eigen::MatrixXd map_um;      ///< N × 43: per unit standard normal draw of each component (scaled by its u)
   Eigen::MatrixXd stroke_um;   ///< N × 5: per mm (X, Y, Z) or rad (A, C) of the command offset of the point's stroke
   std::vector<int> space;      ///< N: the space whose stroke grinds the point
-  Eigen::MatrixXd effect_um;   ///< N × P: per file unit of each uncertain effect value (uncertain_effect_values order)
 };
 
 /// The sensitivities of the gear the scene's nominal machine grinds with `table` (a zero table: uncorrected) at the
