@@ -264,6 +264,7 @@ std::string prediction_summary_html(const pipeline::MonteCarloSummary& s) {
     if (const std::string t = item(n); !t.empty()) h += "<li>" + t + "</li>";
   const std::string th = item("thickness_um"), rot = item("rotation_um");
   if (!th.empty()) h += "<li>" + th + "; " + rot + " (not ISO quantities)</li>";
+  if (const std::string limit = limit_line(s); !limit.empty()) h += "<li>" + limit + "</li>"; // no markup characters
   return h + "</ul></li>";
 }
 
