@@ -123,6 +123,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
         MonteCarloWatch watch(driver.samples_on_this_process(watched), watched.threads, opt->mc.max_time_s,
                               driver.split_hint(), mc.adaptive_tolerance_um > 0.0);
         watched.on_sample_done = watch.callback();
+        watched.on_prepared = [&watch] { watch.prepared(); };
         mc_run = driver.run(wb, table, watched);
         if (!mc_run) return 0; // an MPI rank other than 0: its samples are on rank 0, which writes the files
       }

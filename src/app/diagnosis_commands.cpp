@@ -15,6 +15,7 @@
 #include "geartopo/effects/registry.hpp"
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/core/input_error.hpp"
+#include "geartopo/core/random.hpp"
 #include "geartopo/core/uncertain_value.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 #include "geartopo/pipeline/monte_carlo.hpp"
@@ -28,7 +29,6 @@
 #include <iostream>
 #include <memory>
 #include <optional>
-#include <random>
 #include <set>
 #include <sstream>
 
@@ -65,12 +65,11 @@ std::optional<compensation::CorrectionTable> synth_corrections(const Workbench& 
     table = pipeline::rounded_to_resolution(read, wb.scene.machine.uncertainty.resolution);
   }
   if (stroke_scatter) {
-    // Its own stream (seed, 1): the probe noise draws from seed alone.
-    std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32), 1u};
-    std::mt19937_64 gen(seq);
-    std::normal_distribution<double> normal(0.0, 1.0);
+    // Its own stream, seeded by the first output of SplitMix64(seed): the probe noise draws from SplitMix64(seed) itself
+    // (core/random.hpp; the same gear with every standard library).
+    random::SplitMix64 gen(random::SplitMix64(seed).next());
     table = pipeline::with_stroke_offsets(
-        table, pipeline::draw_stroke_offsets(spaces, wb.scene.machine.uncertainty.repeatability, [&] { return normal(gen); }));
+        table, pipeline::draw_stroke_offsets(spaces, wb.scene.machine.uncertainty.repeatability, [&] { return gen.normal(); }));
   }
   return table;
 }

@@ -12,6 +12,8 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -44,20 +46,61 @@ void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards)
                   "Predict the gears as measured: each trace and grid point of every sample's gears plus Gaussian probe "
                   "noise of this standard deviation, µm (the model of geartopo synth --noise-um; default 0: the true gears)")
       ->check(finite_in(0.0, 1000.0));
+  cmd->add_flag("--exact-samples", flags.exact_samples,
+                "Simulate every sample exactly (default: the nominal gears plus first-order sensitivities times each "
+                "sample's draw, checked on 4 exact samples and exact when they differ by more than 0.05 µm)");
   if (!shards) return;
+  flags.shards = true;
   cmd->add_option("--shard", flags.shard,
-                  "i/n: compute only shard i of n (1 ≤ i ≤ n) and write its raw samples for `geartopo merge` (default 1/1)");
+                  "i/n: compute only shard i of n (1 ≤ i ≤ n) and write its raw samples for `geartopo merge` (default 1/1; "
+                  "in a Slurm array job SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT)");
+}
+
+std::optional<std::string> shard_from_slurm(const std::function<const char*(const char*)>& getenv) {
+  const char* id = getenv("SLURM_ARRAY_TASK_ID");
+  const char* count = getenv("SLURM_ARRAY_TASK_COUNT");
+  if (id == nullptr || count == nullptr) return std::nullopt;
+  const char* min = getenv("SLURM_ARRAY_TASK_MIN");
+  const char* max = getenv("SLURM_ARRAY_TASK_MAX");
+  const auto whole = [](const char* name, const char* text) {
+    long long v = 0;
+    if (text == nullptr || text::parse_number(std::string_view(text), v) != std::errc() || v < 0)
+      throw CLI::ValidationError("--shard", fmt::format("not given, and {}='{}' is not a whole number ≥ 0", name,
+                                                        text == nullptr ? "" : text::excerpt(text)));
+    return v;
+  };
+  const long long i = whole("SLURM_ARRAY_TASK_ID", id), n = whole("SLURM_ARRAY_TASK_COUNT", count);
+  // Slurm sets MIN and MAX with the array; without them the IDs are taken to run from 1 (--array=1-n).
+  const long long lo = min != nullptr ? whole("SLURM_ARRAY_TASK_MIN", min) : 1;
+  const long long hi = max != nullptr ? whole("SLURM_ARRAY_TASK_MAX", max) : lo + n - 1;
+  if (hi - lo + 1 != n || i < lo || i > hi)
+    throw CLI::ValidationError("--shard", fmt::format("not given, and the Slurm array (tasks {}..{}, {} of them, this one {}) "
+                                                      "is not one contiguous range: give --shard i/n",
+                                                      lo, hi, n, i));
+  return fmt::format("{}/{}", i - lo + 1, n);
 }
 
 pipeline::MonteCarloOptions monte_carlo_options(const MonteCarloFlags& flags) {
   pipeline::MonteCarloOptions o;
   o.samples = flags.samples;
   o.seed = flags.seed;
-  const auto slash = flags.shard.find('/');
+  o.sampling = flags.exact_samples ? pipeline::Sampling::Exact : pipeline::Sampling::Checked;
+  std::string shard = flags.shard.empty() ? "1/1" : flags.shard;
+  if (flags.shard.empty() && flags.shards && flags.samples > 0)
+    if (const auto slurm = shard_from_slurm([](const char* name) { return std::getenv(name); })) {
+      shard = *slurm;
+      if (!quiet())
+        std::fputs(fmt::format("geartopo: note: --shard {} from the Slurm array job (SLURM_ARRAY_TASK_ID {}, "
+                               "SLURM_ARRAY_TASK_COUNT {})\n",
+                               shard, std::getenv("SLURM_ARRAY_TASK_ID"), std::getenv("SLURM_ARRAY_TASK_COUNT"))
+                       .c_str(),
+                   stderr);
+    }
+  const auto slash = shard.find('/');
   int i = 0, n = 0;
-  if (slash == std::string::npos || text::parse_number(std::string_view(flags.shard).substr(0, slash), i) != std::errc() ||
-      text::parse_number(std::string_view(flags.shard).substr(slash + 1), n) != std::errc() || n < 1 || i < 1 || i > n)
-    throw CLI::ValidationError("--shard", fmt::format("'{}' is not i/n with 1 ≤ i ≤ n", text::excerpt(flags.shard)));
+  if (slash == std::string::npos || text::parse_number(std::string_view(shard).substr(0, slash), i) != std::errc() ||
+      text::parse_number(std::string_view(shard).substr(slash + 1), n) != std::errc() || n < 1 || i < 1 || i > n)
+    throw CLI::ValidationError("--shard", fmt::format("'{}' is not i/n with 1 ≤ i ≤ n", text::excerpt(shard)));
   if (flags.samples > 0 && n > flags.samples)
     throw CLI::ValidationError("--shard", fmt::format("{} shards for {} samples: every shard needs a sample", n, flags.samples));
   o.shard = i;

@@ -1,12 +1,14 @@
 // geartopo — the Monte Carlo flags of compensate, run and report (--samples, --seed, --max-time-s, --shard i/n,
-// --adaptive-tolerance-um, --max-samples, --probe-noise-um) and the prediction files
-// they write (docs/monte-carlo.md).
+// --adaptive-tolerance-um, --max-samples, --probe-noise-um, --exact-samples) and the prediction files
+// they write (docs/monte-carlo.md). A Slurm array job's task gets its --shard from SLURM_ARRAY_TASK_ID and
+// SLURM_ARRAY_TASK_COUNT when the flag is not given (shard_from_slurm).
 #pragma once
 
 #include "geartopo/pipeline/monte_carlo.hpp"
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -23,12 +25,21 @@ inline constexpr double kMaxMonteCarloSeconds = 86'400.0;
 struct MonteCarloFlags {
   long long samples = 40;
   std::uint64_t seed = 1;
-  std::string shard = "1/1";
+  std::string shard;   ///< --shard i/n; empty: not given (1/1, or the Slurm array task's: shard_from_slurm)
+  bool shards = false; ///< the command writes partial results (--shard is one of its flags)
   double max_time_s = kMaxMonteCarloSeconds; ///< --max-time-s (MonteCarloWatch, options.hpp)
   double adaptive_tolerance_um = 0.0; ///< > 0: adaptive stop (JCGM 101 §7.9, docs/monte-carlo.md); --samples is then ignored
   long long max_samples = 10'000;     ///< the adaptive run's limit
   double probe_noise_um = 0.0;        ///< --probe-noise-um: σ of the probe noise each sample's gears are measured with
+  bool exact_samples = false;         ///< --exact-samples: every sample simulated exactly (no first-order samples)
 };
+
+/// The shard of a Slurm array task (docs/monte-carlo.md, "Slurm array job"): "i/n" with i = SLURM_ARRAY_TASK_ID −
+/// SLURM_ARRAY_TASK_MIN + 1 and n = SLURM_ARRAY_TASK_COUNT, or std::nullopt outside an array job (the variables
+/// unset). `getenv` reads a variable (std::getenv; tests give their own). Throws CLI::ValidationError naming --shard
+/// for values that are not whole numbers or an array with gaps or steps (SLURM_ARRAY_TASK_MAX − MIN + 1 ≠ COUNT),
+/// where the task number says nothing about its place among the tasks.
+std::optional<std::string> shard_from_slurm(const std::function<const char*(const char*)>& getenv);
 
 /// Who computes compensate's Monte Carlo samples. The default: this process, the shard its options name
 /// (pipeline::run_monte_carlo). The MPI driver (geartopo-mpi, src/app/mpi_driver.cpp, built with -DGEARTOPO_MPI=ON)

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <sched.h>
 
@@ -45,7 +46,37 @@ int mpi_count_or_throw(std::size_t n, const char* what) {
   return static_cast<int>(n);
 }
 
-/// Rank r's part as a run: names split at '\n', rows of (index, before…, after…).
+/// The first line of the names text: how the rank's samples were computed and the sources its variants leave out,
+/// '|'-separated, the doubles in their shortest round-trip form (exact).
+std::string sampling_line(const pipeline::MonteCarloRun& run) {
+  const auto& r = run.sampling;
+  return fmt::format("{}|{}|{}|{}|{}|{}", r.method, r.reason, r.checked_samples, r.largest_point_difference_um,
+                     r.largest_quantity_difference_um, fmt::join(run.without, ","));
+}
+
+void read_sampling_line(int rank, const std::string& line, pipeline::MonteCarloRun& run) {
+  std::vector<std::string> f;
+  for (std::size_t start = 0;;) {
+    const std::size_t bar = line.find('|', start);
+    f.push_back(line.substr(start, bar == std::string::npos ? std::string::npos : bar - start));
+    if (bar == std::string::npos) break;
+    start = bar + 1;
+  }
+  if (f.size() != 6) throw std::invalid_argument(fmt::format("MPI rank {} sent no sampling line", rank));
+  run.sampling.method = f[0];
+  run.sampling.reason = f[1];
+  run.sampling.checked_samples = std::stoi(f[2]);
+  run.sampling.largest_point_difference_um = std::stod(f[3]);
+  run.sampling.largest_quantity_difference_um = std::stod(f[4]);
+  for (std::size_t start = 0; start < f[5].size();) {
+    const std::size_t end = std::min(f[5].find(',', start), f[5].size());
+    run.without.push_back(f[5].substr(start, end - start));
+    start = end + 1;
+  }
+}
+
+/// Rank r's part as a run: the sampling line, then the names, split at '\n'; rows of (index, before…, after…, each
+/// variant's after…).
 pipeline::MonteCarloRun rank_part_as_run(int rank, const RankHeader& header, const char* names, const double* values) {
   pipeline::MonteCarloRun part;
   part.samples_total = static_cast<long long>(header[kRankSamplesTotal]);
@@ -54,12 +85,16 @@ pipeline::MonteCarloRun rank_part_as_run(int rank, const RankHeader& header, con
   part.iso.helix_slope_sign = static_cast<evaluation::HelixSlopeSign>(header[kRankHelixSlopeSign]);
   part.probe_noise_um = std::bit_cast<double>(static_cast<std::uint64_t>(header[kRankProbeNoiseBits]));
   const std::string joined(names, header[kRankNamesChars]);
+  bool first_line = true;
   for (std::size_t start = 0; start < joined.size();) {
     const std::size_t end = std::min(joined.find('\n', start), joined.size());
-    part.names.push_back(joined.substr(start, end - start));
+    if (first_line) read_sampling_line(rank, joined.substr(start, end - start), part);
+    else part.names.push_back(joined.substr(start, end - start));
+    first_line = false;
     start = end + 1;
   }
-  const std::size_t width = 1 + 2 * part.names.size(), count = header[kRankSampleDoubles];
+  const std::size_t n = part.names.size(), groups = 2 + part.without.size();
+  const std::size_t width = 1 + groups * n, count = header[kRankSampleDoubles];
   if (count % width != 0)
     throw std::invalid_argument(fmt::format("MPI rank {} sent {} values, not whole samples of {} quantities", rank, count,
                                             part.names.size()));
@@ -67,8 +102,9 @@ pipeline::MonteCarloRun rank_part_as_run(int rank, const RankHeader& header, con
     const double* v = values + row * width;
     pipeline::MonteCarloSample s;
     s.index = static_cast<long long>(v[0]);
-    s.before.assign(v + 1, v + 1 + part.names.size());
-    s.after.assign(v + 1 + part.names.size(), v + width);
+    s.before.assign(v + 1, v + 1 + n);
+    s.after.assign(v + 1 + n, v + 1 + 2 * n);
+    for (std::size_t g = 2; g < groups; ++g) s.after_without.emplace_back(v + 1 + g * n, v + 1 + (g + 1) * n);
     part.samples.push_back(std::move(s));
   }
   return part;
@@ -84,12 +120,14 @@ struct PackedRun {
 /// Everything that can fail on this rank alone (the counts beyond MPI's int), before any collective.
 PackedRun pack(const pipeline::MonteCarloRun& local) {
   PackedRun p;
-  for (const auto& n : local.names) p.names += (p.names.empty() ? "" : "\n") + n;
-  p.values.reserve(local.samples.size() * (1 + 2 * local.names.size()));
+  p.names = sampling_line(local);
+  for (const auto& n : local.names) p.names += "\n" + n;
+  p.values.reserve(local.samples.size() * (1 + (2 + local.without.size()) * local.names.size()));
   for (const auto& s : local.samples) {
     p.values.push_back(static_cast<double>(s.index)); // exact: indices < 2⁵³ (--samples ≤ 10⁶)
     p.values.insert(p.values.end(), s.before.begin(), s.before.end());
     p.values.insert(p.values.end(), s.after.begin(), s.after.end());
+    for (const auto& w : s.after_without) p.values.insert(p.values.end(), w.begin(), w.end());
   }
   p.header = {static_cast<unsigned long long>(mpi_count_or_throw(p.names.size(), "the names")),
               static_cast<unsigned long long>(mpi_count_or_throw(p.values.size(), "the values")),
@@ -107,7 +145,7 @@ std::optional<std::vector<pipeline::MonteCarloRun>> gather_parts(const PackedRun
   MPI_Gather(mine.header.data(), kRankHeaderFields, MPI_UNSIGNED_LONG_LONG, headers.data(), kRankHeaderFields,
              MPI_UNSIGNED_LONG_LONG, 0, comm);
   // Counts and displacements of the two gathers (rank 0 only). The totals fit an int: --samples ≤ 10⁶ (CLI range),
-  // each 1 + 2 × (quantities: 22 on the default scene) doubles, 4.5·10⁷ of 2.1·10⁹.
+  // each 1 + (2 + variants: at most 5) × (quantities: 22 on the default scene) doubles, 1.6·10⁸ of 2.1·10⁹.
   std::vector<int> names_counts, names_displs, values_counts, values_displs;
   long long names_total = 0, values_total = 0;
   for (const auto& h : headers) {

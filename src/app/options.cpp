@@ -6,6 +6,7 @@
 #include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/grinding/topology.hpp"
 #include "geartopo/pipeline/pipeline.hpp"
+#include "geartopo/report/prediction_report.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -69,19 +70,38 @@ std::string compensation_made_worse(double before_um, double after_um) {
                      before_um, after_um, growth);
 }
 
+namespace {
+/// The cause of a worse after-state, as the decomposition by source measured it (pipeline::after_limit): "without the
+/// rounding to machine.resolution the median class is 4 (f_fβ 6.33 → 0.56 µm): it sets the class", or, when the
+/// samples were exact (no decomposition), that it was not measured.
+std::string measured_cause(const pipeline::MonteCarloSummary& p) {
+  const auto limit = pipeline::after_limit(p);
+  if (!limit.measured)
+    return "the cause was not measured (exact samples: no decomposition by source); check machine.resolution against "
+           "the corrections and the uncertainties before applying them";
+  for (const auto& w : limit.without)
+    if (w.source == limit.dominant)
+      return fmt::format("without {} the median class is {:g} ({} {:.2f} → {:.2f} µm): it sets the class after",
+                         report::source_label(w.source), w.overall_class, report::quantity_label(limit.limiting_quantity),
+                         limit.limiting_median_um, w.limiting_median_um);
+  return {};
+}
+} // namespace
+
 std::string prediction_made_worse(const pipeline::MonteCarloSummary& p) {
   const int cls = p.find("overall_class"), largest = p.find("largest_abs_um");
   if (cls >= 0 && p.after[static_cast<size_t>(cls)].median > p.before[static_cast<size_t>(cls)].median)
     return fmt::format("the predicted gear is worse after compensation: overall class {:g} against {:g} before (medians of "
-                       "{} samples); check the command resolution (machine.resolution) against the corrections, and the "
-                       "uncertainties, before applying them",
-                       p.after[static_cast<size_t>(cls)].median, p.before[static_cast<size_t>(cls)].median, p.samples);
+                       "{} samples); {}",
+                       p.after[static_cast<size_t>(cls)].median, p.before[static_cast<size_t>(cls)].median, p.samples,
+                       measured_cause(p));
   // Medians of a few dozen samples scatter: only an after-median above the whole 95 % interval before is "worse".
   if (largest >= 0 && p.after[static_cast<size_t>(largest)].median > p.before[static_cast<size_t>(largest)].high)
     return fmt::format("the predicted gear is worse after compensation: largest |deviation| {:.2f} µm (median) against "
-                       "{:.2f} µm [{:.2f}, {:.2f}] before ({} samples)",
+                       "{:.2f} µm [{:.2f}, {:.2f}] before ({} samples); {}",
                        p.after[static_cast<size_t>(largest)].median, p.before[static_cast<size_t>(largest)].median,
-                       p.before[static_cast<size_t>(largest)].low, p.before[static_cast<size_t>(largest)].high, p.samples);
+                       p.before[static_cast<size_t>(largest)].low, p.before[static_cast<size_t>(largest)].high, p.samples,
+                       measured_cause(p));
   return {};
 }
 
@@ -196,13 +216,24 @@ MonteCarloWatch::MonteCarloWatch(long long samples, int threads, double max_seco
       split_hint_(std::move(split_hint)),
       progress_(pipeline::kPredictionStage, samples, "samples") {}
 
+void MonteCarloWatch::prepared() {
+  if (any_done_ || prepared_) return; // the first preparation only (an MPI rank prepares each adaptive batch)
+  const auto now = std::chrono::steady_clock::now();
+  preparation_s_ = std::chrono::duration<double>(now - start_).count();
+  start_ = now;
+  prepared_ = true;
+}
+
 void MonteCarloWatch::sample_done(long long done, long long total) {
+  any_done_ = true;
   if (done == 1) { // the first sample: every thread started one at the same time, this one finished first
     const double first = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     const long long rounds = (samples_ + threads_ - 1) / std::max(1, threads_);
-    const double estimate = first * static_cast<double>(rounds);
-    const std::string what = fmt::format("{} samples at {:.2g} s each on {} thread(s): about {:.{}f} s{}", samples_, first,
-                                         threads_, estimate, estimate < 10.0 ? 1 : 0,
+    const double estimate = preparation_s_ + first * static_cast<double>(rounds);
+    const std::string what = fmt::format("{} samples at {:.2g} s each on {} thread(s){}: about {:.{}f} s{}", samples_, first,
+                                         threads_,
+                                         prepared_ ? fmt::format(" after {:.2g} s of preparation", preparation_s_) : "",
+                                         estimate, estimate < 10.0 ? 1 : 0,
                                          adaptive_ ? " at most (the adaptive run may stop earlier)" : "");
     if (estimate > max_seconds_)
       throw CLI::ValidationError("--samples", fmt::format("the Monte Carlo prediction would take too long: {}, beyond "

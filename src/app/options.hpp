@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -141,8 +142,9 @@ private:
 };
 
 /// The work estimate and progress of a Monte Carlo run (issue 18: work estimated before it starts), fed by
-/// pipeline::MonteCarloOptions::on_sample_done. When the first sample is done: estimated wall time = its measured
-/// time × ⌈samples / threads⌉ (the threads draw samples one after another, all of the same cost). Printed on a
+/// pipeline::MonteCarloOptions::on_sample_done. When the first sample is done: estimated wall time = the preparation's
+/// measured time (on_prepared) + the first sample's × ⌈samples / threads⌉ (the threads draw samples one after another,
+/// all of the same cost). Printed on a
 /// terminal (not with --quiet); beyond max_seconds (--max-time-s, monte_carlo_flags.hpp) the run is refused —
 /// CLI::ValidationError naming --samples with the estimate and the limit (exit 2, as --dense beyond the simulation's
 /// bound), thrown from on_sample_done so that no further sample starts. Then the samples done and the time left on
@@ -154,6 +156,10 @@ public:
   /// `adaptive`: `samples` is the adaptive run's limit (--max-samples), the estimate an upper bound.
   MonteCarloWatch(long long samples, int threads, double max_seconds, std::string split_hint, bool adaptive = false);
   void sample_done(long long done, long long total);
+  /// For MonteCarloOptions::on_prepared: the samples start now. The estimate is then the preparation's measured time
+  /// (sensitivities, the exact samples that check them) plus the first sample's time × ⌈samples / threads⌉. Only the
+  /// first call counts, and none after a sample is done.
+  void prepared();
   /// For MonteCarloOptions::on_sample_done: sample_done() of this object, which must outlive the run.
   std::function<void(long long, long long)> callback();
 
@@ -164,6 +170,9 @@ private:
   double max_seconds_;
   std::string split_hint_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::atomic<bool> any_done_{false};
+  bool prepared_ = false;
+  double preparation_s_ = 0.0;
   Progress progress_;
 };
 

@@ -106,10 +106,14 @@ public:
       if (simulation_) simulation_->flank_done(done, total);
       else if (progress_) progress_->update(done, total);
     };
-    if (po.prediction)
+    if (po.prediction) {
       po.prediction->on_sample_done = [this](long long done, long long total) {
         if (watch_) watch_->sample_done(done, total);
       };
+      po.prediction->on_prepared = [this] {
+        if (watch_) watch_->prepared();
+      };
+    }
   }
   StageProgress(const StageProgress&) = delete; // the callbacks hold `this`
   StageProgress& operator=(const StageProgress&) = delete;

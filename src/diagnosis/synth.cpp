@@ -1,6 +1,6 @@
 #include "geartopo/diagnosis/synth.hpp"
 
-#include <random>
+#include "geartopo/core/random.hpp"
 
 namespace geartopo::diagnosis {
 
@@ -13,9 +13,8 @@ std::vector<grinding::TopologyRow> synthesize(const grinding::GrindingSetup& tru
   so.profile_points = so.helix_points = 2; // traces are not measured here
   auto rows = grinding::topology_rows(grinding::simulate_topology(truth, process, so));
   // One engine drawn in file order: the same seed gives the same file whatever the thread count.
-  std::mt19937_64 rng(o.seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  for (auto& r : rows) r.deviation_um += o.noise_um * noise(rng);
+  random::SplitMix64 rng(o.seed); // core/random.hpp: the same file with every standard library
+  for (auto& r : rows) r.deviation_um += o.noise_um * rng.normal();
   return rows;
 }
 
@@ -28,10 +27,9 @@ std::vector<grinding::FlankTopology> synthesize_traces(const grinding::GrindingS
   so.profile_points = profile_points;
   so.helix_points = helix_points;
   auto topo = grinding::simulate_topology(truth, process, so);
-  std::mt19937_64 rng(o.seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
+  random::SplitMix64 rng(o.seed);
   for (auto& ft : topo) ft.grid.clear();
-  add_probe_noise(topo, o.noise_um, [&] { return noise(rng); });
+  add_probe_noise(topo, o.noise_um, [&] { return rng.normal(); });
   return topo;
 }
 

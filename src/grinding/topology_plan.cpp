@@ -51,6 +51,17 @@ long long TopologyPlan::points() const {
   return n;
 }
 
+std::vector<LinearContact> TopologyPlan::linear_contacts() const {
+  const IdealProcess ideal; // the contacts do not depend on the process
+  const FlankDeviation dev(setup_.flanks(), setup_.wheel(), setup_.path(), ideal);
+  std::vector<LinearContact> out;
+  out.reserve(static_cast<size_t>(points()));
+  for (const auto& f : flanks_)
+    for (const auto* targets : {&f.grid, &f.profile, &f.helix, &f.dense})
+      for (const auto& t : *targets) out.push_back(dev.linear_contact(t));
+  return out;
+}
+
 std::vector<FlankTopology> TopologyPlan::simulate(const GrindingProcess& process, int threads) const {
   const auto& g = setup_.geometry();
   const FlankDeviation dev(setup_.flanks(), setup_.wheel(), setup_.path(), process);

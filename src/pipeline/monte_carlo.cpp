@@ -6,11 +6,9 @@
 #include "geartopo/core/input_file.hpp"
 #include "geartopo/core/parallel.hpp"
 #include "geartopo/core/text_field.hpp"
-#include "geartopo/diagnosis/synth.hpp"
-#include "geartopo/effects/effects_process.hpp"
-#include "geartopo/effects/registry.hpp"
-#include "geartopo/grinding/machine_process.hpp"
-#include "geartopo/grinding/topology_plan.hpp"
+#include "geartopo/pipeline/topology_sensitivities.hpp"
+
+#include "sample_model.hpp"
 
 #include <fmt/format.h>
 
@@ -19,51 +17,13 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <numbers>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 
 namespace geartopo::pipeline {
 namespace {
-
-// SplitMix64 (Steele, Lea, Flood 2014): a counter-based generator; one stream per (seed, sample).
-struct SplitMix64 {
-  std::uint64_t state;
-  std::uint64_t next() {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  /// Uniform in (0, 1): 53 random bits, never 0 (the logarithm below).
-  double uniform() { return (static_cast<double>(next() >> 11) + 0.5) * 0x1.0p-53; }
-  /// Standard normal by Box–Muller (one value per call, the second is dropped: the stream stays simple to follow).
-  double normal() {
-    const double u1 = uniform(), u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
-  }
-};
-
-SplitMix64 sample_stream(std::uint64_t seed, long long k) {
-  SplitMix64 mix{seed};
-  const std::uint64_t a = mix.next();
-  SplitMix64 per_sample{a ^ static_cast<std::uint64_t>(k) * 0xD1B54A32D192ED03ull};
-  (void)per_sample.next(); // decorrelate neighbouring k
-  return per_sample;
-}
-
-/// The probe's own stream of sample k (MonteCarloOptions::probe_noise_um): seeded by the second number of the seed's
-/// SplitMix64 sequence (sample_stream takes the first), so the machine's draws of sample k are the same with or
-/// without probe noise.
-SplitMix64 probe_stream(std::uint64_t seed, long long k) {
-  SplitMix64 mix{seed};
-  (void)mix.next();
-  const std::uint64_t b = mix.next();
-  SplitMix64 per_sample{b ^ static_cast<std::uint64_t>(k) * 0xD1B54A32D192ED03ull};
-  (void)per_sample.next();
-  return per_sample;
-}
 
 std::string_view ascii_name(evaluation::Quantity q) {
   using evaluation::Quantity;
@@ -81,40 +41,6 @@ std::string_view ascii_name(evaluation::Quantity q) {
   return "?";
 }
 
-
-std::vector<machine::ErrorSource> full_map(const std::vector<machine::ErrorSource>& given) {
-  std::vector<machine::ErrorSource> all;
-  all.reserve(machine::kComponentCount);
-  for (int k = 0; k < machine::kComponentCount; ++k) all.push_back(machine::ErrorSource::zero(machine::component_at(k)));
-  for (const auto& s : given) all[static_cast<size_t>(machine::index(s.id()))] = s;
-  return all;
-}
-
-/// Lower Cholesky factor of the scene's effect correlation (N × N), empty when the values are independent. A
-/// correlation that is not positive definite (rounding of a nearly singular fit) gets a small ridge.
-Eigen::MatrixXd correlation_factor(const scene::Scene& s) {
-  if (s.effect_correlation.size() == 0) return {};
-  Eigen::MatrixXd C = s.effect_correlation;
-  for (double ridge = 0.0; ridge < 1.0; ridge = ridge == 0.0 ? 1e-12 : ridge * 10.0) {
-    const Eigen::LLT<Eigen::MatrixXd> llt((C + ridge * Eigen::MatrixXd::Identity(C.rows(), C.cols())) / (1.0 + ridge));
-    if (llt.info() == Eigen::Success) return llt.matrixL();
-  }
-  return Eigen::MatrixXd::Identity(C.rows(), C.cols());
-}
-
-/// One standard normal deviate per effect value that has an uncertainty slot (scene order), drawn in that order, then
-/// correlated by the factor L (z ← L z) when there is one.
-Eigen::VectorXd effect_deviates(const scene::Scene& s, const Eigen::MatrixXd& L, SplitMix64& rng) {
-  std::vector<double> z;
-  for (size_t e = 0; e < s.effects.size() && e < s.effect_uncertainties.size(); ++e) {
-    const auto params = effects::make_effect(s.effects[e].type)->parameters();
-    for (size_t v = 0; v < s.effect_uncertainties[e].size() && v < s.effects[e].values.size() && v < params.size(); ++v)
-      z.push_back(rng.normal());
-  }
-  Eigen::VectorXd out = Eigen::Map<Eigen::VectorXd>(z.data(), static_cast<Eigen::Index>(z.size()));
-  if (L.rows() == out.size() && L.rows() > 0) out = L * out;
-  return out;
-}
 
 } // namespace
 
@@ -194,96 +120,103 @@ std::pair<long long, long long> shard_range(long long samples, int shard, int sh
   return {at(shard - 1), at(shard)};
 }
 
-MonteCarloRun run_monte_carlo_samples(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
-                                      const MonteCarloOptions& options, long long first, long long last) {
+namespace {
+
+bool is_um(const std::string& name) { return name.ends_with("_um"); }
+
+/// A run's preparation: the sample model and, for Sampling::Checked, the verdict of the exact samples on first order.
+struct Prepared {
+  std::unique_ptr<detail::SampleModel> model;
+  SamplingReport report;
+  bool linear = false;
+};
+
+Prepared prepare(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal, const MonteCarloOptions& options) {
+  Prepared p;
+  p.model = std::make_unique<detail::SampleModel>(wb, nominal, options, options.sampling != Sampling::Exact);
+  const auto& g = wb.setup.geometry();
+  switch (options.sampling) {
+  case Sampling::Exact: p.report = {"exact", "forced", 0, 0.0, 0.0}; break;
+  case Sampling::Linear: p.report = {"linear", "unchecked", 0, 0.0, 0.0}; p.linear = true; break;
+  case Sampling::Checked: {
+    // Samples 0 … kCheckSamples − 1 of the seed, exact and linear: the same decision in every shard, rank and batch.
+    std::vector<double> point_diff(kCheckSamples, 0.0), quantity_diff(kCheckSamples, 0.0);
+    parallel_for(kCheckSamples, options.threads, [&](int k) {
+      const auto d = p.model->draw(k);
+      const auto ex = p.model->exact(d);
+      const auto li = p.model->linear(d, false);
+      auto topo = p.model->layout();
+      double pd = 0.0, qd = 0.0;
+      for (const auto& [e, l] : {std::pair{&ex.before, &li.before}, {&ex.after, &li.after}}) {
+        pd = std::max(pd, (flatten_deviations(*e) - *l).cwiseAbs().maxCoeff());
+        set_deviations(topo, *l);
+        const auto qe = gear_quantities(workbench::evaluate_iso(g, wb.setup.ranges(), *e, options.iso), *e);
+        const auto ql = gear_quantities(workbench::evaluate_iso(g, wb.setup.ranges(), topo, options.iso), topo);
+        if (qe.names != ql.names) {
+          qd = std::numeric_limits<double>::infinity(); // a class refused on one and given on the other
+          continue;
+        }
+        for (size_t n = 0; n < qe.names.size(); ++n)
+          if (is_um(qe.names[n])) qd = std::max(qd, std::abs(qe.values[n] - ql.values[n]));
+      }
+      point_diff[static_cast<size_t>(k)] = pd;
+      quantity_diff[static_cast<size_t>(k)] = qd;
+    });
+    p.report.checked_samples = kCheckSamples;
+    p.report.largest_point_difference_um = *std::max_element(point_diff.begin(), point_diff.end());
+    p.report.largest_quantity_difference_um = *std::max_element(quantity_diff.begin(), quantity_diff.end());
+    p.linear = p.report.largest_quantity_difference_um <= kLinearAgreementUm; // false for ∞: the classes differed
+    p.report.method = p.linear ? "linear" : "exact";
+    p.report.reason = p.linear ? "checked" : "check failed";
+    break;
+  }
+  }
+  return p;
+}
+
+MonteCarloRun run_prepared(const Prepared& p, const workbench::Workbench& wb, const MonteCarloOptions& options,
+                           long long first, long long last) {
   if (first < 0 || first > last || last > options.samples)
     throw std::invalid_argument(fmt::format("samples [{}, {}) are not within the run's {}", first, last, options.samples));
-  if (!(options.probe_noise_um >= 0.0) || !std::isfinite(options.probe_noise_um))
-    throw std::invalid_argument(fmt::format("probe noise {} µm: need a finite σ ≥ 0", options.probe_noise_um));
-  const auto& unc = wb.scene.machine.uncertainty;
-  const auto nominal_map = full_map(wb.scene.machine.sources);
-  const compensation::CorrectionTable applied = rounded_to_resolution(nominal, unc.resolution);
-  std::vector<compensation::CorrectionRow> zero_rows = nominal.rows();
-  for (auto& r : zero_rows) r.correction.setZero();
-  const compensation::CorrectionTable uncorrected(std::move(zero_rows));
-  std::set<int> spaces;
-  for (const auto& r : nominal.rows()) spaces.insert(r.space);
-  const Eigen::MatrixXd effect_correlation_factor = correlation_factor(wb.scene);
-  bool effects_uncertain = false;
-  for (const auto& us : wb.scene.effect_uncertainties)
-    for (double u : us) effects_uncertain = effects_uncertain || u > 0.0;
-
-  grinding::SimulationOptions so;
-  so.rows = wb.scene.grid.rows;
-  so.cols = wb.scene.grid.cols;
-  so.profile_points = wb.scene.grid.profile_points;
-  so.helix_points = wb.scene.grid.helix_points;
-  so.teeth = wb.scene.grid.teeth;
-  so.threads = 1; // parallel over samples instead
   const auto& g = wb.setup.geometry();
-  const grinding::TopologyPlan plan(wb.setup, so); // the points' geometry, computed once for every gear
-
   MonteCarloRun run;
   run.samples_total = options.samples;
   run.seed = options.seed;
   run.iso = options.iso;
   run.probe_noise_um = options.probe_noise_um;
+  run.sampling = p.report;
+  if (p.linear) run.without = p.model->without();
   const auto count = static_cast<int>(last - first);
+  const size_t variants = run.without.size();
   std::vector<GearQuantities> before(static_cast<size_t>(count)), after(static_cast<size_t>(count));
+  std::vector<std::vector<GearQuantities>> without(static_cast<size_t>(count));
   std::atomic<long long> done{0};
   std::atomic<bool> stopped{false}; // on_sample_done threw: start no more samples
+  if (options.on_prepared) options.on_prepared();
   parallel_for(count, options.threads, [&](int i) {
     if (stopped) return;
     const long long k = first + i;
-    SplitMix64 rng = sample_stream(options.seed, k);
-    // Draws in a fixed order: 43 map offsets, then per space (increasing) 5 axes before, then 5 axes after.
-    std::vector<machine::ErrorSource> truth;
-    truth.reserve(nominal_map.size());
-    // Each: + z·u, u the scene's constant, or z·u(p) from the component's table column (ErrorSource::drawn).
-    for (size_t c = 0; c < nominal_map.size(); ++c) truth.push_back(nominal_map[c].drawn(rng.normal(), unc.component_u[c]));
-    const std::function<double()> standard_normal = [&rng] { return rng.normal(); };
-    const auto off_before = draw_stroke_offsets(spaces, unc.repeatability, standard_normal);
-    const auto off_after = draw_stroke_offsets(spaces, unc.repeatability, standard_normal);
-
-    // Effects with uncertain values (Scene::effect_uncertainties, e.g. identified by diagnosis): drawn last, each value within its standard
-    // uncertainty and jointly with the scene's correlation of them (effect_correlation_factor), held inside the
-    // effect's allowed range.
-    std::vector<std::unique_ptr<effects::Effect>> drawn_effects;
-    if (effects_uncertain) {
-      std::vector<scene::EffectSpec> specs = wb.scene.effects;
-      const Eigen::VectorXd z = effect_deviates(wb.scene, effect_correlation_factor, rng); // N, in scene order
-      Eigen::Index at = 0;
-      for (size_t e = 0; e < specs.size() && e < wb.scene.effect_uncertainties.size(); ++e) {
-        auto& spec = specs[e];
-        const auto& us = wb.scene.effect_uncertainties[e];
-        const auto params = effects::make_effect(spec.type)->parameters();
-        for (size_t v = 0; v < us.size() && v < spec.values.size() && v < params.size(); ++v)
-          spec.values[v] = std::clamp(spec.values[v] + us[v] * z(at++), params[v].lo, params[v].hi);
-      }
-      drawn_effects = workbench::make_effects(specs, wb.setup);
+    const auto d = p.model->draw(k);
+    const auto quantities = [&](const std::vector<grinding::FlankTopology>& topo) {
+      return gear_quantities(workbench::evaluate_iso(g, wb.setup.ranges(), topo, options.iso), topo);
+    };
+    if (p.linear) { // one topology per sample, its deviations replaced for each gear
+      auto gears = p.model->linear(d, true);
+      p.model->add_probe_noise(gears, k);
+      auto topo = p.model->layout();
+      const auto of = [&](const Eigen::VectorXd& v) {
+        set_deviations(topo, v);
+        return quantities(topo);
+      };
+      before[static_cast<size_t>(i)] = of(gears.before);
+      after[static_cast<size_t>(i)] = of(gears.after);
+      for (const auto& v : gears.after_without) without[static_cast<size_t>(i)].push_back(of(v));
+    } else {
+      auto gears = p.model->exact(d);
+      p.model->add_probe_noise(gears, k);
+      before[static_cast<size_t>(i)] = quantities(gears.before);
+      after[static_cast<size_t>(i)] = quantities(gears.after);
     }
-    const auto& sample_effects = effects_uncertain ? drawn_effects : wb.effects;
-
-    const machine::MachineModel model(wb.machine.strokes(), std::move(truth));
-    const grinding::MachineProcess machine_process(model, wb.scene.machine.datum_face_z_mm);
-    std::unique_ptr<effects::EffectsProcess> with_effects;
-    if (!sample_effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(machine_process, sample_effects);
-    const grinding::GrindingProcess& true_machine =
-        with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : machine_process;
-
-    const auto table_before = with_stroke_offsets(uncorrected, off_before);
-    const auto table_after = with_stroke_offsets(applied, off_after);
-    const compensation::CompensatedProcess gear1(true_machine, table_before), gear2(true_machine, table_after);
-    auto topo1 = plan.simulate(gear1, so.threads);
-    auto topo2 = plan.simulate(gear2, so.threads);
-    if (options.probe_noise_um > 0.0) { // both gears measured, gear 1 first, from the probe's own stream of (seed, k)
-      SplitMix64 probe = probe_stream(options.seed, k);
-      const std::function<double()> probe_normal = [&probe] { return probe.normal(); };
-      diagnosis::add_probe_noise(topo1, options.probe_noise_um, probe_normal);
-      diagnosis::add_probe_noise(topo2, options.probe_noise_um, probe_normal);
-    }
-    before[static_cast<size_t>(i)] = gear_quantities(workbench::evaluate_iso(g, wb.setup.ranges(), topo1, options.iso), topo1);
-    after[static_cast<size_t>(i)] = gear_quantities(workbench::evaluate_iso(g, wb.setup.ranges(), topo2, options.iso), topo2);
     if (options.on_sample_done) {
       try {
         options.on_sample_done(++done, count);
@@ -300,12 +233,27 @@ MonteCarloRun run_monte_carlo_samples(const workbench::Workbench& wb, const comp
   for (int i = 0; i < count; ++i) {
     const auto& b = before[static_cast<size_t>(i)];
     const auto& a = after[static_cast<size_t>(i)];
-    if (b.names != run.names || a.names != run.names)
+    bool same = b.names == run.names && a.names == run.names && without[static_cast<size_t>(i)].size() == variants;
+    MonteCarloSample smp{first + i, b.values, a.values, {}};
+    for (const auto& w : without[static_cast<size_t>(i)]) {
+      same = same && w.names == run.names;
+      smp.after_without.push_back(w.values);
+    }
+    if (!same)
       throw std::runtime_error(fmt::format("Monte Carlo sample {}: the evaluation gave other quantities than sample {}",
                                            first + i, first));
-    run.samples.push_back({first + i, b.values, a.values});
+    run.samples.push_back(std::move(smp));
   }
   return run;
+}
+
+} // namespace
+
+MonteCarloRun run_monte_carlo_samples(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
+                                      const MonteCarloOptions& options, long long first, long long last) {
+  if (first < 0 || first > last || last > options.samples)
+    throw std::invalid_argument(fmt::format("samples [{}, {}) are not within the run's {}", first, last, options.samples));
+  return run_prepared(prepare(wb, nominal, options), wb, options, first, last);
 }
 
 std::optional<MonteCarloRun> run_adaptive_batches(
@@ -322,6 +270,7 @@ std::optional<MonteCarloRun> run_adaptive_batches(
       if (!run) {
         run.emplace();
         run->names = batch->names, run->seed = batch->seed, run->iso = batch->iso, run->probe_noise_um = batch->probe_noise_um;
+        run->sampling = batch->sampling, run->without = batch->without;
       }
       for (auto& smp : batch->samples) run->samples.push_back(std::move(smp));
       run->samples_total = h * options.adaptive_batch;
@@ -348,11 +297,14 @@ MonteCarloRun run_adaptive(const workbench::Workbench& wb, const compensation::C
     batch_options.on_sample_done = [&](long long done, long long) {
       options.on_sample_done(done_before + done, options.adaptive_max_samples);
     };
+  const Prepared prepared = prepare(wb, nominal, batch_options); // once for all batches
   auto run = run_adaptive_batches(
       options,
       [&](long long first, long long last) -> std::optional<MonteCarloRun> {
         done_before = first;
-        return run_monte_carlo_samples(wb, nominal, batch_options, first, last);
+        MonteCarloOptions this_batch = batch_options;
+        if (first > 0) this_batch.on_prepared = nullptr; // the estimate times the first batch from its start
+        return run_prepared(prepared, wb, this_batch, first, last);
       },
       [](bool stop) { return stop; });
   return std::move(*run);
@@ -414,6 +366,8 @@ MonteCarloRun merge_runs(std::vector<MonteCarloRun> parts) {
   out.iso = parts.front().iso;
   out.probe_noise_um = parts.front().probe_noise_um;
   out.names = parts.front().names;
+  out.sampling = parts.front().sampling;
+  out.without = parts.front().without;
   for (size_t p = 0; p < parts.size(); ++p) {
     const auto& part = parts[p];
     if (part.samples_total != out.samples_total || part.seed != out.seed)
@@ -428,8 +382,12 @@ MonteCarloRun merge_runs(std::vector<MonteCarloRun> parts) {
     if (part.probe_noise_um != out.probe_noise_um)
       throw std::invalid_argument(fmt::format("part {}: probe noise {} µm (part 1: {} µm): not the same run", p + 1,
                                               part.probe_noise_um, out.probe_noise_um));
-    if (part.names != out.names)
+    if (part.names != out.names || part.without != out.without)
       throw std::invalid_argument(fmt::format("part {}: other quantities than part 1 (another scene?)", p + 1));
+    if (!(part.sampling == out.sampling))
+      throw std::invalid_argument(fmt::format("part {}: {} samples ({}) (part 1: {} samples ({})): not the same run", p + 1,
+                                              part.sampling.method, part.sampling.reason, out.sampling.method,
+                                              out.sampling.reason));
     for (const auto& s : part.samples) out.samples.push_back(s);
   }
   std::sort(out.samples.begin(), out.samples.end(),
@@ -474,13 +432,53 @@ MonteCarloSummary summarise(const MonteCarloRun& run) {
   s.iso = run.iso;
   s.probe_noise_um = run.probe_noise_um;
   s.names = run.names;
+  s.sampling = run.sampling;
+  s.without = run.without;
+  s.after_without.resize(run.without.size());
   for (size_t n = 0; n < run.names.size(); ++n) {
     std::vector<double> b, a;
     for (const auto& smp : run.samples) b.push_back(smp.before[n]), a.push_back(smp.after[n]);
     s.before.push_back(coverage_band(std::move(b)));
     s.after.push_back(coverage_band(std::move(a)));
+    for (size_t w = 0; w < run.without.size(); ++w) {
+      std::vector<double> v;
+      for (const auto& smp : run.samples) v.push_back(smp.after_without[w][n]);
+      s.after_without[w].push_back(coverage_band(std::move(v)));
+    }
   }
   return s;
+}
+
+AfterLimit after_limit(const MonteCarloSummary& s) {
+  AfterLimit out;
+  const int overall = s.find("overall_class");
+  if (overall < 0 || s.without.empty()) return out;
+  out.measured = true;
+  out.overall_class = s.after[static_cast<size_t>(overall)].median;
+  // The limiting quantity: the ISO value with the largest median class after (the first in the evaluation's order
+  // among equals).
+  double worst_class = -1.0;
+  for (size_t n = 0; n < s.names.size(); ++n) {
+    const auto& name = s.names[n];
+    if (!name.ends_with("_class") || name == "overall_class") continue;
+    const std::string value_name = name.substr(0, name.size() - std::string_view("_class").size()) + "_um";
+    if (s.find(value_name) < 0 || s.after[n].median <= worst_class) continue;
+    worst_class = s.after[n].median;
+    out.limiting_quantity = value_name;
+  }
+  const int limiting = out.limiting_quantity.empty() ? -1 : s.find(out.limiting_quantity);
+  if (limiting >= 0) out.limiting_median_um = s.after[static_cast<size_t>(limiting)].median;
+  for (size_t w = 0; w < s.without.size(); ++w) {
+    SourceEffect e{s.without[w], s.after_without[w][static_cast<size_t>(overall)].median,
+                   limiting >= 0 ? s.after_without[w][static_cast<size_t>(limiting)].median : 0.0};
+    out.without.push_back(e);
+  }
+  // Dominant: the lowest class without it; among equals the lowest limiting median without it.
+  const auto best = std::min_element(out.without.begin(), out.without.end(), [](const SourceEffect& a, const SourceEffect& b) {
+    return a.overall_class != b.overall_class ? a.overall_class < b.overall_class : a.limiting_median_um < b.limiting_median_um;
+  });
+  out.dominant = best->source;
+  return out;
 }
 
 void write_run_csv(const std::filesystem::path& file, const MonteCarloRun& run) {
@@ -490,14 +488,22 @@ void write_run_csv(const std::filesystem::path& file, const MonteCarloRun& run) 
     out << "# iso_direction: " << evaluation::to_string(run.iso.direction)
         << "\n# helix_slope_sign: " << evaluation::to_string(run.iso.helix_slope_sign) << "\n";
     out << fmt::format("# probe_noise_um: {}\n", run.probe_noise_um);
+    out << "# sampling: " << run.sampling.method << "\n# sampling_reason: " << run.sampling.reason << "\n";
+    out << fmt::format("# linear_check_samples: {}\n# linear_check_points_um: {}\n# linear_check_quantities_um: {}\n",
+                       run.sampling.checked_samples, run.sampling.largest_point_difference_um,
+                       run.sampling.largest_quantity_difference_um);
     out << "sample";
     for (const auto& n : run.names) out << ",before." << n;
     for (const auto& n : run.names) out << ",after." << n;
+    for (const auto& w : run.without)
+      for (const auto& n : run.names) out << ",without_" << w << "." << n;
     out << "\n";
     for (const auto& s : run.samples) {
       out << s.index;
       for (double v : s.before) out << fmt::format(",{}", v); // shortest form that reads back to the same double
       for (double v : s.after) out << fmt::format(",{}", v);
+      for (const auto& w : s.after_without)
+        for (double v : w) out << fmt::format(",{}", v);
       out << "\n";
     }
   });
@@ -545,6 +551,27 @@ MonteCarloRun read_run_csv(const std::filesystem::path& file) {
                           fmt::format("'{}' is not one of the words geartopo writes", text::excerpt(view.substr(key.size()))));
         value = *parsed;
       };
+      const auto number = [&](std::string_view key, double& value) {
+        if (view.substr(0, key.size()) != key) return;
+        const auto rest = view.substr(key.size());
+        if (text::parse_number(rest, value) != std::errc() || !std::isfinite(value) || value < 0.0)
+          fail(static_cast<int>(key.size()) + 1, std::string(key.substr(2, key.size() - 4)),
+               fmt::format("'{}' is not a number ≥ 0", text::excerpt(rest)));
+      };
+      number("# linear_check_points_um: ", run.sampling.largest_point_difference_um);
+      number("# linear_check_quantities_um: ", run.sampling.largest_quantity_difference_um);
+      bool have_checked = false;
+      take("# linear_check_samples: ", run.sampling.checked_samples, have_checked);
+      const auto one_of = [&](std::string_view key, std::initializer_list<std::string_view> words, std::string& value) {
+        if (view.substr(0, key.size()) != key) return;
+        const auto rest = view.substr(key.size());
+        if (std::find(words.begin(), words.end(), rest) == words.end())
+          fail(static_cast<int>(key.size()) + 1, std::string(key.substr(2, key.size() - 4)),
+               fmt::format("'{}' is not one of the words geartopo writes", text::excerpt(rest)));
+        value = std::string(rest);
+      };
+      one_of("# sampling: ", {"linear", "exact"}, run.sampling.method);
+      one_of("# sampling_reason: ", {"checked", "check failed", "forced", "unchecked", ""}, run.sampling.reason);
       word("# iso_direction: ", evaluation::parse_iso_direction, run.iso.direction);
       word("# helix_slope_sign: ", evaluation::parse_helix_slope_sign, run.iso.helix_slope_sign);
       continue;
@@ -559,29 +586,48 @@ MonteCarloRun read_run_csv(const std::filesystem::path& file) {
     if (!have_header) {
       if (!have_total || !have_seed) fail(1, "header", "'# samples_total: M' and '# seed: S' must come before the header");
       if (run.samples_total < 1) fail(1, "samples_total", "must be ≥ 1");
-      if (fields.empty() || fields[0] != "sample" || fields.size() % 2 != 1)
-        fail(1, "header", "expected sample,before.<name>,…,after.<name>,…");
-      const size_t n = (fields.size() - 1) / 2;
-      for (size_t i = 0; i < n; ++i) {
-        const auto b = fields[1 + i], a = fields[1 + n + i];
-        if (b.substr(0, 7) != "before." || a.substr(0, 6) != "after." || b.substr(7) != a.substr(6))
-          fail(static_cast<int>(2 + i), "header", "expected before.<name> … after.<name> in the same order");
-        run.names.emplace_back(b.substr(7));
+      // sample, then groups of the same names in the same order: before.*, after.*, without_<source>.* …
+      if (fields.empty() || fields[0] != "sample") fail(1, "header", "expected sample,before.<name>,…,after.<name>,…");
+      std::vector<std::string> groups;
+      std::vector<std::vector<std::string>> group_names;
+      for (size_t i = 1; i < fields.size(); ++i) {
+        const auto dot = fields[i].find('.');
+        if (dot == std::string_view::npos) fail(static_cast<int>(i + 1), "header", "expected <group>.<name>");
+        const std::string group(fields[i].substr(0, dot));
+        if (groups.empty() || groups.back() != group) groups.push_back(group), group_names.emplace_back();
+        group_names.back().emplace_back(fields[i].substr(dot + 1));
       }
+      if (groups.size() < 2 || groups[0] != "before" || groups[1] != "after")
+        fail(1, "header", "expected sample,before.<name>,…,after.<name>,…");
+      for (size_t k = 1; k < groups.size(); ++k) {
+        if (group_names[k] != group_names[0])
+          fail(1, "header", fmt::format("the names of '{}' are not those of 'before' in the same order", groups[k]));
+        if (k < 2) continue;
+        const auto& sources = limit_sources();
+        const std::string source = groups[k].substr(std::string_view("without_").size());
+        if (!groups[k].starts_with("without_") || std::find(sources.begin(), sources.end(), source) == sources.end())
+          fail(1, "header", fmt::format("'{}' is not a group geartopo writes (without_<source>)", groups[k]));
+        run.without.push_back(source);
+      }
+      run.names = group_names[0];
       have_header = true;
       continue;
     }
-    if (fields.size() != 1 + 2 * run.names.size())
-      fail(1, "sample", fmt::format("{} fields, the header has {}", fields.size(), 1 + 2 * run.names.size()));
+    const size_t groups = 2 + run.without.size(), names = run.names.size();
+    if (fields.size() != 1 + groups * names)
+      fail(1, "sample", fmt::format("{} fields, the header has {}", fields.size(), 1 + groups * names));
     MonteCarloSample s;
     if (text::parse_number(fields[0], s.index) != std::errc() || s.index < 0 || s.index >= run.samples_total)
       fail(1, "sample", fmt::format("'{}' is not a sample number of 0..{}", text::excerpt(fields[0]), run.samples_total - 1));
+    s.after_without.resize(run.without.size());
     for (size_t i = 1; i < fields.size(); ++i) {
+      const size_t group = (i - 1) / names, n = (i - 1) % names;
       double v = 0.0;
       if (text::parse_number(fields[i], v) != std::errc() || !std::isfinite(v))
-        fail(static_cast<int>(i + 1), i <= run.names.size() ? "before." + run.names[i - 1] : "after." + run.names[i - 1 - run.names.size()],
+        fail(static_cast<int>(i + 1),
+             (group == 0 ? "before." : group == 1 ? "after." : "without_" + run.without[group - 2] + ".") + run.names[n],
              fmt::format("'{}' is not a finite number", text::excerpt(fields[i])));
-      (i <= run.names.size() ? s.before : s.after).push_back(v);
+      (group == 0 ? s.before : group == 1 ? s.after : s.after_without[group - 2]).push_back(v);
     }
     if (!run.samples.empty() && s.index <= run.samples.back().index)
       fail(1, "sample", "sample numbers must increase");

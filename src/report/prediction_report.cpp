@@ -6,6 +6,7 @@
 #include "geartopo/render/charts.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cmath>
 #include <map>
@@ -42,6 +43,40 @@ std::string band_text(const std::string& name, const pipeline::Band& b) {
   return fmt::format("{:.2f} µm [{:.2f}, {:.2f}]", b.median, b.low, b.high);
 }
 
+std::string source_label(const std::string& source) {
+  if (source == "map_uncertainty") return "the map's uncertainty";
+  if (source == "repeatability") return "the repeatability";
+  if (source == "resolution_rounding") return "the rounding to machine.resolution";
+  if (source == "effect_uncertainty") return "the effects' uncertainty";
+  if (source == "probe_noise") return "the probe noise";
+  return source;
+}
+
+std::string sampling_line(const pipeline::MonteCarloSummary& s) {
+  const auto& r = s.sampling;
+  const std::string check = fmt::format("{} exact samples within {:.2g} µm in every µm quantity (threshold {} µm), {:.2g} µm "
+                                        "at every point",
+                                        r.checked_samples, r.largest_quantity_difference_um, pipeline::kLinearAgreementUm,
+                                        r.largest_point_difference_um);
+  if (r.method == "linear" && r.reason == "checked") return fmt::format("samples: linear (first order, checked: {})", check);
+  if (r.method == "linear") return "samples: linear (first order, not checked)";
+  if (r.reason == "check failed") return fmt::format("samples: exact (first order failed its check: {})", check);
+  if (r.reason == "forced") return "samples: exact (asked for)";
+  return "samples: exact";
+}
+
+std::string limit_line(const pipeline::MonteCarloSummary& s) {
+  const auto limit = pipeline::after_limit(s);
+  if (!limit.measured) return {};
+  std::vector<std::string> parts;
+  for (const auto& w : limit.without)
+    parts.push_back(fmt::format("without {} {} ({} {:.2f} µm)", source_label(w.source), class_text(w.overall_class),
+                                quantity_label(limit.limiting_quantity), w.limiting_median_um));
+  return fmt::format("limit after compensation: {} (median class {}, {} {:.2f} µm; {})", source_label(limit.dominant),
+                     class_text(limit.overall_class), quantity_label(limit.limiting_quantity), limit.limiting_median_um,
+                     fmt::join(parts, ", "));
+}
+
 std::vector<std::string> prediction_lines(const pipeline::MonteCarloSummary& s) {
   std::vector<std::string> out;
   out.push_back(fmt::format("Predicted gear, median [95 % interval] of {} Monte Carlo samples (seed {}): the machine drawn "
@@ -53,6 +88,8 @@ std::vector<std::string> prediction_lines(const pipeline::MonteCarloSummary& s) 
   for (size_t i = 0; i < s.names.size(); ++i)
     out.push_back(fmt::format("  {:<22} {:>28} {:>28}", quantity_label(s.names[i]), band_text(s.names[i], s.before[i]),
                               band_text(s.names[i], s.after[i])));
+  out.push_back("  " + sampling_line(s));
+  if (const auto limit = limit_line(s); !limit.empty()) out.push_back("  " + limit);
   return out;
 }
 
@@ -72,6 +109,28 @@ nlohmann::json prediction_json(const pipeline::MonteCarloSummary& s) {
   const auto band = [](const pipeline::Band& b) { return nlohmann::json{{"median", b.median}, {"low", b.low}, {"high", b.high}}; };
   for (size_t i = 0; i < s.names.size(); ++i) q[s.names[i]] = {{"before", band(s.before[i])}, {"after", band(s.after[i])}};
   j["quantities"] = q;
+  j["sampling"] = {{"method", s.sampling.method},
+                   {"reason", s.sampling.reason},
+                   {"checked_samples", s.sampling.checked_samples},
+                   {"largest_point_difference_um", s.sampling.largest_point_difference_um},
+                   {"largest_quantity_difference_um", s.sampling.largest_quantity_difference_um},
+                   {"threshold_um", pipeline::kLinearAgreementUm}};
+  if (const auto limit = pipeline::after_limit(s); limit.measured) {
+    nlohmann::json without = nlohmann::json::object();
+    for (size_t w = 0; w < limit.without.size(); ++w) {
+      nlohmann::json bands = nlohmann::json::object();
+      for (size_t i = 0; i < s.names.size(); ++i) bands[s.names[i]] = band(s.after_without[w][i]);
+      without[limit.without[w].source] = {{"overall_class", limit.without[w].overall_class},
+                                          {"limiting_median_um", limit.without[w].limiting_median_um},
+                                          {"quantities", bands}};
+    }
+    j["limit"] = {{"dominant", limit.dominant},
+                  {"text", limit_line(s)},
+                  {"overall_class_after", limit.overall_class},
+                  {"limiting_quantity", limit.limiting_quantity},
+                  {"limiting_median_after_um", limit.limiting_median_um},
+                  {"without", without}};
+  }
   return j;
 }
 
@@ -205,6 +264,7 @@ std::string prediction_summary_html(const pipeline::MonteCarloSummary& s) {
     if (const std::string t = item(n); !t.empty()) h += "<li>" + t + "</li>";
   const std::string th = item("thickness_um"), rot = item("rotation_um");
   if (!th.empty()) h += "<li>" + th + "; " + rot + " (not ISO quantities)</li>";
+  if (const std::string limit = limit_line(s); !limit.empty()) h += "<li>" + limit + "</li>"; // no markup characters
   return h + "</ul></li>";
 }
 

@@ -406,7 +406,11 @@ TEST(Cli, SynthCompareDiagnoseAndTheErrorFalls) {
   std::filesystem::create_directories(dir);
   const std::string truth = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/truth-skmc1200w-mn14-z35.yaml";
   const std::string measured = (dir / "m.csv").string();
-  ASSERT_EQ(run("synth " + truth + " --out " + measured + " --teeth 1,18 --noise-um 0.5 --seed 3").code, 0);
+  // Seed 7, the demo measurement's (scenes/demo/measured.csv). Two teeth do not determine the drift's size (docs/tutorial.md
+  // §4): of seeds 1–8 of synth's SplitMix64 noise, 3 and 4 put the amplitude at the end of its range and 2 is ambiguous
+  // with a second effect, and diagnose rightly withholds the scene there; the story below needs a realization where it
+  // is written.
+  ASSERT_EQ(run("synth " + truth + " --out " + measured + " --teeth 1,18 --noise-um 0.5 --seed 7").code, 0);
 
   const CliResult before = run("compare " + kScene + " --measured " + measured + " --out " + (dir / "c1").string() + " --noise-um 0.5");
   ASSERT_EQ(before.code, 0) << before.err;

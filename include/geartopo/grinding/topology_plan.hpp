@@ -26,6 +26,11 @@ public:
 
   long long points() const;
 
+  /// The first-order model's contact of every point (LinearContact, flank_deviation.hpp: generating pose, point, normal,
+  /// wheel coordinate), flank by flank in simulate()'s order and within a flank grid, profile, helix, dense: where the
+  /// Monte Carlo's first-order sensitivities of the topology are evaluated (pipeline/monte_carlo.hpp).
+  std::vector<LinearContact> linear_contacts() const;
+
 private:
   struct FlankPlan {
     int tooth;

@@ -10,6 +10,9 @@
 //      and fresh repeatability draws per stroke;
 //   (effects whose values carry uncertainties, e.g. from a diagnosis fit, are drawn within them for both gears;)
 //   4. both gears are evaluated per ISO 1328-1 (workbench::evaluate_iso) and reduced to named quantities.
+// A draw is small (µm, µrad), so by default a sample's gears are the nominal gears plus first-order sensitivities times
+// the draw (topology_sensitivities.hpp; the rounding is in the nominal after-gear, exactly), checked on a few exact
+// samples each run and replaced by exact samples when first order is not good enough (Sampling).
 // Every draw of sample k comes from a generator seeded by (seed, k) alone, so sample k is the same whatever the
 // thread count or shard: shards merged equal one run bit for bit. The summary of each quantity is its median and
 // its 95 % probabilistically symmetric coverage interval (JCGM 101:2008 §7.7).
@@ -33,6 +36,32 @@
 
 namespace geartopo::pipeline {
 
+/// How a sample's two gears are computed (docs/monte-carlo.md, "Linear samples").
+enum class Sampling {
+  Checked, ///< nominal + first-order sensitivities × the draw (topology_sensitivities.hpp) when kCheckSamples exact samples
+           ///< agree with their linear twins within kLinearAgreementUm in every µm quantity; else exact
+  Exact,   ///< every sample simulated exactly (the exact envelope of the drawn machine)
+  Linear,  ///< first order without the check (tests, comparisons)
+};
+/// Exact samples compared with their linear twins: samples 0 … kCheckSamples − 1 of the run's seed, whatever the shard or
+/// batch, so every shard, rank and batch takes the same decision.
+inline constexpr int kCheckSamples = 4;
+/// Largest |exact − linear| of any µm quantity (ISO values, largest |deviation|, thickness, rotation; both gears) of the
+/// checked samples that lets the run use linear samples: half the 0.1 µm step ISO 1328-1:2013 rounds its tolerances to
+/// below 5 µm (docs/iso1328.md), and a tenth of the narrowest 95 % interval of the default scene's ISO values. The
+/// largest difference at any point is reported too: next to the steps of corrections rounded to a coarse resolution it
+/// is larger at a few points (the deepest cut moves across a step), which the quantities do not feel.
+inline constexpr double kLinearAgreementUm = 0.05;
+
+/// A source of the after-state's scatter or error that the decomposition switches off one at a time (linear samples
+/// only): the map's uncertainty (the 43 components' draws), the strokes' repeatability, the rounding of the
+/// corrections to machine.resolution, the effects' uncertain values, the probe noise.
+inline const std::vector<std::string>& limit_sources() {
+  static const std::vector<std::string> names{"map_uncertainty", "repeatability", "resolution_rounding",
+                                              "effect_uncertainty", "probe_noise"};
+  return names;
+}
+
 struct MonteCarloOptions {
   long long samples = 200;  ///< M, over all shards
   std::uint64_t seed = 1;
@@ -55,6 +84,10 @@ struct MonteCarloOptions {
   /// (diagnosis::add_probe_noise, the model of `geartopo synth`), drawn from a stream of (seed, k) of its own, so
   /// the machine's draws of sample k do not depend on it. 0: the true gears (no draw at all).
   double probe_noise_um = 0.0;
+  Sampling sampling = Sampling::Checked;
+  /// Called once the run is prepared (sensitivities computed, exact samples checked), before the first sample starts:
+  /// the work estimate times the samples from here. Not called when there is nothing to prepare.
+  std::function<void()> on_prepared;
 };
 
 /// The gear quantities one simulated (or measured) gear reduces to, by name with unit: "F_beta_um", "F_beta_class",
@@ -73,6 +106,20 @@ struct MonteCarloSample {
   long long index = 0;        ///< k, 0-based over all shards
   std::vector<double> before; ///< in the order of MonteCarloRun::names
   std::vector<double> after;
+  /// The after-gear with one source switched off, per MonteCarloRun::without (linear samples only; same draws).
+  std::vector<std::vector<double>> after_without;
+};
+
+/// How the samples were computed and how well first order held on the checked samples.
+struct SamplingReport {
+  std::string method = "exact"; ///< "linear" or "exact"
+  /// "checked" (linear, the check passed), "check failed" (exact: the check did not pass), "forced" (exact asked for),
+  /// "unchecked" (linear without check), "" (not recorded: a file written before it was)
+  std::string reason;
+  int checked_samples = 0;             ///< exact samples compared with their linear twins
+  double largest_point_difference_um = 0.0;    ///< max |exact − linear| over their points (both gears)
+  double largest_quantity_difference_um = 0.0; ///< max |exact − linear| over their µm quantities (both gears)
+  bool operator==(const SamplingReport&) const = default;
 };
 
 /// Raw samples of one shard (or of several merged): what a merge needs to recompute the same order statistics.
@@ -82,6 +129,8 @@ struct MonteCarloRun {
   workbench::IsoOptions iso;  ///< how the samples' ISO values were reported (MonteCarloOptions::iso)
   double probe_noise_um = 0.0; ///< MonteCarloOptions::probe_noise_um
   std::vector<std::string> names;
+  SamplingReport sampling;
+  std::vector<std::string> without; ///< the sources switched off, one per MonteCarloSample::after_without (limit_sources names)
   std::vector<MonteCarloSample> samples; ///< increasing index
 };
 
@@ -161,17 +210,44 @@ struct MonteCarloSummary {
   double probe_noise_um = 0.0; ///< σ of the probe noise the samples were "measured" with (µm; 0: the true gears)
   std::vector<std::string> names;
   std::vector<Band> before, after; ///< per name
+  SamplingReport sampling;
+  std::vector<std::string> without;           ///< sources switched off (MonteCarloRun::without)
+  std::vector<std::vector<Band>> after_without; ///< per source, per name
   /// Index of a name, or -1.
   int find(const std::string& name) const;
 };
+
+/// Which source sets the class after compensation (docs/monte-carlo.md, "What limits the gear after"): for every
+/// source switched off, the after-gear's median overall class, and the ISO quantity that sets the class with all
+/// sources on (the largest median class; among equals the first in the evaluation's order) with its median with and
+/// without the source. The dominant source is the one whose absence
+/// lowers the median overall class most; among equals the one that lowers the limiting quantity's median most.
+struct SourceEffect {
+  std::string source;
+  double overall_class = 0.0;       ///< median overall class after, without the source
+  double limiting_median_um = 0.0;  ///< the limiting quantity's median after, without the source
+};
+struct AfterLimit {
+  bool measured = false;           ///< false: exact samples (no decomposition) or no class
+  double overall_class = 0.0;      ///< median overall class after, all sources on
+  std::string limiting_quantity;   ///< e.g. "f_p_um"
+  double limiting_median_um = 0.0; ///< its median after, all sources on
+  std::vector<SourceEffect> without; ///< per source switched off
+  std::string dominant;            ///< limit_sources name; empty when not measured
+};
+AfterLimit after_limit(const MonteCarloSummary& summary);
 /// Throws std::invalid_argument unless every sample 0..M−1 is present.
 MonteCarloSummary summarise(const MonteCarloRun& run);
 
 /// Partial result file (CSV, doubles in shortest round-trip form): comment lines "# samples_total: M",
-/// "# seed: S", "# iso_direction: transverse", "# helix_slope_sign: helix-angle", "# probe_noise_um: 0", then "sample,before.<name>,…,after.<name>,…", one row per sample.
+/// "# seed: S", "# iso_direction: transverse", "# helix_slope_sign: helix-angle", "# probe_noise_um: 0", "# sampling:
+/// linear", "# sampling_reason: checked", "# linear_check_samples: 4", "# linear_check_points_um: …",
+/// "# linear_check_quantities_um: …", then "sample,before.<name>,…,after.<name>,…[,without_<source>.<name>,…]", one row
+/// per sample.
 void write_run_csv(const std::filesystem::path& file, const MonteCarloRun& run);
 /// Throws InputError at the file's line and field. A file without the iso_direction, helix_slope_sign or
-/// probe_noise_um lines (written before they were) reads as transverse, helix-angle and 0: what compensate computed then.
+/// probe_noise_um lines (written before they were) reads as transverse, helix-angle and 0: what compensate computed then;
+/// without the sampling lines as exact samples, reason not recorded.
 MonteCarloRun read_run_csv(const std::filesystem::path& file);
 
 } // namespace geartopo::pipeline

@@ -20,13 +20,28 @@ std::string quantity_label(const std::string& name);
 /// "3.21 µm [1.90, 5.08]" (µm quantities) or "3 [2, 4]" (classes; "worse than 11" spelled out).
 std::string band_text(const std::string& name, const pipeline::Band& b);
 
+/// "the rounding to machine.resolution", "repeatability", … for a pipeline::limit_sources name.
+std::string source_label(const std::string& source);
+
+/// How the samples were computed: "samples: linear (first order, checked: 4 exact samples within 0.0017 µm in every µm
+/// quantity (threshold 0.05 µm), 0.0034 µm at every point)", or exact and why.
+std::string sampling_line(const pipeline::MonteCarloSummary& s);
+
+/// Which source sets the class after compensation (pipeline::after_limit), one line: "limit after compensation: …";
+/// empty when not measured.
+std::string limit_line(const pipeline::MonteCarloSummary& s);
+
 /// One line per quantity: label, before band, after band — ISO quantities first, then largest |deviation|,
-/// thickness and rotation on their own lines; the header names the coverage and the number of samples.
+/// thickness and rotation on their own lines; the header names the coverage and the number of samples; then
+/// sampling_line and limit_line.
 std::vector<std::string> prediction_lines(const pipeline::MonteCarloSummary& s);
 
 /// {"samples", "seed", "coverage_probability", "interval", "model", "iso_options": {"iso_direction",
 /// "helix_slope_sign"} (the words of the CLI flags), "probe_noise_um", "quantities": {name: {"before": {"median", "low", "high"},
-/// "after": {…}}}}; names carry their unit (_um, _class).
+/// "after": {…}}}, "sampling": {"method", "reason", "checked_samples", "largest_point_difference_um",
+/// "largest_quantity_difference_um", "threshold_um"}, "limit": {"dominant", "overall_class_after", "limiting_quantity",
+/// "limiting_median_after_um", "without": {source: {"overall_class", "limiting_median_um", "quantities": {name: band}}}}
+/// (only with linear samples)}; names carry their unit (_um, _class).
 nlohmann::json prediction_json(const pipeline::MonteCarloSummary& s);
 
 /// Reads what prediction_json wrote (prediction.json of `geartopo compensate`/`merge`): the samples, the seed, the ISO
@@ -60,7 +75,7 @@ nlohmann::json prediction_check_json(const std::vector<PredictionCheck>& checks,
                                      const pipeline::MonteCarloSummary& prediction, const std::string& side);
 
 /// The report's summary items (<li>…</li>): overall class and the ISO quantities before → after as bands, thickness
-/// and rigid rotation on their own line.
+/// and rigid rotation on their own line, and the limit_line.
 std::string prediction_summary_html(const pipeline::MonteCarloSummary& s);
 
 /// prediction.png: per ISO quantity the before and after medians with their 95 % intervals, µm (section "compensation").
