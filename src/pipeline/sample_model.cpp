@@ -93,9 +93,9 @@ SampleModel::SampleModel(const workbench::Workbench& wb, const compensation::Cor
     const grinding::MachineProcess machine(wb.machine, wb.scene.machine.datum_face_z_mm);
     std::unique_ptr<effects::EffectsProcess> with_effects;
     if (!wb.effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(machine, wb.effects);
-    const grinding::GrindingProcess& nominal_machine =
-        with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : machine;
-    const compensation::CompensatedProcess unrounded(nominal_machine, nominal);
+    const workbench::WithDesignMotion nominal_machine(
+        wb, with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : machine);
+    const compensation::CompensatedProcess unrounded(nominal_machine.process(), nominal);
     layout_ = plan_->simulate(unrounded, options.threads);
     after_unrounded_um_ = flatten_deviations(layout_);
   }
@@ -173,12 +173,13 @@ SampleGears SampleModel::exact(const SampleDraw& d) const {
   const grinding::MachineProcess machine_process(model, wb_.scene.machine.datum_face_z_mm);
   std::unique_ptr<effects::EffectsProcess> with_effects;
   if (!sample_effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(machine_process, sample_effects);
-  const grinding::GrindingProcess& true_machine =
-      with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : machine_process;
+  const workbench::WithDesignMotion true_machine(
+      wb_, with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : machine_process);
 
   const auto table_before = with_stroke_offsets(uncorrected_, d.off_before);
   const auto table_after = with_stroke_offsets(applied_, d.off_after);
-  const compensation::CompensatedProcess gear1(true_machine, table_before), gear2(true_machine, table_after);
+  const compensation::CompensatedProcess gear1(true_machine.process(), table_before),
+      gear2(true_machine.process(), table_after);
   SampleGears g;
   g.before = plan_->simulate(gear1, so_.threads);
   g.after = plan_->simulate(gear2, so_.threads);

@@ -80,7 +80,8 @@ TopologySensitivities topology_sensitivities(const workbench::Workbench& wb, con
   const machine::MachineModel nominal_model(wb.machine.strokes(), drawn_map(wb, 0.0));
   const machine::MachineModel unit_model(wb.machine.strokes(), drawn_map(wb, 1.0)); // every component + its u
   const NominalProcess nominal(wb, nominal_model);
-  const compensation::CompensatedProcess ground(nominal.process(), table);
+  const workbench::WithDesignMotion designed(wb, nominal.process());
+  const compensation::CompensatedProcess ground(designed.process(), table);
 
   TopologySensitivities s;
   s.nominal_um = flatten_deviations(plan.simulate(ground, threads));

@@ -56,6 +56,23 @@ struct Workbench {
   std::vector<std::string> effect_types() const;
 };
 
+/// A process built on top of the scene's machine (a Monte Carlo sample's drawn machine, the nominal one of a
+/// sensitivity) running the scene's design motions, as Workbench::process() does; `inner` itself without them.
+/// Holds references: `wb` and `inner` must outlive it.
+class WithDesignMotion {
+public:
+  WithDesignMotion(const Workbench& wb, const grinding::GrindingProcess& inner)
+      : inner_(inner),
+        design_(wb.design_motion ? std::make_unique<compensation::CompensatedProcess>(inner, *wb.design_motion) : nullptr) {}
+  const grinding::GrindingProcess& process() const {
+    return design_ ? static_cast<const grinding::GrindingProcess&>(*design_) : inner_;
+  }
+
+private:
+  const grinding::GrindingProcess& inner_;
+  std::unique_ptr<compensation::CompensatedProcess> design_;
+};
+
 /// Wheel diameters tried, largest first, when the scene gives none and the default does not fit the gear (mm).
 inline constexpr double kWheelDiametersToTryMm[] = {350, 300, 250, 200, 160, 125, 100, 80, 63, 50};
 
