@@ -11,6 +11,7 @@ packages=(
   libcgal-dev            # k-d tree neighbour search of scattered residual points (diagnosis)
   libopenmesh-dev        # triangle meshes (PLY/OBJ/STL/OFF)
   libvtk9-dev libegl-dev # off-screen rendering (surfaceless EGL + VTK)
+  libpng-dev             # the figures' PNG files (src/render/image.cpp)
   libyaml-cpp-dev        # scene files, with line/column marks for error messages
   libcli11-dev           # command-line parsing
   libfmt-dev             # formatting

@@ -9,6 +9,7 @@
 #include "geartopo/render/composite.hpp"
 #include "geartopo/render/grid_view.hpp"
 #include "geartopo/render/heat_map.hpp"
+#include "geartopo/render/image.hpp"
 #include "geartopo/render/scale.hpp"
 #include "geartopo/render/surface_view.hpp"
 #include "geartopo/surfaces/gear_mesh.hpp"
@@ -671,6 +672,8 @@ std::vector<int> focus_teeth(const workbench::Workbench& wb) {
 
 std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir) {
   fs::create_directories(dir / "panels");
+  // Each PNG is encoded on the other core while the next figure renders (render/image.hpp); all written on return.
+  render::BackgroundPngWrites png_writes;
   std::vector<Figure> figs;
   std::vector<const grinding::FlankTopology*> focus;
   for (int t : focus_teeth(wb))
@@ -695,6 +698,7 @@ std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipelin
   if (r.measurement)
     for (auto& f : measurement_figures(*r.measurement, dir)) figs.push_back(std::move(f));
   figs.push_back(gear_figure(wb, r, dir));
+  png_writes.finish();
   return figs;
 }
 
