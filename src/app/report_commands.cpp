@@ -8,6 +8,7 @@
 #include "app/options.hpp"
 #include "app/monte_carlo_flags.hpp"
 #include "geartopo/report/prediction_report.hpp"
+#include "geartopo/report/improvement.hpp"
 
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
@@ -42,7 +43,10 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
   iso["scene"] = wb.scene.name;
   iso["units"] = "µm; plus material positive; profile/helix values in the direction each section names (iso_direction)";
   iso["before"] = report::iso_json(r.iso_before);
-  iso["after"] = report::iso_json(r.iso_after);
+  // The model corrected by itself (≈ 0 by construction), under a name that says so; the result is `prediction`.
+  iso["nominal_after"] = report::iso_json(r.iso_after);
+  iso["nominal_after_meaning"] = report::kNominalAfterMeaning;
+  iso["largest_abs_deviation_um"] = {{"before", r.largest_before_um}, {"nominal_after", r.largest_after_um}};
   iso["warnings"] = nlohmann::json::array();
   const std::string worse = compensation_made_worse(grinding::largest_abs_deviation_um(r.before),
                                                     grinding::largest_abs_deviation_um(r.after));
@@ -52,6 +56,7 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
   }
   if (r.prediction) {
     iso["prediction"] = report::prediction_json(*r.prediction);
+    iso["improvement"] = report::improvement_json(*r.prediction); // from the medians; none without a prediction
     write_prediction(dir, *r.prediction);
     if (const std::string w = prediction_made_worse(*r.prediction); !w.empty()) {
       std::cerr << "geartopo: warning: " << w << "\n";
@@ -119,12 +124,18 @@ void print_summary(const fs::path& dir, const pipeline::PipelineResult& r) {
   const auto& ca = r.iso_after.evaluation.classification;
   if (r.prediction) { // the after-state as a band (docs/monte-carlo.md), never the model's own ≈ 0
     for (const auto& l : report::prediction_lines(*r.prediction)) std::cout << l << "\n";
+    const auto imp = report::predicted_improvement(*r.prediction);
+    for (const auto& i : imp)
+      if (i.name == "largest_abs_um")
+        std::cout << fmt::format("Predicted improvement of the largest |deviation|: {} (medians; interval: the after-state's "
+                                 "95 % interval against the before-median; every quantity in iso1328.json)\n",
+                                 report::improvement_text(i));
   } else {
-    std::cout << fmt::format("Largest |deviation| ({} grids, all teeth): {:.2f} µm before; the nominal model compensating "
-                             "itself: {:.2f} µm (no prediction: --samples 0)\n",
-                             pipeline::grid_label(r), r.largest_before_um, r.largest_after_um);
-    std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before, {} nominal after{}\n",
-                             evaluation::class_label(cb.overall), evaluation::class_label(ca.overall),
+    std::cout << fmt::format("Largest |deviation| ({} grids, all teeth): {:.2f} µm before; {}: {:.2f} µm (no prediction: "
+                             "--samples 0, so no improvement figure)\n",
+                             pipeline::grid_label(r), r.largest_before_um, report::kNominalLabel, r.largest_after_um);
+    std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before; {}: {}{}\n",
+                             evaluation::class_label(cb.overall), report::kNominalLabel, evaluation::class_label(ca.overall),
                              cb.refusal ? fmt::format(" (no class: ISO 1328-1:2013 does not apply to this gear: {})", *cb.refusal)
                              : cb.governing ? fmt::format(" (before: set by {})", evaluation::symbol(*cb.governing))
                                             : std::string());
