@@ -19,6 +19,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libopenmpi-dev openmpi-bin # geartopo-mpi, the MPI driver of the Monte Carlo prediction (-DGEARTOPO_MPI=ON)
   chromium               # the report page in a browser: screenshot and PDF (scripts/screenshot-report.sh, test_report)
+  poppler-utils          # pdftoppm/pdfinfo: the printed report read page by page (test_report, docs/rendering.md)
 )
 
 packages+=("$@") # extra packages a caller needs (scripts/fuzz.sh: clang-14 libclang-rt-14-dev)

@@ -425,7 +425,7 @@ Figure machine_figure(const workbench::Workbench& wb, const fs::path& dir) {
 
 Figure alignment_figure(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir) {
   render::LineChart c;
-  c.title = "Middle tooth-alignment curve: before (solid) and after compensation (dashed)";
+  c.title = "Middle tooth-alignment curve: before (solid) and the nominal model corrected by itself (dashed, ≈ 0)";
   c.size = {1200, 700};
   c.x = {"axial position z from the datum face", "mm", {}, {}};
   c.y = {"deviation", "µm", {}, {}};
@@ -451,8 +451,9 @@ Figure alignment_figure(const workbench::Workbench& wb, const pipeline::Pipeline
   c.legend = render::LegendPlace::above;
   render::render_line_chart(c, dir / "alignment_curve.png");
   return {"alignment_curve.png", "compensation", c.title,
-          fmt::format("Tooth-alignment curve {} of {} (mid profile) at the {} profile curves over the face width, before (solid) and after "
-                      "(dashed) the flank-method compensation; one colour per flank.",
+          fmt::format("Tooth-alignment curve {} of {} (mid profile) at the {} profile curves over the face width, before (solid) and, "
+                      "dashed, the nominal after-state: the model corrected by itself with the flank method, ≈ 0 by "
+                      "construction and not a result (the predicted after-state is the prediction figure); one colour per flank.",
                       (wb.scene.grid.rows + 1) / 2, wb.scene.grid.rows, wb.scene.grid.cols),
           c.size.width, c.size.height, std::nullopt, std::nullopt};
 }
@@ -688,8 +689,9 @@ std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipelin
     figs.push_back(pitch_figure(wb, r.iso_before, shown_tolerance_class(wb, r), dir));
   if (auto ro = runout_figure(r.iso_before, shown_tolerance_class(wb, r), dir)) figs.push_back(std::move(*ro));
   figs.push_back(machine_figure(wb, dir));
-  Figure after = topology_figure(wb, r.after, dir, "topology_after.png", "Nominal model after its own compensation (≈ 0 by construction)",
-                                 "after", scale, magnification);
+  Figure after = topology_figure(wb, r.after, dir, "topology_after.png",
+                                 "Nominal (the model corrected by itself, ≈ 0 by construction): not a result", "nominal after",
+                                 scale, magnification);
   after.section = "compensation";
   after.shared_scale = true;
   figs.push_back(after);
