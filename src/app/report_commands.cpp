@@ -1,6 +1,7 @@
 // geartopo report / run: the report, and the main job (everything, with a short summary).
 #include "app/commands.hpp"
 #include "geartopo/core/atomic_file.hpp"
+#include "geartopo/report/figures.hpp"
 #include "geartopo/report/html_report.hpp"
 #include "geartopo/report/iso_report.hpp"
 #include "geartopo/report/measurement_report.hpp"
@@ -19,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <future>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -82,6 +84,29 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
   }
   return iso;
 }
+
+/// Draws the report's figures of the gear before compensation on another thread as soon as the pipeline has them
+/// (PipelineOptions::before_ready), so that they render while the pipeline compensates, predicts and diagnoses: both
+/// cores busy. Installs its callback into `po`, which must not outlive it; take() waits for the figures (and rethrows
+/// what drawing them threw).
+class BeforeFigures {
+public:
+  BeforeFigures(pipeline::PipelineOptions& po, const Workbench& wb, fs::path dir) {
+    po.before_ready = [this, &wb, dir = std::move(dir)](const pipeline::PipelineResult& r) {
+      auto before = std::make_shared<pipeline::PipelineResult>(); // a copy: the pipeline's result moves on
+      before->before = r.before;
+      before->iso_before = r.iso_before;
+      before->largest_before_um = r.largest_before_um;
+      figures_ = std::async(std::launch::async, [&wb, dir, before] { return report::render_before_figures(wb, *before, dir); });
+    };
+  }
+  BeforeFigures(const BeforeFigures&) = delete; // the callback holds `this`
+  BeforeFigures& operator=(const BeforeFigures&) = delete;
+  std::vector<report::Figure> take() { return figures_.valid() ? figures_.get() : std::vector<report::Figure>{}; }
+
+private:
+  std::future<std::vector<report::Figure>> figures_; // declared last: waited for first when the pipeline throws
+};
 
 /// Progress of the pipeline's stages on stderr (a terminal, not --quiet; options.hpp Progress): the flanks of each
 /// simulation, the prediction's samples after its work estimate (MonteCarloWatch: refused beyond --max-time-s), the
@@ -179,12 +204,13 @@ void register_report_command(CLI::App& app, Action& action) {
       po.iso = opt->iso;
       po.prediction = prediction_options(opt->mc);
       StageProgress progress(po, opt->mc.max_time_s);
+      BeforeFigures before(po, wb, dir);
       const auto r = pipeline::run_pipeline(wb, po);
       progress.finish();
       if (r.measurement)
         for (const auto& w : r.measurement->warnings) std::cerr << "geartopo: warning: " << w << "\n";
       write_data_files(dir, opt->scene, wb, r); // the page names them (corrections.csv, scene_with_effect.yaml …)
-      const auto figs = report::write_report(dir, wb, r);
+      const auto figs = report::write_report(dir, wb, r, {}, before.take());
       std::cout << fmt::format("wrote {} figures and {}\n", figs.size(), (dir / "index.html").string());
       finish_output_folder(folder);
       return 0;
@@ -247,12 +273,13 @@ void register_run_command(CLI::App& app, Action& action) {
       if (!quiet()) std::cerr << "geartopo run: " << (wb.scene.name.empty() ? opt->scene : wb.scene.name) << "\n";
       print_notes(wb);
       StageProgress progress(po, opt->mc.max_time_s);
+      BeforeFigures before(po, wb, dir);
       const auto r = pipeline::run_pipeline(wb, po);
       progress.finish();
       if (r.measurement)
         for (const auto& w : r.measurement->warnings) std::cerr << "geartopo: warning: " << w << "\n";
       nlohmann::json summary = write_data_files(dir, opt->scene, wb, r);
-      report::write_report(dir, wb, r);
+      report::write_report(dir, wb, r, {}, before.take());
       print_summary(dir, r);
       finish_output_folder(folder);
       summary["report"] = (dir / "index.html").string();

@@ -671,16 +671,24 @@ std::vector<int> focus_teeth(const workbench::Workbench& wb) {
   return {1, z / 2 + 1};
 }
 
-std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir) {
-  fs::create_directories(dir / "panels");
-  // Each PNG is encoded on the other core while the next figure renders (render/image.hpp); all written on return.
-  render::BackgroundPngWrites png_writes;
-  std::vector<Figure> figs;
+namespace {
+
+/// The scale and magnification of both topology figures: from the focus teeth before compensation.
+std::pair<double, double> topology_scale(const workbench::Workbench& wb, const pipeline::PipelineResult& r) {
   std::vector<const grinding::FlankTopology*> focus;
   for (int t : focus_teeth(wb))
     for (Flank f : {Flank::Left, Flank::Right}) focus.push_back(find(r.before, t, f));
-  const double scale = max_abs(focus);
-  const double magnification = common_magnification(focus);
+  return {max_abs(focus), common_magnification(focus)};
+}
+
+} // namespace
+
+std::vector<Figure> render_before_figures(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir) {
+  fs::create_directories(dir / "panels");
+  // Each PNG is encoded on another thread while the next figure renders (render/image.hpp); all written on return.
+  render::BackgroundPngWrites png_writes;
+  std::vector<Figure> figs;
+  const auto [scale, magnification] = topology_scale(wb, r);
   figs.push_back(topology_figure(wb, r.before, dir, "topology_before.png", "Flank topology before compensation", "before", scale,
                                  magnification));
   for (auto& f : trace_figures(wb, r, shown_tolerance_class(wb, r), dir)) figs.push_back(std::move(f));
@@ -689,6 +697,19 @@ std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipelin
     figs.push_back(pitch_figure(wb, r.iso_before, shown_tolerance_class(wb, r), dir));
   if (auto ro = runout_figure(r.iso_before, shown_tolerance_class(wb, r), dir)) figs.push_back(std::move(*ro));
   figs.push_back(machine_figure(wb, dir));
+  figs.push_back(gear_figure(wb, r, dir));
+  png_writes.finish();
+  return figs;
+}
+
+std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir,
+                                   std::vector<Figure> before) {
+  if (before.empty()) before = render_before_figures(wb, r, dir);
+  fs::create_directories(dir / "panels");
+  render::BackgroundPngWrites png_writes;
+  // The page's order: the figures before compensation, then these, and the 3D gear (the last before) last.
+  std::vector<Figure> figs(before.begin(), before.end() - 1);
+  const auto [scale, magnification] = topology_scale(wb, r);
   Figure after = topology_figure(wb, r.after, dir, "topology_after.png",
                                  "Nominal (the model corrected by itself, ≈ 0 by construction): not a result", "nominal after",
                                  scale, magnification);
@@ -699,7 +720,7 @@ std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipelin
   if (r.prediction) figs.push_back(prediction_figure(*r.prediction, dir)); // prediction_report.cpp
   if (r.measurement)
     for (auto& f : measurement_figures(*r.measurement, dir)) figs.push_back(std::move(f));
-  figs.push_back(gear_figure(wb, r, dir));
+  figs.push_back(before.back());
   png_writes.finish();
   return figs;
 }

@@ -498,8 +498,8 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
 }
 
 std::vector<Figure> write_report(const std::filesystem::path& dir, const workbench::Workbench& wb, const pipeline::PipelineResult& r,
-                                 const ReportOptions& options) {
-  auto figs = render_figures(wb, r, dir);
+                                 const ReportOptions& options, std::vector<Figure> before) {
+  auto figs = render_figures(wb, r, dir, std::move(before));
   write_html_report(dir, wb, r, figs, options);
   nlohmann::json man = nlohmann::json::array();
   for (const auto& f : figs) {
