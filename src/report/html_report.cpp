@@ -225,7 +225,7 @@ std::string flank_table(const workbench::IsoResult& iso, Flank side,
     }
     h += "</tr>\n";
   }
-  return h + "</table>\n";
+  return h + "</table>\n" + not_applicable_note(p); // under each side's table: the two may stand apart
 }
 
 std::string means_table(const workbench::IsoResult& iso) {
@@ -443,7 +443,7 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
 
   h += "<h2>ISO 1328-1:2013 — every evaluated flank</h2>\n<p class=note>Each value with its flank tolerance class in grey; "
        "C_α, C_β: crowning (not toleranced).</p>\n<div class=pair>" + flank_table(r.iso_before, Flank::Left, crown) +
-       flank_table(r.iso_before, Flank::Right, crown) + "</div>\n" + not_applicable_note(r.iso_before.parameters);
+       flank_table(r.iso_before, Flank::Right, crown) + "</div>\n";
   h += "<p>Mean slopes over the flanks evaluated, per side:</p>" + means_table(r.iso_before);
   h += "<h2>ISO 1328-1:2013 — worst values before compensation</h2>\n" + worst_values_table(r.iso_before);
   h += tolerance_table(r.iso_before.parameters, shown_class);
