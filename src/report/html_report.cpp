@@ -476,7 +476,8 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
       h += "</ul>\n";
     }
     h += figures_of(figs, "measurement");
-    h += "<div class=scroll><table><tr><th>rank</th><th>effect</th><th>ΔBIC</th><th>explained</th><th>RMS after (µm)</th><th>parameters (±1σ)</th></tr>";
+    h += "<div class=scroll><table><thead><tr><th>rank</th><th>effect</th><th>ΔBIC</th><th>explained</th><th>RMS after (µm)</th>"
+         "<th>parameters (±1σ)</th></tr></thead>"; // thead: repeated when the table continues on the next printed page
     int rank = 1;
     for (const auto& c : m.diagnosis.ranked) {
       std::string params;
