@@ -314,10 +314,11 @@ std::string nominal_table(const workbench::IsoResult& b, const workbench::IsoRes
   h += fmt::format("<tr class=overall><td>overall flank tolerance class</td><td></td><td>{}</td><td></td><td>{}</td></tr>\n",
                    class_text(b.evaluation.classification.overall, b.parameters),
                    class_text(a.evaluation.classification.overall, a.parameters));
+  const auto um = [](double v) { const std::string t = fmt::format("{:.2f}", v); return t == "-0.00" ? std::string("0.00") : t; };
   for (size_t i = 0; i < qb.size() && i < qa.size(); ++i)
-    h += fmt::format("<tr><td>{}</td><td>{:.2f}</td><td>{}</td><td>{:.2f}</td><td>{}</td></tr>\n",
-                     esc(std::string(evaluation::symbol(qb[i].quantity))), qb[i].worst_value_um,
-                     class_text(qb[i].flank_class, b.parameters), qa[i].worst_value_um, class_text(qa[i].flank_class, a.parameters));
+    h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                     esc(std::string(evaluation::symbol(qb[i].quantity))), um(qb[i].worst_value_um),
+                     class_text(qb[i].flank_class, b.parameters), um(qa[i].worst_value_um), class_text(qa[i].flank_class, a.parameters));
   return h + "</table>\n";
 }
 
