@@ -11,6 +11,7 @@ packages=(
   libcgal-dev            # k-d tree neighbour search of scattered residual points (diagnosis)
   libopenmesh-dev        # triangle meshes (PLY/OBJ/STL/OFF)
   libvtk9-dev libegl-dev # off-screen rendering (surfaceless EGL + VTK)
+  libpng-dev             # the figures' PNG files (src/render/image.cpp)
   libyaml-cpp-dev        # scene files, with line/column marks for error messages
   libcli11-dev           # command-line parsing
   libfmt-dev             # formatting
@@ -18,6 +19,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libopenmpi-dev openmpi-bin # geartopo-mpi, the MPI driver of the Monte Carlo prediction (-DGEARTOPO_MPI=ON)
   chromium               # the report page in a browser: screenshot and PDF (scripts/screenshot-report.sh, test_report)
+  poppler-utils          # pdftoppm/pdfinfo: the printed report read page by page (test_report, docs/rendering.md)
 )
 
 packages+=("$@") # extra packages a caller needs (scripts/fuzz.sh: clang-14 libclang-rt-14-dev)

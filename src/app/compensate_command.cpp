@@ -5,6 +5,7 @@
 #include "app/options.hpp"
 #include "app/monte_carlo_flags.hpp"
 #include "geartopo/report/prediction_report.hpp"
+#include "geartopo/report/improvement.hpp"
 
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/compensation/cycle_corrections.hpp"
@@ -29,10 +30,6 @@ std::pair<double, double> range_of(const std::vector<grinding::FlankTopology>& t
   for (const auto& ft : topo)
     for (const auto& p : ft.grid) lo = std::min(lo, p.deviation_um), hi = std::max(hi, p.deviation_um);
   return {lo, hi};
-}
-
-double improvement(double before, double after) {
-  return std::abs(before) > 0.0 ? 100.0 * (std::abs(before) - std::abs(after)) / std::abs(before) : 0.0;
 }
 
 } // namespace
@@ -143,29 +140,26 @@ void register_compensate_command(CLI::App& app, Action& action) {
       j["scene"] = wb.scene.name;
       j["units"] = "µm; plus material positive; profile/helix values in the direction each section names (iso_direction)";
       j["before"] = report::iso_json(iso_b);
-      j["after"] = report::iso_json(iso_a);
+      // The nominal after-state is the model corrected by itself (≈ 0 by construction): kept under a name that says
+      // so, never `after`; what the machine would grind is `prediction`, and `improvement` comes from it alone.
+      j["nominal_after"] = report::iso_json(iso_a);
+      j["nominal_after_meaning"] = report::kNominalAfterMeaning;
+      j["largest_abs_deviation_um"] = {{"before", max_b}, {"nominal_after", max_a}};
       const auto cmax = table.max_abs();
       j["compensation"] = {{"method", opt->method},
                            {"rows", table.rows().size()},
                            {"rows_outside_strokes", table.rows_outside_strokes()},
                            {"max_correction", {{"dX_um", units::um_from_mm(cmax(0))}, {"dY_um", units::um_from_mm(cmax(1))}, {"dZ_um", units::um_from_mm(cmax(2))},
                                                {"dA_urad", units::urad_from_rad(cmax(3))}, {"dC_urad", units::urad_from_rad(cmax(4))}}}};
-      nlohmann::json imp;
-      imp["largest_abs_deviation_um"] = {{"before", max_b}, {"after", max_a}, {"improvement_percent", improvement(max_b, max_a)}};
       const auto& qb = iso_b.evaluation.classification.quantities;
       const auto& qa = iso_a.evaluation.classification.quantities;
-      for (size_t i = 0; i < qb.size() && i < qa.size(); ++i)
-        imp[std::string(evaluation::symbol(qb[i].quantity))] = {{"before", qb[i].worst_value_um},
-                                                               {"after", qa[i].worst_value_um},
-                                                               {"improvement_percent", improvement(qb[i].worst_value_um, qa[i].worst_value_um)}};
-      j["improvement"] = imp;
       j["cycle"] = {{"file", "cycle_corrections.csv"},
                     {"lead_step_mm", opt->lead_step},
                     {"setup_dY_um", units::um_from_mm(cycle.setup_dY_mm)},
                     {"setup_dA_urad", units::urad_from_rad(cycle.setup_dA_rad)},
                     {"not_carried_Y_um", units::um_from_mm(cycle.y_not_carried_mm)},
                     {"not_carried_A_urad", units::urad_from_rad(cycle.a_not_carried_rad)},
-                    {"largest_abs_deviation_after_um", max_cycle}};
+                    {"nominal_largest_abs_deviation_after_um", max_cycle}};
       std::string isg_summary;
       if (isg) {
         // What the position-only table leaves: the machine's geometric errors with the wheel centre put back.
@@ -185,7 +179,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
                           {"max_records", isg_options.limits.max_records},
                           {"tool_centre_point", "wheel centre"},
                           {"scope", "geometric machine errors only (the scene's effects are not in the table)"},
-                          {"left_after_table", left_json}};
+                          {"nominal_left_after_table", left_json}};
       }
       j["warnings"] = nlohmann::json::array();
       if (const std::string w = compensation_made_worse(max_b, max_a); !w.empty()) {
@@ -201,6 +195,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
           prediction = pipeline::summarise(*mc_run);
           write_prediction(out, *prediction);
           j["prediction"] = report::prediction_json(*prediction);
+          j["improvement"] = report::improvement_json(*prediction);
           if (const std::string w = prediction_made_worse(*prediction); !w.empty()) {
             std::cerr << "geartopo: warning: " << w << "\n";
             j["warnings"].push_back(w);
@@ -215,20 +210,25 @@ void register_compensate_command(CLI::App& app, Action& action) {
                                table.rows().size(), opt->step, table.rows_outside_strokes());
       std::cout << fmt::format("  largest corrections: X {:.2f} µm, Y {:.2f} µm, Z {:.2f} µm, A {:.2f} µrad, C {:.2f} µrad\n",
                                units::um_from_mm(cmax(0)), units::um_from_mm(cmax(1)), units::um_from_mm(cmax(2)), units::urad_from_rad(cmax(3)), units::urad_from_rad(cmax(4)));
-      std::cout << fmt::format("  topology (all teeth, {}×{} grid): before {:.2f} … {:.2f} µm, nominal after {:.2f} … {:.2f} µm\n", so.rows, so.cols, lb, hb, la, ha);
+      std::cout << fmt::format("  topology (all teeth, {}×{} grid): before {:.2f} … {:.2f} µm; {}: {:.2f} … {:.2f} µm\n", so.rows,
+                               so.cols, lb, hb, report::kNominalLabel, la, ha);
       if (!prediction)
-        std::cout << fmt::format("  largest |deviation|: {:.2f} µm; the nominal model compensating itself: {:.2f} µm "
-                                 "(no prediction: --samples 0 or a shard)\n", max_b, max_a);
+        std::cout << fmt::format("  largest |deviation|: {:.2f} µm before; {}: {:.2f} µm (no prediction: --samples 0 or "
+                                 "a shard, so no improvement figure)\n", max_b, report::kNominalLabel, max_a);
       std::cout << fmt::format("  with the cycle table (index + lead per space, Y {:+.2f} µm and A {:+.2f} µrad per gear; "
-                               "not carried: Y {:.2f} µm, A {:.2f} µrad): nominal largest |deviation| {:.2f} µm\n",
+                               "not carried: Y {:.2f} µm, A {:.2f} µrad): largest |deviation| {:.2f} µm, {}\n",
                                units::um_from_mm(cycle.setup_dY_mm), units::urad_from_rad(cycle.setup_dA_rad),
                                units::um_from_mm(cycle.y_not_carried_mm), units::urad_from_rad(cycle.a_not_carried_rad),
-                               max_cycle);
-      if (prediction)
+                               max_cycle, report::kNominalLabel);
+      if (prediction) {
         for (const auto& l : report::prediction_lines(*prediction)) std::cout << "  " << l << "\n";
+        for (const auto& l : report::improvement_lines(*prediction)) std::cout << "  " << l << "\n";
+      }
       // Without a prediction the nominal after-state is shown as what it is (the model compensating itself), with no
       // "% better": that would be a tautology.
-      if (!prediction) std::cout << fmt::format("  {:<6} {:>10} {:>10}  {:>6} {:>6}\n", "ISO", "before", "nominal", "class", "");
+      if (!prediction)
+        std::cout << fmt::format("  {:<6} {:>10} {:>10}  {:>6} {:>6}   (nominal: the model corrected by itself, ≈ 0 by "
+                                 "construction; not a result)\n", "ISO", "before", "nominal", "class", "");
       for (size_t i = 0; !prediction && i < qb.size() && i < qa.size(); ++i)
         std::cout << fmt::format("  {:<6} {:>10.2f} {:>10.2f}  {:>6} → {}\n", evaluation::symbol(qb[i].quantity),
                                  qb[i].worst_value_um, qa[i].worst_value_um,
@@ -237,8 +237,8 @@ void register_compensate_command(CLI::App& app, Action& action) {
       const auto& cb = iso_b.evaluation.classification;
       const auto& ca = iso_a.evaluation.classification;
       if (!prediction && cb.overall && ca.overall)
-        std::cout << fmt::format("  overall flank tolerance class: {} → {}\n", evaluation::class_label(*cb.overall),
-                                 evaluation::class_label(*ca.overall));
+        std::cout << fmt::format("  overall flank tolerance class: {} before; {}: {}\n", evaluation::class_label(*cb.overall),
+                                 report::kNominalLabel, evaluation::class_label(*ca.overall));
       if (isg)
         std::cout << fmt::format("  ISG volumetric table (isg_compensation.csv, {} records; corrects the wheel position, "
                                  "not its orientation): {}\n",

@@ -1,6 +1,7 @@
 // geartopo report / run: the report, and the main job (everything, with a short summary).
 #include "app/commands.hpp"
 #include "geartopo/core/atomic_file.hpp"
+#include "geartopo/report/figures.hpp"
 #include "geartopo/report/html_report.hpp"
 #include "geartopo/report/iso_report.hpp"
 #include "geartopo/report/measurement_report.hpp"
@@ -8,6 +9,7 @@
 #include "app/options.hpp"
 #include "app/monte_carlo_flags.hpp"
 #include "geartopo/report/prediction_report.hpp"
+#include "geartopo/report/improvement.hpp"
 
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
@@ -20,6 +22,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <future>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -44,7 +47,10 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
   iso["scene"] = wb.scene.name;
   iso["units"] = "µm; plus material positive; profile/helix values in the direction each section names (iso_direction)";
   iso["before"] = report::iso_json(r.iso_before);
-  iso["after"] = report::iso_json(r.iso_after);
+  // The model corrected by itself (≈ 0 by construction), under a name that says so; the result is `prediction`.
+  iso["nominal_after"] = report::iso_json(r.iso_after);
+  iso["nominal_after_meaning"] = report::kNominalAfterMeaning;
+  iso["largest_abs_deviation_um"] = {{"before", r.largest_before_um}, {"nominal_after", r.largest_after_um}};
   iso["warnings"] = nlohmann::json::array();
   const std::string worse = compensation_made_worse(grinding::largest_abs_deviation_um(r.before),
                                                     grinding::largest_abs_deviation_um(r.after));
@@ -54,6 +60,7 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
   }
   if (r.prediction) {
     iso["prediction"] = report::prediction_json(*r.prediction);
+    iso["improvement"] = report::improvement_json(*r.prediction); // from the medians; none without a prediction
     write_prediction(dir, *r.prediction);
     if (const std::string w = prediction_made_worse(*r.prediction); !w.empty()) {
       std::cerr << "geartopo: warning: " << w << "\n";
@@ -79,6 +86,29 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
   }
   return iso;
 }
+
+/// Draws the report's figures of the gear before compensation on another thread as soon as the pipeline has them
+/// (PipelineOptions::before_ready), so that they render while the pipeline compensates, predicts and diagnoses: both
+/// cores busy. Installs its callback into `po`, which must not outlive it; take() waits for the figures (and rethrows
+/// what drawing them threw).
+class BeforeFigures {
+public:
+  BeforeFigures(pipeline::PipelineOptions& po, const Workbench& wb, fs::path dir) {
+    po.before_ready = [this, &wb, dir = std::move(dir)](const pipeline::PipelineResult& r) {
+      auto before = std::make_shared<pipeline::PipelineResult>(); // a copy: the pipeline's result moves on
+      before->before = r.before;
+      before->iso_before = r.iso_before;
+      before->largest_before_um = r.largest_before_um;
+      figures_ = std::async(std::launch::async, [&wb, dir, before] { return report::render_before_figures(wb, *before, dir); });
+    };
+  }
+  BeforeFigures(const BeforeFigures&) = delete; // the callback holds `this`
+  BeforeFigures& operator=(const BeforeFigures&) = delete;
+  std::vector<report::Figure> take() { return figures_.valid() ? figures_.get() : std::vector<report::Figure>{}; }
+
+private:
+  std::future<std::vector<report::Figure>> figures_; // declared last: waited for first when the pipeline throws
+};
 
 /// Progress of the pipeline's stages on stderr (a terminal, not --quiet; options.hpp Progress): the flanks of each
 /// simulation after its measured work estimate (SimulationWatch), the prediction's samples after theirs
@@ -146,12 +176,18 @@ void print_summary(const fs::path& dir, const pipeline::PipelineResult& r) {
   const auto& ca = r.iso_after.evaluation.classification;
   if (r.prediction) { // the after-state as a band (docs/monte-carlo.md), never the model's own ≈ 0
     for (const auto& l : report::prediction_lines(*r.prediction)) std::cout << l << "\n";
+    const auto imp = report::predicted_improvement(*r.prediction);
+    for (const auto& i : imp)
+      if (i.name == "largest_abs_um")
+        std::cout << fmt::format("Predicted improvement of the largest |deviation|: {} (medians; interval: the after-state's "
+                                 "95 % interval against the before-median; every quantity in iso1328.json)\n",
+                                 report::improvement_text(i));
   } else {
-    std::cout << fmt::format("Largest |deviation| ({} grids, all teeth): {:.2f} µm before; the nominal model compensating "
-                             "itself: {:.2f} µm (no prediction: --samples 0)\n",
-                             pipeline::grid_label(r), r.largest_before_um, r.largest_after_um);
-    std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before, {} nominal after{}\n",
-                             evaluation::class_label(cb.overall), evaluation::class_label(ca.overall),
+    std::cout << fmt::format("Largest |deviation| ({} grids, all teeth): {:.2f} µm before; {}: {:.2f} µm (no prediction: "
+                             "--samples 0, so no improvement figure)\n",
+                             pipeline::grid_label(r), r.largest_before_um, report::kNominalLabel, r.largest_after_um);
+    std::cout << fmt::format("ISO 1328-1 overall flank tolerance class: {} before; {}: {}{}\n",
+                             evaluation::class_label(cb.overall), report::kNominalLabel, evaluation::class_label(ca.overall),
                              cb.refusal ? fmt::format(" (no class: ISO 1328-1:2013 does not apply to this gear: {})", *cb.refusal)
                              : cb.governing ? fmt::format(" (before: set by {})", evaluation::symbol(*cb.governing))
                                             : std::string());
@@ -196,12 +232,13 @@ void register_report_command(CLI::App& app, Action& action) {
       po.prediction = prediction_options(opt->mc);
       print_pipeline_estimate(wb, po);
       StageProgress progress(po, opt->mc.max_time_s);
+      BeforeFigures before(po, wb, dir);
       const auto r = pipeline::run_pipeline(wb, po);
       progress.finish();
       if (r.measurement)
         for (const auto& w : r.measurement->warnings) std::cerr << "geartopo: warning: " << w << "\n";
       write_data_files(dir, opt->scene, wb, r); // the page names them (corrections.csv, scene_with_effect.yaml …)
-      const auto figs = report::write_report(dir, wb, r);
+      const auto figs = report::write_report(dir, wb, r, {}, before.take());
       std::cout << fmt::format("wrote {} figures and {}\n", figs.size(), (dir / "index.html").string());
       finish_output_folder(folder);
       return 0;
@@ -265,12 +302,13 @@ void register_run_command(CLI::App& app, Action& action) {
       print_notes(wb);
       print_pipeline_estimate(wb, po);
       StageProgress progress(po, opt->mc.max_time_s);
+      BeforeFigures before(po, wb, dir);
       const auto r = pipeline::run_pipeline(wb, po);
       progress.finish();
       if (r.measurement)
         for (const auto& w : r.measurement->warnings) std::cerr << "geartopo: warning: " << w << "\n";
       nlohmann::json summary = write_data_files(dir, opt->scene, wb, r);
-      report::write_report(dir, wb, r);
+      report::write_report(dir, wb, r, {}, before.take());
       print_summary(dir, r);
       finish_output_folder(folder);
       summary["report"] = (dir / "index.html").string();

@@ -29,6 +29,8 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
   stage("simulate", flanks);
   r.before = grinding::simulate_topology(wb.setup, wb.process(), so);
   r.iso_before = workbench::evaluate_iso(g, wb.setup.ranges(), r.before, o.iso);
+  r.largest_before_um = grinding::largest_abs_deviation_um(r.before);
+  if (o.before_ready) o.before_ready(r);
   stage("compensate", 0);
   compensation::CompensationOptions co;
   co.method = o.compensation;
@@ -39,7 +41,6 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
   stage("simulate compensated", flanks);
   r.after = grinding::simulate_topology(wb.setup, corrected, so);
   r.iso_after = workbench::evaluate_iso(g, wb.setup.ranges(), r.after, o.iso);
-  r.largest_before_um = grinding::largest_abs_deviation_um(r.before);
   r.largest_after_um = grinding::largest_abs_deviation_um(r.after);
   if (o.prediction) {
     const auto [first, last] = shard_range(o.prediction->samples, o.prediction->shard, o.prediction->shards);

@@ -9,6 +9,8 @@
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
+#include <vtkRenderer.h>
+#include <vtkRendererCollection.h>
 #include <vtkSmartPointer.h>
 #include <vtkWindowToImageFilter.h>
 
@@ -16,6 +18,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace geartopo::render::detail {
 
@@ -87,81 +90,116 @@ const Display& surfaceless_display() {
   return d;
 }
 
+/// The process's one OpenGL context and the one render window on it, made on first use and kept (never destroyed:
+/// other static destructors may run after ours). Every figure borrows them under render_mutex(): a fresh context per
+/// figure made Mesa's llvmpipe compile every shader again (LLVM was ~30 % of a `geartopo run`); a kept window keeps
+/// VTK's shader cache, and the context keeps llvmpipe's compiled variants. Made current on the borrowing thread and
+/// released from it when the figure is done, so any thread may borrow next.
+struct SharedContext {
+  EGLDisplay display = EGL_NO_DISPLAY;
+  EGLContext context = EGL_NO_CONTEXT;
+  vtkSmartPointer<vtkGenericOpenGLRenderWindow> window;
+};
+
+SharedContext& shared_context() {
+  static SharedContext* c = new SharedContext; // intentionally never deleted (see above)
+  return *c;
+}
+
+void make_current_or_throw(EGLDisplay display, EGLContext context) {
+  // The bound API is per thread (the default is OpenGL ES): bind desktop OpenGL on the calling thread.
+  if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE)
+    throw std::runtime_error("render: eglBindAPI(EGL_OPENGL_API) failed: desktop OpenGL is not available through EGL");
+  if (eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context) != EGL_TRUE)
+    throw std::runtime_error("render: eglMakeCurrent without a surface failed, EGL error " + egl_error_text(eglGetError()));
+}
+
+/// Makes the shared context (creating it and its window the first time) current on this thread. Throws
+/// std::runtime_error when no EGL/OpenGL context can be made (and then tries again next time).
+void acquire(SharedContext& c) {
+  if (c.context != EGL_NO_CONTEXT) {
+    make_current_or_throw(c.display, c.context);
+    return;
+  }
+  const Display& d = surfaceless_display();
+  if (!d.error.empty()) throw std::runtime_error("render: no off-screen OpenGL: " + d.error);
+  if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE)
+    throw std::runtime_error("render: eglBindAPI(EGL_OPENGL_API) failed: desktop OpenGL is not available through EGL");
+  // clang-format off
+  const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3,
+                                       EGL_CONTEXT_MINOR_VERSION, 2,
+                                       EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                       EGL_NONE};
+  // clang-format on
+  const EGLContext context =
+      eglCreateContext(d.display, d.no_config ? EGL_NO_CONFIG_KHR : d.config, EGL_NO_CONTEXT, context_attributes);
+  if (context == EGL_NO_CONTEXT)
+    throw std::runtime_error("render: eglCreateContext (OpenGL 3.2 core) failed, EGL error " + egl_error_text(eglGetError()));
+  try {
+    make_current_or_throw(d.display, context);
+  } catch (...) {
+    eglDestroyContext(d.display, context);
+    throw;
+  }
+  auto window = vtkSmartPointer<vtkGenericOpenGLRenderWindow>::New();
+  window->SetOffScreenRendering(1);
+  window->SetOwnContext(false);
+  window->SetIsDirect(true);
+  window->SetSupportsOpenGL(true);
+  window->SetIsCurrent(true);
+  window->SetReadyForRendering(true);
+  window->SetMapped(1);
+  window->SetMultiSamples(8);
+  if (!window->InitializeFromCurrentContext()) {
+    window->Finalize();
+    eglMakeCurrent(d.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext(d.display, context);
+    throw std::runtime_error("render: VTK could not use the EGL OpenGL context (OpenGL 3.2 needed)");
+  }
+  c.display = d.display;
+  c.context = context;
+  c.window = window;
+}
+
 } // namespace
 
 struct Offscreen::Impl {
   std::unique_lock<std::mutex> lock{render_mutex()};
-  EGLDisplay display = EGL_NO_DISPLAY;
-  EGLContext context = EGL_NO_CONTEXT;
-  vtkSmartPointer<vtkGenericOpenGLRenderWindow> window;
+  SharedContext& shared = shared_context();
 
   Impl(int width, int height) {
     link_glew_init_wrapper();
     if (width < 16 || height < 16 || width > 16384 || height > 16384)
       throw std::invalid_argument("render: image size " + std::to_string(width) + " x " + std::to_string(height) +
                                   " px is out of range (16 … 16384)");
-    const Display& d = surfaceless_display();
-    if (!d.error.empty()) throw std::runtime_error("render: no off-screen OpenGL: " + d.error);
-    display = d.display;
-    // The bound API is per thread (the default is OpenGL ES): bind desktop OpenGL on the calling thread.
-    if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE)
-      throw std::runtime_error(
-          "render: eglBindAPI(EGL_OPENGL_API) failed: desktop OpenGL is not available through EGL");
-    // clang-format off
-    const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3,
-                                         EGL_CONTEXT_MINOR_VERSION, 2,
-                                         EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                         EGL_NONE};
-    // clang-format on
-    context = eglCreateContext(display, d.no_config ? EGL_NO_CONFIG_KHR : d.config, EGL_NO_CONTEXT, context_attributes);
-    if (context == EGL_NO_CONTEXT)
-      throw std::runtime_error("render: eglCreateContext (OpenGL 3.2 core) failed, EGL error " +
-                               egl_error_text(eglGetError()));
-    if (eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context) != EGL_TRUE) {
-      const EGLint code = eglGetError();
-      eglDestroyContext(display, context);
-      throw std::runtime_error("render: eglMakeCurrent without a surface failed, EGL error " + egl_error_text(code));
-    }
-    window = vtkSmartPointer<vtkGenericOpenGLRenderWindow>::New();
-    window->SetSize(width, height);
-    window->SetOffScreenRendering(1);
-    window->SetOwnContext(false);
-    window->SetIsDirect(true);
-    window->SetSupportsOpenGL(true);
-    window->SetIsCurrent(true);
-    window->SetReadyForRendering(true);
-    window->SetMapped(1);
-    window->SetMultiSamples(8);
-    if (!window->InitializeFromCurrentContext()) {
-      release();
-      throw std::runtime_error("render: VTK could not use the EGL OpenGL context (OpenGL 3.2 needed)");
-    }
+    acquire(shared);
+    vtkGenericOpenGLRenderWindow* w = shared.window;
+    w->SetNumberOfLayers(1); // a figure sets its own layers
+    w->SetSize(width, height);
   }
 
-  void release() {
-    if (window) {
-      window->Finalize();
-      window = nullptr;
-    }
-    eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-    eglDestroyContext(display, context);
-    context = EGL_NO_CONTEXT;
-  }
-
+  /// The figure's renderers leave the window (releasing their graphics resources while the context is current; the
+  /// window's shader cache stays), and the context is released from this thread.
   ~Impl() {
-    if (context != EGL_NO_CONTEXT) release();
+    vtkGenericOpenGLRenderWindow* w = shared.window;
+    std::vector<vtkSmartPointer<vtkRenderer>> renderers;
+    w->GetRenderers()->InitTraversal();
+    while (vtkRenderer* r = w->GetRenderers()->GetNextItem()) renderers.emplace_back(r);
+    for (const auto& r : renderers) w->RemoveRenderer(r);
+    w->SetInteractor(nullptr);
+    eglMakeCurrent(shared.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
   }
 };
 
 Offscreen::Offscreen(int width, int height) : impl_(std::make_unique<Impl>(width, height)) {}
 Offscreen::~Offscreen() = default;
 
-vtkGenericOpenGLRenderWindow* Offscreen::window() const { return impl_->window; }
+vtkGenericOpenGLRenderWindow* Offscreen::window() const { return impl_->shared.window; }
 
 void Offscreen::save_png(const std::filesystem::path& png) {
-  impl_->window->Render();
+  impl_->shared.window->Render();
   vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(impl_->window);
+  grab->SetInput(impl_->shared.window);
   grab->SetInputBufferTypeToRGB();
   grab->ReadFrontBufferOff();
   grab->ShouldRerenderOff();

@@ -9,6 +9,7 @@
 #include "geartopo/render/composite.hpp"
 #include "geartopo/render/grid_view.hpp"
 #include "geartopo/render/heat_map.hpp"
+#include "geartopo/render/image.hpp"
 #include "geartopo/render/scale.hpp"
 #include "geartopo/render/surface_view.hpp"
 #include "geartopo/surfaces/gear_mesh.hpp"
@@ -424,7 +425,7 @@ Figure machine_figure(const workbench::Workbench& wb, const fs::path& dir) {
 
 Figure alignment_figure(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir) {
   render::LineChart c;
-  c.title = "Middle tooth-alignment curve: before (solid) and after compensation (dashed)";
+  c.title = "Middle tooth-alignment curve: before (solid) and the nominal model corrected by itself (dashed, ≈ 0)";
   c.size = {1200, 700};
   c.x = {"axial position z from the datum face", "mm", {}, {}};
   c.y = {"deviation", "µm", {}, {}};
@@ -450,8 +451,9 @@ Figure alignment_figure(const workbench::Workbench& wb, const pipeline::Pipeline
   c.legend = render::LegendPlace::above;
   render::render_line_chart(c, dir / "alignment_curve.png");
   return {"alignment_curve.png", "compensation", c.title,
-          fmt::format("Tooth-alignment curve {} of {} (mid profile) at the {} profile curves over the face width, before (solid) and after "
-                      "(dashed) the flank-method compensation; one colour per flank.",
+          fmt::format("Tooth-alignment curve {} of {} (mid profile) at the {} profile curves over the face width, before (solid) and, "
+                      "dashed, the nominal after-state: the model corrected by itself with the flank method, ≈ 0 by "
+                      "construction and not a result (the predicted after-state is the prediction figure); one colour per flank.",
                       (wb.scene.grid.rows + 1) / 2, wb.scene.grid.rows, wb.scene.grid.cols),
           c.size.width, c.size.height, std::nullopt, std::nullopt};
 }
@@ -669,14 +671,24 @@ std::vector<int> focus_teeth(const workbench::Workbench& wb) {
   return {1, z / 2 + 1};
 }
 
-std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir) {
-  fs::create_directories(dir / "panels");
-  std::vector<Figure> figs;
+namespace {
+
+/// The scale and magnification of both topology figures: from the focus teeth before compensation.
+std::pair<double, double> topology_scale(const workbench::Workbench& wb, const pipeline::PipelineResult& r) {
   std::vector<const grinding::FlankTopology*> focus;
   for (int t : focus_teeth(wb))
     for (Flank f : {Flank::Left, Flank::Right}) focus.push_back(find(r.before, t, f));
-  const double scale = max_abs(focus);
-  const double magnification = common_magnification(focus);
+  return {max_abs(focus), common_magnification(focus)};
+}
+
+} // namespace
+
+std::vector<Figure> render_before_figures(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir) {
+  fs::create_directories(dir / "panels");
+  // Each PNG is encoded on another thread while the next figure renders (render/image.hpp); all written on return.
+  render::BackgroundPngWrites png_writes;
+  std::vector<Figure> figs;
+  const auto [scale, magnification] = topology_scale(wb, r);
   figs.push_back(topology_figure(wb, r.before, dir, "topology_before.png", "Flank topology before compensation", "before", scale,
                                  magnification));
   for (auto& f : trace_figures(wb, r, shown_tolerance_class(wb, r), dir)) figs.push_back(std::move(f));
@@ -685,8 +697,22 @@ std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipelin
     figs.push_back(pitch_figure(wb, r.iso_before, shown_tolerance_class(wb, r), dir));
   if (auto ro = runout_figure(r.iso_before, shown_tolerance_class(wb, r), dir)) figs.push_back(std::move(*ro));
   figs.push_back(machine_figure(wb, dir));
-  Figure after = topology_figure(wb, r.after, dir, "topology_after.png", "Nominal model after its own compensation (≈ 0 by construction)",
-                                 "after", scale, magnification);
+  figs.push_back(gear_figure(wb, r, dir));
+  png_writes.finish();
+  return figs;
+}
+
+std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir,
+                                   std::vector<Figure> before) {
+  if (before.empty()) before = render_before_figures(wb, r, dir);
+  fs::create_directories(dir / "panels");
+  render::BackgroundPngWrites png_writes;
+  // The page's order: the figures before compensation, then these, and the 3D gear (the last before) last.
+  std::vector<Figure> figs(before.begin(), before.end() - 1);
+  const auto [scale, magnification] = topology_scale(wb, r);
+  Figure after = topology_figure(wb, r.after, dir, "topology_after.png",
+                                 "Nominal (the model corrected by itself, ≈ 0 by construction): not a result", "nominal after",
+                                 scale, magnification);
   after.section = "compensation";
   after.shared_scale = true;
   figs.push_back(after);
@@ -694,7 +720,8 @@ std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipelin
   if (r.prediction) figs.push_back(prediction_figure(*r.prediction, dir)); // prediction_report.cpp
   if (r.measurement)
     for (auto& f : measurement_figures(*r.measurement, dir)) figs.push_back(std::move(f));
-  figs.push_back(gear_figure(wb, r, dir));
+  figs.push_back(before.back());
+  png_writes.finish();
   return figs;
 }
 

@@ -4,6 +4,7 @@
 #include "geartopo/core/uncertain_value.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/report/iso_report.hpp"
+#include "geartopo/report/improvement.hpp"
 
 #include "geartopo/evaluation/crowning.hpp"
 #include "geartopo/evaluation/tolerances.hpp"
@@ -191,46 +192,40 @@ std::string trace_value_table(const workbench::IsoResult& iso, int tooth, int sh
   return h + "</table>\n" + not_applicable_note(p);
 }
 
-// Every evaluated tooth, one row: per flank the six ISO values, each with its class, and the crowning.
-std::string flank_table(const workbench::IsoResult& iso, const std::map<std::pair<int, Flank>, std::pair<double, double>>& crown) {
+// Every evaluated tooth of one flank side, one row: the six ISO values, each with its class, and the crowning. One
+// table per side (nine columns) so that each fits the printed A4 width (issue 25: one table of both sides was cut).
+std::string flank_table(const workbench::IsoResult& iso, Flank side,
+                        const std::map<std::pair<int, Flank>, std::pair<double, double>>& crown) {
   using Q = evaluation::Quantity;
   const auto& p = iso.parameters;
   const bool classify = !evaluation::validity_refusal(p);
   const Q order[] = {Q::ProfileTotal, Q::ProfileForm, Q::ProfileSlope, Q::HelixTotal, Q::HelixForm, Q::HelixSlope};
-  std::string h = "<div class=scroll><table class=flanks><tr><th rowspan=2>tooth</th><th colspan=8>left flank (µm, class)</th>"
-                  "<th colspan=8>right flank (µm, class)</th></tr><tr>";
-  for (int side = 0; side < 2; ++side) {
-    for (int k = 0; k < 6; ++k) {
-      h += "<th>" + esc(std::string(evaluation::symbol(order[k]))) + "</th>";
-      if (k == 2) h += "<th>C_α</th>";
-    }
-    h += "<th>C_β</th>";
+  std::string h = fmt::format("<table class=flanks><thead><tr><th>tooth</th><th colspan=8>{} flanks (µm, class)</th></tr><tr><th></th>",
+                              side == Flank::Left ? "left" : "right");
+  for (int k = 0; k < 6; ++k) {
+    h += "<th>" + esc(std::string(evaluation::symbol(order[k]))) + "</th>";
+    if (k == 2) h += "<th>C_α</th>";
   }
-  h += "</tr>\n";
-  std::map<int, std::pair<const evaluation::FlankEvaluation*, const evaluation::FlankEvaluation*>> teeth;
-  for (const auto& fe : iso.evaluation.flanks) (fe.side == Flank::Left ? teeth[fe.tooth].first : teeth[fe.tooth].second) = &fe;
-  for (const auto& [tooth, lr] : teeth) {
+  h += "<th>C_β</th></tr></thead>\n";
+  std::map<int, const evaluation::FlankEvaluation*> teeth;
+  for (const auto& fe : iso.evaluation.flanks)
+    if (fe.side == side) teeth[fe.tooth] = &fe;
+  for (const auto& [tooth, fe] : teeth) {
     h += fmt::format("<tr><td>{}</td>", tooth);
-    for (const auto* fe : {lr.first, lr.second}) {
-      if (!fe) {
-        h += "<td colspan=8>not evaluated</td>";
-        continue;
-      }
-      const auto it = crown.find({fe->tooth, fe->side});
-      for (int k = 0; k < 6; ++k) {
-        const auto& d = k < 3 ? fe->profile : fe->helix;
-        const double v = k % 3 == 0 ? d.total_um : k % 3 == 1 ? d.form_um : d.slope_um;
-        const std::string value = k % 3 == 2 ? signed_um(v) : fmt::format("{:.2f}", v);
-        h += "<td>" + value + " <span class=cls>" +
-             (classify ? evaluation::class_label(evaluation::tolerance_class(order[k], v, p)) : kNotApplicableDash) +
-             "</span></td>";
-        if (k == 2 || k == 5)
-          h += it == crown.end() ? "<td>–</td>" : "<td>" + signed_um(k == 2 ? it->second.first : it->second.second) + "</td>";
-      }
+    const auto it = crown.find({fe->tooth, fe->side});
+    for (int k = 0; k < 6; ++k) {
+      const auto& d = k < 3 ? fe->profile : fe->helix;
+      const double v = k % 3 == 0 ? d.total_um : k % 3 == 1 ? d.form_um : d.slope_um;
+      const std::string value = k % 3 == 2 ? signed_um(v) : fmt::format("{:.2f}", v);
+      h += "<td>" + value + " <span class=cls>" +
+           (classify ? evaluation::class_label(evaluation::tolerance_class(order[k], v, p)) : kNotApplicableDash) +
+           "</span></td>";
+      if (k == 2 || k == 5)
+        h += it == crown.end() ? "<td>–</td>" : "<td>" + signed_um(k == 2 ? it->second.first : it->second.second) + "</td>";
     }
     h += "</tr>\n";
   }
-  return h + "</table></div>\n" + not_applicable_note(p);
+  return h + "</table>\n" + not_applicable_note(p); // under each side's table: the two may stand apart
 }
 
 std::string means_table(const workbench::IsoResult& iso) {
@@ -266,25 +261,104 @@ std::string class_text(const std::optional<int>& c, const evaluation::GearParame
   return !c && evaluation::validity_refusal(p) ? kNotApplicableDash : evaluation::class_label(c);
 }
 
-std::string iso_table(const workbench::IsoResult& b, const workbench::IsoResult& a) {
-  std::string h = "<table><tr><th>quantity</th><th>before (µm)</th><th>class</th><th>where</th><th>after (µm)</th><th>class</th>"
-                  "<th>better</th></tr>\n";
+// The worst value of each ISO quantity before compensation, its class and where it is.
+std::string worst_values_table(const workbench::IsoResult& b) {
+  std::string h = "<table><thead><tr><th>quantity</th><th>worst (µm)</th><th>class</th><th>where</th></tr></thead>\n";
+  for (const auto& q : b.evaluation.classification.quantities)
+    h += fmt::format("<tr><td>{}</td><td>{:.2f}</td><td>{}</td><td>{}</td></tr>\n", esc(std::string(evaluation::symbol(q.quantity))),
+                     q.worst_value_um, class_text(q.flank_class, b.parameters), esc(q.where));
+  h += fmt::format("<tr><th>overall class</th><th colspan=3>{}</th></tr></table>\n",
+                   class_text(b.evaluation.classification.overall, b.parameters));
+  return h + not_applicable_note(b.parameters);
+}
+
+bool is_size_name(const std::string& n) {
+  return n.size() > 3 && n.compare(n.size() - 3, 3, "_um") == 0 && n != "thickness_um" && n != "rotation_um";
+}
+
+// Classes before → predicted after: every quantity's median [95 % interval] from the prediction, both sides, with its
+// class band and the predicted improvement (improvement.hpp). The nominal after-state is not in it.
+std::string predicted_table(const pipeline::MonteCarloSummary& p) {
+  std::map<std::string, Improvement> gain;
+  for (const auto& i : predicted_improvement(p)) gain[i.name] = i;
+  // µm in the header, not in every cell: the table fits the printed page.
+  const auto band = [&](const std::string& name, bool after) -> std::string {
+    const int k = p.find(name);
+    if (k < 0) return "–";
+    const auto& b = (after ? p.after : p.before)[static_cast<size_t>(k)];
+    if (name.size() > 6 && name.compare(name.size() - 6, 6, "_class") == 0) return esc(band_text(name, b));
+    return fmt::format("{:.2f} [{:.2f}, {:.2f}]", b.median, b.low, b.high);
+  };
+  std::string h = "<table class=result><thead><tr><th>quantity</th><th>before (µm)</th><th>class before</th>"
+                  "<th>predicted after (µm)</th><th>class after</th><th>improvement (%)</th></tr></thead>\n";
+  if (p.find("overall_class") >= 0)
+    h += "<tr class=overall><td>overall flank tolerance class</td><td></td><td>" + band("overall_class", false) +
+         "</td><td></td><td>" + band("overall_class", true) + "</td><td></td></tr>\n";
+  for (const auto& n : p.names) {
+    if (!is_size_name(n)) continue;
+    const std::string stem = n.substr(0, n.size() - 3);
+    const auto g = gain.find(n);
+    h += "<tr><td>" + esc(quantity_label(n)) + "</td><td>" + band(n, false) + "</td><td>" + band(stem + "_class", false) +
+         "</td><td>" + band(n, true) + "</td><td>" + band(stem + "_class", true) + "</td><td>" +
+         (g == gain.end() ? std::string("–") : esc(improvement_number_text(g->second))) + "</td></tr>\n";
+  }
+  return h + "</table>\n";
+}
+
+// Without a prediction (--samples 0): the model's values before, and the nominal after-state labelled as what it is.
+std::string nominal_table(const workbench::IsoResult& b, const workbench::IsoResult& a) {
+  std::string h = fmt::format("<table class=result><thead><tr><th>quantity</th><th>before (µm)</th><th>class</th>"
+                              "<th>{} (µm)</th><th>class</th></tr></thead>\n", kNominalLabel);
   const auto& qb = b.evaluation.classification.quantities;
   const auto& qa = a.evaluation.classification.quantities;
-  for (size_t i = 0; i < qb.size() && i < qa.size(); ++i) {
-    const double imp = std::abs(qb[i].worst_value_um) > 0 ? 100.0 * (std::abs(qb[i].worst_value_um) - std::abs(qa[i].worst_value_um)) /
-                                                                std::abs(qb[i].worst_value_um)
-                                                          : 0.0;
-    h += fmt::format("<tr><td>{}</td><td>{:.2f}</td><td>{}</td><td>{}</td><td>{:.2f}</td><td>{}</td><td>{:.0f} %</td></tr>\n",
-                     esc(std::string(evaluation::symbol(qb[i].quantity))), qb[i].worst_value_um,
-                     class_text(qb[i].flank_class, b.parameters), esc(qb[i].where), qa[i].worst_value_um,
-                     class_text(qa[i].flank_class, a.parameters), imp);
+  h += fmt::format("<tr class=overall><td>overall flank tolerance class</td><td></td><td>{}</td><td></td><td>{}</td></tr>\n",
+                   class_text(b.evaluation.classification.overall, b.parameters),
+                   class_text(a.evaluation.classification.overall, a.parameters));
+  const auto um = [](double v) { const std::string t = fmt::format("{:.2f}", v); return t == "-0.00" ? std::string("0.00") : t; };
+  for (size_t i = 0; i < qb.size() && i < qa.size(); ++i)
+    h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                     esc(std::string(evaluation::symbol(qb[i].quantity))), um(qb[i].worst_value_um),
+                     class_text(qb[i].flank_class, b.parameters), um(qa[i].worst_value_um), class_text(qa[i].flank_class, a.parameters));
+  return h + "</table>\n";
+}
+
+// The first page (its own sheet in print): what a customer reads in 30 seconds — the gear, the machine, the classes
+// before → predicted after, the diagnosis's verdict and one topology picture.
+std::string first_page(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const std::vector<Figure>& figs) {
+  const auto& s = wb.setup.geometry().spec();
+  std::string h = "<section class=first>\n";
+  h += fmt::format("<p class=lead><b>Gear</b> m_n {:g} mm, z {}, α_n {:.1f}°, β {:.1f}° {} hand, x {:g}, b {:g} mm. "
+                   "<b>Grinding machine</b> {}.</p>\n",
+                   s.normal_module_mm, s.teeth, s.normal_pressure_angle_rad * units::kDegPerRad,
+                   std::abs(s.helix_angle_rad) * units::kDegPerRad, gears::to_string(s.hand()), s.profile_shift,
+                   s.face_width_mm, esc(or_dash(wb.scene.machine.name)));
+  if (r.prediction) {
+    const auto& p = *r.prediction;
+    h += "<h2>ISO 1328-1:2013 classes before → predicted after compensation</h2>\n" + predicted_table(p);
+    h += fmt::format("<p class=note>Median [95 % interval] of {} Monte Carlo samples, each a machine drawn within the "
+                     "scene's uncertainties grinding the gear before and after the corrections (docs/monte-carlo.md); worst "
+                     "flank, slopes as |value|. Improvement: 100 (B − A)/B, B and A the medians before and after; its "
+                     "interval: A at the ends of the after-interval.</p>\n",
+                     p.samples);
+    const int cls = p.find("overall_class");
+    if (cls >= 0 && p.after[static_cast<size_t>(cls)].median > p.before[static_cast<size_t>(cls)].median)
+      h += "<p class=warn><b>The predicted gear is worse after compensation</b> (overall class, medians): do not apply "
+           "these corrections before the cause is found.</p>\n";
+  } else {
+    h += "<h2>ISO 1328-1:2013 classes</h2>\n" + nominal_table(r.iso_before, r.iso_after);
+    h += "<p class=note>No prediction was made (--samples 0): there is no predicted after-state and no improvement "
+         "figure. The " + std::string(kNominalLabel) + " column is ≈ 0 by construction and is not a result.</p>\n";
   }
-  const auto& cb = b.evaluation.classification;
-  const auto& ca = a.evaluation.classification;
-  h += fmt::format("<tr><th>overall class</th><th colspan=3>{}</th><th colspan=3>{}</th></tr></table>\n",
-                   class_text(cb.overall, b.parameters), class_text(ca.overall, a.parameters));
-  return h + not_applicable_note(b.parameters);
+  h += not_applicable_note(r.iso_before.parameters);
+  if (r.measurement) {
+    const auto& d = r.measurement->diagnosis;
+    h += "<p class=verdict><b>Diagnosis</b> (measurement " + esc(r.measurement->file) + "): " +
+         (d.chosen ? "the measurement shows an effect the scene does not model — <b>" + esc(d.chosen->name()) + "</b>. "
+                   : std::string("no missing effect found. ")) +
+         esc(d.verdict) + "</p>\n";
+  }
+  h += figures_of(figs, "topology");
+  return h + "</section>\n";
 }
 
 /// The run's date (UTC, ISO 8601): SOURCE_DATE_EPOCH when set (reproducible output), else now.
@@ -300,6 +374,10 @@ std::string run_date() {
   return fmt::format("{:04d}-{:02d}-{:02d}", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday);
 }
 
+// Screen: up to 1400 px wide. Print (A4, 12 mm margins: 186 mm = 703 CSS px of printable width, which every table
+// must fit — ReportTest.PrintEveryTableFitsTheA4PrintableWidth): 9 pt tables, figures at most 135 mm tall (the
+// nominal after-state's, ≈ 0, 80 mm; the measurement's two 120 and 100 mm, to share a page) so that pages fill, the first page a sheet of its own, long tables free to
+// continue on the next page (their header repeated), and no other forced break.
 const char* kStyle =
     "<style>*{box-sizing:border-box}html{font-size:16px}"
     "body{font-family:'DejaVu Sans',sans-serif;max-width:1400px;margin:0 auto;padding:1em 1.5em;color:#222;line-height:1.4}"
@@ -307,15 +385,27 @@ const char* kStyle =
     "table{border-collapse:collapse;margin:.8em 0;font-size:.92em}"
     "td,th{border:1px solid #bbb;padding:.2em .5em;text-align:right}th{background:#f2f2f2}td:first-child{text-align:left}"
     "table.header,table.data{width:100%}table.header th,table.data th{text-align:left;width:14%}"
-    "table.header td,table.data td{text-align:left}td.cls,span.cls{color:#666;font-size:.85em}table.flanks td{white-space:nowrap}"
+    "table.header td,table.data td{text-align:left;overflow-wrap:anywhere}td.cls,span.cls{color:#666;font-size:.85em}table.flanks td{white-space:nowrap}"
+    "table.result td{white-space:nowrap}table.result td:first-child{white-space:normal}table.result tr.overall td{font-weight:bold;background:#f6f8fa}"
+    ".pair{display:flex;flex-wrap:wrap;gap:0 1.5em;align-items:flex-start}"
     "figure{margin:1em 0}img{max-width:100%;height:auto;border:1px solid #ddd;display:block}"
     "figcaption{font-size:.9em;color:#444;max-width:75em}.scroll{max-width:100%;overflow-x:auto}"
     ".row{display:flex;flex-wrap:wrap;gap:1.2em;align-items:flex-start}.row figure{flex:1 1 620px;min-width:0;margin:0}"
-    ".row .side{flex:0 1 430px}.box{background:#f6f8fa;border:1px solid #ccd;padding:.6em 1.2em}"
+    ".row .side{flex:0 1 430px}.first{background:#f6f8fa;border:1px solid #ccd;padding:.2em 1.2em .6em}"
+    ".first h2{margin-top:.3em}.lead{font-size:1.05em}.warn{color:#a00}.verdict{border-left:4px solid #1f77b4;padding-left:.6em}"
+    ".first figure img{max-height:560px;width:auto}"
     ".note{color:#666;font-size:.9em}pre{background:#f6f6f6;padding:.6em;overflow-x:auto}"
     "@page{size:A4;margin:12mm}"
-    "@media print{body{max-width:none;padding:0;font-size:10pt}h2{break-after:avoid}figure,table{break-inside:avoid}"
-    ".row figure{flex-basis:100%}}</style>";
+    "@media print{body{max-width:none;padding:0;font-size:9.5pt;line-height:1.3}h1{font-size:1.45em}"
+    "h2{break-after:avoid;font-size:1.2em;padding-top:.3em;margin:.6em 0 .3em}"
+    "table{font-size:9pt;margin:.4em 0;break-inside:auto}tr{break-inside:avoid}thead{display:table-header-group}"
+    "td,th{padding:.1em .35em}table.header th,table.data th{width:auto}"
+    "figure{break-inside:avoid;margin:.5em 0}img{width:auto;max-height:135mm}img[src=\"topology_after.png\"]{max-height:80mm}img[src=\"measured_vs_model.png\"]{max-height:120mm}"
+    "img[src=\"diagnosis.png\"]{max-height:100mm}figcaption{font-size:8.5pt}"
+    ".scroll{overflow:visible}.first{break-after:page;border:none;background:none;padding:0}"
+    ".first figure{display:flex;gap:1em;align-items:flex-end}.first figure img{max-height:66mm;max-width:62%}"
+    ".row{flex-wrap:nowrap;gap:.8em}.row figure{flex:0 0 52%}.row figure img{max-height:90mm}.row figcaption{font-size:7.5pt}.row .side{flex:1 1 auto}"
+    ".row table.values{font-size:8pt}}</style>";
 
 } // namespace
 
@@ -328,32 +418,15 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
        "<title>geartopo report — " + esc(wb.scene.name) + "</title>\n" + kStyle + "</head><body>\n";
   h += "<h1>Gear flank inspection report — " + esc(or_dash(wb.scene.name)) + "</h1>\n";
   h += header_block(wb, r.iso_before.evaluation.conventions, options.date.value_or(run_date()));
+  h += first_page(wb, r, figs);
+
+  h += "<h2>Gear data</h2>\n";
   h += "<p class=note>Deviations in µm, plus material positive: topology grids along the flank normal, ISO 1328-1 values " +
        esc(evaluation::describe(r.iso_before.evaluation.conventions)) +
        " (docs/iso1328.md); teeth numbered clockwise seen from the datum face; flanks left/right per DIN ISO 21771; "
        "ISO 1328-1:2013 flank tolerance classes. The simulated state before compensation is evaluated unless a section "
        "says otherwise.</p>\n";
-
-  h += "<div class=box><h3>Summary</h3><ul>";
-  const auto& cb = r.iso_before.evaluation.classification;
-  const auto& ca = r.iso_after.evaluation.classification;
-  if (r.prediction) {
-    h += prediction_summary_html(*r.prediction); // the after-state as a band (prediction_report.hpp)
-  } else {
-    h += fmt::format("<li>Largest |deviation| of the {} grids, all teeth: <b>{:.2f} µm</b> before; the nominal model "
-                     "compensating itself (flank method): {:.2f} µm — no prediction was made (--samples 0).</li>",
-                     grid_label(r), r.largest_before_um, r.largest_after_um);
-    h += fmt::format("<li>Overall flank tolerance class: <b>{}</b> before, {} nominal after.</li>",
-                     class_text(cb.overall, r.iso_before.parameters), class_text(ca.overall, r.iso_after.parameters));
-  }
-  if (r.measurement && r.measurement->diagnosis.chosen)
-    h += "<li>Diagnosis: the measurement shows an effect the scene does not model — <b>" + esc(r.measurement->diagnosis.chosen->name()) +
-         "</b> (details under “Model vs measurement”).</li>";
-  else if (r.measurement)
-    h += "<li>Diagnosis: no missing effect found (details under “Model vs measurement”).</li>";
-  h += "</ul>" + not_applicable_note(r.iso_before.parameters) + "</div>\n";
-
-  h += "<h2>Gear data</h2>\n" + gear_data_block(wb) + figures_of(figs, "gear");
+  h += gear_data_block(wb) + figures_of(figs, "gear");
 
   h += "<h2>Profile and helix</h2>\n";
   const bool classified = !evaluation::validity_refusal(r.iso_before.parameters);
@@ -370,13 +443,13 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
            "</div></div>\n";
 
   h += "<h2>ISO 1328-1:2013 — every evaluated flank</h2>\n<p class=note>Each value with its flank tolerance class in grey; "
-       "C_α, C_β: crowning (not toleranced).</p>\n" + flank_table(r.iso_before, crown);
+       "C_α, C_β: crowning (not toleranced).</p>\n<div class=pair>" + flank_table(r.iso_before, Flank::Left, crown) +
+       flank_table(r.iso_before, Flank::Right, crown) + "</div>\n";
   h += "<p>Mean slopes over the flanks evaluated, per side:</p>" + means_table(r.iso_before);
-  h += figures_of(figs, "pitch") + figures_of(figs, "runout");
-  h += "<h2>ISO 1328-1:2013 — before and after compensation</h2>\n" + iso_table(r.iso_before, r.iso_after);
+  h += "<h2>ISO 1328-1:2013 — worst values before compensation</h2>\n" + worst_values_table(r.iso_before);
   h += tolerance_table(r.iso_before.parameters, shown_class);
+  h += figures_of(figs, "pitch") + figures_of(figs, "runout");
 
-  h += "<h2>Topology before compensation</h2>\n" + figures_of(figs, "topology");
   h += "<h2>Machine</h2><p>" + esc(wb.scene.machine.name.empty() ? "machine without a name" : wb.scene.machine.name) + ".</p>\n";
   h += figures_of(figs, "machine");
   h += "<h2>Compensation (flank method)</h2>\n";
@@ -387,6 +460,10 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
                      r.corrections->rows().size(), units::um_from_mm(m(0)), units::um_from_mm(m(1)), units::um_from_mm(m(2)), units::urad_from_rad(m(3)), units::urad_from_rad(m(4)),
                      r.corrections->rows_outside_strokes());
   }
+  h += fmt::format("<p class=note>The {}: largest |deviation| {:.2f} µm, overall class {} — ≈ 0 by construction, a check "
+                   "of the corrections against the model, not a result; the result is the prediction{}.</p>\n",
+                   kNominalLabel, r.largest_after_um, class_text(r.iso_after.evaluation.classification.overall, r.iso_after.parameters),
+                   r.prediction ? " (first page, and the figure below)" : ", not made here (--samples 0)");
   h += figures_of(figs, "compensation");
   if (r.measurement) {
     const auto& m = *r.measurement;
@@ -400,7 +477,8 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
       h += "</ul>\n";
     }
     h += figures_of(figs, "measurement");
-    h += "<div class=scroll><table><tr><th>rank</th><th>effect</th><th>ΔBIC</th><th>explained</th><th>RMS after (µm)</th><th>parameters (±1σ)</th></tr>";
+    h += "<div class=scroll><table><thead><tr><th>rank</th><th>effect</th><th>ΔBIC</th><th>explained</th><th>RMS after (µm)</th>"
+         "<th>parameters (±1σ)</th></tr></thead>"; // thead: repeated when the table continues on the next printed page
     int rank = 1;
     for (const auto& c : m.diagnosis.ranked) {
       std::string params;
@@ -422,8 +500,8 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
 }
 
 std::vector<Figure> write_report(const std::filesystem::path& dir, const workbench::Workbench& wb, const pipeline::PipelineResult& r,
-                                 const ReportOptions& options) {
-  auto figs = render_figures(wb, r, dir);
+                                 const ReportOptions& options, std::vector<Figure> before) {
+  auto figs = render_figures(wb, r, dir, std::move(before));
   write_html_report(dir, wb, r, figs, options);
   nlohmann::json man = nlohmann::json::array();
   for (const auto& f : figs) {

@@ -211,7 +211,8 @@ TEST(Cli, JsonSummariesAreOneObjectOnStdout) {
   const CliResult comp = run("compensate " + kScene + " --out " + dir.string() + " --samples 2 --json");
   ASSERT_EQ(comp.code, 0) << comp.err;
   const auto jm = nlohmann::json::parse(comp.out);
-  EXPECT_TRUE(jm.contains("before") && jm.contains("after") && jm.contains("prediction") && jm.contains("warnings"));
+  EXPECT_TRUE(jm.contains("before") && jm.contains("nominal_after") && jm.contains("prediction") && jm.contains("improvement") &&
+              jm.contains("warnings"));
   std::filesystem::remove_all(dir);
 }
 
@@ -340,12 +341,34 @@ TEST(Cli, CompensateWritesCorrectionsAndBeforeAfter) {
   std::ifstream in(dir / "iso1328.json");
   const auto j = nlohmann::json::parse(in);
   EXPECT_TRUE(j.contains("before"));
-  EXPECT_TRUE(j.contains("after"));
-  EXPECT_EQ(j["after"]["flanks"].size(), 70u);
-  const auto& largest = j["improvement"]["largest_abs_deviation_um"];
-  EXPECT_LT(largest["after"].get<double>(), 0.05 * largest["before"].get<double>());
+  // Issue 25: the model corrected by itself (≈ 0 by construction) is never `after`: it is kept as `nominal_after`,
+  // and every after-state or improvement a user reads comes from the prediction.
+  EXPECT_FALSE(j.contains("after"));
+  ASSERT_TRUE(j.contains("nominal_after"));
+  EXPECT_EQ(j["nominal_after"]["flanks"].size(), 70u);
+  const auto& largest = j["largest_abs_deviation_um"];
+  EXPECT_LT(largest["nominal_after"].get<double>(), 0.05 * largest["before"].get<double>());
   EXPECT_EQ(j["compensation"]["rows_outside_strokes"].get<int>(), 0);
   EXPECT_NE(r.out.find("largest |deviation|"), std::string::npos);
+  ASSERT_TRUE(j.contains("prediction")) << "compensate predicts by default";
+  ASSERT_TRUE(j.contains("improvement"));
+  // Truth: the improvement recomputed here from the prediction's own medians and after-interval (its definition,
+  // docs/compensation.md); the nominal after (≈ 0) would give ≈ 100 % instead.
+  int checked = 0;
+  for (const auto& [name, imp] : j["improvement"]["quantities"].items()) {
+    const auto& q = j["prediction"]["quantities"][name];
+    const double b = q["before"]["median"], a = q["after"]["median"], lo = q["after"]["low"], hi = q["after"]["high"];
+    EXPECT_NEAR(imp["improvement_percent"].get<double>(), 100.0 * (b - a) / b, 1e-9) << name;
+    EXPECT_NEAR(imp["improvement_low_percent"].get<double>(), 100.0 * (b - hi) / b, 1e-9) << name;
+    EXPECT_NEAR(imp["improvement_high_percent"].get<double>(), 100.0 * (b - lo) / b, 1e-9) << name;
+    ++checked;
+  }
+  EXPECT_GE(checked, 10); // nine ISO sizes and the largest |deviation|
+  const double nominal_gain = 100.0 * (1.0 - largest["nominal_after"].get<double>() / largest["before"].get<double>());
+  EXPECT_GT(nominal_gain, 99.0); // what the nominal would claim …
+  EXPECT_LT(j["improvement"]["quantities"]["largest_abs_um"]["improvement_percent"].get<double>(), 90.0); // … and what is predicted
+  EXPECT_EQ(r.out.find("100 %"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Predicted improvement"), std::string::npos) << r.out;
   // The default scene's 1 µm / 1 mdeg command resolution turns the small C and A corrections into steps: the
   // predicted gear comes out a class worse (docs/monte-carlo.md). Whenever the medians say worse, it is a warning,
   // on stderr and in iso1328.json, not a silent table.
@@ -355,6 +378,16 @@ TEST(Cli, CompensateWritesCorrectionsAndBeforeAfter) {
     EXPECT_EQ(worse, r.err.find("the predicted gear is worse after compensation") != std::string::npos) << r.err;
     EXPECT_EQ(worse, j["warnings"].dump().find("predicted gear is worse") != std::string::npos);
   }
+  // Without a prediction there is no improvement figure at all, and the nominal values say what they are.
+  const CliResult none = run("compensate " + kScene + " --out " + dir.string() + " --method flank --step 5 --samples 0");
+  ASSERT_EQ(none.code, 0) << none.err;
+  const auto j0 = nlohmann::json::parse(std::ifstream(dir / "iso1328.json"));
+  EXPECT_FALSE(j0.contains("improvement"));
+  EXPECT_FALSE(j0.contains("after"));
+  EXPECT_FALSE(j0.contains("prediction"));
+  EXPECT_TRUE(j0.contains("nominal_after"));
+  EXPECT_NE(none.out.find("nominal (the model corrected by itself)"), std::string::npos) << none.out;
+  EXPECT_EQ(none.out.find("%"), std::string::npos) << "a percentage without a prediction: " << none.out;
   std::filesystem::remove_all(dir);
   EXPECT_EQ(run("compensate " + kScene + " --out " + dir.string() + " --method magic").code, 2);
   EXPECT_EQ(run("compensate " + kScene + " --out " + dir.string() + " --step 0").code, 2);

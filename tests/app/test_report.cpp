@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -76,6 +77,42 @@ TEST_F(ReportTest, HtmlRefersOnlyToFilesThatExistAndIsOffline) {
   EXPECT_NE(html.find("ISO 1328-1"), std::string::npos);
   EXPECT_NE(html.find("Verdict"), std::string::npos);
   EXPECT_NE(html.find("thermal_drift"), std::string::npos); // the demo's hidden effect is found and named
+}
+
+// Issue 25: the first page shows the after-state as the prediction (median [95 % interval]) and never the nominal
+// model corrected by itself (≈ 0 by construction: "0.00 µm, class 1, better 100 %"). Truth: prediction.json written
+// beside the page by the same run; the nominal largest |deviation| from iso1328.json.
+TEST_F(ReportTest, FirstPageShowsThePredictionNeverTheNominalAfterState) {
+  ASSERT_EQ(code_, 0);
+  std::ifstream in(*dir_ / "index.html");
+  std::stringstream s;
+  s << in.rdbuf();
+  const std::string html = s.str();
+  const auto begin = html.find("<section class=first>"), end = html.find("</section>", begin);
+  ASSERT_NE(begin, std::string::npos);
+  ASSERT_NE(end, std::string::npos);
+  const std::string first = html.substr(begin, end - begin);
+  const auto p = nlohmann::json::parse(std::ifstream(*dir_ / "prediction.json"));
+  const auto iso = nlohmann::json::parse(std::ifstream(*dir_ / "iso1328.json"));
+  const auto& after = p["quantities"]["largest_abs_um"]["after"];
+  char expected[128];
+  std::snprintf(expected, sizeof expected, "<td>%.2f [%.2f, %.2f]</td>", after["median"].get<double>(),
+                after["low"].get<double>(), after["high"].get<double>());
+  EXPECT_NE(first.find(expected), std::string::npos) << "the predicted after-state " << expected << " is not on page 1";
+  char nominal[64];
+  std::snprintf(nominal, sizeof nominal, "<td>%.2f</td>", iso["largest_abs_deviation_um"]["nominal_after"].get<double>());
+  EXPECT_EQ(first.find(nominal), std::string::npos) << "the nominal after-state " << nominal << " is on page 1";
+  EXPECT_EQ(first.find("corrected by itself"), std::string::npos);
+  EXPECT_EQ(first.find("nominal after"), std::string::npos);
+  EXPECT_EQ(html.find("better"), std::string::npos) << "a 'better' column of the nominal after-state";
+  EXPECT_EQ(html.find("100 %"), std::string::npos);
+  EXPECT_NE(first.find("topology_before.png"), std::string::npos) << "one topology picture on the first page";
+  EXPECT_NE(first.find("Diagnosis"), std::string::npos);
+  // Anywhere else on the page the nominal after-state is named as what it is.
+  const auto topology_after = html.find("<img src=\"topology_after.png\" alt=\"");
+  ASSERT_NE(topology_after, std::string::npos);
+  EXPECT_NE(html.substr(topology_after, 200).find("the model corrected by itself"), std::string::npos)
+      << html.substr(topology_after, 200);
 }
 
 // A measured grid with a whole row missing on one flank (accepted by the topology reader) cannot be drawn as heat

@@ -13,6 +13,8 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 #include <unistd.h>
 
 #include "app/report_fixture.hpp"
@@ -104,6 +106,86 @@ TEST_F(ReportTest, PagePrintToPdfGivesAPdfOfSeveralPages) {
   const std::regex page_object(R"(/Type\s*/Page(?!s))");
   const auto pages = std::distance(std::sregex_iterator(bytes.begin(), bytes.end(), page_object), std::sregex_iterator());
   EXPECT_GE(pages, 5) << "the report should print to several A4 pages";
+}
+
+// Issue 25: the printed report cut the all-teeth table at the right edge. Every table (and figure) must fit the A4
+// printable width: 210 mm − 2 × 12 mm margins (the page's @page rule) = 186 mm = 703 CSS px. Truth: Chromium's own
+// layout of the page with its print rules applied, at that width — a copy of the page whose probe script moves every
+// @media print rule into the screen cascade, then reports each table and image whose right edge passes 703 px.
+TEST_F(ReportTest, PrintEveryTableFitsTheA4PrintableWidth) {
+  ASSERT_EQ(code_, 0);
+  if (!chromium_present()) GTEST_SKIP() << "chromium is not installed (Debian package 'chromium'): print width not checked";
+  std::string html = page_text_of(*dir_ / "index.html");
+  ASSERT_NE(html.find("@page{size:A4;margin:12mm}"), std::string::npos) << "the print width below assumes these margins";
+  const std::string probe =
+      "<script>window.addEventListener('load',()=>{let css='';"
+      "for(const sh of document.styleSheets)for(const r of sh.cssRules)"
+      "if(r instanceof CSSMediaRule&&r.media.mediaText.includes('print'))for(const q of r.cssRules)css+=q.cssText+'\\n';"
+      "const st=document.createElement('style');st.textContent=css;document.head.appendChild(st);"
+      "const limit=703.5;const wide=[];let n=0;"
+      "for(const e of document.querySelectorAll('table,img')){++n;const b=e.getBoundingClientRect();"
+      "if(b.right>limit||b.left<-0.5){const t=(e.tagName==='IMG'?e.getAttribute('src'):(e.querySelector('th')||e).textContent)"
+      ".slice(0,40).replace(/\\s+/g,' ');wide.push(e.tagName+' '+Math.round(b.right)+'px '+t);}}"
+      "const p=document.createElement('pre');p.id='probe';p.textContent='PROBE checked='+n+' wide='+wide.length+' ['+"
+      "wide.join(' | ')+'] END';document.body.appendChild(p);});</script>";
+  const auto at = html.rfind("</body>");
+  ASSERT_NE(at, std::string::npos);
+  html.insert(at, probe);
+  std::ofstream(*dir_ / "print_probe.html") << html;
+  const fs::path dom = *dir_ / "print_probe_dom.html";
+  ASSERT_EQ(run_chromium(*dir_ / "profile_print", "--window-size=703,1000 --virtual-time-budget=20000 --dump-dom file://" +
+                                                           (*dir_ / "print_probe.html").string() + " > " + dom.string() +
+                                                           " 2>/dev/null; true",
+                         *dir_ / "print_probe.log"),
+            0);
+  const std::string out = page_text_of(dom);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(out, m, std::regex(R"(PROBE checked=(\d+) wide=(\d+) \[([^\]]*)\] END)")))
+      << "the probe did not run: " << out.substr(0, 400);
+  EXPECT_GE(std::stoi(m[1]), 20) << "too few tables and images checked";
+  EXPECT_EQ(std::stoi(m[2]), 0) << "wider than the A4 printable width (703 px): " << m[3];
+}
+
+// The printed first page is the customer's summary: classes before → predicted after, the diagnosis, no nominal
+// after-state; and no page is left mostly empty by the layout. Truth: the PDF Chromium prints, read back with
+// poppler's pdftotext (skipped without poppler-utils).
+TEST_F(ReportTest, PrintFirstPageIsTheSummaryAndNoPageIsMostlyEmpty) {
+  ASSERT_EQ(code_, 0);
+  if (!chromium_present()) GTEST_SKIP() << "chromium is not installed (Debian package 'chromium'): PDF not checked";
+  if (std::system("command -v pdftotext > /dev/null 2>&1") != 0) GTEST_SKIP() << "pdftotext (poppler-utils) is not installed";
+  const fs::path pdf = *dir_ / "summary_check.pdf";
+  ASSERT_EQ(run_chromium(*dir_ / "profile_pdf2", "--no-pdf-header-footer --print-to-pdf=" + pdf.string() + " file://" +
+                                                          (*dir_ / "index.html").string(),
+                         *dir_ / "pdf2.log"),
+            0);
+  ASSERT_EQ(std::system(("pdftotext -layout -f 1 -l 1 " + pdf.string() + " " + (*dir_ / "page1.txt").string()).c_str()), 0);
+  const std::string page1 = page_text_of(*dir_ / "page1.txt");
+  EXPECT_NE(page1.find("predicted after"), std::string::npos) << page1;
+  EXPECT_NE(page1.find("overall flank"), std::string::npos) << page1;
+  EXPECT_NE(page1.find("Diagnosis"), std::string::npos) << page1;
+  EXPECT_NE(page1.find("Flank topology before"), std::string::npos) << "the topology picture's caption: " << page1;
+  EXPECT_EQ(page1.find("corrected by itself"), std::string::npos) << page1; // the nominal after-state's label
+  EXPECT_EQ(page1.find("nominal after"), std::string::npos) << page1;
+  // Every page but the last carries text on most of its height: a page whose text ends in its upper half was left
+  // half empty (a forced break, or a block too tall for what was left of it). pdftotext -bbox gives each word's box.
+  ASSERT_EQ(std::system(("pdftotext -bbox " + pdf.string() + " " + (*dir_ / "words.html").string()).c_str()), 0);
+  const std::string words = page_text_of(*dir_ / "words.html");
+  const std::regex page_re(R"re(<page width="([0-9.]+)" height="([0-9.]+)">)re"), word_re(R"re(yMax="([0-9.]+)")re");
+  std::vector<std::pair<double, double>> pages; // (height, lowest text)
+  for (auto it = std::sregex_iterator(words.begin(), words.end(), page_re); it != std::sregex_iterator(); ++it)
+    pages.push_back({std::stod((*it)[2]), 0.0});
+  ASSERT_GE(pages.size(), 5u);
+  std::size_t from = 0;
+  for (size_t k = 0; k < pages.size(); ++k) {
+    const std::size_t start = words.find("<page ", from), stop = words.find("</page>", start);
+    const std::string body = words.substr(start, stop - start);
+    for (auto it = std::sregex_iterator(body.begin(), body.end(), word_re); it != std::sregex_iterator(); ++it)
+      pages[k].second = std::max(pages[k].second, std::stod((*it)[1]));
+    from = stop;
+  }
+  for (size_t k = 0; k + 1 < pages.size(); ++k)
+    EXPECT_GT(pages[k].second, 0.6 * pages[k].first) << "page " << k + 1 << " of " << pages.size() << " ends its text at "
+                                                     << pages[k].second << " of " << pages[k].first << " pt";
 }
 
 // Each trace chart's deviation axis holds the whole trace and the whole tolerance box, and is not blown up beyond a

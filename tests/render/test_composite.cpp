@@ -54,7 +54,7 @@ TEST(Composite, GridOfFourPanels) {
   EXPECT_EQ(count_colour(read_png(png), {0, 150, 0}, 0), 4U * 100U * 80U);
 }
 
-TEST(Threads, RenderCallsFromSeveralThreadsEachGetTheirOwnContext) {
+TEST(Threads, RenderCallsFromSeveralThreadsTakeTurnsOnTheOneContext) {
   std::vector<std::filesystem::path> paths;
   for (int k = 0; k < 3; ++k) paths.push_back(test::output("thread_" + std::to_string(k) + ".png"));
   const auto render = [&paths](int k) {

@@ -7,6 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
 
 namespace geartopo::render {
 namespace {
@@ -50,6 +54,35 @@ TEST(ImagePng, WriteThenReadKeepsPixelsAndOrientation) {
   EXPECT_EQ(back.at(0, 0), (Rgb{255, 0, 0}));
   EXPECT_EQ(back.at(6, 4), (Rgb{0, 0, 255}));
   EXPECT_EQ(back.at(3, 2), colours::white);
+}
+
+// Background writes give the same bytes as direct ones (truth: the direct write of the same pixels), a read of a
+// queued file waits for it, and finish() reports a file that could not be written.
+TEST(ImagePng, BackgroundWritesGiveTheDirectBytesAndReadsWaitForThem) {
+  Image img = uniform(300, 200, colours::white);
+  for (std::size_t i = 0; i < img.pixels.size(); i += 7) img.pixels[i] = {static_cast<std::uint8_t>(i % 251), 40, 200};
+  const auto direct = test::output("direct.png");
+  write_png(img, direct);
+  std::vector<std::filesystem::path> queued;
+  {
+    BackgroundPngWrites writes;
+    for (int k = 0; k < 6; ++k) {
+      queued.push_back(test::output("queued_" + std::to_string(k) + ".png"));
+      write_png(img, queued.back());
+    }
+    const Image back = read_png(queued.back()); // queued a moment ago: waits for it
+    EXPECT_EQ(back.pixels, img.pixels);
+    writes.finish();
+  }
+  const auto bytes = [](const std::filesystem::path& f) {
+    std::ifstream in(f, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  for (const auto& f : queued) EXPECT_EQ(bytes(f), bytes(direct)) << f;
+
+  BackgroundPngWrites failing;
+  write_png(img, test::output("no_such_folder") / "x.png");
+  EXPECT_THROW(failing.finish(), std::runtime_error);
 }
 
 TEST(ColourMap, DivergingBlueWhiteRed) {

@@ -67,6 +67,10 @@ struct PipelineOptions {
   /// candidates of the diagnosis (diagnosis::DiagnoseOptions::on_candidate_fitted). The prediction's samples are
   /// told through prediction->on_sample_done.
   std::function<void(long long, long long)> progress;
+  /// Called once, on the calling thread, as soon as the gear before compensation is simulated and evaluated, with the
+  /// result so far: `before`, `iso_before` and `largest_before_um` set, nothing else. A report copies what it needs
+  /// and draws it on another thread while the pipeline compensates, predicts and diagnoses (`geartopo run`).
+  std::function<void(const PipelineResult& before_only)> before_ready;
 };
 
 PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOptions& options);

@@ -22,6 +22,20 @@ Image read_png(const std::filesystem::path& png);
 /// Writes an RGB PNG. Throws std::runtime_error when the file cannot be written.
 void write_png(const Image& image, const std::filesystem::path& png);
 
+/// While one is alive, every PNG this library writes (figures, panels, composites) is encoded and written on one
+/// background thread, so that the next figure renders meanwhile: both cores busy. The pixels are copied first, so the
+/// files are byte for byte what a direct write gives. read_png of a file still queued waits for it. finish() waits
+/// for every file and rethrows the first write's error; the destructor waits and drops errors (an exception is
+/// already on its way). At most one per process at a time (std::logic_error otherwise).
+class BackgroundPngWrites {
+public:
+  BackgroundPngWrites();
+  ~BackgroundPngWrites();
+  BackgroundPngWrites(const BackgroundPngWrites&) = delete;
+  BackgroundPngWrites& operator=(const BackgroundPngWrites&) = delete;
+  void finish();
+};
+
 struct ImageStats {
   int width = 0;
   int height = 0;

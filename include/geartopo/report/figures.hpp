@@ -41,6 +41,14 @@ int shown_tolerance_class(const workbench::Workbench& wb, const pipeline::Pipeli
 /// Teeth the detailed figures show: the scene's measurement teeth, else 1 and the tooth half a turn away.
 std::vector<int> focus_teeth(const workbench::Workbench& wb);
 
-std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const std::filesystem::path& dir);
+/// The figures of the gear before compensation (topology, traces, pitch, runout, machine errors, 3D gear): they need
+/// r.before, r.iso_before and r.largest_before_um only, so `run` draws them on another thread while the pipeline goes
+/// on (PipelineOptions::before_ready). The same files and pixels as render_figures draws.
+std::vector<Figure> render_before_figures(const workbench::Workbench& wb, const pipeline::PipelineResult& r,
+                                          const std::filesystem::path& dir);
+/// Every figure of the report, in the page's order; `before`: what render_before_figures returned for this gear
+/// (empty: drawn here).
+std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const std::filesystem::path& dir,
+                                   std::vector<Figure> before = {});
 
 } // namespace geartopo::report

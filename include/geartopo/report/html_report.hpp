@@ -21,8 +21,9 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
                        const std::vector<Figure>& figures, const ReportOptions& options = {});
 
 /// Figures, index.html and figures.json (the manifest: file, size, data and colour ranges, and for trace figures each
-/// chart's data, tolerance box and axis range) into dir.
+/// chart's data, tolerance box and axis range) into dir. `before`: render_before_figures of this gear, drawn already
+/// (empty: drawn here).
 std::vector<Figure> write_report(const std::filesystem::path& dir, const workbench::Workbench& wb, const pipeline::PipelineResult& r,
-                                 const ReportOptions& options = {});
+                                 const ReportOptions& options = {}, std::vector<Figure> before = {});
 
 } // namespace geartopo::report

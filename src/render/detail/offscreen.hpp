@@ -14,9 +14,11 @@ namespace geartopo::render::detail {
 /// Serialises all VTK work of this library: VTK's font cache and object factories are process-wide singletons.
 std::mutex& render_mutex();
 
-/// One context per figure. Construct it BEFORE any VTK object of the figure and let it die after them (declare it
-/// first): the window releases its OpenGL resources while the context is still current.
-/// Holds render_mutex() for its lifetime. Throws std::runtime_error when no EGL/OpenGL context can be made.
+/// A figure's borrow of the process's one OpenGL context and render window (kept between figures, so that shaders are
+/// compiled once per process, not per figure). Construct it BEFORE any VTK object of the figure and let it die after
+/// them (declare it first): the figure's renderers leave the window, releasing their OpenGL resources, while the
+/// context is still current. Holds render_mutex() for its lifetime. Throws std::runtime_error when no EGL/OpenGL
+/// context can be made.
 class Offscreen {
 public:
   Offscreen(int width, int height);
@@ -33,7 +35,8 @@ private:
   std::unique_ptr<Impl> impl_;
 };
 
-/// Writes an RGB(A) vtkImageData to `png` (rows bottom-up, as VTK stores them). Throws std::runtime_error.
+/// Writes an 8-bit RGB vtkImageData to `png` (rows bottom-up, as VTK stores them). Throws output::OutputError when the
+/// file cannot be written, std::invalid_argument for another pixel format.
 void write_vtk_png(vtkImageData* image, const std::filesystem::path& png);
 
 /// Defined in glew_init_wrapper.cpp; called from Offscreen so that a static link always pulls that file in.
