@@ -17,13 +17,11 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 echo "time-run: $(nproc) cores; load before: $(uptime | sed 's/.*load average: //')"
 walls=()
+TIMEFORMAT='%R %U %S' # bash's own `time`: wall, user and system seconds (no /usr/bin/time or bc needed)
 for i in $(seq 1 "$runs"); do
-  start=$(date +%s.%N)
-  /usr/bin/time -f "%U %S" -o "$out/time.txt" "$bin" run "$root/scenes/skmc1200w-mn14-z35.yaml" --out "$out/run$i" --quiet "$@" \
-    > /dev/null 2> "$out/err.txt" || { cat "$out/err.txt" >&2; exit 1; }
-  end=$(date +%s.%N)
-  wall=$(echo "$end - $start" | bc -l)
-  read -r user sys < "$out/time.txt"
+  { time "$bin" run "$root/scenes/skmc1200w-mn14-z35.yaml" --out "$out/run$i" --quiet "$@" > /dev/null 2> "$out/err.txt" \
+      || { cat "$out/err.txt" >&2; exit 1; }; } 2> "$out/time.txt"
+  read -r wall user sys < "$out/time.txt"
   printf "time-run: run %d: %.2f s wall, %.2f s user, %.2f s system\n" "$i" "$wall" "$user" "$sys"
   walls+=("$wall")
 done

@@ -165,7 +165,8 @@ void register_compensate_command(CLI::App& app, Action& action) {
         // What the position-only table leaves: the machine's geometric errors with the wheel centre put back.
         compensation::write_isg_table(out / "isg_compensation.csv", *isg, isg_options.limits);
         const compensation::PositionCompensatedProcess position_only(wb.machine_process, Eigen::Vector3d::Zero());
-        const auto left = grinding::simulate_topology(wb.setup, position_only, so);
+        const workbench::WithDesignMotion designed(wb, position_only); // the drawing's helix motions still run
+        const auto left = grinding::simulate_topology(wb.setup, designed.process(), so);
         const auto iso_left = workbench::evaluate_iso(g, wb.setup.ranges(), left, opt->iso);
         const double max_left = grinding::largest_abs_deviation_um(left);
         nlohmann::json left_json = {{"largest_abs_deviation_um", max_left}};

@@ -65,8 +65,9 @@ std::string compensation_made_worse(double before_um, double after_um) {
   const std::string growth = before_um > kWorseToleranceUm
                                  ? fmt::format("{:+.3f} µm, {:+.1f} %", after_um - before_um, 100.0 * (after_um - before_um) / before_um)
                                  : fmt::format("{:+.3f} µm from a gear that was perfect", after_um - before_um);
-  return fmt::format("compensation made the gear worse: the largest |deviation| grows from {:.3f} to {:.3f} µm ({}); "
-                     "do not apply these corrections (try the other --method)",
+  return fmt::format("compensation made the gear worse even in the model: nominal (the model corrected by itself), the "
+                     "largest |deviation| grows from {:.3f} to {:.3f} µm ({}); do not apply these corrections (try the "
+                     "other --method)",
                      before_um, after_um, growth);
 }
 

@@ -85,10 +85,14 @@ const evaluation::FlankEvaluation* flank_of(const workbench::IsoResult& iso, int
   return nullptr;
 }
 
-// Crowning C_α, C_β of every evaluated flank, from the same traces the ISO values come from.
+// Crowning C_α, C_β of every evaluated flank, from the same traces the ISO values come from, of the flank as ground
+// (the deviation from the design plus the design): a gear crowned as drawn shows the drawing's C_α, C_β here.
 std::map<std::pair<int, Flank>, std::pair<double, double>> crowning_of(const workbench::Workbench& wb,
-                                                                      const std::vector<grinding::FlankTopology>& topo) {
+                                                                      std::vector<grinding::FlankTopology> topo) {
   std::map<std::pair<int, Flank>, std::pair<double, double>> c;
+  for (auto& ft : topo)
+    for (auto* trace : {&ft.profile, &ft.helix})
+      for (auto& p : *trace) p.deviation_um += p.design_um;
   const auto m = workbench::gear_measurement(wb.setup.geometry(), wb.setup.ranges(), topo);
   for (const auto& f : m.flanks) c[{f.tooth, f.side}] = {evaluation::crowning_um(f.profile), evaluation::crowning_um(f.helix)};
   return c;

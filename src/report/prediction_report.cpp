@@ -246,28 +246,6 @@ nlohmann::json prediction_check_json(const std::vector<PredictionCheck>& checks,
           {"quantities", q}};
 }
 
-std::string prediction_summary_html(const pipeline::MonteCarloSummary& s) {
-  const auto item = [&](const std::string& name) -> std::string {
-    const int i = s.find(name);
-    if (i < 0) return {};
-    const auto k = static_cast<size_t>(i);
-    return fmt::format("{} <b>{}</b> before → <b>{}</b> after", quantity_label(name), band_text(name, s.before[k]),
-                       band_text(name, s.after[k]));
-  };
-  std::string h = fmt::format("<li>Predicted after compensation (median [95 % interval] of {} Monte Carlo samples: the "
-                              "machine drawn within the scene's uncertainties, corrections from the nominal model):<ul>",
-                              s.samples);
-  for (const auto& n : s.names)
-    if (const std::string t = item(n); !t.empty() && (n.find("_class") != std::string::npos || n == "largest_abs_um"))
-      h += "<li>" + t + "</li>";
-  for (const char* n : {"F_alpha_um", "F_beta_um", "f_p_um", "F_p_um"})
-    if (const std::string t = item(n); !t.empty()) h += "<li>" + t + "</li>";
-  const std::string th = item("thickness_um"), rot = item("rotation_um");
-  if (!th.empty()) h += "<li>" + th + "; " + rot + " (not ISO quantities)</li>";
-  if (const std::string limit = limit_line(s); !limit.empty()) h += "<li>" + limit + "</li>"; // no markup characters
-  return h + "</ul></li>";
-}
-
 Figure prediction_figure(const pipeline::MonteCarloSummary& s, const std::filesystem::path& dir) {
   render::BarChart c;
   c.title = fmt::format("Predicted ISO 1328-1 deviations, before and after: median and 95 % interval ({} samples)",

@@ -74,10 +74,6 @@ std::vector<std::string> prediction_check_lines(const std::vector<PredictionChec
 nlohmann::json prediction_check_json(const std::vector<PredictionCheck>& checks,
                                      const pipeline::MonteCarloSummary& prediction, const std::string& side);
 
-/// The report's summary items (<li>…</li>): overall class and the ISO quantities before → after as bands, thickness
-/// and rigid rotation on their own line, and the limit_line.
-std::string prediction_summary_html(const pipeline::MonteCarloSummary& s);
-
 /// prediction.png: per ISO quantity the before and after medians with their 95 % intervals, µm (section "compensation").
 Figure prediction_figure(const pipeline::MonteCarloSummary& s, const std::filesystem::path& dir);
 
