@@ -272,11 +272,12 @@ void print_notes(const workbench::Workbench& wb) {
 
 void print_work_estimate(long long points, long long flanks, bool exact, int passes) {
   if (points < kEstimateFromPoints || quiet()) return;
-  const double rate = exact ? 260e3 : 1.7e6; // points/s, 2 cores (docs/performance.md)
+  const double rate = exact ? 1.5e6 : 2.9e6; // points/s, 2 cores (docs/performance.md, "Against the targets")
   const std::string times = passes > 1 ? fmt::format(", {} times", passes) : std::string();
+  const double seconds = static_cast<double>(points) * passes / rate;
   std::fprintf(stderr, "geartopo: %s\n",
-               fmt::format("{} points on {} flanks ({}{}): about {:.0f} s on 2 cores", points, flanks,
-                           exact ? "exact" : "linear", times, static_cast<double>(points) * passes / rate)
+               fmt::format("{} points on {} flanks ({}{}): about {:.{}f} s on 2 cores", points, flanks,
+                           exact ? "exact" : "linear", times, seconds, seconds < 10.0 ? 1 : 0)
                    .c_str());
 }
 
