@@ -76,6 +76,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
       pipeline::MonteCarloOptions mc = monte_carlo_options(opt->mc); // bad --shard: usage error before any work
       mc.iso = opt->iso; // the samples evaluated as the nominal gears are (and prediction.json records it)
       const Workbench wb(opt->scene);
+      refuse_paper_on_a_designed_helix(opt->method, wb);
       const auto& g = wb.setup.geometry();
       grinding::SimulationOptions so;
       so.profile_points = wb.scene.grid.profile_points;

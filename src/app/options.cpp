@@ -59,6 +59,13 @@ CLI::Validator digits_only() {
       "UINT");
 }
 
+void refuse_paper_on_a_designed_helix(const std::string& method, const workbench::Workbench& wb) {
+  if (method == "paper" && wb.design_motion)
+    throw CLI::ValidationError("--method", "paper drives the wheel to its nominal pose and would grind away the drawing's "
+                                           "helix modifications (gear.modifications): use flank or cycle, which correct "
+                                           "towards the design");
+}
+
 std::string compensation_made_worse(double before_um, double after_um) {
   if (!(after_um > before_um + kWorseToleranceUm)) return {};
   // A percentage of a "before" that is zero within the simulation's rounding is meaningless (finding 20).

@@ -94,6 +94,11 @@ using workbench::Workbench;
 inline constexpr double kWorseToleranceUm = 0.01; ///< far below any tolerance, far above the simulation's rounding
 std::string compensation_made_worse(double before_um, double after_um);
 
+/// `--method paper` drives the wheel's pose to the nominal one at every pose, which would take away the design
+/// motions that grind the drawing's helix modifications (docs/modifications.md): refused on such a scene
+/// (CLI::ValidationError naming --method, exit 2). The flank and cycle methods correct towards the design.
+void refuse_paper_on_a_designed_helix(const std::string& method, const workbench::Workbench& wb);
+
 /// When the PREDICTED gear (Monte Carlo) is worse after compensation than before — a coarser median overall class, or
 /// a median largest |deviation| above the whole 95 % interval before — the sentence to warn with; otherwise empty. The usual cause: corrections
 /// smaller than the command resolution, rounded into steps (docs/monte-carlo.md).

@@ -93,8 +93,8 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
 /// what drawing them threw).
 class BeforeFigures {
 public:
-  BeforeFigures(pipeline::PipelineOptions& po, const Workbench& wb, fs::path dir) {
-    po.before_ready = [this, &wb, dir = std::move(dir)](const pipeline::PipelineResult& r) {
+  BeforeFigures(pipeline::PipelineOptions& po, const Workbench& wb, fs::path dir) : dir_(std::move(dir)) {
+    po.before_ready = [this, &wb, dir = dir_](const pipeline::PipelineResult& r) {
       auto before = std::make_shared<pipeline::PipelineResult>(); // a copy: the pipeline's result moves on
       before->before = r.before;
       before->iso_before = r.iso_before;
@@ -104,10 +104,26 @@ public:
   }
   BeforeFigures(const BeforeFigures&) = delete; // the callback holds `this`
   BeforeFigures& operator=(const BeforeFigures&) = delete;
+  /// When the job failed after the figures started (e.g. refused by --max-time-s at a later stage): waits for them and
+  /// removes what they wrote, so that a refused job leaves no figure of its own.
+  ~BeforeFigures() {
+    if (!figures_.valid()) return; // taken: the report has them
+    try {
+      std::error_code ec;
+      for (const auto& f : figures_.get()) {
+        fs::remove(dir_ / f.file, ec);
+        for (const auto& c : f.charts)
+          if (!c.panel.empty()) fs::remove(dir_ / "panels" / c.panel, ec);
+      }
+      fs::remove(dir_ / "panels", ec); // only when empty: an earlier run's panels stay
+    } catch (...) { // drawing failed too: the job's own error is the one to report
+    }
+  }
   std::vector<report::Figure> take() { return figures_.valid() ? figures_.get() : std::vector<report::Figure>{}; }
 
 private:
-  std::future<std::vector<report::Figure>> figures_; // declared last: waited for first when the pipeline throws
+  fs::path dir_;
+  std::future<std::vector<report::Figure>> figures_;
 };
 
 /// Progress of the pipeline's stages on stderr (a terminal, not --quiet; options.hpp Progress): the flanks of each
@@ -287,6 +303,7 @@ void register_run_command(CLI::App& app, Action& action) {
       const Workbench wb(std::move(sc));
       pipeline::PipelineOptions po;
       po.method = opt->simulation == "linear" ? grinding::Method::Linear : grinding::Method::Exact;
+      refuse_paper_on_a_designed_helix(opt->method, wb);
       po.compensation = opt->method == "paper"   ? compensation::Method::Paper
                         : opt->method == "cycle" ? compensation::Method::Cycle
                                                  : compensation::Method::Flank;

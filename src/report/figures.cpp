@@ -19,6 +19,7 @@
 #include <set>
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -148,6 +149,7 @@ ChartRange trace_chart(const workbench::Workbench& wb, const workbench::IsoResul
   const double mid = 0.5 * (a + b);
   const double sign = ft.flank == Flank::Left ? -1.0 : 1.0; // drawn x = sign · deviation
   const std::string sym = profile ? "α" : "β";
+  const auto& points = profile ? ft.profile : ft.helix;
 
   ChartRange out;
   out.panel = file.filename().string();
@@ -157,23 +159,61 @@ ChartRange trace_chart(const workbench::Workbench& wb, const workbench::IsoResul
   trace.colour = render::colours::actual;
   double in_lo = std::numeric_limits<double>::infinity(), in_hi = -in_lo;
   // The trace (simulated along the normal) in the direction the ISO values, mean line and tolerances are reported in
-  // (transverse by default: × 1/cos β_b), so that trace, mean line and box share one axis.
+  // (transverse by default: × 1/cos β_b), so that trace, mean line and box share one axis. With a designed
+  // modification the chart is the measuring machine's: the flank as ground (deviation + design), the design line, and
+  // the mean line and tolerance box following the design (the ISO values are of the deviation from it).
   const double reported_per_normal = evaluation::reported_per_normal(iso.evaluation.conventions);
-  for (const auto& pt : profile ? ft.profile : ft.helix) {
+  bool designed = false;
+  for (const auto& pt : points) designed = designed || pt.design_um != 0.0;
+  std::vector<double> design_s, design_um; // the design at the trace's positions, reported direction
+  for (const auto& pt : points) {
     const double s = profile ? pt.roll_length_mm : pt.z_mm;
-    const double dev_um = reported_per_normal * pt.deviation_um;
-    trace.x.push_back(sign * dev_um);
+    const double dev_um = reported_per_normal * pt.deviation_um, design = reported_per_normal * pt.design_um;
+    trace.x.push_back(sign * (dev_um + design));
     trace.y.push_back(s);
-    must_show.push_back(dev_um);
+    must_show.push_back(dev_um + design);
+    design_s.push_back(s);
+    design_um.push_back(design);
     if (s >= a - 1e-9 && s <= b + 1e-9) in_lo = std::min(in_lo, dev_um), in_hi = std::max(in_hi, dev_um);
   }
   out.data_um = {*std::min_element(must_show.begin(), must_show.end()), *std::max_element(must_show.begin(), must_show.end())};
   if (!(in_lo <= in_hi)) in_lo = out.data_um.first, in_hi = out.data_um.second;
+  // A line of the deviation space (value_at(s), µm) drawn over [a, b] on the design: two points without a design,
+  // else one per trace position inside the range, with both ends.
+  const auto design_at = [&](double s) {
+    if (!designed) return 0.0;
+    const auto it = std::lower_bound(design_s.begin(), design_s.end(), s);
+    if (it == design_s.begin()) return design_um.front();
+    if (it == design_s.end()) return design_um.back();
+    const size_t k = static_cast<size_t>(it - design_s.begin());
+    const double t = (s - design_s[k - 1]) / (design_s[k] - design_s[k - 1]);
+    return (1.0 - t) * design_um[k - 1] + t * design_um[k];
+  };
+  const auto on_design = [&](render::Series& series, const std::function<double(double)>& value_at) {
+    std::vector<double> at = {a};
+    if (designed)
+      for (double s : design_s)
+        if (s > a && s < b) at.push_back(s);
+    at.push_back(b);
+    for (double s : at) {
+      series.x.push_back(sign * (value_at(s) + design_at(s)));
+      series.y.push_back(s);
+      must_show.push_back(value_at(s) + design_at(s));
+    }
+  };
 
   render::LineChart c;
   c.size = {520, 640};
   c.font_px = 18; // shown at about 0.85 × beside its table: about 15 px text on the page
   c.series.push_back(trace);
+  if (designed) {
+    render::Series line;
+    line.name = "design";
+    line.colour = render::colours::grey;
+    line.width = 1.5;
+    on_design(line, [](double) { return 0.0; });
+    c.series.push_back(line);
+  }
   const auto* fe = iso_flank(iso, ft.tooth, ft.flank);
   const evaluation::TraceDeviations* dev = fe ? (profile ? &fe->profile : &fe->helix) : nullptr;
   if (dev) {
@@ -182,8 +222,7 @@ ChartRange trace_chart(const workbench::Workbench& wb, const workbench::IsoResul
     mean.name = "mean line";
     mean.colour = render::Rgb{200, 30, 30};
     mean.dashed = true;
-    mean.x = {sign * mean_at(a), sign * mean_at(b)};
-    mean.y = {a, b};
+    on_design(mean, mean_at);
     c.series.push_back(mean);
     if (!evaluation::validity_refusal(p)) {
       const double F_T = evaluation::tolerance_um(profile ? evaluation::Quantity::ProfileTotal : evaluation::Quantity::HelixTotal, p, shown_class);
@@ -194,9 +233,16 @@ ChartRange trace_chart(const workbench::Workbench& wb, const workbench::IsoResul
       box.name = fmt::format("F_{}T, f_H{}T class {}", sym, sym, shown_class);
       box.colour = render::Rgb{40, 140, 60};
       box.width = 2.0;
-      for (const auto& [x, y] : {std::pair{out.tolerance_um.first, a}, {out.tolerance_um.second, a}, {out.tolerance_um.second, b},
-                                 {out.tolerance_um.first, b}, {out.tolerance_um.first, a}})
-        box.x.push_back(sign * x), box.y.push_back(y);
+      // Lower edge from a to b, upper edge back from b to a, closed: each edge follows the design.
+      render::Series lower, upper;
+      on_design(lower, [&](double) { return out.tolerance_um.first; });
+      on_design(upper, [&](double) { return out.tolerance_um.second; });
+      box.x = lower.x;
+      box.y = lower.y;
+      box.x.insert(box.x.end(), upper.x.rbegin(), upper.x.rend());
+      box.y.insert(box.y.end(), upper.y.rbegin(), upper.y.rend());
+      box.x.push_back(lower.x.front());
+      box.y.push_back(lower.y.front());
       c.series.push_back(box);
       // f_H limits: mean lines through the middle with a rise of ±f_HT over the range.
       for (double rise : {fH_T, -fH_T}) {
@@ -204,9 +250,7 @@ ChartRange trace_chart(const workbench::Workbench& wb, const workbench::IsoResul
         lim.colour = box.colour;
         lim.width = 1.2;
         lim.dashed = true;
-        lim.x = {sign * (mean_at(mid) - 0.5 * rise), sign * (mean_at(mid) + 0.5 * rise)};
-        lim.y = {a, b};
-        for (double v : lim.x) must_show.push_back(sign * v);
+        on_design(lim, [&](double s) { return mean_at(mid) + rise * (s - mid) / (b - a); });
         c.series.push_back(lim);
       }
       must_show.push_back(out.tolerance_um.first);

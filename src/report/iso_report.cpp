@@ -164,6 +164,19 @@ std::string iso_table(const IsoResult& res) {
   if (c.overall)
     out += fmt::format("  overall flank tolerance class: {} (set by {})\n", evaluation::class_label(*c.overall),
                        c.governing ? std::string(evaluation::symbol(*c.governing)) : "-");
+  // Twist of the deviation from the design over each flank's grid (docs/modifications.md); none for measured traces.
+  if (!res.twists.empty()) {
+    const auto largest = [&](auto member) {
+      return *std::max_element(res.twists.begin(), res.twists.end(), [&](const auto& a, const auto& b) {
+        return std::abs(a.twist.*member) < std::abs(b.twist.*member);
+      });
+    };
+    const auto sa = largest(&evaluation::FlankTwist::profile_twist_um), sb = largest(&evaluation::FlankTwist::helix_twist_um);
+    out += fmt::format("  flank twist (grid, from the design): largest S_α {:+.2f} µm (tooth {} {}), largest S_β {:+.2f} µm "
+                       "(tooth {} {})\n",
+                       sa.twist.profile_twist_um, sa.tooth, gears::to_string(sa.flank), sb.twist.helix_twist_um, sb.tooth,
+                       gears::to_string(sb.flank));
+  }
   return out;
 }
 

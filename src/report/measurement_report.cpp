@@ -27,12 +27,13 @@ nlohmann::json wave_json(const diagnosis::WavinessScan& w) {
 void write_residuals_csv(const std::filesystem::path& file, const std::vector<measurement::MeasuredPoint>& points,
                          const diagnosis::Comparison& c) {
   output::write_atomically(file, [&](std::ostream& csv) {
-    csv << "tooth,flank,row,col,diameter_mm,z_mm,measured_um,model_um,residual_um,source_line,point_id\n";
+    // measured_um and model_um are deviations from the scene's design, which design_um gives (docs/modifications.md).
+    csv << "tooth,flank,row,col,diameter_mm,z_mm,measured_um,model_um,residual_um,source_line,point_id,design_um\n";
     for (size_t i = 0; i < points.size(); ++i)
-      csv << fmt::format("{},{},{},{},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f},{},{}\n", points[i].tooth,
+      csv << fmt::format("{},{},{},{},{:.6f},{:.6f},{:.4f},{:.4f},{:.4f},{},{},{:.4f}\n", points[i].tooth,
                          gears::to_string(points[i].flank), points[i].row, points[i].col, points[i].diameter_mm,
                          points[i].z_mm, points[i].deviation_um, c.model_um[i], c.residual_um[i], points[i].line,
-                         points[i].id);
+                         points[i].id, points[i].design_um);
   });
 }
 

@@ -229,7 +229,7 @@ TEST(Cli, RunOnSomeTeethWritesTheMeasurementFilesAndAReport) {
   std::ifstream res(dir / "residuals.csv");
   std::string header;
   std::getline(res, header);
-  EXPECT_EQ(header, "tooth,flank,row,col,diameter_mm,z_mm,measured_um,model_um,residual_um,source_line,point_id");
+  EXPECT_EQ(header, "tooth,flank,row,col,diameter_mm,z_mm,measured_um,model_um,residual_um,source_line,point_id,design_um");
   std::ifstream topo(dir / "topology_before.csv");
   int rows = 0;
   for (std::string l; std::getline(topo, l);) ++rows;
@@ -587,5 +587,18 @@ TEST(Cli, ACrownedGearIsMeasuredAgainstItsDesign) {
   const auto found = diagnose(crowned, drifted, "drifted");
   ASSERT_FALSE(found["candidates"].empty());
   EXPECT_EQ(found["candidates"][0]["effect"], "thermal_drift") << found["verdict"];
+  std::filesystem::remove_all(dir);
+}
+
+// The paper method drives the wheel to its nominal pose and would grind away the drawing's helix crowning: refused on
+// a scene that has one (docs/modifications.md); the flank method keeps it.
+TEST(Cli, ThePaperMethodIsRefusedOnADesignedHelix) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_paper_crowned");
+  const std::string crowned = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35-crowned.yaml";
+  const CliResult paper = run("compensate " + crowned + " --method paper --samples 0 --out " + dir.string());
+  EXPECT_EQ(paper.code, 2) << paper.err;
+  EXPECT_NE(paper.err.find("--method"), std::string::npos) << paper.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "corrections.csv"));
+  EXPECT_EQ(run("compensate " + crowned + " --method flank --samples 0 --out " + dir.string()).code, 0);
   std::filesystem::remove_all(dir);
 }

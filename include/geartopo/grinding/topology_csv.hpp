@@ -1,4 +1,4 @@
-// geartopo — flank topology and trace files: one format for predictions and measurements (docs/file-formats.md).
+// geartopo — flank topology and trace files: one format for predictions and measurements (docs/grinding.md).
 //
 // topology CSV, header exactly:  tooth,flank,row,col,diameter_mm,z_mm,deviation_um[,design_um]
 //   tooth 1..z; flank left|right; row 1..R from root to tip; col 1..C from the datum face; z from the datum face;

@@ -20,7 +20,7 @@ namespace geartopo::grinding {
 enum class StrokeDirection { Up, Down, Alternate }; ///< Up: from the datum face (z = 0) towards z = b
 
 /// How the helix modifications of the drawing (crowning, slope, end relief) are ground (docs/modifications.md):
-/// RadialInfeed — X alone along the stroke (leaves twist on a helical gear); TwistFree — X, Y, A and C along the
+/// RadialInfeed — X alone along the stroke (leaves twist on a helical gear); TwistFree — X, Y, Z, A and C along the
 /// stroke, solved so that the flank takes the design.
 enum class LeadCrowning { TwistFree, RadialInfeed };
 
