@@ -108,6 +108,11 @@ Workbench::Workbench(scene::Scene s)
   if (setup.design().modifications().has_helix()) {
     design_motion = std::make_unique<compensation::CorrectionTable>(compensation::design_motions(
         setup, scene.process.lead_crowning, {machine, scene.machine.datum_face_z_mm}));
+    if (const int outside = design_motion->rows_outside_strokes(); outside > 0)
+      scene.fail_at("gear.modifications",
+                    fmt::format("the motions that grind the helix modifications leave the machine's strokes at {} of {} "
+                                "path samples",
+                                outside, design_motion->rows().size()));
     design_process = std::make_unique<compensation::CompensatedProcess>(machine_and_effects(), *design_motion);
   }
 }

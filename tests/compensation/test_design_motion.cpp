@@ -6,6 +6,9 @@
 //  - twist free: the ground flank is the design to within 20 % of the radial infeed's twist (issue 26).
 #include "../gears/gear_fixtures.hpp"
 #include "geartopo/compensation/design_motion.hpp"
+#include "geartopo/evaluation/crowning.hpp"
+#include "geartopo/grinding/topology.hpp"
+#include "geartopo/workbench/iso_evaluation.hpp"
 #include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/machine/chain.hpp"
 #include "geartopo/machine/machine_model.hpp"
@@ -124,4 +127,43 @@ TEST(DesignMotion, TwistFreeMotionsLeaveLessThanAFifthOfTheRadialInfeedsTwist) {
   const double twist_free = largest_from_design_um(motions(grinding::LeadCrowning::TwistFree));
   std::printf("largest |deviation from the design|: radial infeed %.3f um, twist free %.3f um\n", infeed, twist_free);
   EXPECT_LT(twist_free, 0.2 * infeed);
+}
+
+// Issue 26: a gear ground to its drawing on an ideal machine has the drawing's crowning, by the evaluator's crowning
+// (evaluation/crowning.hpp: the least-squares parabola's height over its range, along the normal) of the flank as
+// ground (deviation from the design + the design). A profile crowning is dressed into the wheel and no motion is
+// involved: C_α exactly as drawn, no helix crowning. (A helix crowning is ground by rigid wheel motions, which leave
+// what TwistFreeMotionsLeaveLessThanAFifthOfTheRadialInfeedsTwist bounds; its evaluated C_β is printed.)
+TEST(DesignMotion, AGearGroundToItsDrawingHasTheDrawingsCrowning) {
+  const machine::MachineModel model(machine::Strokes::skmc_1200w(), {});
+  const auto evaluated = [&](const gears::FlankModifications& m) {
+    gears::GearSpec spec = test::paper_gear();
+    spec.modifications = {m, m};
+    const grinding::GrindingSetup s(spec, {350.0, 0.0}, {});
+    const auto table = compensation::design_motions(s, grinding::LeadCrowning::TwistFree, {model, 300.0});
+    const grinding::IdealProcess ideal;
+    const compensation::CompensatedProcess process(ideal, table);
+    grinding::SimulationOptions so;
+    so.teeth = {1, 18};
+    so.profile_points = 100;
+    so.helix_points = 150;
+    auto topo = grinding::simulate_topology(s, process, so);
+    for (auto& ft : topo)
+      for (auto* trace : {&ft.profile, &ft.helix})
+        for (auto& p : *trace) p.deviation_um += p.design_um;
+    return workbench::gear_measurement(s.geometry(), s.ranges(), topo);
+  };
+  gears::FlankModifications profile_only;
+  profile_only.profile_crowning_um = 4.0;
+  const auto dressed = evaluated(profile_only);
+  ASSERT_EQ(dressed.flanks.size(), 4u);
+  for (const auto& f : dressed.flanks) {
+    EXPECT_NEAR(evaluation::crowning_um(f.profile), 4.0, 0.01);
+    EXPECT_NEAR(evaluation::crowning_um(f.helix), 0.0, 0.01);
+  }
+  gears::FlankModifications helix_only;
+  helix_only.helix_crowning_um = kCrowningUm;
+  for (const auto& f : evaluated(helix_only).flanks)
+    std::printf("helix crowning %.1f um by twist-free motions: evaluated C_beta %.3f um, C_alpha %.3f um\n", kCrowningUm,
+                evaluation::crowning_um(f.helix), evaluation::crowning_um(f.profile));
 }
