@@ -90,12 +90,7 @@ SampleModel::SampleModel(const workbench::Workbench& wb, const compensation::Cor
   before_ = topology_sensitivities(wb, *plan_, uncorrected_, options.threads);
   after_ = topology_sensitivities(wb, *plan_, applied_, options.threads);
   {
-    const grinding::MachineProcess machine(wb.machine, wb.scene.machine.datum_face_z_mm);
-    std::unique_ptr<effects::EffectsProcess> with_effects;
-    if (!wb.effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(machine, wb.effects);
-    const workbench::WithDesignMotion nominal_machine(
-        wb, with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : machine);
-    const compensation::CompensatedProcess unrounded(nominal_machine.process(), nominal);
+    const compensation::CompensatedProcess unrounded(wb.process(), nominal); // the scene's machine, effects and design
     layout_ = plan_->simulate(unrounded, options.threads);
     after_unrounded_um_ = flatten_deviations(layout_);
   }

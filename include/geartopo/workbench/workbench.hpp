@@ -47,8 +47,7 @@ struct Workbench {
     if (design_process) return *design_process;
     return effects_process ? static_cast<const grinding::GrindingProcess&>(*effects_process) : machine_process;
   }
-  /// The process without the design motions: geometric errors plus the scene's effects. Processes drawn or fitted
-  /// on top of the scene's machine (the Monte Carlo's) wrap it and then run design_motion themselves.
+  /// The process without the design motions: geometric errors plus the scene's effects (what design_process wraps).
   const grinding::GrindingProcess& machine_and_effects() const {
     return effects_process ? static_cast<const grinding::GrindingProcess&>(*effects_process) : machine_process;
   }
