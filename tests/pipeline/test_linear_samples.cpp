@@ -25,22 +25,9 @@ using namespace geartopo;
 namespace linear_samples_test {
 namespace {
 
-const std::string kMapErrors = "  constants: {S_xz_urad: 30, E_XOC_um: 5, delta_xx_um: 4, epsilon_zx_urad: 40, E_YOC_um: 6}\n";
-
-compensation::CorrectionTable nominal_corrections(const workbench::Workbench& wb) {
-  compensation::CompensationOptions co;
-  co.step_mm = 2.0;
-  return compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm}, co);
-}
-
-grinding::SimulationOptions grid_of(const workbench::Workbench& wb) {
-  grinding::SimulationOptions so;
-  so.rows = wb.scene.grid.rows;
-  so.cols = wb.scene.grid.cols;
-  so.profile_points = wb.scene.grid.profile_points;
-  so.helix_points = wb.scene.grid.helix_points;
-  return so;
-}
+const std::string& kMapErrors = test::kSmallGearMapErrors;
+using test::grid_of;
+using test::nominal_corrections;
 
 compensation::CorrectionTable zero_like(const compensation::CorrectionTable& t) {
   auto rows = t.rows();
