@@ -64,20 +64,63 @@ FlankDesign::FlankDesign(const GearGeometry& g, const EvaluationRanges& r, const
                                    s.m.end_relief_length_mm, 0.5 * face_));
     if (s.m.tip_relief_um != 0.0) s.xi_tip_relief = g.roll_length_at(s.m.tip_relief_start_diameter_mm);
     if (s.m.root_relief_um != 0.0) s.xi_root_relief = g.roll_length_at(s.m.root_relief_start_diameter_mm);
+    const auto& grid = mods.table.of(f);
+    if (grid.empty()) continue;
+    // The table must cover the evaluation ranges (1 µm of slack for diameters written to a few decimals).
+    const std::string where = fmt::format("{} flank of {}", to_string(f), mods.table.file);
+    const double d_lo = g.diameter_at_roll_length(r.xi_eval_start_mm), d_hi = g.diameter_at_roll_length(r.xi_eval_end_mm);
+    if (grid.diameter_mm.front() > d_lo + 1e-3 || grid.diameter_mm.back() < d_hi - 1e-3)
+      throw FieldError("gear.modifications.table",
+                       fmt::format("the {} covers diameters {:.3f} … {:.3f} mm; the profile evaluation range L_α needs "
+                                   "{:.3f} … {:.3f} mm",
+                                   where, grid.diameter_mm.front(), grid.diameter_mm.back(), d_lo, d_hi));
+    if (grid.z_mm.front() > r.z_eval_start_mm + 1e-3 || grid.z_mm.back() < r.z_eval_end_mm - 1e-3)
+      throw FieldError("gear.modifications.table",
+                       fmt::format("the {} covers z {:.3f} … {:.3f} mm; the helix evaluation range L_β needs {:.3f} … "
+                                   "{:.3f} mm",
+                                   where, grid.z_mm.front(), grid.z_mm.back(), r.z_eval_start_mm, r.z_eval_end_mm));
+    if (grid.diameter_mm.front() < g.base_diameter_mm())
+      throw FieldError("gear.modifications.table", fmt::format("the {} starts at d = {:.3f} mm, below the base "
+                                                               "diameter d_b = {:.3f} mm",
+                                                               where, grid.diameter_mm.front(), g.base_diameter_mm()));
+    for (double d : grid.diameter_mm) s.table_xi_mm.push_back(g.roll_length_at(d));
   }
+}
+
+double FlankDesign::table_um(geartopo::Flank flank, double xi, double z) const {
+  const Side& s = side(flank);
+  if (s.table_xi_mm.empty()) return 0.0;
+  const auto& grid = mods_.table.of(flank);
+  // Bilinear in (ξ, z), constant beyond the edges: the cell and the fraction along each direction.
+  const auto cell = [](const std::vector<double>& knots, double x) {
+    if (x <= knots.front()) return std::pair<size_t, double>{0, 0.0};
+    if (x >= knots.back()) return std::pair<size_t, double>{knots.size() - 2, 1.0};
+    const size_t k = static_cast<size_t>(std::upper_bound(knots.begin(), knots.end(), x) - knots.begin()) - 1;
+    return std::pair<size_t, double>{k, (x - knots[k]) / (knots[k + 1] - knots[k])};
+  };
+  const auto [i, u] = cell(s.table_xi_mm, xi);
+  const auto [j, v] = cell(grid.z_mm, z);
+  const size_t nz = grid.z_mm.size();
+  const auto at = [&](size_t a, size_t b) { return grid.value_um[a * nz + b]; };
+  return (1 - u) * ((1 - v) * at(i, j) + v * at(i, j + 1)) + u * ((1 - v) * at(i + 1, j) + v * at(i + 1, j + 1));
+}
+
+double FlankDesign::motion_target_um(geartopo::Flank flank, double xi, double z) const {
+  return helix_um(flank, z) + table_um(flank, xi, z) - table_um(flank, xi, z_m_);
 }
 
 double FlankDesign::profile_um(geartopo::Flank flank, double xi) const {
   const Side& s = side(flank);
   const auto& m = s.m;
-  if (!m.has_profile()) return 0.0;
+  const double table = table_um(flank, xi, z_m_);
+  if (!m.has_profile()) return table;
   const double u = (xi - xi_m_) / l_alpha_; // −½ … ½ over L_α
   double v = -m.profile_crowning_um * 4.0 * u * u + m.profile_slope_um * u;
   if (m.tip_relief_um != 0.0 && xi > s.xi_tip_relief)
     v -= m.tip_relief_um * shape(m.tip_relief_shape, (xi - s.xi_tip_relief) / (xi_a_ - s.xi_tip_relief));
   if (m.root_relief_um != 0.0 && xi < s.xi_root_relief)
     v -= m.root_relief_um * shape(m.root_relief_shape, (s.xi_root_relief - xi) / (s.xi_root_relief - xi_ff_));
-  return v;
+  return v + table;
 }
 
 double FlankDesign::helix_um(geartopo::Flank flank, double z) const {

@@ -9,6 +9,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -58,20 +59,23 @@ struct ContactPoint {
   double target_mm = 0.0; // the design's helix part at the point: what the axis motions must leave there
 };
 
-// Nominal contact points of both flanks of space s with the wheel at stroke position Z.
+// Nominal contact points of both flanks of space s with the wheel at stroke position Z (points of the contact line
+// beyond the face width count too: the design's value there is its terms extrapolated, a table's held at its edge).
 std::vector<ContactPoint> contact_points(const grinding::GrindingSetup& setup, int space, double z, int n) {
   const auto& g = setup.geometry();
   const auto& r = setup.ranges();
+  const auto& design = setup.wheel().design();
   std::vector<ContactPoint> pts;
   const int next = space % g.teeth() + 1;
   for (auto [tooth, flank] : {std::pair{space, geartopo::Flank::Right}, std::pair{next, geartopo::Flank::Left}})
     for (int i = 0; i < n; ++i) {
       const double xi = r.xi_active_start_mm + (r.xi_active_end_mm - r.xi_active_start_mm) * i / (n - 1);
-      const auto fp = setup.flanks().at(tooth, flank, xi, z + setup.wheel().contact_offset_mm(flank, xi));
+      const double z_point = z + setup.wheel().contact_offset_mm(flank, xi);
+      const auto fp = setup.flanks().at(tooth, flank, xi, z_point);
       ContactPoint c;
       c.a << fp.n.transpose(), fp.p.cross(fp.n).transpose();
       c.p = fp.p;
-      c.target_mm = units::mm_from_um(setup.wheel().design().helix_um(flank, z + setup.wheel().contact_offset_mm(flank, xi)));
+      c.target_mm = units::mm_from_um(design.motion_target_um(flank, xi, z_point));
       pts.push_back(c);
     }
   return pts;

@@ -76,7 +76,7 @@ FlankDeviation::Target FlankDeviation::target(int tooth, geartopo::Flank flank, 
   const auto& design = wheel_.design();
   if (!design.empty()) {
     t.design_profile_mm = units::mm_from_um(design.profile_um(flank, xi));
-    t.design_mm = t.design_profile_mm + units::mm_from_um(design.helix_um(flank, z));
+    t.design_mm = units::mm_from_um(design.at_um(flank, xi, z));
   }
   return t;
 }

@@ -26,7 +26,7 @@ struct DesignedPoint {
   Eigen::Vector3d p, n;
 };
 DesignedPoint designed(const gears::FlankPoint& fp, const gears::FlankDesign* design, geartopo::Flank flank, double xi) {
-  if (design == nullptr || !design->modifications().of(flank).has_profile()) return {fp.p, fp.n};
+  if (design == nullptr || !design->modifications().has_profile(flank)) return {fp.p, fp.n};
   constexpr double h = 1e-3; // mm: the relief's kink is smoothed over ±1 µm of roll length, far below the 0.05 mm samples
   const double m = units::mm_from_um(design->profile_um(flank, xi));
   const double dm = units::mm_from_um(design->profile_um(flank, xi + h) - design->profile_um(flank, xi - h)) / (2 * h);

@@ -7,6 +7,7 @@
 #include "geartopo/gears/flank_modifications.hpp"
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/core/text_field.hpp"
+#include "design_table.hpp"
 #include "yaml_reader.hpp"
 #include "geartopo/grinding/topology.hpp"
 #include "geartopo/machine/error_table.hpp"
@@ -58,17 +59,22 @@ gears::FlankModifications read_flank_modifications(MapReader& m, gears::FlankMod
 }
 
 // gear.modifications: `both` for the two flanks, `left` / `right` overriding it key by key (DIN ISO 21771 flanks).
-gears::DesignModifications read_modifications(MapReader& m) {
+gears::DesignModifications read_modifications(MapReader& m, const std::filesystem::path& base) {
   gears::FlankModifications both;
   if (auto b = m.optional_map("both")) both = read_flank_modifications(*b, both);
-  gears::DesignModifications d{both, both};
+  gears::DesignModifications d{both, both, {}};
   if (auto l = m.optional_map("left")) d.left = read_flank_modifications(*l, both);
   if (auto r = m.optional_map("right")) d.right = read_flank_modifications(*r, both);
+  // `table`: any other designed topology, point by point, relative to the scene's folder (design_table.hpp).
+  if (auto t = m.optional_text("table")) {
+    if (t->empty()) m.context().fail_field(m.field("table"), "an empty path (name a CSV file, or leave the key out)");
+    d.table = read_design_table((base / *t).lexically_normal());
+  }
   m.finish();
   return d;
 }
 
-gears::GearSpec read_gear(MapReader& g, Scene& scene) {
+gears::GearSpec read_gear(MapReader& g, Scene& scene, const std::filesystem::path& base) {
   gears::GearSpec s;
   s.normal_module_mm = g.number("normal_module_mm", {0.0, 100.0, true, false});
   // ISO 21771 writes an internal gear's number of teeth negative; geartopo grinds external gears only: say so rather
@@ -121,7 +127,7 @@ gears::GearSpec read_gear(MapReader& g, Scene& scene) {
   s.thickness_allowance_upper_mm = units::mm_from_um(upper_um);
   s.thickness_allowance_lower_mm = units::mm_from_um(lower_um);
   s.ball_diameter_mm = g.optional_number("ball_diameter_mm", {0.0, 1000.0, true, false});
-  if (auto m = g.optional_map("modifications")) s.modifications = read_modifications(*m);
+  if (auto m = g.optional_map("modifications")) s.modifications = read_modifications(*m, base);
   scene.assumed = g.optional_text_list("assumed");
   for (const auto& key : scene.assumed) {
     if (key == "assumed" || !g.has(key))
@@ -614,7 +620,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   scene.name = top.optional_text("name").value_or("");
   scene.description = top.optional_text("description").value_or("");
   MapReader gear = top.map("gear");
-  scene.gear = read_gear(gear, scene);
+  scene.gear = read_gear(gear, scene, std::filesystem::path(source).parent_path());
   if (auto mm = top.optional_map("machine"))
     scene.machine = read_machine(*mm, std::filesystem::path(source).parent_path(), scene.gear.face_width_mm);
   else

@@ -28,7 +28,7 @@ grinding::GrindingSetup crowned_paper_gear() {
   gears::GearSpec spec = test::paper_gear();
   gears::FlankModifications m;
   m.helix_crowning_um = kCrowningUm;
-  spec.modifications = {m, m};
+  spec.modifications = {m, m, {}};
   return grinding::GrindingSetup(spec, {350.0, 0.0}, {});
 }
 
@@ -138,7 +138,7 @@ TEST(DesignMotion, AGearGroundToItsDrawingHasTheDrawingsCrowning) {
   const machine::MachineModel model(machine::Strokes::skmc_1200w(), {});
   const auto evaluated = [&](const gears::FlankModifications& m) {
     gears::GearSpec spec = test::paper_gear();
-    spec.modifications = {m, m};
+    spec.modifications = {m, m, {}};
     const grinding::GrindingSetup s(spec, {350.0, 0.0}, {});
     const auto table = compensation::design_motions(s, grinding::LeadCrowning::TwistFree, {model, 300.0});
     const grinding::IdealProcess ideal;
@@ -166,4 +166,56 @@ TEST(DesignMotion, AGearGroundToItsDrawingHasTheDrawingsCrowning) {
   for (const auto& f : evaluated(helix_only).flanks)
     std::printf("helix crowning %.1f um by twist-free motions: evaluated C_beta %.3f um, C_alpha %.3f um\n", kCrowningUm,
                 evaluation::crowning_um(f.helix), evaluation::crowning_um(f.profile));
+}
+
+// A designed topology given as a table grinds like the same design given by its terms: the crowned default gear
+// (C_α 4 µm, C_β 6 µm) tabulated on 41 × 41 nodes over the active profile and as far beyond the face as the contact
+// lines reach at the stroke ends (the motions see the design there too: terms extrapolated, a table held at its
+// edge), both ground twist-free on an ideal machine. They differ by the table's interpolation only: for a parabola of
+// height C over L sampled every h, linear interpolation misses by at most C h²/L² (profile and helix added), doubled
+// for what the dressing and the motions make of it.
+TEST(DesignMotion, ATabulatedDesignGrindsLikeItsTerms) {
+  const machine::MachineModel model(machine::Strokes::skmc_1200w(), {});
+  gears::FlankModifications terms;
+  terms.profile_crowning_um = 4.0;
+  terms.helix_crowning_um = kCrowningUm;
+  gears::GearSpec by_terms = test::paper_gear();
+  by_terms.modifications = {terms, terms, {}};
+  const grinding::GrindingSetup s_terms(by_terms, {350.0, 0.0}, {});
+  const auto& g = s_terms.geometry();
+  const auto& r = s_terms.ranges();
+  const gears::FlankDesign& reference = s_terms.design();
+  gears::DesignTable table;
+  table.file = "tabulated";
+  constexpr int kNodes = 41;
+  const double d0 = g.root_form_diameter_mm(), d1 = g.tip_diameter_mm(), b = g.spec().face_width_mm;
+  const double reach = s_terms.wheel().max_contact_offset_mm() - s_terms.wheel().min_contact_offset_mm();
+  const double z0 = -reach, z1 = b + reach;
+  for (int i = 0; i < kNodes; ++i) table.right.diameter_mm.push_back(d0 + (d1 - d0) * i / (kNodes - 1));
+  for (int j = 0; j < kNodes; ++j) table.right.z_mm.push_back(z0 + (z1 - z0) * j / (kNodes - 1));
+  for (double dy : table.right.diameter_mm)
+    for (double z : table.right.z_mm) table.right.value_um.push_back(reference.at_um(Flank::Right, g.roll_length_at(dy), z));
+  table.left = table.right;
+  gears::GearSpec by_table = test::paper_gear();
+  by_table.modifications = {{}, {}, table};
+  const grinding::GrindingSetup s_table(by_table, {350.0, 0.0}, {});
+  const double h_xi = (g.roll_length_at(d1) - g.roll_length_at(d0)) / (kNodes - 1), h_z = (z1 - z0) / (kNodes - 1);
+  const double interpolation_um = 4.0 * h_xi * h_xi / (r.profile_evaluation_length() * r.profile_evaluation_length()) +
+                                  kCrowningUm * h_z * h_z / (r.helix_evaluation_length() * r.helix_evaluation_length());
+  const auto ground_um = [&](const grinding::GrindingSetup& s, int tooth, Flank f, double xi, double z) {
+    const auto table_motions = compensation::design_motions(s, grinding::LeadCrowning::TwistFree, {model, 300.0});
+    const grinding::IdealProcess ideal;
+    const compensation::CompensatedProcess process(ideal, table_motions);
+    const grinding::FlankDeviation dev(s.flanks(), s.wheel(), s.path(), process);
+    const auto t = dev.target(tooth, f, xi, z);
+    return 1e3 * (dev.at(t, grinding::Method::Exact).deviation_mm + t.design_mm); // the flank as ground
+  };
+  double worst = 0.0;
+  for (auto f : {Flank::Left, Flank::Right})
+    for (double xi : {r.xi_eval_start_mm, 0.5 * (r.xi_eval_start_mm + r.xi_eval_end_mm), r.xi_eval_end_mm})
+      for (double z : {r.z_eval_start_mm, 60.0, r.z_eval_end_mm})
+        worst = std::max(worst, std::abs(ground_um(s_table, 3, f, xi, z) - ground_um(s_terms, 3, f, xi, z)));
+  std::printf("tabulated vs terms: largest difference of the ground flanks %.4f um (interpolation bound %.4f um)\n", worst,
+              interpolation_um);
+  EXPECT_LT(worst, 2.0 * interpolation_um);
 }

@@ -30,7 +30,7 @@ double roll_length_mm(double d_mm, double db_mm) { return 0.5 * std::sqrt(d_mm *
 struct Design {
   gears::GearGeometry g{paper_gear()};
   gears::EvaluationRanges r = gears::iso1328_ranges(g);
-  gears::FlankDesign design(const gears::FlankModifications& both) const { return {g, r, {both, both}}; }
+  gears::FlankDesign design(const gears::FlankModifications& both) const { return {g, r, {both, both, {}}}; }
 };
 
 } // namespace
@@ -79,7 +79,7 @@ TEST(FlankModifications, EndReliefAndSlopesPerFlank) {
   left.end_relief_length_mm = 20.0;
   right.helix_slope_um = 3.0;
   right.profile_slope_um = -2.0;
-  const gears::FlankDesign design(d.g, d.r, {left, right});
+  const gears::FlankDesign design(d.g, d.r, {left, right, {}});
   const double b = paper_gear().face_width_mm;
   EXPECT_NEAR(design.helix_um(Flank::Left, 0.0), -10.0, 1e-9);
   EXPECT_NEAR(design.helix_um(Flank::Left, b - 5.0), -7.5, 1e-9);
@@ -111,10 +111,48 @@ TEST(FlankModifications, AReliefOutsideTheActiveProfileOrFaceIsRefusedNamingBoth
   left.end_relief_um = 5.0;
   left.end_relief_length_mm = 80.0; // b = 150 mm: more than b/2
   try {
-    (void)gears::FlankDesign(d.g, d.r, {left, {}});
+    (void)gears::FlankDesign(d.g, d.r, {left, {}, {}});
     FAIL() << "an end relief longer than b/2 was taken";
   } catch (const FieldError& e) {
     EXPECT_EQ(e.field(), "gear.modifications.left.end_relief_length_mm");
     EXPECT_NE(std::string(e.what()).find("b/2 = 75 mm"), std::string::npos) << e.what();
+  }
+}
+
+// gear.modifications.table: interpolated bilinearly in (ξ, z), so a field bilinear in (ξ, z) is reproduced exactly at
+// the table's diameters for any z (linear in z between nodes); the part at the middle of L_β is the profile part
+// (dressed), the rest what the motions make. A table that does not cover L_β is refused with both ranges.
+TEST(FlankModifications, ATableIsBilinearAndSplitsIntoWheelAndMotions) {
+  const Design d;
+  const double db = d.g.base_diameter_mm();
+  const auto xi_of = [&](double dy) { return roll_length_mm(dy, db); };
+  const double a = 0.002, b = -0.05; // µm per mm², µm per mm
+  const auto field = [&](double xi, double z) { return a * (xi - 100.0) * (z - 40.0) + b * xi; };
+  gears::DesignTable t;
+  t.file = "design.csv";
+  for (double dy : {545.0, 560.0, 575.0, 590.0, 605.0}) t.right.diameter_mm.push_back(dy);
+  for (double z : {0.0, 50.0, 100.0, 150.0}) t.right.z_mm.push_back(z);
+  for (double dy : t.right.diameter_mm)
+    for (double z : t.right.z_mm) t.right.value_um.push_back(field(xi_of(dy), z));
+  const gears::FlankDesign design(d.g, d.r, {{}, {}, t});
+  const double z_m = 0.5 * (d.r.z_eval_start_mm + d.r.z_eval_end_mm);
+  for (double dy : t.right.diameter_mm)
+    for (double z : {10.0, 75.0, 123.0}) {
+      const double xi = xi_of(dy);
+      EXPECT_NEAR(design.at_um(Flank::Right, xi, z), field(xi, z), 1e-9);
+      EXPECT_NEAR(design.profile_um(Flank::Right, xi), field(xi, z_m), 1e-9);
+      EXPECT_NEAR(design.motion_target_um(Flank::Right, xi, z), field(xi, z) - field(xi, z_m), 1e-9);
+    }
+  EXPECT_EQ(design.at_um(Flank::Left, 120.0, 75.0), 0.0); // no table for the left flank
+  gears::DesignTable narrow = t;
+  narrow.right.z_mm = {20.0, 50.0, 100.0, 150.0};
+  try {
+    (void)gears::FlankDesign(d.g, d.r, {{}, {}, narrow});
+    FAIL() << "a table that does not cover L_β was taken";
+  } catch (const FieldError& e) {
+    EXPECT_EQ(e.field(), "gear.modifications.table");
+    EXPECT_NE(std::string(e.what()).find("covers z 20.000 … 150.000 mm; the helix evaluation range L_β needs 7.500 … 142.500 mm"),
+              std::string::npos)
+        << e.what();
   }
 }

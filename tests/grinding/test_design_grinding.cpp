@@ -26,7 +26,7 @@ struct Modified {
     m.profile_crowning_um = c_alpha_um;
     m.tip_relief_um = c_a_um;
     m.tip_relief_start_diameter_mm = d_ca_mm;
-    spec.modifications = {m, m};
+    spec.modifications = {m, m, {}};
   }
   /// The design at roll length ξ from the definitions (docs/modifications.md), with this gear's evaluation range.
   double expected_um(const grinding::GrindingSetup& s, double xi) const {

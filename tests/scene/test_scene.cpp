@@ -480,3 +480,49 @@ TEST(Scene, ModificationsAreReadPerFlankAndBadValuesLocated) {
   EXPECT_NE(error_of(kGood + "process: {lead_crowning: hobbed}\n").find("process.lead_crowning: 'hobbed' is not one of: twist_free, radial_infeed"),
             std::string::npos);
 }
+
+// gear.modifications.table (issue 26): a CSV beside the scene, read into per-flank grids; every bad line located at
+// file:line:column and field; an incomplete grid named by its missing point; a grid short of L_α × L_β refused at
+// gear.modifications.table with both ranges.
+TEST(Scene, ADesignTableIsReadAndItsFaultsLocated) {
+  const auto dir = std::filesystem::temp_directory_path() / ("geartopo_scene_dt_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto scene_with = [&](const std::string& csv) {
+    std::ofstream(dir / "design.csv") << csv;
+    std::ofstream(dir / "scene.yaml") << kGood << "  modifications: {table: design.csv}\n";
+    try {
+      return std::make_pair(scene::load_scene(dir / "scene.yaml"), std::string());
+    } catch (const InputError& e) {
+      return std::make_pair(scene::Scene{}, std::string(e.what()));
+    }
+  };
+  std::string good = "# a crowned right flank, flat left\nflank,diameter_mm,z_mm,design_um\n";
+  for (const char* f : {"left", "right"})
+    for (double d : {540.0, 605.0})
+      for (double z : {0.0, 75.0, 150.0})
+        good += std::string(f) + "," + std::to_string(d) + "," + std::to_string(z) + "," +
+                (std::string(f) == "right" && z == 75.0 ? "0" : (std::string(f) == "right" ? "-6" : "0")) + "\n";
+  const auto [sc, err] = scene_with(good);
+  ASSERT_TRUE(err.empty()) << err;
+  const auto& right = sc.gear.modifications.table.right;
+  EXPECT_EQ(right.diameter_mm, (std::vector<double>{540.0, 605.0}));
+  EXPECT_EQ(right.z_mm, (std::vector<double>{0.0, 75.0, 150.0}));
+  EXPECT_EQ(right.value_um, (std::vector<double>{-6, 0, -6, -6, 0, -6}));
+  const std::string file = (dir / "design.csv").string();
+  const std::string head = "flank,diameter_mm,z_mm,design_um\n";
+  EXPECT_EQ(scene_with(head + "right,540,0,nan\n").second, file + ":2:13: design_um: 'nan' is not finite");
+  EXPECT_EQ(scene_with(head + "middle,540,0,1\n").second, file + ":2:1: flank: 'middle' is neither left nor right");
+  EXPECT_EQ(scene_with(head + "right,540,0\n").second, file + ":2:12: row: 3 fields, expected 4");
+  EXPECT_EQ(scene_with(head + "right,540,0,2e6\n").second,
+            file + ":2:13: design_um: 2e6 µm is beyond ±1000 µm, more than a drawing modifies a flank (a wrong unit?)");
+  EXPECT_EQ(scene_with("flank,d_mm,z_mm,design_um\n").second, file + ":1:1: header: expected the columns " + head.substr(0, head.size() - 1));
+  EXPECT_EQ(scene_with(head + "right,540,0,1\nright,540,0,2\n").second,
+            file + ":3:1: row: duplicate point: right flank, d = 540 mm, z = 0 mm");
+  EXPECT_EQ(scene_with(head + "right,540,0,1\nright,605,0,1\nright,540,150,1\n").second,
+            file + ": rows: the right flank's grid has no point at d = 605 mm, z = 150 mm: every diameter needs every z");
+  const std::string short_of_l_beta = scene_with(head + "right,540,20,1\nright,605,20,1\nright,540,150,1\nright,605,150,1\n").second;
+  EXPECT_NE(short_of_l_beta.find("gear.modifications.table: the right flank of " + file + " covers z 20.000 … 150.000 mm"),
+            std::string::npos)
+      << short_of_l_beta;
+  std::filesystem::remove_all(dir);
+}

@@ -5,8 +5,8 @@
 //        Δq ← Δq − pinv(J_M)·E(q + Δq), with J_M the 6×5 body Jacobian (jacobian.hpp) and the errors re-evaluated at
 //        the corrected command until the step vanishes. pinv mixes mm and rad exactly as the paper's formula does.
 // flank: at every pose choose the corrections that minimise the predicted normal deviations FROM THE DESIGN of the
-//        nominal contact points on both flanks of the space (the target is the drawing's helix part at each contact
-//        point, FormWheel::design(): the profile part is dressed into the wheel) (equal weights along the contact lines, all modelled sources: pose and
+//        nominal contact points on both flanks of the space (the target is the drawing's part the motions must make at
+//        each contact point, FlankDesign::motion_target_um: the profile part is dressed into the wheel) (equal weights along the contact lines, all modelled sources: pose and
 //        wheel radius). Directions that do not change the ground surface — spin about the wheel axis, motion along
 //        the helicoid's screw — have no effect on that objective; among equivalent corrections the smallest is taken
 //        (minimum norm with rotary corrections scaled by the reference radius, so mm and rad weigh alike).

@@ -23,6 +23,9 @@
 
 #include "geartopo/core/flank.hpp"
 
+#include <string>
+#include <vector>
+
 namespace geartopo::gears {
 
 class GearGeometry;
@@ -54,13 +57,33 @@ struct FlankModifications {
   bool operator==(const FlankModifications&) const = default;
 };
 
-/// Both flanks' modifications (DIN ISO 21771 left/right flank, docs/conventions.md).
+/// A designed topology given point by point (gear.modifications.table): per flank a full grid of diameters × axial
+/// positions with the design value there (µm, plus material), added to the terms above. FlankDesign interpolates it
+/// bilinearly in (ξ, z) and holds it constant beyond the grid's edges; the grid must cover L_α × L_β.
+struct DesignTable {
+  struct Grid {
+    std::vector<double> diameter_mm, z_mm; ///< ascending
+    std::vector<double> value_um;          ///< diameter-major: value_um[i · z_mm.size() + j]
+    bool empty() const { return value_um.empty(); }
+    bool operator==(const Grid&) const = default;
+  };
+  Grid left, right;
+  std::string file; ///< the file it was read from (for messages)
+  const Grid& of(geartopo::Flank f) const { return f == geartopo::Flank::Left ? left : right; }
+  bool empty() const { return left.empty() && right.empty(); }
+  bool operator==(const DesignTable&) const = default;
+};
+
+/// Both flanks' modifications (DIN ISO 21771 left/right flank, docs/conventions.md) and the designed table.
 struct DesignModifications {
   FlankModifications left, right;
+  DesignTable table;
   const FlankModifications& of(geartopo::Flank f) const { return f == geartopo::Flank::Left ? left : right; }
-  bool empty() const { return left.empty() && right.empty(); }
-  bool has_profile() const { return left.has_profile() || right.has_profile(); }
-  bool has_helix() const { return left.has_helix() || right.has_helix(); }
+  bool empty() const { return left.empty() && right.empty() && table.empty(); }
+  /// A profile part to dress into the wheel on flank f: a profile term, or the table (its values at the middle of L_β).
+  bool has_profile(geartopo::Flank f) const { return of(f).has_profile() || !table.of(f).empty(); }
+  /// A part the axis motions must grind: a helix term, or the table (what varies over z).
+  bool has_helix() const { return left.has_helix() || right.has_helix() || !table.empty(); }
 };
 
 /// The design topology of a gear: the value of the drawing's modifications at every flank point (µm, plus material).
@@ -69,18 +92,24 @@ class FlankDesign {
 public:
   FlankDesign() = default;
   /// Checks where the modifications start against the gear: a tip or root relief must start inside the active profile
-  /// (d_Ff < d_C < d_a), an end relief must be shorter than half the face width; throws FieldError naming
-  /// "gear.modifications.<left|right>.<key>" and both numbers.
+  /// (d_Ff < d_C < d_a), an end relief must be shorter than half the face width, a table must cover L_α × L_β; throws
+  /// FieldError naming "gear.modifications.<both|left|right>.<key>" (or ".table") and both numbers.
   FlankDesign(const GearGeometry& g, const EvaluationRanges& ranges, const DesignModifications& modifications);
 
-  /// The profile part at roll length ξ (mm) → µm: crowning, slope, tip and root relief (the wheel is dressed with it).
+  /// The profile part at roll length ξ (mm) → µm: crowning, slope, tip and root relief, and the table's values at the
+  /// middle of L_β (the wheel is dressed with it).
   double profile_um(geartopo::Flank flank, double roll_length_mm) const;
   /// The helix part at z (mm from the datum face) → µm: crowning, slope, end relief (axis motions make it).
   double helix_um(geartopo::Flank flank, double z_mm) const;
-  /// The design value at (ξ, z): profile part + helix part (µm).
+  /// The design value at (ξ, z), µm: the terms, plus the table where there is one.
   double at_um(geartopo::Flank flank, double roll_length_mm, double z_mm) const {
-    return profile_um(flank, roll_length_mm) + helix_um(flank, z_mm);
+    return profile_um(flank, roll_length_mm) + motion_target_um(flank, roll_length_mm, z_mm);
   }
+  /// What the axis motions must leave at (ξ, z), µm: the design less its profile part (dressed into the wheel) — the
+  /// helix terms, and the table's values less its values at the middle of L_β.
+  double motion_target_um(geartopo::Flank flank, double roll_length_mm, double z_mm) const;
+  /// The table's value at (ξ, z), µm (0 without a table for the flank).
+  double table_um(geartopo::Flank flank, double roll_length_mm, double z_mm) const;
 
   const DesignModifications& modifications() const { return mods_; }
   bool empty() const { return mods_.empty(); }
@@ -89,6 +118,7 @@ private:
   struct Side {
     FlankModifications m;
     double xi_tip_relief = 0.0, xi_root_relief = 0.0; ///< ξ_Ca, ξ_Cf
+    std::vector<double> table_xi_mm;                  ///< the table's diameters as roll lengths (empty: no table)
   };
   const Side& side(geartopo::Flank f) const { return f == geartopo::Flank::Left ? left_ : right_; }
 
