@@ -38,6 +38,22 @@ int run_chromium(const fs::path& profile, const std::string& args, const fs::pat
   return std::system(cmd.c_str());
 }
 
+/// The page `html` with the probe `script` put before </body>, laid out by headless Chromium in a window `width` px wide
+/// (files named after `name` in `dir`), and the DOM it dumps after loading: where the probe writes its findings. Empty
+/// when the page has no </body>.
+std::string probed_dom(const fs::path& dir, std::string html, const std::string& script, const std::string& name, int width) {
+  const auto at = html.rfind("</body>");
+  if (at == std::string::npos) return {};
+  html.insert(at, script);
+  std::ofstream(dir / (name + ".html")) << html;
+  const fs::path dom = dir / (name + "_dom.html");
+  run_chromium(dir / ("profile_" + name),
+               "--window-size=" + std::to_string(width) + ",1000 --virtual-time-budget=20000 --dump-dom file://" +
+                   (dir / (name + ".html")).string() + " > " + dom.string() + " 2>/dev/null; true",
+               dir / (name + ".log"));
+  return page_text_of(dom);
+}
+
 } // namespace
 
 TEST_F(ReportTest, PageHeaderCarriesTheInjectedDate) {
@@ -72,16 +88,7 @@ TEST_F(ReportTest, PageNothingOverflowsA1400PxWindowAndEveryImageLoads) {
       "const p=document.createElement('pre');p.id='probe';p.textContent='PROBE scrollWidth='+"
       "document.documentElement.scrollWidth+' images='+im.length+' broken='+bad.length+' ['+bad.join(',')+'] END';"
       "document.body.appendChild(p);});</script>";
-  const auto at = html.rfind("</body>");
-  ASSERT_NE(at, std::string::npos);
-  html.insert(at, probe);
-  std::ofstream(*dir_ / "probe.html") << html;
-  const fs::path dom = *dir_ / "probe_dom.html";
-  ASSERT_EQ(run_chromium(*dir_ / "profile_dom", "--window-size=1400,1000 --virtual-time-budget=20000 --dump-dom file://" +
-                                                         (*dir_ / "probe.html").string() + " > " + dom.string() + " 2>/dev/null; true",
-                         *dir_ / "dom.log"),
-            0);
-  const std::string out = page_text_of(dom);
+  const std::string out = probed_dom(*dir_, html, probe, "probe", 1400);
   std::smatch m;
   ASSERT_TRUE(std::regex_search(out, m, std::regex(R"(PROBE scrollWidth=(\d+) images=(\d+) broken=(\d+) \[([^\]]*)\] END)")))
       << "the probe did not run: " << out.substr(0, 400);
@@ -128,17 +135,7 @@ TEST_F(ReportTest, PrintEveryTableFitsTheA4PrintableWidth) {
       ".slice(0,40).replace(/\\s+/g,' ');wide.push(e.tagName+' '+Math.round(b.right)+'px '+t);}}"
       "const p=document.createElement('pre');p.id='probe';p.textContent='PROBE checked='+n+' wide='+wide.length+' ['+"
       "wide.join(' | ')+'] END';document.body.appendChild(p);});</script>";
-  const auto at = html.rfind("</body>");
-  ASSERT_NE(at, std::string::npos);
-  html.insert(at, probe);
-  std::ofstream(*dir_ / "print_probe.html") << html;
-  const fs::path dom = *dir_ / "print_probe_dom.html";
-  ASSERT_EQ(run_chromium(*dir_ / "profile_print", "--window-size=703,1000 --virtual-time-budget=20000 --dump-dom file://" +
-                                                           (*dir_ / "print_probe.html").string() + " > " + dom.string() +
-                                                           " 2>/dev/null; true",
-                         *dir_ / "print_probe.log"),
-            0);
-  const std::string out = page_text_of(dom);
+  const std::string out = probed_dom(*dir_, html, probe, "print_probe", 703);
   std::smatch m;
   ASSERT_TRUE(std::regex_search(out, m, std::regex(R"(PROBE checked=(\d+) wide=(\d+) \[([^\]]*)\] END)")))
       << "the probe did not run: " << out.substr(0, 400);
