@@ -219,20 +219,33 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       if (d.combination)
         std::cout << fmt::format("  combination: {} (ΔBIC {:.1f}, RMS after {:.2f} µm)\n", d.combination->name(),
                                  d.combination->delta_bic, d.combination->rms_after_um);
+      if (!d.hypotheses.empty()) {
+        std::cout << "Beyond the library (the chain's error components and each wheel flank; docs/diagnosis.md):\n";
+        int k = 1;
+        for (const auto& c : d.hypotheses)
+          std::cout << fmt::format("  {:<4} {:<34} {:>9.1f} {:>9.1f}%  {}{}\n", k++, c.name(), c.delta_bic,
+                                   100.0 * c.explained_fraction, c.description,
+                                   c.rejected.empty() ? std::string() : " (rejected: " + c.rejected + ")");
+      }
       std::cout << d.verdict << "\n";
       if (d.chosen && !d.withheld.empty()) {
         std::cout << "scene_with_effect.yaml not written: " << d.withheld << "\n";
         std::cout << "wrote " << (out / "diagnosis.json").string() << "\n";
       } else if (d.chosen) {
-        std::vector<std::string> comments;
+        std::vector<std::string> comments, change_comments;
         for (const auto& e : d.chosen->effects)
           comments.push_back(fmt::format("{}: identified by geartopo diagnose from {} (ΔBIC {:.1f})", e.type,
                                          opt->measured, d.chosen->delta_bic));
+        for (const auto& c : d.chosen->changes)
+          change_comments.push_back(fmt::format("{} {}: identified by geartopo diagnose from {} (ΔBIC {:.1f})",
+                                                machine::info(c.component).name, machine::to_string(c.law),
+                                                opt->measured, d.chosen->delta_bic));
         const auto path = out / "scene_with_effect.yaml";
         // With the fit's uncertainties and correlation: a prediction from this scene draws the effect within them.
         const auto identified = diagnosis::identified_effects(d, *d.chosen);
         diagnosis::write_scene_with_effects(opt->scene, identified.effects, comments, path, identified.uncertainties,
-                                            identified.correlation);
+                                            identified.correlation, d.chosen->changes, d.chosen->change_sd,
+                                            change_comments);
         std::cout << "wrote " << (out / "diagnosis.json").string() << " and " << path.string() << "\n";
       } else {
         std::cout << "wrote " << (out / "diagnosis.json").string() << "\n";

@@ -1,6 +1,7 @@
 #include "geartopo/diagnosis/diagnose.hpp"
 
 #include "effect_fit.hpp"
+#include "machine_hypotheses.hpp"
 #include "setup_terms.hpp"
 
 #include "geartopo/core/flank.hpp"
@@ -81,7 +82,9 @@ std::string plan_sentence(const MeasurementPlan& plan, std::size_t named, double
 std::string Candidate::name() const {
   std::string s;
   for (const auto& e : effects) s += (s.empty() ? "" : " + ") + e.type;
-  return s;
+  for (const auto& c : changes)
+    s += fmt::format("{}{} {}", s.empty() ? "" : " + ", machine::info(c.component).name, machine::to_string(c.law));
+  return qualifier.empty() ? s : s + " " + qualifier;
 }
 
 bool Candidate::nested_in(const Candidate& bigger) const {
@@ -291,6 +294,10 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   const bool asked = !o.candidates.empty();
   std::vector<std::string> types;
   for (const auto& t : asked ? o.candidates : effects::effect_types()) {
+    // One wheel flank's profile error is a hypothesis beyond the library (machine_hypotheses.hpp), tried one flank at a
+    // time when the library explains nothing; as a library candidate its four parameters would stand beside
+    // wheel_profile's two for every symmetric dressing error.
+    if (!asked && t == "wheel_flank_profile") continue;
     const bool modelled = std::find(in_scene.begin(), in_scene.end(), t) != in_scene.end();
     if (modelled && asked)
       throw std::invalid_argument(fmt::format("diagnose: candidate '{}' is already in the scene's effects", t));
@@ -384,7 +391,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     Remainder rem;
     rem.raw = before;
     if (c) {
-      const auto effs = workbench::make_effects(c->effects, setup);
+      const auto effs = workbench::make_effects(c->effects, c->changes, setup);
       const effects::EffectsProcess with(model, effs);
       const auto after = predict(setup, with, pts, grinding::Method::Exact, o.threads);
       for (size_t i = 0; i < pts.size(); ++i) rem.raw(static_cast<Eigen::Index>(i)) = pts[i].deviation_um - after[i];
@@ -440,6 +447,47 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
                              : fmt::format("not significant (ΔBIC {:.1f}, not below −{:g})", best->delta_bic, o.bic_threshold);
   }
   d.unexplained = !d.chosen && !rem.excess.empty();
+  // Beyond the library (docs/diagnosis.md): when nothing in it explains the residual, the chain's own error components
+  // under their laws and each wheel flank's profile. The best plausible, significant one that leaves noise is named
+  // with its equivalence class; one that leaves more is the nearest machine element, and the residual stays unexplained.
+  // Also when the library's explanation holds a value at the end of its allowed range: that value is no measurement
+  // (a thermal drift whose time constant runs away turns into a drift rate), and a machine element whose law the data
+  // do determine, fitting about as well, is named instead.
+  std::string hypothesis_rivals, nearest_element;
+  const std::string chosen_at_bound = d.chosen ? at_the_end_of_its_range(*d.chosen) : std::string();
+  if (d.unexplained || !chosen_at_bound.empty()) {
+    d.hypotheses = fit_machine_hypotheses(setup, at_points, d.residual_before_um, setup_terms, o);
+    if (!d.hypotheses.empty() && d.hypotheses.front().rejected.empty() && d.hypotheses.front().delta_bic < -o.bic_threshold &&
+        (!d.chosen || d.hypotheses.front().delta_bic < d.chosen->delta_bic + o.bic_threshold)) {
+      Candidate& h = d.hypotheses.front();
+      Remainder hr = remainder(&h);
+      h.rms_after_um = std::sqrt(hr.removed.squaredNorm() / n);
+      if (hr.excess.empty()) {
+        if (d.chosen) { // the library's explanation at its bound becomes the nearest, with why
+          d.nearest = d.chosen;
+          d.nearest_rejected = chosen_at_bound;
+          d.chosen.reset();
+          d.rivals.clear();
+        }
+        h.significant = true;
+        d.chosen = h;
+        d.beyond_library = true;
+        d.unexplained = false;
+        rem = std::move(hr);
+        for (size_t k = 1; k < d.hypotheses.size(); ++k) {
+          const Candidate& c = d.hypotheses[k];
+          if (!c.rejected.empty() || c.delta_bic >= h.delta_bic + o.bic_threshold) continue;
+          if (std::find(h.equivalent.begin(), h.equivalent.end(), c.name()) != h.equivalent.end()) continue;
+          hypothesis_rivals += (hypothesis_rivals.empty() ? "" : ", ") + fmt::format("{} (ΔBIC {:.1f})", c.name(), c.delta_bic);
+        }
+      } else if (d.unexplained) {
+        h.rejected = "what it leaves is more than noise (" + hr.excess + ")";
+        nearest_element = fmt::format(" Nearest machine element: {} (ΔBIC {:.1f}, leaving {:.2f} µm RMS) — {}.", h.description,
+                                      h.delta_bic, h.rms_after_um, h.rejected);
+      }
+    }
+    if (d.hypotheses.size() > o.hypotheses_listed) d.hypotheses.resize(o.hypotheses_listed);
+  }
   // Nothing chosen because the best fit is no explanation: no single effect, which explains less, is one either.
   if (!d.chosen && d.nearest)
     for (auto& c : d.ranked)
@@ -462,6 +510,9 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
                              d.chosen->name(), d.rivals.front().name());
   // A value pushed against the end of its allowed range is no measurement (thermal drift's amplitude trading against
   // its time constant on two teeth): the effect explains the residual, but is not added with that value.
+  else if (d.chosen && !hypothesis_rivals.empty())
+    d.withheld = fmt::format("ambiguous: {} fit within ΔBIC {:g} with a different field; measure more before adding it",
+                             hypothesis_rivals, o.bic_threshold);
   else if (d.chosen)
     d.withheld = at_the_end_of_its_range(*d.chosen);
   // Set-up values assumed, not fitted: every unfitted parameter of what the verdict names (chosen, rivals, nearest).
@@ -492,12 +543,28 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
                               parameters_text(*d.nearest), d.nearest->delta_bic, d.nearest->rms_after_um,
                               d.nearest_rejected)
                 : std::string("none fitted");
-  if (!d.chosen && d.unexplained) {
+  if (d.chosen && d.beyond_library) {
+    const Candidate& h = *d.chosen;
+    d.verdict = setup_text +
+                fmt::format("Not an effect of the library: {} (ΔBIC {:.1f}). ", h.description, h.delta_bic) +
+                (h.equivalent.empty() ? std::string()
+                                      : fmt::format("Equivalent on these flanks (the data cannot tell them apart; one "
+                                                    "class): {}. ",
+                                                    fmt::join(h.equivalent, ", "))) +
+                (hypothesis_rivals.empty() ? std::string()
+                                           : fmt::format("Also within ΔBIC {:g}, with a different field: {}. ",
+                                                         o.bic_threshold, hypothesis_rivals)) +
+                fmt::format("Adding it takes the residual (set-up removed) from {:.2f} to {:.2f} µm RMS (noise {:.2f} "
+                            "µm{}). Nearest library explanation: {}.",
+                            d.rms_before_setup_um, rms_after, d.noise_um, d.noise_estimated ? ", estimated" : "",
+                            nearest_text);
+  } else if (!d.chosen && d.unexplained) {
     d.verdict = setup_text +
                 fmt::format("Unexplained: no effect of the library, alone or in a pair, explains the residual "
                             "({:.2f} µm RMS with the set-up removed, against {:.2f} µm noise: {}). What is left unexplained: "
-                            "{} Nearest library explanation: {}. Nothing is added to the scene.",
-                            d.rms_before_setup_um, d.noise_um, rem.excess, d.residual_pattern, nearest_text);
+                            "{} Nearest library explanation: {}.{} Nothing is added to the scene.",
+                            d.rms_before_setup_um, d.noise_um, rem.excess, d.residual_pattern, nearest_text,
+                            nearest_element);
   } else if (!d.chosen) {
     d.verdict = setup_text +
                 fmt::format("No effect of the library is needed: with the set-up terms removed, the residual "

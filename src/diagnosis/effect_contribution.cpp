@@ -1,5 +1,7 @@
 #include "geartopo/diagnosis/effect_contribution.hpp"
 
+#include "geartopo/machine/first_order.hpp"
+
 #include "geartopo/core/parallel.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
@@ -83,6 +85,16 @@ Eigen::VectorXd EffectContribution::deviation_um(std::span<const effects::Effect
     const machine::Vector5d dq = (s.pp.q.vector() + offset) - s.pp.q.vector();
     const double deviation_mm = s.a_q.dot(dq) + s.w.dot(table) - radius_mm * s.normal_per_radial;
     out(static_cast<Eigen::Index>(i)) = units::um_from_mm(deviation_mm);
+  });
+  return out;
+}
+
+Eigen::MatrixXd EffectContribution::component_sensitivity_um(int threads) const {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(points_.size()), machine::kComponentCount); // n × 43
+  for_chunks(points_.size(), threads, [&](std::size_t i) {
+    machine::MachineData data;
+    machine::error_jacobians(points_[i].pp.q, data);
+    out.row(static_cast<Eigen::Index>(i)) = units::um_from_mm(1.0) * (points_[i].w.transpose() * data.J_twistw_e);
   });
   return out;
 }

@@ -47,22 +47,22 @@ std::string effects_yaml_items(const std::vector<scene::EffectSpec>& effects, co
   return out;
 }
 
-std::string scene_with_effects(const std::string& text, const std::vector<scene::EffectSpec>& effects,
-                               const std::vector<std::string>& comments,
-                               const std::vector<std::vector<double>>& uncertainties, const Eigen::MatrixXd& correlation) {
-  const std::string items = effects_yaml_items(effects, comments, uncertainties, correlation);
-  // Find a top-level "effects:" line; its block ends at the next top-level key (a line starting with a letter).
+namespace {
+
+/// `text` with `items` appended to its top-level list `key` (created at the end if absent).
+std::string with_list_items(const std::string& text, const std::string& key, const std::string& items) {
+  // Find a top-level "<key>:" line; its block ends at the next top-level key (a line starting with a letter).
   std::istringstream in(text);
   std::vector<std::string> lines;
   for (std::string l; std::getline(in, l);) lines.push_back(l);
   size_t start = lines.size();
   for (size_t i = 0; i < lines.size(); ++i)
-    if (lines[i].rfind("effects:", 0) == 0) start = i;
+    if (lines[i].rfind(key + ":", 0) == 0) start = i;
   std::string out;
   if (start == lines.size()) {
     out = text;
     if (!out.empty() && out.back() != '\n') out += "\n";
-    return out + "\neffects:\n" + items;
+    return out + "\n" + key + ":\n" + items;
   }
   size_t end = start + 1;
   while (end < lines.size() && (lines[end].empty() || lines[end][0] == ' ' || lines[end][0] == '#' || lines[end][0] == '-'))
@@ -74,13 +74,46 @@ std::string scene_with_effects(const std::string& text, const std::vector<scene:
   if (lines[start].find('[') != std::string::npos || lines[start].find('{') != std::string::npos) {
     // Flow style: only an empty list can be rewritten as a block without losing anything.
     if (lines[start].find("[]") == std::string::npos)
-      throw std::runtime_error("the scene's effects list is in flow style ([...]): write it as a block list to add to it");
+      throw std::runtime_error("the scene's " + key + " list is in flow style ([...]): write it as a block list to add to it");
     out.erase(out.size() - lines[start].size() - 1);
-    out += "effects:\n";
+    out += key + ":\n";
   }
   out += items;
   for (size_t i = insert; i < lines.size(); ++i) out += lines[i] + "\n";
   return out;
+}
+
+} // namespace
+
+std::string scene_with_effects(const std::string& text, const std::vector<scene::EffectSpec>& effects,
+                               const std::vector<std::string>& comments,
+                               const std::vector<std::vector<double>>& uncertainties, const Eigen::MatrixXd& correlation) {
+  return with_list_items(text, "effects", effects_yaml_items(effects, comments, uncertainties, correlation));
+}
+
+std::string machine_changes_yaml_items(const std::vector<machine::ComponentChange>& changes,
+                                       const std::vector<double>& uncertainties, const std::vector<std::string>& comments) {
+  std::string out;
+  for (size_t i = 0; i < changes.size(); ++i) {
+    const auto& c = changes[i];
+    const auto q = machine::info(c.component).quantity;
+    const double scale = machine::file_per_internal(c.law, q);
+    if (i < comments.size() && !comments[i].empty()) out += "  # " + comments[i] + "\n";
+    out += fmt::format("  - {{component: {}, law: {}, {}: {:.6g}", machine::info(c.component).name,
+                       machine::to_string(c.law), machine::size_key(c.law, q), c.size * scale);
+    if (c.law == machine::ChangeLaw::SteadyState) out += fmt::format(", time_constant_s: {:.6g}", c.time_constant_s);
+    if (c.law == machine::ChangeLaw::OncePerRevolution) out += fmt::format(", phase_deg: {:.6g}", c.phase_rad * 180.0 / 3.141592653589793);
+    out += "}";
+    if (i < uncertainties.size() && uncertainties[i] > 0.0)
+      out += fmt::format("  # ± {:.2g} (1σ of the fit)", uncertainties[i] * scale);
+    out += "\n";
+  }
+  return out;
+}
+
+std::string scene_with_machine_changes(const std::string& text, const std::vector<machine::ComponentChange>& changes,
+                                       const std::vector<double>& uncertainties, const std::vector<std::string>& comments) {
+  return with_list_items(text, "machine_changes", machine_changes_yaml_items(changes, uncertainties, comments));
 }
 
 } // namespace geartopo::diagnosis
@@ -141,9 +174,13 @@ std::string rebase_scene_paths(const std::string& text, const std::filesystem::p
 
 void write_scene_with_effects(const std::filesystem::path& scene_file, const std::vector<scene::EffectSpec>& effects,
                               const std::vector<std::string>& comments, const std::filesystem::path& out_file,
-                              const std::vector<std::vector<double>>& uncertainties, const Eigen::MatrixXd& correlation) {
-  const std::string completed = scene_with_effects(input::read_input_file(scene_file, input::kMaxSceneBytes, "scene file"),
-                                                   effects, comments, uncertainties, correlation);
+                              const std::vector<std::vector<double>>& uncertainties, const Eigen::MatrixXd& correlation,
+                              const std::vector<machine::ComponentChange>& changes,
+                              const std::vector<double>& change_uncertainties,
+                              const std::vector<std::string>& change_comments) {
+  std::string completed = input::read_input_file(scene_file, input::kMaxSceneBytes, "scene file");
+  if (!effects.empty()) completed = scene_with_effects(completed, effects, comments, uncertainties, correlation);
+  if (!changes.empty()) completed = scene_with_machine_changes(completed, changes, change_uncertainties, change_comments);
   output::write_text_atomically(out_file, rebase_scene_paths(completed, scene_file.parent_path(), out_file.parent_path()));
 }
 

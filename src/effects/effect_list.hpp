@@ -9,4 +9,5 @@
   X(deflection)                 \
   X(wheel_profile)              \
   X(servo_lag)                  \
-  X(wheel_runout)
+  X(wheel_runout)               \
+  X(wheel_flank_profile)

@@ -151,7 +151,7 @@ std::vector<std::unique_ptr<effects::Effect>> SampleModel::drawn_effects(const S
     auto& value = specs[v.effect].values[v.value];
     value = std::clamp(value + v.u * d.z_effects(static_cast<Eigen::Index>(j)), v.lo, v.hi);
   }
-  return workbench::make_effects(specs, wb_.setup);
+  return workbench::make_effects(specs, wb_.scene.machine_changes, wb_.setup);
 }
 
 SampleGears SampleModel::exact(const SampleDraw& d) const {

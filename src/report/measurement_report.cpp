@@ -112,6 +112,27 @@ nlohmann::json candidate_json(const diagnosis::Candidate& c) {
                      {"fitted", p.fitted}};
     }
   j["parameters"] = params;
+  if (!c.changes.empty()) {
+    // Beyond the library: the changed component, its law and size in file units (docs/scene-format.md,
+    // machine_changes), and the hypotheses these flanks cannot tell from it.
+    nlohmann::json changes = nlohmann::json::array();
+    for (size_t k = 0; k < c.changes.size(); ++k) {
+      const auto& ch = c.changes[k];
+      const auto q = machine::info(ch.component).quantity;
+      const double scale = machine::file_per_internal(ch.law, q);
+      nlohmann::json cj{{"component", machine::info(ch.component).name},
+                        {"meaning", machine::info(ch.component).meaning},
+                        {"law", machine::to_string(ch.law)},
+                        {machine::size_key(ch.law, q), ch.size * scale},
+                        {"uncertainty", k < c.change_sd.size() ? c.change_sd[k] * scale : 0.0}};
+      if (ch.law == machine::ChangeLaw::SteadyState) cj["time_constant_s"] = ch.time_constant_s;
+      if (ch.law == machine::ChangeLaw::OncePerRevolution) cj["phase_deg"] = ch.phase_rad * 180.0 / 3.141592653589793;
+      changes.push_back(cj);
+    }
+    j["machine_changes"] = changes;
+  }
+  if (!c.description.empty()) j["description"] = c.description;
+  if (!c.equivalent.empty()) j["equivalent"] = c.equivalent;
   j["explained_fraction"] = c.explained_fraction;
   j["rejected"] = c.rejected.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.rejected);
   j["rms_before_um"] = c.rms_before_um;
@@ -181,6 +202,10 @@ nlohmann::json diagnosis_json(const std::string& scene, const std::string& measu
   for (const auto& r : d.rivals) rivals.push_back(candidate_json(r));
   j["rivals"] = rivals;
   j["plan"] = d.plan ? measurement_plan_json(*d.plan) : nlohmann::json(nullptr);
+  // Beyond the library: tried when nothing in it explains the residual (docs/diagnosis.md).
+  nlohmann::json hyps = nlohmann::json::array();
+  for (const auto& h : d.hypotheses) hyps.push_back(candidate_json(h));
+  j["beyond_library"] = {{"tried", !d.hypotheses.empty()}, {"chosen", d.beyond_library}, {"hypotheses", hyps}};
   // Nothing chosen: what came closest and why it is no explanation; "unexplained" when what is left is not noise.
   j["unexplained"] = d.unexplained;
   if (d.nearest) {

@@ -1,4 +1,6 @@
 #include "geartopo/scene/scene.hpp"
+
+#include "geartopo/machine/component_change.hpp"
 #include "geartopo/core/input_file.hpp"
 #include "geartopo/core/units.hpp"
 
@@ -477,6 +479,50 @@ void read_effects(MapReader& top, ReadContext& ctx, Scene& scene) {
   if (!pending.empty()) scene.effect_correlation = resolve_correlation(out, pending, ctx);
 }
 
+/// `machine_changes`: error components changed since the map was measured (docs/scene-format.md), each
+/// {component, law, <size key of the law and the component's quantity>[, time_constant_s]}.
+void read_machine_changes(MapReader& top, ReadContext& ctx, Scene& scene) {
+  const YAML::Node list = top.raw("machine_changes");
+  if (!list.IsDefined()) return;
+  if (!list.IsSequence()) ctx.fail(list.Mark(), "machine_changes", "expected a list (- component: …, law: …)");
+  for (size_t i = 0; i < list.size(); ++i) {
+    MapReader m(list[i], fmt::format("machine_changes[{}]", i), ctx);
+    const std::string name = m.text("component");
+    const auto id = machine::component_from_name(name);
+    if (!id)
+      ctx.fail_field(m.field("component"),
+                     fmt::format("'{}' is not an error component (docs/error-components.md)", text::excerpt(name)));
+    const auto law_name = m.optional_choice("law", {"constant", "linear_in_time", "steady_state", "once_per_revolution"});
+    machine::ComponentChange c;
+    c.component = *id;
+    c.law = machine::change_law_from_name(law_name.value_or("constant")).value();
+    for (const auto& other : scene.machine_changes)
+      if (other.component == c.component && other.law == c.law)
+        ctx.fail_field(m.field("component"), fmt::format("{} with law {} is listed twice", name, machine::to_string(c.law)));
+    const auto q = machine::info(c.component).quantity;
+    // Hard limits, far beyond any real machine (a change of 1 mm or 10 mrad, 100 µm or 1 mrad per minute): a value
+    // beyond them is a typing error, not a drift.
+    const double limit = (q == machine::Quantity::Length ? 1000.0 : 10000.0) / (c.law == machine::ChangeLaw::LinearInTime ? 10.0 : 1.0);
+    const auto other_q = q == machine::Quantity::Length ? machine::Quantity::Angle : machine::Quantity::Length;
+    if (m.has(machine::size_key(c.law, other_q)) && !m.has(machine::size_key(c.law, q)) &&
+        m.optional_number(machine::size_key(c.law, other_q), {-1e300, 1e300})) // located at that key
+      ctx.fail_field(m.field(machine::size_key(c.law, other_q)),
+                     fmt::format("{} is {} ({}): give {}", name,
+                                 q == machine::Quantity::Length ? "a length" : "an angle", machine::file_unit(q),
+                                 machine::size_key(c.law, q)));
+    c.size = m.number(machine::size_key(c.law, q), {-limit, limit}) / machine::file_per_internal(c.law, q);
+    if (c.law == machine::ChangeLaw::SteadyState) c.time_constant_s = m.number("time_constant_s", {1.0, 1e7});
+    if (c.law == machine::ChangeLaw::OncePerRevolution) {
+      if (machine::info(c.component).axis != machine::Axis::C || !machine::info(c.component).position_dependent)
+        ctx.fail_field(m.field("law"), fmt::format("once_per_revolution needs a C-axis motion component (delta_xc … "
+                                                   "epsilon_zc); {} does not turn with the table", name));
+      c.phase_rad = units::rad_from_deg(m.number("phase_deg", {-360.0, 360.0}));
+    }
+    m.finish();
+    scene.machine_changes.push_back(c);
+  }
+}
+
 MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& base) {
   MeasurementGrid g;
   if (m.has("rows")) g.rows = static_cast<int>(m.integer("rows", 2, 1000));
@@ -630,6 +676,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   if (auto m = top.optional_map("measurement"))
     scene.grid = read_grid(*m, scene.gear.teeth, std::filesystem::path(source).parent_path());
   read_effects(top, ctx, scene);
+  read_machine_changes(top, ctx, scene);
   if (auto r = top.optional_map("report")) {
     scene.report.part = r->optional_text("part").value_or("");
     scene.report.drawing = r->optional_text("drawing").value_or("");

@@ -1,4 +1,6 @@
 #include "geartopo/workbench/workbench.hpp"
+
+#include "geartopo/effects/component_changes.hpp"
 #include "geartopo/compensation/design_motion.hpp"
 
 #include "geartopo/core/field_error.hpp"
@@ -102,7 +104,7 @@ void check_strokes(const scene::Scene& s, const grinding::GrindingSetup& setup) 
 
 Workbench::Workbench(scene::Scene s)
     : scene(std::move(s)), setup(setup_with_a_wheel_that_fits(scene, notes)), machine(scene.machine.model()),
-      machine_process(machine, scene.machine.datum_face_z_mm), effects(make_effects(scene.effects, setup)) {
+      machine_process(machine, scene.machine.datum_face_z_mm), effects(make_effects(scene.effects, scene.machine_changes, setup)) {
   check_strokes(scene, setup);
   if (!effects.empty()) effects_process = std::make_unique<effects::EffectsProcess>(machine_process, effects);
   if (setup.design().modifications().has_helix()) {
@@ -129,6 +131,17 @@ std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<sce
                                                            const grinding::GrindingSetup& setup) {
   std::vector<std::unique_ptr<effects::Effect>> out;
   for (const auto& s : specs) out.push_back(effects::make_effect(s.type, s.values, setup));
+  return out;
+}
+
+std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<scene::EffectSpec>& specs,
+                                                           const std::vector<machine::ComponentChange>& changes,
+                                                           const grinding::GrindingSetup& setup) {
+  auto out = make_effects(specs, setup);
+  if (!changes.empty()) {
+    out.push_back(std::make_unique<effects::ComponentChanges>(changes));
+    out.back()->bind(setup);
+  }
   return out;
 }
 

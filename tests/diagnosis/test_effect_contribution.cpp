@@ -201,7 +201,8 @@ TEST(EffectContribution, LinearParametersAreTheClaimedColumnsOfTheUncachedModel)
         ASSERT_LE(std::abs(sum[i] - whole[i]), kColumnRoundingUm) << type << ", draw " << draw << ", point " << i;
     }
   }
-  EXPECT_EQ(columns_checked, 3 * 9); // the library's linear parameters: thermal 2, wear 1, deflection 1, profile 2, lag 1, runout 2
+  // The library's linear parameters: thermal 2, wear 1, deflection 1, profile 2, lag 1, runout 2, flank profile 4.
+  EXPECT_EQ(columns_checked, 3 * 13);
 }
 
 // The whole diagnosis (every fit runs on EffectContribution) on the truth scene's thermal drift, teeth 1 and 18: the

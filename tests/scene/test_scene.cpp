@@ -526,3 +526,42 @@ TEST(Scene, ADesignTableIsReadAndItsFaultsLocated) {
       << short_of_l_beta;
   std::filesystem::remove_all(dir);
 }
+
+TEST(SceneMachineChanges, EveryLawIsReadInItsFileUnits) {
+  const auto sc = scene::parse_scene(kGood + R"(machine_changes:
+  - {component: E_AOA, law: linear_in_time, rate_urad_per_min: 40}
+  - {component: delta_yy, law: steady_state, final_um: 6, time_constant_s: 900}
+  - {component: epsilon_zc, law: once_per_revolution, amplitude_urad: 25, phase_deg: 90}
+  - {component: E_XOC, change_um: 3}
+)", "mem");
+  ASSERT_EQ(sc.machine_changes.size(), 4u);
+  const auto& c = sc.machine_changes;
+  EXPECT_EQ(c[0].component, machine::ComponentId::E_AOA);
+  EXPECT_EQ(c[0].law, machine::ChangeLaw::LinearInTime);
+  EXPECT_NEAR(c[0].size, 40e-6 / 60.0, 1e-18);                 // rad per second
+  EXPECT_NEAR(c[0].at(120.0, 0.0), 80e-6, 1e-15);               // two minutes in
+  EXPECT_NEAR(c[1].at(900.0, 0.0), 6e-3 * (1.0 - std::exp(-1.0)), 1e-15); // mm, one time constant in
+  EXPECT_NEAR(c[2].at(0.0, std::numbers::pi / 2), 25e-6, 1e-15); // largest at C = φ = 90°
+  EXPECT_NEAR(c[2].at(0.0, 0.0), 0.0, 1e-15);
+  EXPECT_EQ(c[3].law, machine::ChangeLaw::Constant);           // the default law
+  EXPECT_NEAR(c[3].at(1e4, 1.0), 3e-3, 1e-15);
+}
+
+TEST(SceneMachineChanges, BadChangesAreLocated) {
+  const auto err = [](const std::string& item) { return error_of(kGood + "machine_changes:\n  - " + item + "\n"); };
+  EXPECT_EQ(err("{component: E_ABC, change_um: 3}"),
+            "scenes/x.yaml:11:17: machine_changes[0].component: 'E_ABC' is not an error component (docs/error-components.md)");
+  EXPECT_EQ(err("{component: E_AOA, change_um: 3}"),
+            "scenes/x.yaml:11:35: machine_changes[0].change_um: E_AOA is an angle (urad): give change_urad");
+  EXPECT_NE(err("{component: E_AOA, change_urad: .nan}").find("machine_changes[0].change_urad"), std::string::npos);
+  EXPECT_NE(err("{component: E_AOA, change_urad: 1e9}").find("is outside [-10000, 10000]"), std::string::npos);
+  EXPECT_NE(err("{component: E_AOA, law: sometimes, change_urad: 1}").find("machine_changes[0].law"), std::string::npos);
+  EXPECT_NE(err("{component: delta_yy, law: steady_state, final_um: 6}").find("time_constant_s"), std::string::npos);
+  EXPECT_NE(err("{component: E_AOA, law: once_per_revolution, amplitude_urad: 5, phase_deg: 0}")
+                .find("once_per_revolution needs a C-axis motion component"),
+            std::string::npos);
+  const std::string twice = error_of(kGood + "machine_changes:\n  - {component: E_XOC, change_um: 3}\n"
+                                             "  - {component: E_XOC, change_um: 4}\n");
+  EXPECT_EQ(twice, "scenes/x.yaml:12:17: machine_changes[1].component: E_XOC with law constant is listed twice");
+  EXPECT_NE(error_of(kGood + "machine_changes: {component: E_XOC}\n").find("expected a list"), std::string::npos);
+}

@@ -19,6 +19,7 @@
 #include "geartopo/grinding/grinding_process.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
 #include "geartopo/machine/axis_pose.hpp"
+#include "geartopo/machine/component_change.hpp"
 #include "geartopo/scene/scene.hpp"
 
 #include <Eigen/Dense>
@@ -50,6 +51,17 @@ struct SetupTerms {
 
 struct Candidate {
   std::vector<scene::EffectSpec> effects;               ///< one (or two, for a combination) with fitted values
+  /// Beyond the library (docs/diagnosis.md, "Beyond the library"): a changed error component of the chain with its law
+  /// and fitted size (internal units), and the size's 1σ, parallel. Empty for a library effect.
+  std::vector<machine::ComponentChange> changes;
+  std::vector<double> change_sd;
+  /// One sentence for people: "E_AOA (zero-position error of A) drifts by +0.80 ± 0.02 µrad/min (+38 µrad over the
+  /// job)"; empty for a library effect.
+  std::string description;
+  /// Other hypotheses beyond the library that these flanks cannot tell from this one (within the ΔBIC threshold and
+  /// their fitted fields ≥ 95 % alike): named as one equivalence class, never as a choice between them.
+  std::vector<std::string> equivalent;
+  std::string qualifier; ///< appended to the name: which wheel flank ("left") for a wheel_flank_profile hypothesis
   std::vector<std::vector<FittedParameter>> parameters; ///< per effect
   std::vector<std::string> explanations;                ///< one line of physics per effect
   double rms_before_um = 0.0, rms_after_um = 0.0; ///< with the set-up terms removed (µm)
@@ -63,7 +75,7 @@ struct Candidate {
   /// Correlation of the fitted parameters (p × p, unit-free; p the fitted parameters, effect by effect in parameter
   /// order) from the linearised covariance (JᵀJ)⁻¹; the uncertainties themselves may be wider (profile likelihood).
   Eigen::MatrixXd correlation;
-  std::string name() const;        ///< "thermal_drift" or "thermal_drift + wheel_wear"
+  std::string name() const;        ///< "thermal_drift", "thermal_drift + wheel_wear" or "E_AOA linear_in_time"
   int fitted_parameters() const;   ///< number of fitted parameters over its effects (count)
   /// Every effect of this one is in `bigger`, which has more (eccentricity in eccentricity + wheel_wear).
   bool nested_in(const Candidate& bigger) const;
@@ -171,6 +183,13 @@ struct DiagnoseOptions {
   double plan_target_delta_bic = 30.0;
   /// Teeth described one by one in the verdict (count): the best few; the plan lists them all.
   std::size_t plan_teeth_named = 3;
+  /// Beyond the library: the largest change a real machine's component makes over one job (engineering judgement,
+  /// docs/diagnosis.md): 100 µm for a length (a grinder's X growth from cold reaches tens of µm), 1000 µrad for an
+  /// angle (3.4′: a swivel head slipping in its clamping), the largest value the law reaches over the job. A fit that
+  /// needs more by over 2σ is no explanation.
+  double plausible_change_um = 100.0, plausible_change_urad = 1000.0;
+  /// Hypotheses beyond the library shown in the ranked list (count).
+  std::size_t hypotheses_listed = 10;
   /// Smallest first step of that walk (unit-free, in units of the parameter's typical size): a parameter whose
   /// linearised σ is 0 still moves.
   double profile_min_step = 1e-6;
@@ -218,6 +237,12 @@ struct Diagnosis {
   /// its own whitened form.
   double chi2_after = 0.0, chi2_dof = 0.0;
   std::string verdict;                  ///< one paragraph for people
+  /// Beyond the library, tried when nothing in it explains the residual (`unexplained`): every error component of the
+  /// chain changed by a constant, linearly in time, towards a steady state or (C axis) once per revolution, and each
+  /// wheel flank's profile error alone — best ΔBIC first, implausible ones after. Empty when not tried.
+  std::vector<Candidate> hypotheses;
+  /// True when `chosen` is one of `hypotheses`: the verdict names a machine element and its law.
+  bool beyond_library = false;
 };
 
 /// `model` is what the scene models (geometric errors and the scene's own effects); `in_scene` its effect types.

@@ -41,6 +41,16 @@ public:
 
   std::size_t size() const { return points_.size(); }
 
+  /// The first-order deviation at every point per unit change of each of the chain's 43 error components, at the
+  /// point's generating pose (n × 43; µm per mm for lengths, per rad for angles): wᵀ J_twistw_e(q)
+  /// (machine/first_order.hpp) — what a constant change δe_k adds is column k · δe_k. Results do not depend on
+  /// `threads`.
+  Eigen::MatrixXd component_sensitivity_um(int threads = 0) const;
+  /// The generating path point of point i (its space, stroke position, time and commanded axes).
+  const grinding::PathPoint& path_point(std::size_t i) const { return points_[i].pp; }
+  /// The wheel axial coordinate of point i's contact (mm).
+  double wheel_axial_mm(std::size_t i) const { return points_[i].v; }
+
 private:
   /// Per point (≈ 170 bytes): the deviation is d = a_qᵀ δq + wᵀ ξ − δR(v)·normal_per_radial with
   ///   w = (n; P × n)          so that n·(δp + δθ × P) = wᵀ (δp; δθ) for a pose-error twist ξ = (δp; δθ) in w,

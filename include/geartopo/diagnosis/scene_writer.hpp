@@ -2,6 +2,8 @@
 // appending the new items to its `effects:` list (or a new `effects:` section at the end).
 #pragma once
 
+#include "geartopo/machine/component_change.hpp"
+
 #include "geartopo/scene/scene.hpp"
 
 #include <Eigen/Dense>
@@ -32,11 +34,26 @@ std::string scene_with_effects(const std::string& scene_text, const std::vector<
 std::string rebase_scene_paths(const std::string& scene_text, const std::filesystem::path& from_dir,
                                const std::filesystem::path& to_dir);
 
-/// Reads `scene_file`, adds the effects (scene_with_effects), rebases its paths to `out_file`'s folder and writes it
-/// there. Throws std::runtime_error naming the file that cannot be read or written.
+/// The YAML items of a `machine_changes` list ("  - {component: E_AOA, law: linear_in_time, rate_urad_per_min: 0.8}"),
+/// sizes in file units under the law's key (machine::size_key), each with its fit's 1σ as a comment (`uncertainties`
+/// parallel to `changes`, internal units; 0 or missing: none) and a comment line before it (`comments`).
+std::string machine_changes_yaml_items(const std::vector<machine::ComponentChange>& changes,
+                                       const std::vector<double>& uncertainties = {},
+                                       const std::vector<std::string>& comments = {});
+/// `scene_text` with those items added to its top-level `machine_changes:` list (created if absent).
+std::string scene_with_machine_changes(const std::string& scene_text, const std::vector<machine::ComponentChange>& changes,
+                                       const std::vector<double>& uncertainties = {},
+                                       const std::vector<std::string>& comments = {});
+
+/// Reads `scene_file`, adds the effects (scene_with_effects) and the changed components (scene_with_machine_changes),
+/// rebases its paths to `out_file`'s folder and writes it there. Throws std::runtime_error naming the file that
+/// cannot be read or written.
 void write_scene_with_effects(const std::filesystem::path& scene_file, const std::vector<scene::EffectSpec>& effects,
                               const std::vector<std::string>& comments, const std::filesystem::path& out_file,
                               const std::vector<std::vector<double>>& uncertainties = {},
-                              const Eigen::MatrixXd& correlation = Eigen::MatrixXd());
+                              const Eigen::MatrixXd& correlation = Eigen::MatrixXd(),
+                              const std::vector<machine::ComponentChange>& changes = {},
+                              const std::vector<double>& change_uncertainties = {},
+                              const std::vector<std::string>& change_comments = {});
 
 } // namespace geartopo::diagnosis

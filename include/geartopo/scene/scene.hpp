@@ -7,6 +7,7 @@
 #include "geartopo/gears/gear_spec.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
 #include "geartopo/grinding/wheel_path.hpp"
+#include "geartopo/machine/component_change.hpp"
 #include "geartopo/machine/error_source.hpp"
 #include "geartopo/machine/machine_model.hpp"
 
@@ -90,6 +91,9 @@ struct Scene {
   grinding::ProcessSpec process;
   MeasurementGrid grid;
   std::vector<EffectSpec> effects;
+  /// Error components changed since the map in `machine` was measured, with their laws in time (scene key
+  /// `machine_changes`, docs/scene-format.md): what diagnosis finds beyond the library. Empty: none.
+  std::vector<machine::ComponentChange> machine_changes;
   ReportHeader report;
   /// Standard uncertainty of each effect value (file units), parallel to `effects` and their values, e.g. from the fit
   /// that identified them (diagnosis); empty or missing entries: exact. The Monte Carlo prediction draws the values

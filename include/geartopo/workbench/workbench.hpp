@@ -35,7 +35,8 @@ struct Workbench {
   grinding::GrindingSetup setup;
   machine::MachineModel machine;
   grinding::MachineProcess machine_process; ///< geometric errors only
-  std::vector<std::unique_ptr<effects::Effect>> effects; ///< the scene's effects, bound to setup
+  /// The scene's effects, bound to setup, then its machine_changes (one effects::ComponentChanges) when it has any.
+  std::vector<std::unique_ptr<effects::Effect>> effects;
   std::unique_ptr<effects::EffectsProcess> effects_process; ///< null when the scene has no effects
   /// The NC program's motions that grind the drawing's helix modifications (compensation/design_motion.hpp, the
   /// scene's process.lead_crowning), and the machine running them; null when the design has no helix part.
@@ -77,6 +78,11 @@ inline constexpr double kWheelDiametersToTryMm[] = {350, 300, 250, 200, 160, 125
 
 /// Instances of effects with their values, bound to a set-up.
 std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<scene::EffectSpec>& specs,
+                                                           const grinding::GrindingSetup& setup);
+/// The same followed by the changed error components (effects::ComponentChanges) when there are any: what a scene's
+/// `effects` and `machine_changes` do to the grinding process together.
+std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<scene::EffectSpec>& specs,
+                                                           const std::vector<machine::ComponentChange>& changes,
                                                            const grinding::GrindingSetup& setup);
 
 } // namespace geartopo::workbench

@@ -1,0 +1,257 @@
+// geartopo diagnosis — explanations beyond the library (machine_hypotheses.hpp). Units: µm; sizes mm or rad inside.
+#include "machine_hypotheses.hpp"
+
+#include "geartopo/core/uncertain_value.hpp"
+#include "geartopo/effects/registry.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace geartopo::diagnosis {
+namespace {
+
+using machine::ChangeLaw;
+
+/// A hypothesis before its fit: what it is, and its first-order columns at the points (n × p, µm per unit of each
+/// coefficient: mm or rad for a component change, µm for a wheel flank's slope and crowning).
+struct Hypothesis {
+  Candidate c;         ///< changes (size 1) or the one-sided wheel_flank_profile effect, qualifier
+  Eigen::MatrixXd X;   ///< n × p
+  int component = -1;  ///< its component (−1: a wheel flank)
+};
+
+struct LinearFit {
+  bool ok = false;
+  Eigen::VectorXd beta; ///< p
+  Eigen::MatrixXd cov;  ///< p × p: σ̂² (X'ᵀX')⁻¹, σ̂² = RSS/ν of the whitened residual
+  double rss = 0.0;
+};
+
+/// The columns with the set-up terms removed (and whitened, with stroke scatter): what they can explain.  // n × p
+Eigen::MatrixXd projected(const Eigen::MatrixXd& X, const SetupTermModel& st) {
+  Eigen::MatrixXd Xp(X.rows(), X.cols());
+  for (Eigen::Index j = 0; j < X.cols(); ++j) Xp.col(j) = st.remove(Eigen::VectorXd(X.col(j)));
+  return Xp;
+}
+
+LinearFit fit(const Eigen::MatrixXd& Xp, const Eigen::VectorXd& y, double setup_count) {
+  LinearFit f;
+  const auto n = static_cast<double>(y.size()), p = static_cast<double>(Xp.cols());
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Xp);
+  // A direction the set-up terms already hold (a constant Z change is a turn of the helicoid) explains nothing new.
+  if (qr.rank() < Xp.cols() || Xp.norm() == 0.0) return f;
+  f.beta = qr.solve(y);
+  f.rss = (y - Xp * f.beta).squaredNorm();
+  const double sigma2 = f.rss / std::max(1.0, n - setup_count - p);
+  f.cov = sigma2 * (Xp.transpose() * Xp).inverse();
+  f.ok = f.beta.allFinite() && f.cov.allFinite();
+  return f;
+}
+
+/// How much of A's columns lies in B's span (0 … 1, unit-free): ‖Q_Bᵀ A‖_F / ‖A‖_F.
+double share_in_span(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(B);
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(B.rows(), B.cols());
+  const double a = A.norm();
+  return a > 0.0 ? (Q.transpose() * A).norm() / a : 0.0;
+}
+
+std::string unit_of(machine::Quantity q) { return q == machine::Quantity::Length ? "µm" : "µrad"; }
+
+} // namespace
+
+std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& setup, const EffectContribution& at,
+                                              const std::vector<double>& residual_um, const SetupTermModel& st,
+                                              const DiagnoseOptions& o) {
+  const auto n = static_cast<Eigen::Index>(residual_um.size());
+  const Eigen::VectorXd y = st.remove(Eigen::Map<const Eigen::VectorXd>(residual_um.data(), n));
+  const double rss0 = y.squaredNorm(), ln_n = std::log(static_cast<double>(n));
+  if (!(rss0 > 0.0) || n < 3) return {};
+
+  // The job's duration: a drift's reach is judged over it (the last stroke's end, or the last point's time).
+  Eigen::VectorXd t(n), gamma(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    t(i) = at.path_point(static_cast<size_t>(i)).time_s;
+    gamma(i) = at.path_point(static_cast<size_t>(i)).q.c;
+  }
+  double job_s = setup.path().strokes().empty() ? 0.0 : setup.path().strokes().back().t_end_s;
+  job_s = std::max(job_s, t.maxCoeff());
+
+  std::vector<Hypothesis> hyps;
+  const Eigen::MatrixXd S = at.component_sensitivity_um(o.threads); // n × 43
+  for (int k = 0; k < machine::kComponentCount; ++k) {
+    const Eigen::VectorXd col = S.col(k);
+    if (col.isZero(0.0)) continue;
+    const auto& info = machine::info(machine::component_at(k));
+    const auto add = [&](ChangeLaw law, Eigen::MatrixXd X, double tau = 0.0) {
+      Hypothesis h;
+      machine::ComponentChange ch;
+      ch.component = info.id, ch.law = law, ch.time_constant_s = tau;
+      h.c.changes.push_back(ch);
+      h.X = std::move(X);
+      h.component = k;
+      hyps.push_back(std::move(h));
+    };
+    add(ChangeLaw::Constant, col);
+    if (job_s > 0.0) {
+      add(ChangeLaw::LinearInTime, col.cwiseProduct(t));
+      // τ on a grid over the job: with one or two teeth measured a time constant is rarely determined, and a law
+      // whose τ the data do not fix is reported as the linear drift it then looks like (below).
+      for (double f : {0.125, 0.25, 0.5, 1.0, 2.0})
+        add(ChangeLaw::SteadyState, col.cwiseProduct(Eigen::VectorXd((-(t.array() / (f * job_s))).exp().matrix()).unaryExpr(
+                                                         [](double e) { return 1.0 - e; })),
+            f * job_s);
+    }
+    if (info.axis == machine::Axis::C && info.position_dependent) {
+      Eigen::MatrixXd X(n, 2);
+      X.col(0) = col.cwiseProduct(Eigen::VectorXd(gamma.array().cos()));
+      X.col(1) = col.cwiseProduct(Eigen::VectorXd(gamma.array().sin()));
+      add(ChangeLaw::OncePerRevolution, std::move(X));
+    }
+  }
+  // One wheel flank's profile error: the gear flanks it grinds, slope and crowning (µm), the other flank untouched.
+  for (const int side : {0, 1}) {
+    Hypothesis h;
+    h.X.resize(n, 2);
+    for (int j = 0; j < 2; ++j) {
+      std::vector<double> values(4, 0.0);
+      values[static_cast<size_t>(2 * side + j)] = 1.0;
+      const auto e = effects::make_effect("wheel_flank_profile", values, setup);
+      const effects::Effect* list[] = {e.get()};
+      h.X.col(j) = at.deviation_um(list, o.threads);
+    }
+    if (h.X.isZero(0.0)) continue;
+    h.c.effects.push_back({"wheel_flank_profile", std::vector<double>(4, 0.0)});
+    h.c.qualifier = side == 0 ? "(left)" : "(right)";
+    hyps.push_back(std::move(h));
+  }
+
+  std::vector<Candidate> out;
+  std::vector<Eigen::MatrixXd> columns; // projected, parallel to out, for the equivalence of the best
+  // A hypothesis whose largest plausible size changes the projected data by less than 1e-4 µm RMS is invisible on
+  // these flanks (a roll of the wheel spindle about its own axis turns a surface of revolution into itself): its fit
+  // would be numerical noise with a huge value, so it is not tried.
+  const double rms_scale = 1.0 / std::sqrt(static_cast<double>(n));
+  for (auto& h : hyps) {
+    Eigen::MatrixXd Xp = projected(h.X, st);
+    double largest = 0.0;
+    for (Eigen::Index j = 0; j < Xp.cols(); ++j) {
+      double size_limit = 100.0; // µm: a wheel flank's slope or crowning
+      if (h.component >= 0) {
+        const auto& ch = h.c.changes.front();
+        const bool length = machine::info(ch.component).quantity == machine::Quantity::Length;
+        size_limit = length ? o.plausible_change_um * 1e-3 : o.plausible_change_urad * 1e-6;
+        if (ch.law == ChangeLaw::LinearInTime && job_s > 0.0) size_limit /= job_s;
+      }
+      largest = std::max(largest, Xp.col(j).norm() * size_limit * rms_scale);
+    }
+    if (largest < 1e-4) continue;
+    const LinearFit f = fit(Xp, y, st.count());
+    if (!f.ok) continue;
+    Candidate c = std::move(h.c);
+    const auto p = static_cast<double>(Xp.cols());
+    c.delta_bic = static_cast<double>(n) * std::log(std::max(f.rss, 1e-300) / rss0) + p * ln_n;
+    c.explained_fraction = 1.0 - f.rss / rss0;
+    c.rms_before_um = std::sqrt(rss0 / static_cast<double>(n));
+    c.rms_after_um = std::sqrt(f.rss / static_cast<double>(n));
+    c.correlation = f.cov.diagonal().cwiseSqrt().cwiseInverse().asDiagonal() * f.cov *
+                    f.cov.diagonal().cwiseSqrt().cwiseInverse().asDiagonal();
+    if (h.component >= 0) {
+      auto& ch = c.changes.front();
+      const auto q = machine::info(ch.component).quantity;
+      const double limit = q == machine::Quantity::Length ? o.plausible_change_um * 1e-3 : o.plausible_change_urad * 1e-6;
+      double sd = std::sqrt(f.cov(0, 0)), reach = 0.0, reach_sd = 0.0;
+      if (ch.law == ChangeLaw::OncePerRevolution) {
+        // a·cos(γ − φ) = a cos φ · cos γ + a sin φ · sin γ.
+        const double a = f.beta.norm();
+        ch.size = a, ch.phase_rad = std::atan2(f.beta(1), f.beta(0));
+        const Eigen::Vector2d g = a > 0.0 ? Eigen::Vector2d(f.beta / a) : Eigen::Vector2d(1.0, 0.0);
+        sd = std::sqrt(g.dot(f.cov * g));
+        reach = a, reach_sd = sd;
+      } else {
+        ch.size = f.beta(0);
+        const double per = ch.law == ChangeLaw::LinearInTime ? job_s : 1.0;
+        reach = std::abs(ch.size) * per, reach_sd = sd * per;
+      }
+      c.change_sd.push_back(sd);
+      const double scale = machine::file_per_internal(ch.law, q);
+      // Its size as a parameter (file units), and the law's second one where it has one: the phase fitted, τ chosen
+      // from the grid — each charged ln n in the ΔBIC like any fitted parameter.
+      std::vector<FittedParameter> params{{machine::size_key(ch.law, q), ch.size * scale, sd * scale, true}};
+      if (ch.law == ChangeLaw::OncePerRevolution) params.push_back({"phase_deg", ch.phase_rad * 180.0 / std::numbers::pi, 0.0, true});
+      if (ch.law == ChangeLaw::SteadyState) {
+        params.push_back({"time_constant_s", ch.time_constant_s, 0.0, true});
+        c.delta_bic += ln_n;
+      }
+      c.parameters.push_back(std::move(params));
+      std::string text = machine::describe(ch, text::with_uncertainty(ch.size * scale, sd * scale, true));
+      if (ch.law == ChangeLaw::LinearInTime)
+        text += fmt::format(" ({:+.3g} {} over the {:.0f}-min job)", ch.size * job_s * (scale / 60.0), unit_of(q), job_s / 60.0);
+      c.description = text;
+      if (reach - 2.0 * reach_sd > limit)
+        c.rejected = fmt::format("{} over the job is {:.3g} {}, beyond the {:g} {} a machine element plausibly changes",
+                                 machine::info(ch.component).name, reach * (q == machine::Quantity::Length ? 1e3 : 1e6),
+                                 unit_of(q), q == machine::Quantity::Length ? o.plausible_change_um : o.plausible_change_urad,
+                                 unit_of(q));
+    } else {
+      const bool left = c.qualifier == "(left)";
+      auto& values = c.effects.front().values;
+      values[left ? 0 : 2] = f.beta(0), values[left ? 1 : 3] = f.beta(1);
+      const std::string side = left ? "left" : "right";
+      c.parameters.push_back({{side + "_slope_um", f.beta(0), std::sqrt(f.cov(0, 0)), true},
+                              {side + "_crowning_um", f.beta(1), std::sqrt(f.cov(1, 1)), true}});
+      c.description = fmt::format("the wheel flank that grinds the {} flanks has a profile error: slope {} µm, crowning {} "
+                                  "µm on those flanks (the other wheel flank none)",
+                                  side, text::with_uncertainty(f.beta(0), std::sqrt(f.cov(0, 0)), true),
+                                  text::with_uncertainty(f.beta(1), std::sqrt(f.cov(1, 1)), true));
+      const auto specs = effects::make_effect("wheel_flank_profile")->parameters();
+      for (int j = 0; j < 2; ++j) {
+        const double v = f.beta(j), sd = std::sqrt(f.cov(j, j));
+        const auto& spec = specs[static_cast<size_t>((left ? 0 : 2) + j)];
+        if (v - 2.0 * sd > spec.plausible_hi || v + 2.0 * sd < spec.plausible_lo)
+          c.rejected = fmt::format("{} = {:.3g} µm is outside its plausible range [{:g}, {:g}]", spec.key, v,
+                                   spec.plausible_lo, spec.plausible_hi);
+      }
+    }
+    c.explanations.push_back(c.description);
+    out.push_back(std::move(c));
+    columns.push_back(std::move(Xp));
+  }
+
+  // A steady state whose time constant the data do not fix is no finding: kept only where it beats the same
+  // component's constant and linear laws by the threshold, and then only its best τ.
+  std::vector<bool> keep(out.size(), true);
+  for (size_t a = 0; a < out.size(); ++a) {
+    if (out[a].changes.empty() || out[a].changes.front().law != ChangeLaw::SteadyState) continue;
+    for (size_t b = 0; b < out.size() && keep[a]; ++b) {
+      if (a == b || out[b].changes.empty() || out[b].changes.front().component != out[a].changes.front().component) continue;
+      const ChangeLaw lb = out[b].changes.front().law;
+      if (lb == ChangeLaw::SteadyState ? out[b].delta_bic < out[a].delta_bic
+                                       : out[a].delta_bic > out[b].delta_bic - o.bic_threshold)
+        keep[a] = false;
+    }
+  }
+  std::vector<size_t> order;
+  for (size_t a = 0; a < out.size(); ++a)
+    if (keep[a]) order.push_back(a);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    if (out[a].rejected.empty() != out[b].rejected.empty()) return out[a].rejected.empty();
+    return out[a].delta_bic < out[b].delta_bic;
+  });
+  if (order.empty()) return {};
+  // The best one's equivalence class: those within the threshold whose fields are ≥ 95 % alike both ways.
+  const size_t best = order.front();
+  for (size_t a : order) {
+    if (a == best || !out[a].rejected.empty() || out[a].delta_bic >= out[best].delta_bic + o.bic_threshold) continue;
+    const double alike = std::min(share_in_span(columns[a], columns[best]), share_in_span(columns[best], columns[a]));
+    if (alike >= 0.95) out[best].equivalent.push_back(out[a].name());
+  }
+  std::vector<Candidate> ranked;
+  for (size_t a : order) ranked.push_back(std::move(out[a]));
+  return ranked;
+}
+
+} // namespace geartopo::diagnosis
