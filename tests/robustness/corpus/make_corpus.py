@@ -146,6 +146,22 @@ write(S, "strokes_reversed.yaml", GEAR + "machine:\n  strokes: {z_mm: [800, 0]}\
 write(S, "wheel_too_small.yaml", GEAR + "wheel:\n  outer_diameter_mm: 5\n", ("InputError", 9, "wheel.outer_diameter_mm"))
 write(S, "bom_crlf_nan.yaml", b"\xef\xbb\xbf" + gear(normal_module_mm=".nan").replace("\n", "\r\n").encode(), ("InputError", 2, "gear.normal_module_mm"))
 write(S, "component_unknown.yaml", GEAR + "machine:\n  constants:\n    S_xq_urad: 3\n", ("InputError", 10, "S_xq"))
+# Issue 30: lists refuse duplicates in the CLI's words (`--teeth 1,1`: "tooth 1 is listed twice"), at the item.
+write(S, "teeth_listed_twice.yaml", GEAR + "measurement:\n  teeth: [1, 1, 1, 1, 1, 1, 1, 1, 1]\n",
+      ("InputError", 9, "tooth 1 is listed twice"))
+write(S, "table_listed_twice.yaml", GEAR + "machine:\n  tables: [../error_tables/x_short.csv, ../error_tables/x_short.csv]\n",
+      ("InputError", 9, "table ../error_tables/x_short.csv is listed twice"))
+write(S, "assumed_listed_twice.yaml", gear(assumed="[face_width_mm, face_width_mm]"), ("InputError", 8, "'face_width_mm' is listed twice"))
+# Issue 30: a denormal or tiny dimension is below the smallest length a part can have (1 µm), and the bound is named.
+write(S, "face_width_denormal.yaml", gear(face_width_mm="1e-320"), ("InputError", 7, "is outside [0.001, 5000]: below 0.001 mm (1 µm)"))
+write(S, "module_denormal.yaml", gear(normal_module_mm="4.9e-324"), ("InputError", 2, "is outside [0.001, 100]: below 0.001 mm (1 µm)"))
+write(S, "tip_diameter_tiny.yaml", gear(tip_diameter_mm="1e-300"), ("InputError", 8, "gear.tip_diameter_mm: 1e-300 is outside [0.001, 50000]"))
+write(S, "root_form_denormal.yaml", gear(root_form_diameter_mm="2e-310"), ("InputError", 8, "below 0.001 mm (1 µm)"))
+write(S, "probe_diameter_denormal.yaml", GEAR + "report:\n  probe_diameter_mm: 1e-320\n", ("InputError", 9, "report.probe_diameter_mm"))
+# Issue 30: a YAML alias gives the wheel the gear's module: a 14 mm wheel for a 14 mm module (tooth depth h ≈ 31.5 mm)
+# would carry a profile deeper than its own radius. Refused when the scene is read, so `gear` refuses it too.
+write(S, "wheel_alias_module.yaml", gear(normal_module_mm="&m 14") + "wheel:\n  outer_diameter_mm: *m\n",
+      ("InputError", 9, "must exceed 4h"))
 
 # ---------------------------------------------------------------------------------------------------- error tables
 # expected: (exception, line, fragment)
