@@ -5,13 +5,15 @@
 //
 // Readers: scenes → workbench::Workbench (reads the scene, builds and checks the set-up); error_tables → machine::load_error_tables; topology → grinding::read_topology_csv
 // (traces_* → grinding::read_traces_csv) and measurement::read_measurement; point_clouds → surfaces::read_point_cloud;
-// topology and point clouds also through measurement::read_any_measurement (tells the two apart by the header).
+// topology and point clouds also through measurement::read_any_measurement (tells the two apart by the header);
+// exports → measurement::read_klingelnberg.
 #include "robustness_support.hpp"
 
 #include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 #include "geartopo/machine/error_table.hpp"
+#include "geartopo/measurement/klingelnberg.hpp"
 #include "geartopo/scene/scene.hpp"
 #include "geartopo/workbench/workbench.hpp"
 #include "geartopo/surfaces/point_cloud.hpp"
@@ -30,6 +32,8 @@ using namespace geartopo::robustness;
 namespace fs = std::filesystem;
 
 namespace {
+
+constexpr const char* kFolders[] = {"scenes", "error_tables", "topology", "point_clouds", "exports"};
 
 struct CorpusCase {
   std::string folder, file;
@@ -56,7 +60,7 @@ std::vector<CorpusCase> read_expected(const std::string& folder) {
 
 std::vector<CorpusCase> all_cases() {
   std::vector<CorpusCase> out;
-  for (const char* folder : {"scenes", "error_tables", "topology", "point_clouds"})
+  for (const char* folder : kFolders)
     for (auto& c : read_expected(folder)) out.push_back(std::move(c));
   return out;
 }
@@ -158,6 +162,8 @@ TEST_P(Corpus, IsRefusedWithAClearMessage) {
     SCOPED_TRACE("measurement::read_any_measurement");
     ASSERT_FALSE(any.type.empty()) << "accepted";
     EXPECT_NE(any.what.find(c.file), std::string::npos) << any.what;
+  } else if (c.folder == "exports") {
+    check_message(c, catch_from([&] { (void)measurement::read_klingelnberg(path.string()); }), "measurement::read_klingelnberg");
   } else {
     FAIL() << "unknown corpus folder " << c.folder;
   }
@@ -169,13 +175,20 @@ INSTANTIATE_TEST_SUITE_P(Files, Corpus, ::testing::ValuesIn(all_cases()), [](con
   return name;
 });
 
+// The valid twin the export cases are made from is read: a case is refused for what it changes, not because its
+// reference is broken.
+TEST(CorpusReferences, AreAccepted) {
+  const auto k = measurement::read_klingelnberg((kCorpus / "exports/reference/good.mka").string());
+  EXPECT_EQ(k.traces.size(), 3u);
+}
+
 // Every corpus file has a row in expected.tsv (and every row a file): a new file cannot slip in untested.
 TEST(CorpusIndex, EveryFileHasAnExpectation) {
-  for (const char* folder : {"scenes", "error_tables", "topology", "point_clouds"}) {
+  for (const char* folder : kFolders) {
     std::set<std::string> listed, present;
     for (const auto& c : read_expected(folder)) EXPECT_TRUE(listed.insert(c.file).second) << folder << "/" << c.file << " listed twice";
-    for (const auto& e : fs::directory_iterator(kCorpus / folder))
-      if (e.path().filename() != "expected.tsv") present.insert(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(kCorpus / folder)) // sub-folders hold valid inputs the cases refer to
+      if (e.is_regular_file() && e.path().filename() != "expected.tsv") present.insert(e.path().filename().string());
     EXPECT_EQ(listed, present) << folder;
     EXPECT_GE(present.size(), 15u) << folder;
   }

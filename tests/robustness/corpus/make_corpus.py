@@ -270,6 +270,51 @@ write(P, "nul_in_number.csv", PH.encode() + b"280.0,0\x00.5,10\n", ("InputError"
 write(P, "long_line.csv", PH + "1," + "2" * 65_536 + ",3\n", ("InputError", 2, ""))
 write(P, "semicolons.csv", "x_mm;y_mm;z_mm\n1;2;3\n", ("InputError", 1, "header"))
 
+# ---------------------------------------------------------------------------------------------------- Klingelnberg exports
+# Read by measurement::read_klingelnberg (docs/measurement-formats.md). The head of tests/measurement/data's example.
+K = "exports"
+KHEAD = """HEADER KS.MK.FILE
+TYPE       STI          ! geartopo robustness corpus
+SEPARATOR  :
+UNDEFINED  -2147483.648
+  21 :Normalmodul mn [mm]...............: 2.0000
+  22 :Zähnezahl z.......................: 24
+  23 :Schrägungswinkel beta [Grad]......: 15.0000
+  24 :Eingriffswinkel alpha n [Grad]....: 20.0000
+  26 :Zahnbreite b [mm].................: 20.0000
+  41 :Start Messbereich.....da [mm].....: 47.5000     47.5000
+  44 :Ende der Messstrecke..de [mm].....: 53.2000     53.2000
+  61 :Messanfang............ba [mm].....: 2.0000      2.0000
+  64 :Messende..............be [mm].....: 18.0000     18.0000
+"""  # 13 lines: the first trace head is line 14
+def profile(tooth=1, flank="links", values=".000  1.000  2.000  3.000  4.000", count=5, z="10.0"):
+    return f"Profil:  Zahn-Nr.: {tooth} {flank} / {count} Werte / z= {z}\n  {values}\n"
+GOOD_REST = profile(1, "rechts", ".000  -.500  -1.0  -1.500  -2.000") + "Flankenlinie: Zahn-Nr.: 2 links / 4 Werte / d= 50.0\n  -1.000  -2.000  -3.000  -4.000\n"
+os.makedirs(os.path.join(HERE, K, "reference"), exist_ok=True)
+with open(os.path.join(HERE, K, "reference", "good.mka"), "w", newline="") as f:  # the cases' valid twin (3 traces)
+    f.write(KHEAD + profile() + GOOD_REST)
+# Issue 30: "nan" among the values was reported as "the head announces 5 values, 0 follow".
+write(K, "nan_value.mka", KHEAD + profile(values=".000  1.000  nan  3.000  4.000") + GOOD_REST,
+      ("InputError", 15, "'nan' is not a number: value 3 of the profile trace of tooth 1 (head at line 14)"))
+write(K, "nan_first_value.mka", KHEAD + profile(values="NaN  1.000  2.000  3.000  4.000") + GOOD_REST, ("InputError", 15, "'NaN' is not a number"))
+write(K, "inf_value.mka", KHEAD + profile(values=".000  1.000  2.000  -inf  4.000") + GOOD_REST, ("InputError", 15, "'-inf' is not a number"))
+write(K, "text_value.mka", KHEAD + profile(values=".000  1.000  n/a  3.000  4.000") + GOOD_REST, ("InputError", 15, "'n/a' is not a number"))
+write(K, "huge_value.mka", KHEAD + profile(values=".000  1.000  1e300  3.000  4.000") + GOOD_REST, ("InputError", 15, "beyond ±1000 µm"))
+write(K, "value_1e6_um.mka", KHEAD + GOOD_REST + profile(2, "rechts", ".000  1.000  2.000  3.000  1e6"), ("InputError", 19, "1e6 µm is beyond ±1000 µm"))
+# Issue 30: tooth 18's blocks written as tooth 1 again: refused (a repeat would count the flank twice in every fit).
+write(K, "tooth_measured_twice.mka", KHEAD + profile() + GOOD_REST + profile(1, "links", ".100  1.200  2.100  3.300  4.200"),
+      ("InputError", 20, "tooth 1 left profile at z= 10 mm is measured twice (first at line 14)"))
+write(K, "topography_line_twice.mka", KHEAD + GOOD_REST + "TOPOGRAFIE: Zahn-Nr.: 2 /Profil:1 rechts / 3 Werte / z= 5.0\n  .046  .046  .046\n"
+      "TOPOGRAFIE: Zahn-Nr.: 2 /Profil:2 rechts / 3 Werte / z= 5.0\n  .050  .040  .046\n", ("InputError", 20, "is measured twice (first at line 18)"))
+write(K, "too_few_values.mka", KHEAD + profile(values=".000  1.000  2.000") + GOOD_REST, ("InputError", 14, "the head announces 5 values, 3 follow"))
+write(K, "too_many_values.mka", KHEAD + profile(values=".000  1.000  2.000  3.000  4.000  5.000") + GOOD_REST,
+      ("InputError", 15, "more values than the 5 announced"))
+write(K, "tooth_0.mka", KHEAD + profile(tooth=0) + GOOD_REST, ("InputError", 14, "'0' is not a tooth number"))
+write(K, "no_flank.mka", KHEAD + profile(flank="mitte") + GOOD_REST, ("InputError", 14, "expected 'links' or 'rechts'"))
+write(K, "zero_values.mka", KHEAD + profile(count=0, values="") + GOOD_REST, ("InputError", 14, "'0' is not a number of values"))
+write(K, "position_nan.mka", KHEAD + profile(z="nan") + GOOD_REST, ("InputError", 14, "expected a position in mm"))
+write(K, "truncated_in_values.mka", KHEAD + GOOD_REST + "Profil:  Zahn-Nr.: 3 links / 5 Werte / z= 10.0\n  .000  1.0", ("InputError", 18, "announces 5 values, 2 follow"))
+
 for folder, rows in ROWS.items():
     with open(os.path.join(HERE, folder, "expected.tsv"), "w") as f:
         f.write("# file\texception\tline (0: none, -1: any)\tmessage fragment\tnote\n")
