@@ -124,6 +124,9 @@ void register_compensate_command(CLI::App& app, Action& action) {
         watched.on_prepared = [&watch] { watch.prepared(); };
         mc_run = driver.run(wb, table, watched);
         if (!mc_run) return 0; // an MPI rank other than 0: its samples are on rank 0, which writes the files
+        // What `merge` checks that every shard shares: the scene, its tables and the settings behind the corrections.
+        mc_run->scene_fingerprint =
+            pipeline::scene_fingerprint(wb, fmt::format("method={} step_mm={}", opt->method, opt->step));
       }
 
       const std::filesystem::path out(opt->out);

@@ -270,6 +270,59 @@ write(P, "nul_in_number.csv", PH.encode() + b"280.0,0\x00.5,10\n", ("InputError"
 write(P, "long_line.csv", PH + "1," + "2" * 65_536 + ",3\n", ("InputError", 2, ""))
 write(P, "semicolons.csv", "x_mm;y_mm;z_mm\n1;2;3\n", ("InputError", 1, "header"))
 
+# ---------------------------------------------------------------------------------------------------- shards
+# Monte Carlo partial results (compensate --shard i/n, docs/monte-carlo.md) as `merge` reads them. Each file is shard
+# 2/2 of a run of 4 samples, seed 7; the test reads it (pipeline::read_run_csv) and merges it with
+# shards/reference/part_1_of_2.csv (samples 0 and 1): the file must be refused by one or the other, naming it.
+M = "shards"
+NAMES = ["F_alpha_um", "F_alpha_class", "overall_class", "largest_abs_um", "thickness_um"]
+FINGERPRINT = "0123456789abcdef"
+def shard(rows, total=4, seed="7", fingerprint=FINGERPRINT, names=NAMES, extra=""):
+    head = (f"# geartopo Monte Carlo partial result (docs/monte-carlo.md); merge with: geartopo merge\n"
+            f"# samples_total: {total}\n# seed: {seed}\n# iso_direction: transverse\n# helix_slope_sign: helix-angle\n"
+            f"# probe_noise_um: 0\n# sampling: linear\n# sampling_reason: checked\n# linear_check_samples: 4\n"
+            f"# linear_check_points_um: 0.01\n# linear_check_quantities_um: 0.002\n")
+    if fingerprint is not None:
+        head += f"# scene_fingerprint: {fingerprint}\n"
+    head += extra
+    head += "sample," + ",".join("before." + n for n in names) + "," + ",".join("after." + n for n in names) + "\n"
+    return head + "".join(r + "\n" for r in rows)
+def row(k, before="12.5,7,7,20.1,-1.5", after="3.25,4,5,6.5,0.25"):
+    return f"{k},{before},{after}"
+os.makedirs(os.path.join(HERE, M, "reference"), exist_ok=True)
+with open(os.path.join(HERE, M, "reference", "part_1_of_2.csv"), "w", newline="") as f:
+    f.write(shard([row(0), row(1, after="3.5,4,5,6.75,0.5")]))
+# The lines: 12 comment lines (11 without a fingerprint), the header on 13, samples from 14.
+write(M, "value_1e300.csv", shard([row(2, before="1e300,7,7,20.1,-1.5"), row(3)]), ("InputError", 14, "beyond ±10000 µm"))
+write(M, "negative_total_deviation.csv", shard([row(2), row(3, after="-3.25,4,5,6.5,0.25")]),
+      ("InputError", 15, "after.F_alpha_um: -3.25 µm is negative: an ISO deviation or largest |deviation| is a magnitude"))
+write(M, "class_99.csv", shard([row(2, after="3.25,99,5,6.5,0.25"), row(3)]),
+      ("InputError", 14, "after.F_alpha_class: 99 is not a class of ISO 1328-1: a whole number of 1 … 11"))
+write(M, "class_0.csv", shard([row(2, before="12.5,7,0,20.1,-1.5"), row(3)]), ("InputError", 14, "before.overall_class: 0 is not a class"))
+write(M, "class_fraction.csv", shard([row(2, before="12.5,6.5,7,20.1,-1.5"), row(3)]), ("InputError", 14, "6.5 is not a class"))
+write(M, "largest_abs_negative.csv", shard([row(2, before="12.5,7,7,-20.1,-1.5"), row(3)]), ("InputError", 14, "before.largest_abs_um"))
+write(M, "signed_value_huge.csv", shard([row(2), row(3, after="3.25,4,5,6.5,-2e4")]), ("InputError", 15, "after.thickness_um: -2e4 µm is beyond ±10000 µm"))
+write(M, "nan_value.csv", shard([row(2, after="nan,4,5,6.5,0.25"), row(3)]), ("InputError", 14, "'nan' is not a finite number"))
+write(M, "sample_beyond_run.csv", shard([row(2), row(4)]), ("InputError", 15, "'4' is not a sample number of this run of 4 samples (0 … 3)"))
+write(M, "sample_negative.csv", shard([row(-1), row(3)]), ("InputError", 14, "sample number"))
+write(M, "samples_not_increasing.csv", shard([row(3), row(2)]), ("InputError", 15, "sample numbers must increase"))
+# 2⁶⁴: CLI11 used to wrap it to 0; the reader refuses it as a seed.
+write(M, "seed_2_64.csv", shard([row(2), row(3)], seed="18446744073709551616"), ("InputError", 3, "is not a seed: a whole number of 0 … 2⁶⁴ − 1"))
+write(M, "seed_negative.csv", shard([row(2), row(3)], seed="-7"), ("InputError", 3, "is not a seed"))
+write(M, "unknown_quantity.csv", shard([row(2), row(3)], names=["F_gamma_um"] + NAMES[1:]),
+      ("InputError", 13, "'F_gamma_um' is not a quantity geartopo writes"))
+write(M, "quantity_twice.csv", shard([row(2), row(3)], names=NAMES[:4] + ["F_alpha_um"]), ("InputError", 13, "'F_alpha_um' is listed twice"))
+write(M, "fingerprint_malformed.csv", shard([row(2), row(3)], fingerprint="not-hex"), ("InputError", 12, "16 hex digits"))
+# Refused by merge: each file alone is a valid shard, but not of the reference's run.
+write(M, "seed_differs.csv", shard([row(2), row(3)], seed="8"), ("invalid_argument", 0, "seed 8"))
+write(M, "samples_total_differs.csv", shard([row(2), row(3)], total=5), ("invalid_argument", 0, "5 samples"))
+write(M, "fingerprint_differs.csv", shard([row(2), row(3)], fingerprint="fedcba9876543210"),
+      ("invalid_argument", 0, "scene fingerprint fedcba9876543210"))
+write(M, "fingerprint_missing.csv", shard([row(2), row(3)], fingerprint=None), ("invalid_argument", 0, "scene fingerprint not recorded"))
+write(M, "names_differ.csv", shard([row(2, before="12.5,7,7,20.1", after="3.25,4,5,6.5"), row(3, before="12.5,7,7,20.1", after="3.25,4,5,6.5")],
+                                   names=NAMES[:4]), ("invalid_argument", 0, "other quantities"))
+write(M, "sample_in_both.csv", shard([row(1), row(2), row(3)]), ("invalid_argument", 0, "sample 1 is in two parts"))
+
 # ---------------------------------------------------------------------------------------------------- Klingelnberg exports
 # Read by measurement::read_klingelnberg (docs/measurement-formats.md). The head of tests/measurement/data's example.
 K = "exports"
