@@ -26,7 +26,7 @@ void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards)
                               flags.samples))
       ->check(CLI::Range(0LL, 1'000'000LL));
   cmd->add_option("--seed", flags.seed, "Seed of the Monte Carlo draws (default 1): sample k depends on (seed, k) only")
-      ->check(digits_only());
+      ->check(seed_value());
   cmd->add_option("--max-time-s", flags.max_time_s,
                   fmt::format("{} exceeds this wall time, s (default {:g}: one day)",
                               shards ? "Refuse a prediction whose estimate (after its first sample)"

@@ -1,4 +1,5 @@
 #include "app/options.hpp"
+#include "geartopo/core/text_field.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -49,14 +51,19 @@ CLI::Validator non_empty_path() {
   return CLI::Validator([](std::string& text) -> std::string { return text.empty() ? "an empty path" : ""; }, "PATH");
 }
 
-CLI::Validator digits_only() {
+CLI::Validator seed_value() {
   return CLI::Validator(
       [](std::string& text) -> std::string {
         if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
-          return fmt::format("'{}' is not a whole number ≥ 0", text);
+          return fmt::format("'{}' is not a whole number of 0 … 2⁶⁴ − 1", text::excerpt(text));
+        // CLI11 would wrap 2⁶⁴ to 0 (and anything larger to something else): a seed must be what was written.
+        std::uint64_t v = 0;
+        if (text::parse_number(text, v) != std::errc())
+          return fmt::format("'{}' is beyond 2⁶⁴ − 1 = {}, the largest seed", text::excerpt(text),
+                             std::numeric_limits<std::uint64_t>::max());
         return {};
       },
-      "UINT");
+      "UINT64");
 }
 
 void refuse_paper_on_a_designed_helix(const std::string& method, const workbench::Workbench& wb) {

@@ -31,8 +31,9 @@ CLI::Validator finite_in(double lo, double hi);
 /// A path that is not empty: `--out ""` wrote into the current folder's root ("" / "file" is "file"; "" as a folder
 /// was created as nothing) instead of being refused.
 CLI::Validator non_empty_path();
-/// A whole number ≥ 0 written with digits only: CLI11 reads "-1" into an unsigned seed as 2⁶⁴ − 1.
-CLI::Validator digits_only();
+/// A seed: a whole number of 0 … 2⁶⁴ − 1 written with digits only. CLI11 reads "-1" into an unsigned seed as
+/// 2⁶⁴ − 1 and 2⁶⁴ as 0; both are refused (exit 2) naming the flag.
+CLI::Validator seed_value();
 
 /// `--quiet` (any subcommand): no progress, work estimates or notes on stderr; warnings and errors stay.
 void set_quiet(bool quiet);

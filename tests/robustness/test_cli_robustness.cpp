@@ -295,3 +295,23 @@ TEST(Cli, ALongSimulationPrintsAnEstimateOnATerminalAndIntoALog) {
   fs::remove(log);
   fs::remove_all(out);
 }
+
+// Issue 30, seeds: CLI11 read 2⁶⁴ into the unsigned seed as 0 (any larger number as something else): a seed is a
+// whole number of 0 … 2⁶⁴ − 1, refused beyond as bad usage naming the flag; 2⁶⁴ − 1 itself is a seed.
+TEST(Cli, ASeedBeyond64BitsIsBadUsage) {
+  const std::string scene = kDefaultScene.string();
+  const auto out = temp_path("cli_seed");
+  for (const std::string& cmd : {"synth " + scene + " --teeth 1 --out " + out.string() + "/m.csv",
+                                "compensate " + scene + " --out " + out.string()}) {
+    for (const std::string seed : {"18446744073709551616", "99999999999999999999999"}) {
+      const auto r = run(cmd + " --seed " + seed);
+      EXPECT_EQ(r.code, 2) << cmd << ": " << r.err;
+      EXPECT_NE(r.err.find("--seed"), std::string::npos) << r.err;
+      EXPECT_NE(r.err.find("beyond 2⁶⁴ − 1 = 18446744073709551615, the largest seed"), std::string::npos) << r.err;
+    }
+  }
+  EXPECT_FALSE(fs::exists(out));
+  const auto r = run("synth " + scene + " --teeth 1 --seed 18446744073709551615 --out " + out.string() + "/m.csv");
+  EXPECT_EQ(r.code, 0) << r.err;
+  fs::remove_all(out);
+}
