@@ -188,7 +188,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
       }
       j["warnings"] = nlohmann::json::array();
       if (const std::string w = compensation_made_worse(max_b, max_a); !w.empty()) {
-        std::cerr << "geartopo: warning: " << w << "\n";
+        say("geartopo: warning: " + w);
         j["warnings"].push_back(w);
       }
       // The nominal `after` is the model compensating itself (≈ 0 by construction); the prediction grinds with a
@@ -202,7 +202,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
           j["prediction"] = report::prediction_json(*prediction);
           j["improvement"] = report::improvement_json(*prediction);
           if (const std::string w = prediction_made_worse(*prediction); !w.empty()) {
-            std::cerr << "geartopo: warning: " << w << "\n";
+            say("geartopo: warning: " + w);
             j["warnings"].push_back(w);
           }
         }

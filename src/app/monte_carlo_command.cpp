@@ -90,11 +90,9 @@ pipeline::MonteCarloOptions monte_carlo_options(const MonteCarloFlags& flags) {
     if (const auto slurm = shard_from_slurm([](const char* name) { return std::getenv(name); })) {
       shard = *slurm;
       if (!quiet())
-        std::fputs(fmt::format("geartopo: note: --shard {} from the Slurm array job (SLURM_ARRAY_TASK_ID {}, "
-                               "SLURM_ARRAY_TASK_COUNT {})\n",
-                               shard, std::getenv("SLURM_ARRAY_TASK_ID"), std::getenv("SLURM_ARRAY_TASK_COUNT"))
-                       .c_str(),
-                   stderr);
+        say(fmt::format("geartopo: note: --shard {} from the Slurm array job (SLURM_ARRAY_TASK_ID {}, "
+                        "SLURM_ARRAY_TASK_COUNT {})",
+                        shard, std::getenv("SLURM_ARRAY_TASK_ID"), std::getenv("SLURM_ARRAY_TASK_COUNT")));
     }
   const auto slash = shard.find('/');
   int i = 0, n = 0;

@@ -15,6 +15,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -38,6 +39,19 @@ CLI::Validator seed_value();
 /// `--quiet` (any subcommand): no progress, work estimates or notes on stderr; warnings and errors stay.
 void set_quiet(bool quiet);
 bool quiet();
+
+/// Errors first: what a command says on stderr (its banner, notes, warnings, files removed) goes through say() and is
+/// held from hold_messages() on, so that a command that fails prints its error as the first stderr line and what it
+/// had said after it (main: take_held_messages()); one that succeeds prints it when it ends. Long work releases the
+/// hold (release_messages()) before its work estimate or progress line, which must be seen while it runs: a failure
+/// after that (a full disk) follows them. Thread-safe.
+void hold_messages();
+/// `line` and a newline on stderr, or held.
+void say(std::string_view line);
+/// Prints what is held and stops holding.
+void release_messages();
+/// What is held (lines with their newlines), and stops holding.
+std::string take_held_messages();
 
 /// Progress of long work on stderr: one line rewritten in place ("geartopo: simulate 35/70 flanks, 12 s"), only when
 /// stderr is a terminal and --quiet is not given, at most every 0.2 s; scripts and logs see nothing. Thread-safe:
