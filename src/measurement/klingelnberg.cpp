@@ -236,7 +236,7 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
   State state = State::Free;
   std::optional<TraceKind> pending; // a title line "Profil:" announces the kind of the next bare head
   // (tooth, flank, kind, TOPOGRAFIE, position symbol, position in µm) → line of the trace's head
-  using TraceKey = std::tuple<int, int, int, bool, char, long long>;
+  using TraceKey = std::tuple<int, int, int, bool, char, double>;
   std::map<TraceKey, int> first_line;
   Flank pitch_flank = Flank::Left;
   std::vector<std::string> pitch_columns;
@@ -359,7 +359,7 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
       // another tooth's block numbered wrongly or a repeat, and a repeat would count the flank twice in every fit and
       // evaluation. Refused (docs/measurement-formats.md, "Repeated traces").
       const TraceKey key{h.tooth, static_cast<int>(h.flank), static_cast<int>(*h.kind), h.title == "TOPOGRAFIE", h.symbol,
-                         std::llround(h.position * 1000.0)};
+                         std::round(h.position * 1000.0)}; // a double: a position of 1e300 mm must not overflow
       if (const auto [at, fresh] = first_line.emplace(key, ln); !fresh)
         fail(source, ln, "Zahn-Nr.",
              fmt::format("tooth {} {} {} {}at {}= {} mm is measured twice (first at line {}): a repeated measurement is "
