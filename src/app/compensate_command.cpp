@@ -124,6 +124,9 @@ void register_compensate_command(CLI::App& app, Action& action) {
         watched.on_prepared = [&watch] { watch.prepared(); };
         mc_run = driver.run(wb, table, watched);
         if (!mc_run) return 0; // an MPI rank other than 0: its samples are on rank 0, which writes the files
+        // What `merge` checks that every shard shares: the scene, its tables and the settings behind the corrections.
+        mc_run->scene_fingerprint =
+            pipeline::scene_fingerprint(wb, fmt::format("method={} step_mm={}", opt->method, opt->step));
       }
 
       const std::filesystem::path out(opt->out);
@@ -185,7 +188,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
       }
       j["warnings"] = nlohmann::json::array();
       if (const std::string w = compensation_made_worse(max_b, max_a); !w.empty()) {
-        std::cerr << "geartopo: warning: " << w << "\n";
+        say("geartopo: warning: " + w);
         j["warnings"].push_back(w);
       }
       // The nominal `after` is the model compensating itself (≈ 0 by construction); the prediction grinds with a
@@ -199,7 +202,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
           j["prediction"] = report::prediction_json(*prediction);
           j["improvement"] = report::improvement_json(*prediction);
           if (const std::string w = prediction_made_worse(*prediction); !w.empty()) {
-            std::cerr << "geartopo: warning: " << w << "\n";
+            say("geartopo: warning: " + w);
             j["warnings"].push_back(w);
           }
         }

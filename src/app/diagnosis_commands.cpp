@@ -101,7 +101,7 @@ void register_synth_command(CLI::App& app, Action& action) {
   cmd->add_option("--teeth", opt->teeth, "Measured teeth, e.g. 1,18 (default) or all");
   cmd->add_option("--noise-um", opt->noise, "Standard deviation of the probe noise, µm (default 0.5)")->check(finite_in(0.0, 1000.0));
   cmd->add_option("--seed", opt->seed, "Random seed, a whole number ≥ 0 (default 1): probe noise and stroke scatter")
-      ->check(digits_only());
+      ->check(seed_value());
   cmd->add_flag("--stroke-scatter", opt->stroke_scatter,
                 "Each stroke's axis commands off by a draw of the truth scene's machine.repeatability (one standard "
                 "deviation R/4 per axis, constant over the stroke), as the Monte Carlo grinds (docs/monte-carlo.md)");

@@ -71,7 +71,7 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       std::string source;
       if (!opt->traces.empty()) {
         auto traces = measurement::read_any_traces(opt->traces, wb.setup, opt->mka);
-        for (const auto& w : traces.warnings) std::cerr << "geartopo: warning: " << w << "\n";
+        for (const auto& w : traces.warnings) say("geartopo: warning: " + w);
         topo = std::move(traces.flanks);
         source = (traces.klingelnberg ? "measured traces (Klingelnberg export) " : "measured traces ") + opt->traces;
       } else {

@@ -35,12 +35,12 @@ void register_gear_command(CLI::App& app, Action& action) {
         std::cout << report::gear_json(sc, g).dump(2) << "\n";
       else
         std::cout << report::gear_table(sc, g);
-      for (const auto& w : g.warnings()) std::cerr << "geartopo: warning: " << w << "\n";
+      for (const auto& w : g.warnings()) say("geartopo: warning: " + w);
       if (!opt->mesh.empty()) {
         const surfaces::TriangleMesh mesh = surfaces::gear_mesh(g);
         surfaces::write_mesh(mesh, opt->mesh);
-        std::cerr << fmt::format("geartopo: wrote {} ({} vertices, {} triangles, mm)\n", opt->mesh,
-                                 mesh.vertices.cols(), mesh.faces.cols());
+        say(fmt::format("geartopo: wrote {} ({} vertices, {} triangles, mm)", opt->mesh, mesh.vertices.cols(),
+                        mesh.faces.cols()));
       }
       return 0;
     };

@@ -70,7 +70,7 @@ void register_machine_command(CLI::App& app, Action& action) {
       const auto& p = opt->pose;
       const machine::AxisPose q{p[0], p[1], p[2], p[3] * units::kRadPerDeg, p[4] * units::kRadPerDeg};
       if (!wb.machine.within_strokes(q))
-        std::cerr << "geartopo: warning: the pose lies outside the machine's strokes; tables are extrapolated\n";
+        say("geartopo: warning: the pose lies outside the machine's strokes; tables are extrapolated");
       machine::MachineData data;
       const machine::Pose ideal = machine::ideal_wMg(q);
       const machine::Pose actual = machine::actual_wMg(wb.machine, data, q);

@@ -45,13 +45,24 @@ int main(int argc, char** argv) {
     return 2;
   }
   geartopo::app::set_quiet(quiet);
+  // Errors first: the command's banner, notes and warnings are held until it ends (or starts long work), so that the
+  // first line a user or a script sees of a command that fails is its error.
+  geartopo::app::hold_messages();
+  int code = 0;
+  std::string error;
   try {
-    return action ? action() : 2;
+    code = action ? action() : 2;
   } catch (const CLI::ValidationError& e) {
-    std::cerr << "geartopo: usage: " << e.what() << "\n";
-    return 2;
+    code = 2;
+    error = std::string("geartopo: usage: ") + e.what();
   } catch (const std::exception& e) {
-    std::cerr << "geartopo: error: " << e.what() << "\n";
-    return 1;
+    code = 1;
+    error = std::string("geartopo: error: ") + e.what();
   }
+  if (error.empty()) {
+    geartopo::app::release_messages();
+    return code;
+  }
+  std::cerr << error << "\n" << geartopo::app::take_held_messages() << std::flush;
+  return code;
 }

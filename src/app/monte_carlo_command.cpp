@@ -26,7 +26,7 @@ void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards)
                               flags.samples))
       ->check(CLI::Range(0LL, 1'000'000LL));
   cmd->add_option("--seed", flags.seed, "Seed of the Monte Carlo draws (default 1): sample k depends on (seed, k) only")
-      ->check(digits_only());
+      ->check(seed_value());
   cmd->add_option("--max-time-s", flags.max_time_s,
                   fmt::format("{} exceeds this wall time, s (default {:g}: one day)",
                               shards ? "Refuse a prediction whose estimate (after its first sample)"
@@ -90,11 +90,9 @@ pipeline::MonteCarloOptions monte_carlo_options(const MonteCarloFlags& flags) {
     if (const auto slurm = shard_from_slurm([](const char* name) { return std::getenv(name); })) {
       shard = *slurm;
       if (!quiet())
-        std::fputs(fmt::format("geartopo: note: --shard {} from the Slurm array job (SLURM_ARRAY_TASK_ID {}, "
-                               "SLURM_ARRAY_TASK_COUNT {})\n",
-                               shard, std::getenv("SLURM_ARRAY_TASK_ID"), std::getenv("SLURM_ARRAY_TASK_COUNT"))
-                       .c_str(),
-                   stderr);
+        say(fmt::format("geartopo: note: --shard {} from the Slurm array job (SLURM_ARRAY_TASK_ID {}, "
+                        "SLURM_ARRAY_TASK_COUNT {})",
+                        shard, std::getenv("SLURM_ARRAY_TASK_ID"), std::getenv("SLURM_ARRAY_TASK_COUNT")));
     }
   const auto slash = shard.find('/');
   int i = 0, n = 0;

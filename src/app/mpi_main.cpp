@@ -19,10 +19,16 @@ using geartopo::app::MpiMonteCarloDriver;
 /// The message of a failure on this rank, printed by the lowest failing rank only (the others failed the same way
 /// on the same input, or succeeded).
 void report_rank_failure(const MpiMonteCarloDriver& driver, int failing_rank, const std::string& message) {
-  if (failing_rank != driver.rank() || message.empty()) return;
+  // Errors first (as geartopo's main): what the command had said on this rank follows its error.
+  const std::string held = geartopo::app::take_held_messages();
+  if (failing_rank != driver.rank() || message.empty()) {
+    std::cerr << held << std::flush;
+    return;
+  }
   std::cerr << (driver.rank() == 0 ? std::string() : "geartopo-mpi: rank " + std::to_string(driver.rank()) + " of " +
                                                          std::to_string(driver.size()) + ": ")
-            << message << "\n";
+            << message << "\n"
+            << held << std::flush;
 }
 
 int run_on_this_rank(MpiMonteCarloDriver& driver, int argc, char** argv) {
@@ -51,6 +57,7 @@ int run_on_this_rank(MpiMonteCarloDriver& driver, int argc, char** argv) {
   }
   geartopo::app::set_quiet(quiet || driver.rank() != 0); // notes and progress from rank 0 only
 
+  geartopo::app::hold_messages();
   int code = 2;
   std::string message;
   try {

@@ -1,4 +1,5 @@
 #include "app/options.hpp"
+#include "geartopo/core/text_field.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -15,9 +16,11 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <thread>
+#include <utility>
 #include <unistd.h>
 
 namespace geartopo::app {
@@ -49,14 +52,19 @@ CLI::Validator non_empty_path() {
   return CLI::Validator([](std::string& text) -> std::string { return text.empty() ? "an empty path" : ""; }, "PATH");
 }
 
-CLI::Validator digits_only() {
+CLI::Validator seed_value() {
   return CLI::Validator(
       [](std::string& text) -> std::string {
         if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
-          return fmt::format("'{}' is not a whole number ≥ 0", text);
+          return fmt::format("'{}' is not a whole number of 0 … 2⁶⁴ − 1", text::excerpt(text));
+        // CLI11 would wrap 2⁶⁴ to 0 (and anything larger to something else): a seed must be what was written.
+        std::uint64_t v = 0;
+        if (text::parse_number(text, v) != std::errc())
+          return fmt::format("'{}' is beyond 2⁶⁴ − 1 = {}, the largest seed", text::excerpt(text),
+                             std::numeric_limits<std::uint64_t>::max());
         return {};
       },
-      "UINT");
+      "UINT64");
 }
 
 void refuse_paper_on_a_designed_helix(const std::string& method, const workbench::Workbench& wb) {
@@ -142,6 +150,51 @@ void JsonSummary::emit(const nlohmann::json& summary) {
 void set_quiet(bool q) { quiet_flag = q; }
 bool quiet() { return quiet_flag; }
 
+namespace {
+struct HeldMessages {
+  std::mutex mutex;
+  bool holding = false;
+  std::string text;
+};
+HeldMessages& held_messages() {
+  static HeldMessages h;
+  return h;
+}
+} // namespace
+
+void hold_messages() {
+  auto& h = held_messages();
+  const std::lock_guard lock(h.mutex);
+  h.holding = true;
+}
+
+void say(std::string_view line) {
+  auto& h = held_messages();
+  const std::lock_guard lock(h.mutex);
+  if (h.holding) {
+    h.text.append(line).append("\n");
+    return;
+  }
+  std::fputs((std::string(line) + "\n").c_str(), stderr);
+  std::fflush(stderr);
+}
+
+void release_messages() {
+  auto& h = held_messages();
+  const std::lock_guard lock(h.mutex);
+  if (!h.text.empty()) std::fputs(h.text.c_str(), stderr);
+  std::fflush(stderr);
+  h.text.clear();
+  h.holding = false;
+}
+
+std::string take_held_messages() {
+  auto& h = held_messages();
+  const std::lock_guard lock(h.mutex);
+  h.holding = false;
+  return std::exchange(h.text, {});
+}
+
 struct Progress::State {
   std::string what, unit;
   std::atomic<long long> total{0}, done{0};
@@ -159,6 +212,7 @@ Progress::Progress(std::string what, long long total, std::string unit) : state_
   state_->total = total;
   state_->active = !quiet() && ::isatty(STDERR_FILENO) != 0;
   if (state_->active && total <= 0) { // no count yet: the stage's name, until a count or the next line replaces it
+    release_messages();
     std::fputs(fmt::format("\rgeartopo: {} …\033[K", state_->what).c_str(), stderr);
     std::fflush(stderr);
     state_->shown = true;
@@ -189,6 +243,7 @@ void Progress::advance(long long n) {
   const auto now = std::chrono::steady_clock::now();
   if (state_->shown && now - state_->last < std::chrono::milliseconds(200) && done < total) return;
   state_->last = now;
+  if (!state_->shown) release_messages(); // the work has started: what was said before it goes first
   state_->shown = true;
   const double s = std::chrono::duration<double>(now - state_->start).count();
   // Time left at the rate so far (the units of one stage cost about the same: flanks, samples, fits).
@@ -247,8 +302,10 @@ void MonteCarloWatch::sample_done(long long done, long long total) {
       throw CLI::ValidationError("--samples", fmt::format("the Monte Carlo prediction would take too long: {}, beyond "
                                                           "the limit of {:g} s (--max-time-s): use fewer --samples or {}",
                                                           what, max_seconds_, split_hint_));
-    if (!quiet() && ::isatty(STDERR_FILENO) != 0)
+    if (!quiet() && ::isatty(STDERR_FILENO) != 0) {
+      release_messages();
       std::fputs(fmt::format("\r\033[Kgeartopo: Monte Carlo: {}\n", what).c_str(), stderr);
+    }
   }
   progress_.update(done, total);
 }
@@ -261,20 +318,18 @@ void finish_output_folder(output::OutputFolder& folder) {
   const auto removed = folder.finish();
   if (quiet()) return;
   for (const auto& t : folder.removed_temporaries())
-    std::fprintf(stderr, "geartopo: removed %s, left by an interrupted geartopo run\n", (folder.path() / t).c_str());
+    say(fmt::format("geartopo: removed {}, left by an interrupted geartopo run", (folder.path() / t).string()));
   if (!removed.empty()) {
     std::vector<std::string> names;
     for (const auto& r : removed) names.push_back(r.generic_string());
-    std::fputs(fmt::format("geartopo: removed {} file(s) an earlier run wrote into {} and this one did not: {}\n",
-                           removed.size(), folder.path().string(), fmt::join(names, ", "))
-                   .c_str(),
-               stderr);
+    say(fmt::format("geartopo: removed {} file(s) an earlier run wrote into {} and this one did not: {}", removed.size(),
+                    folder.path().string(), fmt::join(names, ", ")));
   }
 }
 
 void print_notes(const workbench::Workbench& wb) {
   if (quiet()) return;
-  for (const auto& n : wb.notes) std::fprintf(stderr, "geartopo: note: %s\n", n.c_str());
+  for (const auto& n : wb.notes) say("geartopo: note: " + n);
 }
 
 void print_work_estimate(long long points, long long flanks, bool exact, int passes) {
@@ -282,6 +337,7 @@ void print_work_estimate(long long points, long long flanks, bool exact, int pas
   const double rate = exact ? 1.5e6 : 2.9e6; // points/s, 2 cores (docs/performance.md, "Against the targets")
   const std::string times = passes > 1 ? fmt::format(", {} times", passes) : std::string();
   const double seconds = static_cast<double>(points) * passes / rate;
+  release_messages(); // long work: its estimate is seen now, what was said before it first
   std::fprintf(stderr, "geartopo: %s\n",
                fmt::format("{} points on {} flanks ({}{}): about {:.{}f} s on 2 cores", points, flanks,
                            exact ? "exact" : "linear", times, seconds, seconds < 10.0 ? 1 : 0)
@@ -316,8 +372,10 @@ void SimulationWatch::flank_done(long long done, long long total) {
                                                                  ? fmt::format(" after {:.0f} s already spent", spent - first)
                                                                  : std::string(),
                                                              max_seconds_, hint_));
-    if (!quiet() && estimate >= kPrintEstimateFromSeconds)
+    if (!quiet() && estimate >= kPrintEstimateFromSeconds) {
+      release_messages();
       std::fputs(fmt::format("{}geartopo: {}\n", ::isatty(STDERR_FILENO) != 0 ? "\r\033[K" : "", what).c_str(), stderr);
+    }
   }
   progress_.update(done, total);
 }
@@ -407,7 +465,7 @@ std::vector<measurement::MeasuredPoint> read_measured_points(const workbench::Wo
                                                              const measurement::KlingelnbergOptions& options) {
   std::vector<std::string> warnings;
   auto points = measurement::read_any_measurement(file, wb.setup, &warnings, options);
-  for (const auto& w : warnings) std::fprintf(stderr, "geartopo: warning: %s\n", w.c_str());
+  for (const auto& w : warnings) say("geartopo: warning: " + w);
   return points;
 }
 

@@ -15,6 +15,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -31,12 +32,26 @@ CLI::Validator finite_in(double lo, double hi);
 /// A path that is not empty: `--out ""` wrote into the current folder's root ("" / "file" is "file"; "" as a folder
 /// was created as nothing) instead of being refused.
 CLI::Validator non_empty_path();
-/// A whole number ≥ 0 written with digits only: CLI11 reads "-1" into an unsigned seed as 2⁶⁴ − 1.
-CLI::Validator digits_only();
+/// A seed: a whole number of 0 … 2⁶⁴ − 1 written with digits only. CLI11 reads "-1" into an unsigned seed as
+/// 2⁶⁴ − 1 and 2⁶⁴ as 0; both are refused (exit 2) naming the flag.
+CLI::Validator seed_value();
 
 /// `--quiet` (any subcommand): no progress, work estimates or notes on stderr; warnings and errors stay.
 void set_quiet(bool quiet);
 bool quiet();
+
+/// Errors first: what a command says on stderr (its banner, notes, warnings, files removed) goes through say() and is
+/// held from hold_messages() on, so that a command that fails prints its error as the first stderr line and what it
+/// had said after it (main: take_held_messages()); one that succeeds prints it when it ends. Long work releases the
+/// hold (release_messages()) before its work estimate or progress line, which must be seen while it runs: a failure
+/// after that (a full disk) follows them. Thread-safe.
+void hold_messages();
+/// `line` and a newline on stderr, or held.
+void say(std::string_view line);
+/// Prints what is held and stops holding.
+void release_messages();
+/// What is held (lines with their newlines), and stops holding.
+std::string take_held_messages();
 
 /// Progress of long work on stderr: one line rewritten in place ("geartopo: simulate 35/70 flanks, 12 s"), only when
 /// stderr is a terminal and --quiet is not given, at most every 0.2 s; scripts and logs see nothing. Thread-safe:

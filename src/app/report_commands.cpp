@@ -55,7 +55,7 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
   const std::string worse = compensation_made_worse(grinding::largest_abs_deviation_um(r.before),
                                                     grinding::largest_abs_deviation_um(r.after));
   if (!worse.empty()) {
-    std::cerr << "geartopo: warning: " << worse << "\n";
+    say("geartopo: warning: " + worse);
     iso["warnings"].push_back(worse);
   }
   if (r.prediction) {
@@ -63,7 +63,7 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
     iso["improvement"] = report::improvement_json(*r.prediction); // from the medians; none without a prediction
     write_prediction(dir, *r.prediction);
     if (const std::string w = prediction_made_worse(*r.prediction); !w.empty()) {
-      std::cerr << "geartopo: warning: " << w << "\n";
+      say("geartopo: warning: " + w);
       iso["warnings"].push_back(w);
     }
   }
@@ -252,7 +252,7 @@ void register_report_command(CLI::App& app, Action& action) {
       const auto r = pipeline::run_pipeline(wb, po);
       progress.finish();
       if (r.measurement)
-        for (const auto& w : r.measurement->warnings) std::cerr << "geartopo: warning: " << w << "\n";
+        for (const auto& w : r.measurement->warnings) say("geartopo: warning: " + w);
       write_data_files(dir, opt->scene, wb, r); // the page names them (corrections.csv, scene_with_effect.yaml …)
       const auto figs = report::write_report(dir, wb, r, {}, before.take());
       std::cout << fmt::format("wrote {} figures and {}\n", figs.size(), (dir / "index.html").string());
@@ -315,7 +315,7 @@ void register_run_command(CLI::App& app, Action& action) {
       po.prediction = prediction_options(opt->mc);
       const fs::path dir(opt->out);
       output::OutputFolder folder(dir);
-      if (!quiet()) std::cerr << "geartopo run: " << (wb.scene.name.empty() ? opt->scene : wb.scene.name) << "\n";
+      if (!quiet()) say("geartopo run: " + (wb.scene.name.empty() ? opt->scene : wb.scene.name));
       print_notes(wb);
       print_pipeline_estimate(wb, po);
       StageProgress progress(po, opt->mc.max_time_s);
@@ -323,7 +323,7 @@ void register_run_command(CLI::App& app, Action& action) {
       const auto r = pipeline::run_pipeline(wb, po);
       progress.finish();
       if (r.measurement)
-        for (const auto& w : r.measurement->warnings) std::cerr << "geartopo: warning: " << w << "\n";
+        for (const auto& w : r.measurement->warnings) say("geartopo: warning: " + w);
       nlohmann::json summary = write_data_files(dir, opt->scene, wb, r);
       report::write_report(dir, wb, r, {}, before.take());
       print_summary(dir, r);

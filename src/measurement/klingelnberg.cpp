@@ -89,6 +89,19 @@ bool all_numbers(std::string_view line) {
   return std::all_of(t.begin(), t.end(), [](std::string_view s) { return number(s).has_value(); });
 }
 
+std::optional<int> header_code(std::string_view line, std::string_view& rest);
+
+// A line inside a trace that still expects values, starting with a number (nan and inf included) and neither a header
+// line nor a head: a value line, even when one of its values is not a number (which is then refused as such).
+bool is_value_line(std::string_view line, const KlingelnbergTrace& t) {
+  if (static_cast<int>(t.values_um.size()) >= t.announced_values) return false;
+  std::string_view unused;
+  if (header_code(line, unused) || line.find("Zahn-Nr.") != std::string_view::npos) return false;
+  const auto first = tokens(line);
+  double v = 0.0;
+  return !first.empty() && text::parse_number(first[0], v) == std::errc();
+}
+
 // "  21 :Normalmodul mn [mm]......: 2.5" → code 21.
 std::optional<int> header_code(std::string_view line, std::string_view& rest) {
   const auto t = trim(line);
@@ -222,6 +235,9 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
   enum class State { Free, Values, Skip, PitchHead, PitchRows };
   State state = State::Free;
   std::optional<TraceKind> pending; // a title line "Profil:" announces the kind of the next bare head
+  // (tooth, flank, kind, TOPOGRAFIE, position symbol, position in µm) → line of the trace's head
+  using TraceKey = std::tuple<int, int, int, bool, char, double>;
+  std::map<TraceKey, int> first_line;
   Flank pitch_flank = Flank::Left;
   std::vector<std::string> pitch_columns;
   std::map<std::string, int> skipped_count;
@@ -249,14 +265,26 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
     if (line.empty()) continue;
 
     if (state == State::Values) {
-      if (all_numbers(line)) {
+      if (all_numbers(line) || is_value_line(line, f.traces.back())) {
         auto& t = f.traces.back();
         for (const auto tok : tokens(line)) {
           if (static_cast<int>(t.values_um.size()) == t.announced_values)
             fail(source, ln, "Werte",
                  fmt::format("more values than the {} announced by the head at line {}", t.announced_values, t.line));
-          const double v = *number(tok);
-          t.values_um.push_back(v <= kKlingelnbergUndefined + 1.0 ? kNaN : v);
+          const int column = static_cast<int>(tok.data() - full.data()) + 1;
+          const auto v = number(tok);
+          // nan, inf or text among the values: said as such, at its place (not as a trace that ends too early).
+          if (!v)
+            throw InputError(source, ln, column, "Werte",
+                             fmt::format("'{}' is not a number: value {} of the {} trace of tooth {} (head at line {}); "
+                                         "a point the machine could not measure is written {}",
+                                         text::excerpt(tok), t.values_um.size() + 1, kind_name(t.kind), t.tooth, t.line,
+                                         kKlingelnbergUndefined));
+          if (*v > kKlingelnbergUndefined + 1.0 && std::abs(*v) > grinding::kMaxDeviationUm)
+            throw InputError(source, ln, column, "Werte",
+                             fmt::format("{} µm is beyond ±{} µm, more than any ground flank deviates (a wrong unit?)",
+                                         text::excerpt(tok), grinding::kMaxDeviationUm));
+          t.values_um.push_back(*v <= kKlingelnbergUndefined + 1.0 ? kNaN : *v);
           t.value_lines.push_back(ln);
         }
         continue;
@@ -327,6 +355,18 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
         skip_numbers_only = true;
         continue;
       }
+      // One trace per tooth, flank, kind and position (to the µm the positions are printed to): a second one is either
+      // another tooth's block numbered wrongly or a repeat, and a repeat would count the flank twice in every fit and
+      // evaluation. Refused (docs/measurement-formats.md, "Repeated traces").
+      const TraceKey key{h.tooth, static_cast<int>(h.flank), static_cast<int>(*h.kind), h.title == "TOPOGRAFIE", h.symbol,
+                         std::round(h.position * 1000.0)}; // a double: a position of 1e300 mm must not overflow
+      if (const auto [at, fresh] = first_line.emplace(key, ln); !fresh)
+        fail(source, ln, "Zahn-Nr.",
+             fmt::format("tooth {} {} {} {}at {}= {} mm is measured twice (first at line {}): a repeated measurement is "
+                         "refused. If another tooth's blocks carry this number by mistake, correct it; to state the "
+                         "repeatability, export each measurement to a file of its own",
+                         h.tooth, to_string(h.flank), kind_name(*h.kind), h.title == "TOPOGRAFIE" ? "(TOPOGRAFIE) " : "",
+                         h.symbol, h.position, at->second));
       KlingelnbergTrace t;
       t.kind = *h.kind;
       t.tooth = h.tooth;

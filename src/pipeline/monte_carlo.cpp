@@ -6,6 +6,7 @@
 #include "geartopo/core/input_file.hpp"
 #include "geartopo/core/parallel.hpp"
 #include "geartopo/core/text_field.hpp"
+#include "geartopo/evaluation/tolerances.hpp"
 #include "geartopo/pipeline/topology_sensitivities.hpp"
 
 #include "sample_model.hpp"
@@ -18,6 +19,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -39,6 +41,58 @@ std::string_view ascii_name(evaluation::Quantity q) {
   case Quantity::Runout: return "F_r";
   }
   return "?";
+}
+
+constexpr evaluation::Quantity kAllQuantities[] = {
+    evaluation::Quantity::SinglePitch, evaluation::Quantity::CumulativePitch, evaluation::Quantity::ProfileSlope,
+    evaluation::Quantity::ProfileForm,  evaluation::Quantity::ProfileTotal,    evaluation::Quantity::HelixSlope,
+    evaluation::Quantity::HelixForm,    evaluation::Quantity::HelixTotal,      evaluation::Quantity::Runout};
+
+// What a quantity of gear_quantities can physically be: the check read_run_csv makes on every value of a shard.
+struct QuantityRule {
+  enum class Kind { IsoClass, Magnitude, Signed } kind;
+  // "" when v is allowed; else why not (follows the value in the message).
+  std::string refusal(double v) const {
+    switch (kind) {
+    case Kind::IsoClass:
+      if (v != std::floor(v) || v < evaluation::kFinestClass || v > evaluation::kWorseThanClass11)
+        return fmt::format("is not a class of ISO 1328-1: a whole number of {} … {} ({}: worse than class {})",
+                           evaluation::kFinestClass, evaluation::kCoarsestClass, evaluation::kWorseThanClass11,
+                           evaluation::kCoarsestClass);
+      return {};
+    case Kind::Magnitude:
+      if (v < 0.0) return "µm is negative: an ISO deviation or largest |deviation| is a magnitude, ≥ 0";
+      [[fallthrough]];
+    case Kind::Signed:
+      if (std::abs(v) > kMaxQuantityUm)
+        return fmt::format("µm is beyond ±{} µm, more than a ground gear deviates (a wrong unit or an edited file)",
+                           kMaxQuantityUm);
+      return {};
+    }
+    return {};
+  }
+};
+
+std::optional<QuantityRule> rule_of(const std::string& name) {
+  using K = QuantityRule::Kind;
+  if (name == "overall_class") return QuantityRule{K::IsoClass};
+  if (name == "largest_abs_um") return QuantityRule{K::Magnitude};
+  if (name == "thickness_um" || name == "rotation_um") return QuantityRule{K::Signed};
+  for (const auto q : kAllQuantities) {
+    if (name == fmt::format("{}_um", ascii_name(q))) return QuantityRule{K::Magnitude}; // |worst value| (gear_quantities)
+    if (name == fmt::format("{}_class", ascii_name(q))) return QuantityRule{K::IsoClass};
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string> known_quantity_names() {
+  std::vector<std::string> out;
+  for (const auto q : kAllQuantities) {
+    out.push_back(fmt::format("{}_um", ascii_name(q)));
+    out.push_back(fmt::format("{}_class", ascii_name(q)));
+  }
+  for (const char* n : {"overall_class", "largest_abs_um", "thickness_um", "rotation_um"}) out.emplace_back(n);
+  return out;
 }
 
 
@@ -360,6 +414,10 @@ AdaptiveStability adaptive_stability(const MonteCarloRun& run, long long batch, 
 
 MonteCarloRun merge_runs(std::vector<MonteCarloRun> parts) {
   if (parts.empty()) throw std::invalid_argument("no partial results to merge");
+  // "part 2 (b.csv)" when read from a file: the user must know which file to look at.
+  const auto part_name = [&](size_t p) {
+    return parts[p].source.empty() ? fmt::format("part {}", p + 1) : fmt::format("part {} ({})", p + 1, parts[p].source);
+  };
   MonteCarloRun out;
   out.samples_total = parts.front().samples_total;
   out.seed = parts.front().seed;
@@ -368,33 +426,52 @@ MonteCarloRun merge_runs(std::vector<MonteCarloRun> parts) {
   out.names = parts.front().names;
   out.sampling = parts.front().sampling;
   out.without = parts.front().without;
+  out.scene_fingerprint = parts.front().scene_fingerprint;
+  const std::string first = part_name(0);
+  std::vector<std::pair<long long, size_t>> from; // sample index → part it came from
   for (size_t p = 0; p < parts.size(); ++p) {
     const auto& part = parts[p];
+    const std::string here = part_name(p);
     if (part.samples_total != out.samples_total || part.seed != out.seed)
-      throw std::invalid_argument(fmt::format("part {}: {} samples, seed {} (part 1: {} samples, seed {}): not the same run",
-                                              p + 1, part.samples_total, part.seed, out.samples_total, out.seed));
+      throw std::invalid_argument(fmt::format("{}: {} samples, seed {} ({}: {} samples, seed {}): not the same run", here,
+                                              part.samples_total, part.seed, first, out.samples_total, out.seed));
     if (part.iso.direction != out.iso.direction || part.iso.helix_slope_sign != out.iso.helix_slope_sign)
-      throw std::invalid_argument(fmt::format("part {}: ISO options {}, {} (part 1: {}, {}): not the same run", p + 1,
+      throw std::invalid_argument(fmt::format("{}: ISO options {}, {} ({}: {}, {}): not the same run", here,
                                               evaluation::to_string(part.iso.direction),
-                                              evaluation::to_string(part.iso.helix_slope_sign),
+                                              evaluation::to_string(part.iso.helix_slope_sign), first,
                                               evaluation::to_string(out.iso.direction),
                                               evaluation::to_string(out.iso.helix_slope_sign)));
     if (part.probe_noise_um != out.probe_noise_um)
-      throw std::invalid_argument(fmt::format("part {}: probe noise {} µm (part 1: {} µm): not the same run", p + 1,
-                                              part.probe_noise_um, out.probe_noise_um));
+      throw std::invalid_argument(fmt::format("{}: probe noise {} µm ({}: {} µm): not the same run", here,
+                                              part.probe_noise_um, first, out.probe_noise_um));
     if (part.names != out.names || part.without != out.without)
-      throw std::invalid_argument(fmt::format("part {}: other quantities than part 1 (another scene?)", p + 1));
+      throw std::invalid_argument(fmt::format("{}: other quantities than {} (another scene?)", here, first));
+    if (part.scene_fingerprint != out.scene_fingerprint)
+      throw std::invalid_argument(fmt::format(
+          "{}: scene fingerprint {} ({}: {}): {}", here,
+          part.scene_fingerprint.empty() ? "not recorded" : part.scene_fingerprint, first,
+          out.scene_fingerprint.empty() ? "not recorded" : out.scene_fingerprint,
+          part.scene_fingerprint.empty() || out.scene_fingerprint.empty()
+              ? "one was written before geartopo recorded it, so they cannot be shown to be of the same scene: "
+                "compute every shard with this geartopo"
+              : "computed from another scene, error table or compensation setting"));
     if (!(part.sampling == out.sampling))
-      throw std::invalid_argument(fmt::format("part {}: {} samples ({}) (part 1: {} samples ({})): not the same run", p + 1,
-                                              part.sampling.method, part.sampling.reason, out.sampling.method,
+      throw std::invalid_argument(fmt::format("{}: {} samples ({}) ({}: {} samples ({})): not the same run", here,
+                                              part.sampling.method, part.sampling.reason, first, out.sampling.method,
                                               out.sampling.reason));
-    for (const auto& s : part.samples) out.samples.push_back(s);
+    for (const auto& s : part.samples) {
+      out.samples.push_back(s);
+      from.emplace_back(s.index, p);
+    }
   }
+  std::sort(from.begin(), from.end());
+  for (size_t i = 1; i < from.size(); ++i)
+    if (from[i].first == from[i - 1].first)
+      throw std::invalid_argument(fmt::format("sample {} is in two parts: {} and {}", from[i].first,
+                                              part_name(std::min(from[i].second, from[i - 1].second)),
+                                              part_name(std::max(from[i].second, from[i - 1].second))));
   std::sort(out.samples.begin(), out.samples.end(),
             [](const MonteCarloSample& a, const MonteCarloSample& b) { return a.index < b.index; });
-  for (size_t i = 1; i < out.samples.size(); ++i)
-    if (out.samples[i].index == out.samples[i - 1].index)
-      throw std::invalid_argument(fmt::format("sample {} is in two parts", out.samples[i].index));
   return out;
 }
 
@@ -481,6 +558,23 @@ AfterLimit after_limit(const MonteCarloSummary& s) {
   return out;
 }
 
+std::string scene_fingerprint(const workbench::Workbench& wb, const std::string& options) {
+  std::uint64_t h = 14695981039346656037ull; // FNV-1a 64 offset basis
+  const auto add = [&h](std::string_view bytes) {
+    for (const char c : bytes) {
+      h ^= static_cast<unsigned char>(c);
+      h *= 1099511628211ull; // FNV-1a 64 prime
+    }
+    h ^= 0xff; // a separator, so ("ab", "c") and ("a", "bc") differ
+    h *= 1099511628211ull;
+  };
+  add(input::read_input_file(wb.scene.source, input::kMaxSceneBytes, "scene file"));
+  for (const auto& table : wb.scene.machine.table_files)
+    add(input::read_input_file(table, input::kMaxErrorTableBytes, "error table"));
+  add(options);
+  return fmt::format("{:016x}", h);
+}
+
 void write_run_csv(const std::filesystem::path& file, const MonteCarloRun& run) {
   output::write_atomically(file, [&](std::ostream& out) {
     out << "# geartopo Monte Carlo partial result (docs/monte-carlo.md); merge with: geartopo merge\n";
@@ -492,6 +586,7 @@ void write_run_csv(const std::filesystem::path& file, const MonteCarloRun& run) 
     out << fmt::format("# linear_check_samples: {}\n# linear_check_points_um: {}\n# linear_check_quantities_um: {}\n",
                        run.sampling.checked_samples, run.sampling.largest_point_difference_um,
                        run.sampling.largest_quantity_difference_um);
+    if (!run.scene_fingerprint.empty()) out << "# scene_fingerprint: " << run.scene_fingerprint << "\n";
     out << "sample";
     for (const auto& n : run.names) out << ",before." << n;
     for (const auto& n : run.names) out << ",after." << n;
@@ -513,7 +608,9 @@ MonteCarloRun read_run_csv(const std::filesystem::path& file) {
   const std::string text = input::read_input_file(file, input::kMaxMeasurementBytes, "Monte Carlo partial result");
   const std::string name = file.string();
   MonteCarloRun run;
+  run.source = name;
   bool have_total = false, have_seed = false, have_header = false;
+  std::vector<QuantityRule> rules; // per name
   std::istringstream in(text);
   std::string line;
   int line_no = 0;
@@ -532,7 +629,8 @@ MonteCarloRun read_run_csv(const std::filesystem::path& file) {
         const auto rest = view.substr(key.size());
         if (text::parse_number(rest, value) != std::errc())
           fail(static_cast<int>(key.size()) + 1, std::string(key.substr(2, key.size() - 4)),
-               fmt::format("'{}' is not a whole number", text::excerpt(rest)));
+               key == "# seed: " ? fmt::format("'{}' is not a seed: a whole number of 0 … 2⁶⁴ − 1", text::excerpt(rest))
+                                 : fmt::format("'{}' is not a whole number", text::excerpt(rest)));
         have = true;
       };
       take("# samples_total: ", run.samples_total, have_total);
@@ -572,6 +670,13 @@ MonteCarloRun read_run_csv(const std::filesystem::path& file) {
       };
       one_of("# sampling: ", {"linear", "exact"}, run.sampling.method);
       one_of("# sampling_reason: ", {"checked", "check failed", "forced", "unchecked", ""}, run.sampling.reason);
+      if (constexpr std::string_view key = "# scene_fingerprint: "; view.substr(0, key.size()) == key) {
+        const auto rest = view.substr(key.size());
+        if (rest.size() != 16 || rest.find_first_not_of("0123456789abcdef") != std::string_view::npos)
+          fail(static_cast<int>(key.size()) + 1, "scene_fingerprint",
+               fmt::format("'{}' is not a fingerprint geartopo writes (16 hex digits, 0-9 a-f)", text::excerpt(rest)));
+        run.scene_fingerprint = std::string(rest);
+      }
       word("# iso_direction: ", evaluation::parse_iso_direction, run.iso.direction);
       word("# helix_slope_sign: ", evaluation::parse_helix_slope_sign, run.iso.helix_slope_sign);
       continue;
@@ -583,6 +688,7 @@ MonteCarloRun read_run_csv(const std::filesystem::path& file) {
       if (comma == std::string_view::npos) break;
       start = comma + 1;
     }
+    const auto column_of = [&](size_t i) { return static_cast<int>(fields[i].data() - view.data()) + 1; };
     if (!have_header) {
       if (!have_total || !have_seed) fail(1, "header", "'# samples_total: M' and '# seed: S' must come before the header");
       if (run.samples_total < 1) fail(1, "samples_total", "must be ≥ 1");
@@ -592,7 +698,7 @@ MonteCarloRun read_run_csv(const std::filesystem::path& file) {
       std::vector<std::vector<std::string>> group_names;
       for (size_t i = 1; i < fields.size(); ++i) {
         const auto dot = fields[i].find('.');
-        if (dot == std::string_view::npos) fail(static_cast<int>(i + 1), "header", "expected <group>.<name>");
+        if (dot == std::string_view::npos) fail(column_of(i), "header", "expected <group>.<name>");
         const std::string group(fields[i].substr(0, dot));
         if (groups.empty() || groups.back() != group) groups.push_back(group), group_names.emplace_back();
         group_names.back().emplace_back(fields[i].substr(dot + 1));
@@ -610,6 +716,17 @@ MonteCarloRun read_run_csv(const std::filesystem::path& file) {
         run.without.push_back(source);
       }
       run.names = group_names[0];
+      for (size_t n = 0; n < run.names.size(); ++n) {
+        const auto rule = rule_of(run.names[n]);
+        if (!rule)
+          fail(column_of(1 + n), "header",
+               fmt::format("'{}' is not a quantity geartopo writes ({})", text::excerpt(run.names[n]),
+                           fmt::join(known_quantity_names(), ", ")));
+        if (std::find(run.names.begin(), run.names.begin() + static_cast<std::ptrdiff_t>(n), run.names[n]) !=
+            run.names.begin() + static_cast<std::ptrdiff_t>(n))
+          fail(column_of(1 + n), "header", fmt::format("'{}' is listed twice", run.names[n]));
+        rules.push_back(*rule);
+      }
       have_header = true;
       continue;
     }
@@ -618,15 +735,18 @@ MonteCarloRun read_run_csv(const std::filesystem::path& file) {
       fail(1, "sample", fmt::format("{} fields, the header has {}", fields.size(), 1 + groups * names));
     MonteCarloSample s;
     if (text::parse_number(fields[0], s.index) != std::errc() || s.index < 0 || s.index >= run.samples_total)
-      fail(1, "sample", fmt::format("'{}' is not a sample number of 0..{}", text::excerpt(fields[0]), run.samples_total - 1));
+      fail(1, "sample", fmt::format("'{}' is not a sample number of this run of {} samples (0 … {})",
+                                    text::excerpt(fields[0]), run.samples_total, run.samples_total - 1));
     s.after_without.resize(run.without.size());
     for (size_t i = 1; i < fields.size(); ++i) {
       const size_t group = (i - 1) / names, n = (i - 1) % names;
+      const std::string field =
+          (group == 0 ? "before." : group == 1 ? "after." : "without_" + run.without[group - 2] + ".") + run.names[n];
       double v = 0.0;
       if (text::parse_number(fields[i], v) != std::errc() || !std::isfinite(v))
-        fail(static_cast<int>(i + 1),
-             (group == 0 ? "before." : group == 1 ? "after." : "without_" + run.without[group - 2] + ".") + run.names[n],
-             fmt::format("'{}' is not a finite number", text::excerpt(fields[i])));
+        fail(column_of(i), field, fmt::format("'{}' is not a finite number", text::excerpt(fields[i])));
+      if (const std::string why = rules[n].refusal(v); !why.empty())
+        fail(column_of(i), field, fmt::format("{} {}", text::excerpt(fields[i]), why));
       (group == 0 ? s.before : group == 1 ? s.after : s.after_without[group - 2]).push_back(v);
     }
     if (!run.samples.empty() && s.index <= run.samples.back().index)

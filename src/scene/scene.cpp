@@ -12,6 +12,7 @@
 #include "design_table.hpp"
 #include "yaml_reader.hpp"
 #include "geartopo/grinding/topology.hpp"
+#include "geartopo/grinding/wheel_setting.hpp"
 #include "geartopo/machine/error_table.hpp"
 #include "geartopo/effects/registry.hpp"
 
@@ -35,8 +36,8 @@ namespace {
 gears::FlankModifications read_flank_modifications(MapReader& m, gears::FlankModifications f) {
   constexpr Range kAmountUm{0.0, 1000.0};
   constexpr Range kSlopeUm{-1000.0, 1000.0};
-  constexpr Range kDiameterMm{0.0, 50000.0, true, false};
-  constexpr Range kLengthMm{0.0, 5000.0, true, false};
+  constexpr Range kDiameterMm = positive_length_mm(50000.0);
+  constexpr Range kLengthMm = positive_length_mm(5000.0);
   const auto shape = [&m](const std::string& key, gears::ReliefShape fallback) {
     const auto c = m.optional_choice(key, {"linear", "arc"});
     return c ? (*c == "arc" ? gears::ReliefShape::Arc : gears::ReliefShape::Linear) : fallback;
@@ -78,7 +79,7 @@ gears::DesignModifications read_modifications(MapReader& m, const std::filesyste
 
 gears::GearSpec read_gear(MapReader& g, Scene& scene, const std::filesystem::path& base) {
   gears::GearSpec s;
-  s.normal_module_mm = g.number("normal_module_mm", {0.0, 100.0, true, false});
+  s.normal_module_mm = g.number("normal_module_mm", positive_length_mm(100.0));
   // ISO 21771 writes an internal gear's number of teeth negative; geartopo grinds external gears only: say so rather
   // than "-35 is outside [5, 10000]".
   if (const YAML::Node z = g.raw("teeth"); z.IsScalar() && !z.Scalar().empty() && z.Scalar().front() == '-')
@@ -97,20 +98,20 @@ gears::GearSpec read_gear(MapReader& g, Scene& scene, const std::filesystem::pat
                                          *hand, beta_deg));
   }
   s.profile_shift = g.number("profile_shift", {-3.0, 3.0});
-  s.face_width_mm = g.number("face_width_mm", {0.0, 5000.0, true, false});
-  if (auto da = g.optional_number("tip_diameter_mm", {0.0, 50000.0, true, false})) {
+  s.face_width_mm = g.number("face_width_mm", positive_length_mm(5000.0));
+  if (auto da = g.optional_number("tip_diameter_mm", positive_length_mm(50000.0))) {
     s.tip_diameter_mm = *da;
   } else {
     s.tip_diameter_mm = gears::conventional_tip_diameter(s);
     scene.defaulted.push_back("tip_diameter_mm");
   }
-  if (auto df = g.optional_number("root_diameter_mm", {0.0, 50000.0, true, false})) {
+  if (auto df = g.optional_number("root_diameter_mm", positive_length_mm(50000.0))) {
     s.root_diameter_mm = *df;
   } else {
     s.root_diameter_mm = gears::conventional_root_diameter(s);
     scene.defaulted.push_back("root_diameter_mm");
   }
-  s.root_form_diameter_mm = g.optional_number("root_form_diameter_mm", {0.0, 50000.0, true, false});
+  s.root_form_diameter_mm = g.optional_number("root_form_diameter_mm", positive_length_mm(50000.0));
   if (auto v = g.optional_number("rack_dedendum_coef", {0.5, 2.0})) s.rack_dedendum_coef = *v;
   if (auto v = g.optional_number("rack_root_radius_coef", {0.0, 0.6})) s.rack_root_radius_coef = *v;
   // Read in µm (the drawing's unit), kept in mm inside; the message quotes the values as written.
@@ -128,13 +129,16 @@ gears::GearSpec read_gear(MapReader& g, Scene& scene, const std::filesystem::pat
   }
   s.thickness_allowance_upper_mm = units::mm_from_um(upper_um);
   s.thickness_allowance_lower_mm = units::mm_from_um(lower_um);
-  s.ball_diameter_mm = g.optional_number("ball_diameter_mm", {0.0, 1000.0, true, false});
+  s.ball_diameter_mm = g.optional_number("ball_diameter_mm", positive_length_mm(1000.0));
   if (auto m = g.optional_map("modifications")) s.modifications = read_modifications(*m, base);
   scene.assumed = g.optional_text_list("assumed");
-  for (const auto& key : scene.assumed) {
+  for (size_t i = 0; i < scene.assumed.size(); ++i) {
+    const auto& key = scene.assumed[i];
     if (key == "assumed" || !g.has(key))
-      g.context().fail_field(g.field("assumed"),
-                             fmt::format("'{}' is not a key given in this gear section", key));
+      g.fail_item("assumed", i, fmt::format("'{}' is not a key given in this gear section", key));
+    if (std::find(scene.assumed.begin(), scene.assumed.begin() + static_cast<std::ptrdiff_t>(i), key) !=
+        scene.assumed.begin() + static_cast<std::ptrdiff_t>(i))
+      g.fail_item("assumed", i, fmt::format("'{}' is listed twice", key));
   }
   g.finish();
   return s;
@@ -260,8 +264,13 @@ MachineSection read_machine(MapReader& m, const std::filesystem::path& base, dou
   }
   s.datum_face_z_mm = datum ? *datum : centred_datum_z(s.strokes, face_width);
   auto& ctx = m.context();
-  for (const auto& file : m.optional_text_list("tables")) {
-    const auto path = (base / file).lexically_normal();
+  const auto tables = m.optional_text_list("tables");
+  for (size_t i = 0; i < tables.size(); ++i) {
+    const auto path = (base / tables[i]).lexically_normal();
+    // The same table twice would add its errors twice (or be refused later as components given twice, without
+    // saying that the file is simply listed twice).
+    if (std::find(s.table_files.begin(), s.table_files.end(), path.string()) != s.table_files.end())
+      m.fail_item("tables", i, fmt::format("table {} is listed twice", text::excerpt(tables[i])));
     try {
       for (auto& src : machine::load_error_tables(path)) s.sources.push_back(std::move(src));
     } catch (const InputError&) {
@@ -540,10 +549,14 @@ MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& 
     m.context().fail_field(m.field(g.dense_rows > 0 ? "dense_rows" : "rows"),
                            fmt::format("{} points per flank is more than the {} a simulation may hold", per_flank,
                                        grinding::kMaxPointsPerFlank));
-  for (const auto& t : m.optional_text_list("teeth")) {
+  const auto listed = m.optional_text_list("teeth");
+  for (size_t i = 0; i < listed.size(); ++i) {
     int v = 0;
-    if (text::parse_number(t, v) != std::errc() || v < 1 || v > teeth)
-      m.context().fail_field(m.field("teeth"), fmt::format("'{}' is not a tooth number of 1..{}", text::excerpt(t), teeth));
+    if (text::parse_number(listed[i], v) != std::errc() || v < 1 || v > teeth)
+      m.fail_item("teeth", i, fmt::format("'{}' is not a tooth number of 1..{}", text::excerpt(listed[i]), teeth));
+    // The words of `--teeth 1,1` (app/options.cpp parse_teeth): a tooth simulated twice is a slip, never a wish.
+    if (std::find(g.teeth.begin(), g.teeth.end(), v) != g.teeth.end())
+      m.fail_item("teeth", i, fmt::format("tooth {} is listed twice", v));
     g.teeth.push_back(v);
   }
   if (auto f = m.optional_text("measured")) {
@@ -682,7 +695,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
     scene.report.drawing = r->optional_text("drawing").value_or("");
     scene.report.operator_name = r->optional_text("operator").value_or("");
     scene.report.measuring_machine = r->optional_text("measuring_machine").value_or("");
-    scene.report.probe_diameter_mm = r->optional_number("probe_diameter_mm", Range{0.0, 100.0, true, false});
+    scene.report.probe_diameter_mm = r->optional_number("probe_diameter_mm", positive_length_mm(100.0));
     if (r->has("tolerance_class")) scene.report.tolerance_class = static_cast<int>(r->integer("tolerance_class", 1, 11));
     r->finish();
   }
@@ -693,6 +706,9 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   try {
     gears::GearGeometry check(scene.gear);
     gears::FlankDesign design(check, gears::iso1328_ranges(check), scene.gear.modifications); // where reliefs start
+    // A wheel the scene gives is checked against the gear here, so every command (also `gear`, which builds no
+    // set-up) refuses one that cannot grind it; without one the workbench picks a diameter that fits.
+    if (ctx.marks.count("wheel.outer_diameter_mm") != 0) grinding::check_wheel_diameter(check, scene.wheel.outer_diameter_mm);
   } catch (const FieldError& e) {
     ctx.fail_field(e.field(), e.what());
   }

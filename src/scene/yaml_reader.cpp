@@ -93,7 +93,10 @@ YAML::Node MapReader::value(const std::string& key) {
   known_.insert(key);
   for (const auto& kv : node_) {
     if (scalar_of(kv.first) == key) {
-      ctx_.marks[field(key)] = kv.second.IsNull() ? kv.first.Mark() : kv.second.Mark();
+      // An alias (`*m`) carries the mark of its anchor, earlier in the file: a message about this key must point
+      // here, at the key, not at the line the anchored value came from.
+      const bool alias = kv.second.Mark().pos < kv.first.Mark().pos;
+      ctx_.marks[field(key)] = kv.second.IsNull() || alias ? kv.first.Mark() : kv.second.Mark();
       return kv.second;
     }
   }
@@ -111,7 +114,13 @@ std::optional<double> MapReader::optional_number(const std::string& key, const R
   const auto v = n.IsScalar() ? parse_double(n.Scalar()) : std::nullopt;
   if (!v) ctx_.fail(mark, field(key), fmt::format("{} is not a number", kind_of(n)));
   if (!std::isfinite(*v)) ctx_.fail(mark, field(key), fmt::format("{} is not finite", excerpt(n.Scalar())));
-  if (!range.contains(*v)) ctx_.fail(mark, field(key), fmt::format("{} is outside {}", excerpt(n.Scalar()), range.str()));
+  if (!range.contains(*v)) {
+    const bool below = range.lo_open ? *v <= range.lo : *v < range.lo;
+    ctx_.fail(mark, field(key), fmt::format("{} is outside {}{}", excerpt(n.Scalar()), range.str(),
+                                            below && range.below_lo_because != nullptr
+                                                ? fmt::format(": {}", range.below_lo_because)
+                                                : std::string()));
+  }
   return v;
 }
 
@@ -160,6 +169,12 @@ std::vector<std::string> MapReader::optional_text_list(const std::string& key) {
     out.push_back(item.Scalar());
   }
   return out;
+}
+
+void MapReader::fail_item(const std::string& key, size_t index, const std::string& message) {
+  const YAML::Node n = value(key);
+  if (n.IsSequence() && index < n.size()) ctx_.fail(n[index].Mark(), field(key), message);
+  ctx_.fail_field(field(key), message);
 }
 
 MapReader MapReader::map(const std::string& key) {

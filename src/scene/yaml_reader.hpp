@@ -19,9 +19,22 @@ namespace geartopo::scene {
 struct Range {
   double lo, hi;
   bool lo_open = false, hi_open = false;
+  /// Why nothing below `lo` is physical, said when a value is below it (e.g. kPositiveLengthMm's reason).
+  const char* below_lo_because = nullptr;
   bool contains(double v) const;
   std::string str() const;
 };
+
+/// The smallest length a scene gives for a dimension of the gear, the wheel or the probe (module, face width,
+/// diameters, relief lengths): 1 µm. geartopo computes deviations in µm, so a dimension below one µm is smaller than
+/// the errors it models: a typo or a wrong unit, never a part. A bare "> 0" let 1e-320 through (a denormal face width
+/// that makes every helix trace zero long).
+inline constexpr double kMinLengthMm = 1e-3;
+inline constexpr const char* kMinLengthBecause =
+    "below 0.001 mm (1 µm) a dimension is smaller than the µm deviations geartopo computes: no gear, wheel or probe is "
+    "that small";
+/// A positive length of a part, mm: [kMinLengthMm, hi].
+constexpr Range positive_length_mm(double hi) { return Range{kMinLengthMm, hi, false, false, kMinLengthBecause}; }
 
 /// Shared by all readers of one file: its name and where each field was found.
 struct ReadContext {
@@ -45,6 +58,8 @@ public:
   std::optional<std::string> optional_text(const std::string& key);
   std::optional<std::string> optional_choice(const std::string& key, const std::vector<std::string>& choices);
   std::vector<std::string> optional_text_list(const std::string& key);
+  /// Fails at item `index` of the list under `key` (read with optional_text_list).
+  [[noreturn]] void fail_item(const std::string& key, size_t index, const std::string& message);
   MapReader map(const std::string& key);
   std::optional<MapReader> optional_map(const std::string& key);
   bool has(const std::string& key); ///< also marks the key as known (for unknown-key messages)

@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <fmt/format.h>
+
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -189,6 +192,41 @@ TEST(Klingelnberg, CountsMustMatchTheHead) {
   EXPECT_EQ(points_error(many, example_gear()), "x.mka:23: Werte: more values than the 5 announced by the head at line 22");
   const auto word = replaced(example_text(), "/ 5 Werte / z= 10.0", "/ fünf Werte / z= 10.0");
   EXPECT_EQ(points_error(word, example_gear()), "x.mka:22: Werte: 'fünf' is not a number of values");
+}
+
+// Issue 30: "nan" among the values was reported as "the head announces 5 values, 0 follow"; it is a value that is
+// not a number, said at its line and column. An absurd value (a wrong unit) is refused at its place too.
+TEST(Klingelnberg, AValueThatIsNotANumberIsNamedAtItsPlace) {
+  const std::string values = "  .000  1.000  2.000  3.000  4.000";
+  const auto nan = replaced(example_text(), values, "  .000  1.000  nan  3.000  4.000");
+  EXPECT_EQ(points_error(nan, example_gear()),
+            "x.mka:23:16: Werte: 'nan' is not a number: value 3 of the profile trace of tooth 1 (head at line 22); a point "
+            "the machine could not measure is written -2147483.648");
+  EXPECT_NE(points_error(replaced(example_text(), values, "  inf  1.000  2.000  3.000  4.000"), example_gear())
+                .find("x.mka:23:3: Werte: 'inf' is not a number: value 1 of"),
+            std::string::npos);
+  EXPECT_NE(points_error(replaced(example_text(), values, "  .000  1.000  2.000  3.000  1e300"), example_gear())
+                .find("x.mka:23:30: Werte: 1e300 µm is beyond ±1000 µm"),
+            std::string::npos);
+  // The undefined value itself stays a skipped point (the example has one).
+  EXPECT_EQ(measurement::read_klingelnberg(kExample).undefined_points, 1);
+}
+
+// Issue 30, repeated traces: a second block of the same tooth, flank, kind and position (another tooth's blocks
+// numbered wrongly, or a repeat) is refused; the same tooth at another position is another trace.
+TEST(Klingelnberg, ATraceMeasuredTwiceIsRefused) {
+  const std::string text = example_text();
+  const auto lines = std::count(text.begin(), text.end(), '\n');
+  const std::string again = "Profil:  Zahn-Nr.: 1 links / 5 Werte / z= 10.0\r\n  .100  1.200  2.100  3.300  4.200\r\n";
+  EXPECT_EQ(points_error(text + again, example_gear()).rfind(
+                fmt::format("x.mka:{}: Zahn-Nr.: tooth 1 left profile at z= 10 mm is measured twice (first at line 22): "
+                            "a repeated measurement is refused",
+                            lines + 1),
+                0),
+            0u)
+      << points_error(text + again, example_gear());
+  const std::string elsewhere = "Profil:  Zahn-Nr.: 1 links / 5 Werte / z= 12.0\r\n  .100  1.200  2.100  3.300  4.200\r\n";
+  EXPECT_EQ(measurement::parse_klingelnberg(text + elsewhere, "x.mka").traces.size(), 6u);
 }
 
 TEST(Klingelnberg, NothingUsableIsAnError) {

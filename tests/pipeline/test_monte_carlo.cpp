@@ -286,10 +286,87 @@ TEST(MonteCarlo, ABrokenPartialFileIsLocated) {
     FAIL() << "nan accepted";
   } catch (const InputError& e) {
     const std::string m = e.what();
-    EXPECT_NE(m.find(":5:2:"), std::string::npos) << m;
+    EXPECT_NE(m.find(":5:3:"), std::string::npos) << m; // "1,nan,0.5": the value starts at character 3
     EXPECT_NE(m.find("before.F_beta_um"), std::string::npos) << m;
   }
   std::filesystem::remove(file);
+}
+
+// Issue 30: `merge` trusted what a shard said. A shard holds what compensate writes and nothing else: classes are whole
+// numbers 1 … 11 (12: worse than 11), ISO values and the largest |deviation| are magnitudes (≥ 0), no µm value is
+// beyond kMaxQuantityUm, and the seed fits 64 bits. Each refusal is located at the value (line:column) and says what
+// is allowed. (The robustness corpus, shards/, holds one file per rule; these are the messages in full.)
+TEST(MonteCarlo, APartialFileHoldsOnlyWhatCompensateCanWrite) {
+  const auto file = std::filesystem::temp_directory_path() / ("geartopo_test_mc_rules_" + std::to_string(::getpid()) + ".csv");
+  const auto error_of = [&](const std::string& head, const std::string& row) {
+    std::ofstream(file) << head << "sample,before.F_alpha_um,before.F_alpha_class,before.thickness_um,after.F_alpha_um,"
+                                   "after.F_alpha_class,after.thickness_um\n" << row << "\n";
+    try {
+      (void)pipeline::read_run_csv(file);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  const std::string head = "# samples_total: 2\n# seed: 3\n", f = file.string();
+  EXPECT_EQ(error_of(head, "0,12.5,7,-1.5,3.25,4,0.5"), "(accepted)");
+  EXPECT_EQ(error_of(head, "0,12.5,7,-1.5,3.25,99,0.5"),
+            f + ":4:20: after.F_alpha_class: 99 is not a class of ISO 1328-1: a whole number of 1 … 11 (12: worse than class 11)");
+  EXPECT_EQ(error_of(head, "0,12.5,12,-1.5,3.25,4,0.5"), "(accepted)"); // worse than class 11 is what the evaluation says
+  EXPECT_EQ(error_of(head, "0,-12.5,7,-1.5,3.25,4,0.5"),
+            f + ":4:3: before.F_alpha_um: -12.5 µm is negative: an ISO deviation or largest |deviation| is a magnitude, ≥ 0");
+  EXPECT_EQ(error_of(head, "0,1e300,7,-1.5,3.25,4,0.5"),
+            f + ":4:3: before.F_alpha_um: 1e300 µm is beyond ±10000 µm, more than a ground gear deviates (a wrong unit or "
+                "an edited file)");
+  EXPECT_EQ(error_of(head, "0,12.5,7,-1.5,3.25,4,-0.5"), "(accepted)"); // a thinner tooth is a signed value
+  EXPECT_EQ(error_of(head, "2,12.5,7,-1.5,3.25,4,0.5"),
+            f + ":4:1: sample: '2' is not a sample number of this run of 2 samples (0 … 1)");
+  EXPECT_EQ(error_of("# samples_total: 2\n# seed: 18446744073709551616\n", "0,12.5,7,-1.5,3.25,4,0.5"),
+            f + ":2:9: seed: '18446744073709551616' is not a seed: a whole number of 0 … 2⁶⁴ − 1");
+  EXPECT_EQ(error_of("# samples_total: 2\n# seed: 18446744073709551615\n", "0,12.5,7,-1.5,3.25,4,0.5"), "(accepted)");
+  std::filesystem::remove(file);
+}
+
+// The scene fingerprint: written by compensate, read back, compared by merge (which names the files). It changes with
+// the scene file's bytes and with the settings behind the corrections, and with nothing else.
+TEST(MonteCarlo, ShardsOfAnotherSceneDoNotMerge) {
+  const auto dir = std::filesystem::temp_directory_path() / ("geartopo_mc_fingerprint_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  { std::ofstream(dir / "a.yaml") << mc_scene_text(""); }
+  { std::ofstream(dir / "b.yaml") << mc_scene_text("") << "# the same scene with a comment\n"; }
+  const workbench::Workbench a(dir / "a.yaml"), a_again(dir / "a.yaml"), b(dir / "b.yaml");
+  const std::string fa = pipeline::scene_fingerprint(a, "method=flank step_mm=5");
+  EXPECT_EQ(fa.size(), 16u);
+  EXPECT_EQ(fa, pipeline::scene_fingerprint(a_again, "method=flank step_mm=5"));
+  EXPECT_NE(fa, pipeline::scene_fingerprint(b, "method=flank step_mm=5"));
+  EXPECT_NE(fa, pipeline::scene_fingerprint(a, "method=paper step_mm=5"));
+
+  pipeline::MonteCarloRun one;
+  one.samples_total = 2;
+  one.seed = 9;
+  one.names = {"F_alpha_um"};
+  one.samples = {{0, {1.0}, {0.5}, {}}};
+  one.scene_fingerprint = fa;
+  pipeline::MonteCarloRun two = one;
+  two.samples = {{1, {1.25}, {0.75}, {}}};
+  two.scene_fingerprint = pipeline::scene_fingerprint(b, "method=flank step_mm=5");
+  pipeline::write_run_csv(dir / "one.csv", one);
+  pipeline::write_run_csv(dir / "two.csv", two);
+  const auto r1 = pipeline::read_run_csv(dir / "one.csv"), r2 = pipeline::read_run_csv(dir / "two.csv");
+  EXPECT_EQ(r1.scene_fingerprint, fa);
+  try {
+    (void)pipeline::merge_runs({r1, r2});
+    ADD_FAILURE() << "shards of two scenes merged";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              fmt::format("part 2 ({}): scene fingerprint {} (part 1 ({}): {}): computed from another scene, error "
+                          "table or compensation setting",
+                          (dir / "two.csv").string(), two.scene_fingerprint, (dir / "one.csv").string(), fa));
+  }
+  two.scene_fingerprint = fa;
+  pipeline::write_run_csv(dir / "two.csv", two);
+  EXPECT_EQ(pipeline::merge_runs({r1, pipeline::read_run_csv(dir / "two.csv")}).samples.size(), 2u);
+  std::filesystem::remove_all(dir);
 }
 
 // The adaptive stop (JCGM 101:2008 §7.9.4, adapted): the statistic written out in the test — per batch of 100 the

@@ -295,3 +295,86 @@ TEST(Cli, ALongSimulationPrintsAnEstimateOnATerminalAndIntoALog) {
   fs::remove(log);
   fs::remove_all(out);
 }
+
+// Issue 30, seeds: CLI11 read 2⁶⁴ into the unsigned seed as 0 (any larger number as something else): a seed is a
+// whole number of 0 … 2⁶⁴ − 1, refused beyond as bad usage naming the flag; 2⁶⁴ − 1 itself is a seed.
+TEST(Cli, ASeedBeyond64BitsIsBadUsage) {
+  const std::string scene = kDefaultScene.string();
+  const auto out = temp_path("cli_seed");
+  for (const std::string& cmd : {"synth " + scene + " --teeth 1 --out " + out.string() + "/m.csv",
+                                "compensate " + scene + " --out " + out.string()}) {
+    for (const std::string seed : {"18446744073709551616", "99999999999999999999999"}) {
+      const auto r = run(cmd + " --seed " + seed);
+      EXPECT_EQ(r.code, 2) << cmd << ": " << r.err;
+      EXPECT_NE(r.err.find("--seed"), std::string::npos) << r.err;
+      EXPECT_NE(r.err.find("beyond 2⁶⁴ − 1 = 18446744073709551615, the largest seed"), std::string::npos) << r.err;
+    }
+  }
+  EXPECT_FALSE(fs::exists(out));
+  const auto r = run("synth " + scene + " --teeth 1 --seed 18446744073709551615 --out " + out.string() + "/m.csv");
+  EXPECT_EQ(r.code, 0) << r.err;
+  fs::remove_all(out);
+}
+
+namespace {
+std::string first_line(const std::string& text) { return text.substr(0, text.find('\n')); }
+} // namespace
+
+// Issue 30, errors first: `run` printed its banner ("geartopo run: <scene>") on stderr before a refusal, so the first
+// line a user or a script saw was not the error. Every command that fails now prints its error first; what it had said
+// before (banner, notes) follows it.
+TEST(Cli, ACommandThatFailsPrintsItsErrorFirst) {
+  const std::string scene = kDefaultScene.string(), nan = corpus("topology/nan_deviation.csv");
+  const auto out = temp_path("cli_errors_first");
+  const std::vector<std::string> cases{
+      "run " + scene + " --measured " + nan + " --out " + out.string(),
+      "report " + scene + " --measured " + nan + " --out " + out.string(),
+      "diagnose " + scene + " --measured " + nan + " --out " + out.string(),
+      "compare " + scene + " --measured " + nan + " --out " + out.string(),
+      "evaluate " + scene + " --traces " + corpus("topology/traces_nan.csv") + " --out " + out.string(),
+      "gear " + corpus("scenes/wheel_alias_module.yaml"),
+      "simulate " + corpus("scenes/teeth_listed_twice.yaml") + " --out " + out.string(),
+      "merge " + corpus("shards/reference/part_1_of_2.csv") + " " + corpus("shards/class_99.csv") + " --out " + out.string(),
+  };
+  for (const auto& args : cases) {
+    const auto r = run(args);
+    EXPECT_EQ(r.code, 1) << args << ": " << r.err;
+    EXPECT_EQ(first_line(r.err).rfind("geartopo: error: ", 0), 0u) << args << ": " << r.err;
+    fs::remove_all(out);
+  }
+  // The banner is still said, after the error.
+  const auto r = run(cases[0]);
+  const auto banner = r.err.find("geartopo run: ");
+  EXPECT_NE(banner, std::string::npos) << r.err;
+  EXPECT_GT(banner, r.err.find("geartopo: error: ")) << r.err;
+  fs::remove_all(out);
+}
+
+// Issue 30: the scene's measurement.teeth and the --teeth flag refuse a duplicate with the same words.
+TEST(Cli, ADuplicateToothIsRefusedInTheSameWordsFromTheSceneAndTheFlag) {
+  const auto out = temp_path("cli_teeth_twice");
+  const auto flag = run("simulate " + kDefaultScene.string() + " --teeth 1,1 --out " + out.string());
+  const auto scene = run("simulate " + corpus("scenes/teeth_listed_twice.yaml") + " --out " + out.string());
+  EXPECT_EQ(flag.code, 2) << flag.err;
+  EXPECT_EQ(scene.code, 1) << scene.err;
+  for (const auto* r : {&flag, &scene}) EXPECT_NE(r->err.find("tooth 1 is listed twice"), std::string::npos) << r->err;
+  EXPECT_NE(scene.err.find("teeth_listed_twice.yaml:9:"), std::string::npos) << scene.err;
+  fs::remove_all(out);
+}
+
+// Issue 30: `merge` refused nothing a shard said (F_α 1e300 µm, a negative F_α, class 99 were merged, exit 0).
+TEST(Cli, MergeRefusesAShardThatCompensateCouldNotHaveWritten) {
+  const auto out = temp_path("cli_merge");
+  const std::string ref = corpus("shards/reference/part_1_of_2.csv");
+  for (const auto& [file, where] : std::vector<std::pair<std::string, std::string>>{
+           {"value_1e300.csv", "value_1e300.csv:14:"},
+           {"negative_total_deviation.csv", "negative_total_deviation.csv:15:"},
+           {"class_99.csv", "class_99.csv:14:"},
+           {"seed_differs.csv", "seed_differs.csv): 4 samples, seed 8"}}) {
+    const auto r = run("merge " + ref + " " + corpus("shards/" + file) + " --out " + out.string());
+    EXPECT_EQ(r.code, 1) << file << ": " << r.err;
+    EXPECT_NE(r.err.find(where), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out / "prediction.json")) << file;
+    fs::remove_all(out);
+  }
+}

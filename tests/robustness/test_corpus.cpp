@@ -5,13 +5,17 @@
 //
 // Readers: scenes → workbench::Workbench (reads the scene, builds and checks the set-up); error_tables → machine::load_error_tables; topology → grinding::read_topology_csv
 // (traces_* → grinding::read_traces_csv) and measurement::read_measurement; point_clouds → surfaces::read_point_cloud;
-// topology and point clouds also through measurement::read_any_measurement (tells the two apart by the header).
+// topology and point clouds also through measurement::read_any_measurement (tells the two apart by the header);
+// shards → pipeline::read_run_csv, then pipeline::merge_runs with shards/reference/part_1_of_2.csv (what `geartopo
+// merge` does); exports → measurement::read_klingelnberg.
 #include "robustness_support.hpp"
 
 #include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 #include "geartopo/machine/error_table.hpp"
+#include "geartopo/measurement/klingelnberg.hpp"
+#include "geartopo/pipeline/monte_carlo.hpp"
 #include "geartopo/scene/scene.hpp"
 #include "geartopo/workbench/workbench.hpp"
 #include "geartopo/surfaces/point_cloud.hpp"
@@ -30,6 +34,8 @@ using namespace geartopo::robustness;
 namespace fs = std::filesystem;
 
 namespace {
+
+constexpr const char* kFolders[] = {"scenes", "error_tables", "topology", "point_clouds", "shards", "exports"};
 
 struct CorpusCase {
   std::string folder, file;
@@ -56,7 +62,7 @@ std::vector<CorpusCase> read_expected(const std::string& folder) {
 
 std::vector<CorpusCase> all_cases() {
   std::vector<CorpusCase> out;
-  for (const char* folder : {"scenes", "error_tables", "topology", "point_clouds"})
+  for (const char* folder : kFolders)
     for (auto& c : read_expected(folder)) out.push_back(std::move(c));
   return out;
 }
@@ -158,6 +164,17 @@ TEST_P(Corpus, IsRefusedWithAClearMessage) {
     SCOPED_TRACE("measurement::read_any_measurement");
     ASSERT_FALSE(any.type.empty()) << "accepted";
     EXPECT_NE(any.what.find(c.file), std::string::npos) << any.what;
+  } else if (c.folder == "shards") {
+    // Refused by the reader, or else by the merge with shard 1 of the same run: either way naming the file.
+    check_message(c, catch_from([&] {
+                    std::vector<pipeline::MonteCarloRun> parts;
+                    parts.push_back(pipeline::read_run_csv(kCorpus / "shards/reference/part_1_of_2.csv"));
+                    parts.push_back(pipeline::read_run_csv(path));
+                    (void)pipeline::summarise(pipeline::merge_runs(std::move(parts)));
+                  }),
+                  "pipeline::read_run_csv + merge_runs");
+  } else if (c.folder == "exports") {
+    check_message(c, catch_from([&] { (void)measurement::read_klingelnberg(path.string()); }), "measurement::read_klingelnberg");
   } else {
     FAIL() << "unknown corpus folder " << c.folder;
   }
@@ -169,13 +186,32 @@ INSTANTIATE_TEST_SUITE_P(Files, Corpus, ::testing::ValuesIn(all_cases()), [](con
   return name;
 });
 
+// The valid twins the shard and export cases are made from are read and merged: a case is refused for what it
+// changes, not because its reference is broken.
+TEST(CorpusReferences, AreAccepted) {
+  auto first = pipeline::read_run_csv(kCorpus / "shards/reference/part_1_of_2.csv");
+  EXPECT_EQ(first.scene_fingerprint, "0123456789abcdef");
+  pipeline::MonteCarloRun second = first;
+  for (auto& s : second.samples) s.index += 2;
+  const auto file = temp_path("part_2_of_2.csv");
+  pipeline::write_run_csv(file, second);
+  std::vector<pipeline::MonteCarloRun> parts{first, pipeline::read_run_csv(file)};
+  const auto merged = pipeline::merge_runs(std::move(parts));
+  EXPECT_EQ(merged.samples.size(), 4u);
+  EXPECT_EQ(merged.scene_fingerprint, "0123456789abcdef");
+  EXPECT_NO_THROW((void)pipeline::summarise(merged));
+  fs::remove(file);
+  const auto k = measurement::read_klingelnberg((kCorpus / "exports/reference/good.mka").string());
+  EXPECT_EQ(k.traces.size(), 3u);
+}
+
 // Every corpus file has a row in expected.tsv (and every row a file): a new file cannot slip in untested.
 TEST(CorpusIndex, EveryFileHasAnExpectation) {
-  for (const char* folder : {"scenes", "error_tables", "topology", "point_clouds"}) {
+  for (const char* folder : kFolders) {
     std::set<std::string> listed, present;
     for (const auto& c : read_expected(folder)) EXPECT_TRUE(listed.insert(c.file).second) << folder << "/" << c.file << " listed twice";
-    for (const auto& e : fs::directory_iterator(kCorpus / folder))
-      if (e.path().filename() != "expected.tsv") present.insert(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(kCorpus / folder)) // sub-folders hold valid inputs the cases refer to
+      if (e.is_regular_file() && e.path().filename() != "expected.tsv") present.insert(e.path().filename().string());
     EXPECT_EQ(listed, present) << folder;
     EXPECT_GE(present.size(), 15u) << folder;
   }

@@ -3,6 +3,7 @@
 #include "geartopo/workbench/workbench.hpp"
 
 #include <gtest/gtest.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -99,7 +100,7 @@ TEST(Scene, WrongTypesAreNamed) {
 
 TEST(Scene, DegenerateGearsAreLocatedAtTheirField) {
   EXPECT_EQ(error_of(with_line(kGood, "normal_module_mm", "  normal_module_mm: 0")),
-            "scenes/x.yaml:3:21: gear.normal_module_mm: 0 is outside (0, 100]");
+            "scenes/x.yaml:3:21: gear.normal_module_mm: 0 is outside [0.001, 100]: below 0.001 mm (1 µm) a dimension is smaller than the µm deviations geartopo computes: no gear, wheel or probe is that small");
   EXPECT_EQ(error_of(with_line(kGood, "teeth", "  teeth: 4")), "scenes/x.yaml:4:10: gear.teeth: 4 is outside [5, 10000]");
   const auto at45 = error_of(with_line(kGood, "helix_angle_deg", "  helix_angle_deg: 45"));
   EXPECT_EQ(at45.rfind("scenes/x.yaml:6:20: gear.helix_angle_deg: ", 0), 0u) << at45;
@@ -132,7 +133,56 @@ TEST(Scene, SyntaxDuplicatesAndEmptyFiles) {
   EXPECT_EQ(error_of(kGood + "  teeth: 36\n"), "scenes/x.yaml:10:3: gear.teeth: duplicate key");
   EXPECT_EQ(error_of(""), "scenes/x.yaml: empty scene (a 'gear' map is needed)");
   EXPECT_EQ(error_of(kGood + "  assumed: [tip_diameter_mm]\n"),
-            "scenes/x.yaml:10:12: gear.assumed: 'tip_diameter_mm' is not a key given in this gear section");
+            "scenes/x.yaml:10:13: gear.assumed: 'tip_diameter_mm' is not a key given in this gear section");
+}
+
+// Issue 30: a denormal or tiny dimension passed a bare "> 0"; every positive length of a part is at least 1 µm (the
+// unit of the deviations geartopo computes), and the refusal names that bound and why.
+TEST(Scene, TinyAndDenormalDimensionsAreRefusedNamingTheBound) {
+  const std::string bound = "is outside [0.001, 5000]" + std::string(
+      ": below 0.001 mm (1 µm) a dimension is smaller than the µm deviations geartopo computes");
+  EXPECT_EQ(error_of(with_line(kGood, "face_width_mm", "  face_width_mm: 1e-320")).rfind(
+                "scenes/x.yaml:9:18: gear.face_width_mm: 1e-320 " + bound, 0), 0u)
+      << error_of(with_line(kGood, "face_width_mm", "  face_width_mm: 1e-320"));
+  EXPECT_EQ(error_of(with_line(kGood, "face_width_mm", "  face_width_mm: 0.0009")).rfind(
+                "scenes/x.yaml:9:18: gear.face_width_mm: 0.0009 " + bound, 0), 0u);
+  EXPECT_NE(error_of(with_line(kGood, "normal_module_mm", "  normal_module_mm: 4.9e-324")).find(
+                "scenes/x.yaml:3:21: gear.normal_module_mm: 4.9e-324 is outside [0.001, 100]: below 0.001 mm"),
+            std::string::npos);
+  EXPECT_NE(error_of(kGood + "  root_diameter_mm: 1e-310\n").find("scenes/x.yaml:10:21: gear.root_diameter_mm: 1e-310 is "
+                                                                "outside [0.001, 50000]: below 0.001 mm"),
+            std::string::npos);
+  // Above the bound the number is a length again and the gear's own rules judge it (here: the root circle).
+  EXPECT_EQ(error_of(kGood + "  root_diameter_mm: 0.001\n").find("below 0.001 mm"), std::string::npos);
+}
+
+// Issue 30: lists refuse a duplicate at the item, in the words of `--teeth 1,1`.
+TEST(Scene, ListsRefuseDuplicatesAtTheItem) {
+  // "  teeth: [1, 2, 1]": the second 1 is at column 17.
+  EXPECT_EQ(error_of(kGood + "measurement:\n  teeth: [1, 2, 1]\n"),
+            "scenes/x.yaml:11:17: measurement.teeth: tooth 1 is listed twice");
+  EXPECT_EQ(error_of(kGood + "measurement:\n  teeth:\n    - 3\n    - 3\n"),
+            "scenes/x.yaml:13:7: measurement.teeth: tooth 3 is listed twice");
+  EXPECT_EQ(error_of(kGood + "  assumed: [face_width_mm, face_width_mm]\n"),
+            "scenes/x.yaml:10:28: gear.assumed: 'face_width_mm' is listed twice");
+  const auto sc = scene::parse_scene(kGood + "measurement:\n  teeth: [1, 18]\n", "mem");
+  EXPECT_EQ(sc.grid.teeth, (std::vector<int>{1, 18}));
+}
+
+// Issue 30: a YAML alias gave the wheel the gear's module (14 mm). The form wheel's rim carries the tooth space's
+// profile, h = (d_a − d_f)/2 deep, and needs a body at least as deep again: D_w > 4h, checked when the scene is read.
+TEST(Scene, AWheelTooSmallToCarryTheToothSpaceIsRefusedOnReading) {
+  const std::string text = with_line(kGood, "normal_module_mm", "  normal_module_mm: &m 14") + "wheel:\n  outer_diameter_mm: *m\n";
+  const auto sc = scene::parse_scene(kGood, "mem");
+  const gears::GearGeometry g(sc.gear);
+  const double h = 0.5 * (g.tip_diameter_mm() - g.root_diameter_mm());
+  EXPECT_GT(h, 30.0); // about 2.25 m_n: the 14 mm wheel is less than half the tooth depth in radius
+  const auto msg = error_of(text);
+  EXPECT_EQ(msg.rfind("scenes/x.yaml:11:3: ", 0), 0u) << msg; // at the key: the alias's own mark is its anchor's (line 3)
+  EXPECT_NE(msg.find("wheel.outer_diameter_mm: 14 mm is too small for this gear"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(fmt::format("must exceed 4h = {:.3f} mm", 4.0 * h)), std::string::npos) << msg;
+  // Just above 4h the scene reads; the default (no wheel given) is left to the workbench, which picks one that fits.
+  EXPECT_NO_THROW(scene::parse_scene(kGood + fmt::format("wheel:\n  outer_diameter_mm: {}\n", 4.0 * h + 0.01), "mem"));
 }
 
 TEST(Scene, MissingFileNamesTheFile) {
@@ -263,7 +313,7 @@ TEST(Scene, LowerAllowanceAboveUpperIsLocated) {
             "scenes/x.yaml:11:33: gear.thickness_allowance_lower_um: -50 µm is above thickness_allowance_upper_um = "
             "-100 µm (A_sni ≤ A_sne)");
   const auto ball = error_of(kGood + "  ball_diameter_mm: 0\n");
-  EXPECT_EQ(ball, "scenes/x.yaml:10:21: gear.ball_diameter_mm: 0 is outside (0, 1000]");
+  EXPECT_EQ(ball, "scenes/x.yaml:10:21: gear.ball_diameter_mm: 0 is outside [0.001, 1000]: below 0.001 mm (1 µm) a dimension is smaller than the µm deviations geartopo computes: no gear, wheel or probe is that small");
 }
 
 TEST(Scene, NegativeUpperAllowanceAloneIsBlamedOnTheUpperKey) {
@@ -290,7 +340,7 @@ TEST(SceneReport, HeaderKeysAreReadAndCheckedAtTheirField) {
   EXPECT_FALSE(none.report.probe_diameter_mm.has_value());
   EXPECT_FALSE(none.report.tolerance_class.has_value());
   // Lines 10 and 11 of the file: "report:" and the key.
-  EXPECT_EQ(error_of(kGood + "report:\n  probe_diameter_mm: 0\n"), "scenes/x.yaml:11:22: report.probe_diameter_mm: 0 is outside (0, 100]");
+  EXPECT_EQ(error_of(kGood + "report:\n  probe_diameter_mm: 0\n"), "scenes/x.yaml:11:22: report.probe_diameter_mm: 0 is outside [0.001, 100]: below 0.001 mm (1 µm) a dimension is smaller than the µm deviations geartopo computes: no gear, wheel or probe is that small");
   EXPECT_NE(error_of(kGood + "report:\n  tolerance_class: 12\n").find("report.tolerance_class"), std::string::npos);
   EXPECT_NE(error_of(kGood + "report:\n  machine: x\n").find("report.machine"), std::string::npos); // unknown key
 }

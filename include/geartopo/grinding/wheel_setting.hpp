@@ -19,7 +19,13 @@ struct WheelSetting {
   double axial_position_mm = 0.0;   ///< Y, position of the wheel centre along its axis from the common perpendicular
 };
 
-/// Throws FieldError("wheel.outer_diameter_mm") when the wheel is too small to reach the root from outside the tip.
+/// Throws FieldError("wheel.outer_diameter_mm") unless D_w > 4h, h = (d_a − d_f)/2 the tooth depth: a form wheel's
+/// rim carries the tooth space's profile, h deep, and below it needs a body at least as deep again to hold that
+/// profile on the arbor, so its radius exceeds 2h. (A 14 mm wheel for a module-14 gear, h ≈ 31 mm, would have its
+/// profile pass through its own axis.)
+void check_wheel_diameter(const gears::GearGeometry& g, double outer_diameter_mm);
+
+/// check_wheel_diameter, then the setting.
 WheelSetting make_wheel_setting(const gears::GearGeometry& g, double outer_diameter_mm, double axial_position_mm);
 
 } // namespace geartopo::grinding

@@ -132,7 +132,23 @@ struct MonteCarloRun {
   SamplingReport sampling;
   std::vector<std::string> without; ///< the sources switched off, one per MonteCarloSample::after_without (limit_sources names)
   std::vector<MonteCarloSample> samples; ///< increasing index
+  /// What the samples were computed from (scene_fingerprint); "" when not recorded (computed in memory, or a file
+  /// written before it was). Shards merge only with the same fingerprint.
+  std::string scene_fingerprint;
+  std::string source; ///< the file it was read from (read_run_csv), for messages; "" when computed
 };
+
+/// The scene a Monte Carlo run samples, as a fingerprint: FNV-1a (64 bit, 16 hex digits) of the scene file's bytes,
+/// of each error table it names (in scene order) and of `options` (the command's settings that change the samples,
+/// e.g. "method=flank step_mm=5"). Shards of one run share it; a shard computed from an edited scene or table, or
+/// with other corrections, does not. Throws InputError when a file cannot be read.
+std::string scene_fingerprint(const workbench::Workbench& wb, const std::string& options);
+
+/// Largest |value| of a µm quantity a partial result may hold (read_run_csv): 10 mm. A ground gear's ISO values and
+/// deviations are µm to tens of µm; flanks within ±grinding::kMaxDeviationUm (1000 µm, the most any measurement
+/// reader accepts) give ISO values of a few thousand µm at most (a range is twice the largest deviation, runout
+/// 1/(2 sin α_n) times a thickness change).
+inline constexpr double kMaxQuantityUm = 10'000.0;
 
 /// The corrections a controller applies: each one rounded to the nearest multiple of the axis' command resolution
 /// (X, Y, Z mm; A, C rad; 0 leaves the axis as it is).
@@ -190,8 +206,9 @@ struct AdaptiveStability {
 /// Throws std::invalid_argument unless the run holds samples 0..h·batch − 1 (h ≥ 1) in order.
 AdaptiveStability adaptive_stability(const MonteCarloRun& run, long long batch, double tolerance_um);
 
-/// Partials of one run (same seed, sample count, ISO options, probe noise and names) → one run with every sample once. Throws
-/// std::invalid_argument naming what does not match, a sample given twice or the samples missing.
+/// Partials of one run (same seed, sample count, ISO options, probe noise, names and scene fingerprint) → one run with
+/// every sample once. Throws std::invalid_argument naming the parts (their files when read from files) and what does
+/// not match, or a sample given twice.
 MonteCarloRun merge_runs(std::vector<MonteCarloRun> parts);
 
 /// Median and 95 % probabilistically symmetric coverage interval of M values (JCGM 101:2008 §7.7: sorted values
@@ -242,12 +259,16 @@ MonteCarloSummary summarise(const MonteCarloRun& run);
 /// Partial result file (CSV, doubles in shortest round-trip form): comment lines "# samples_total: M",
 /// "# seed: S", "# iso_direction: transverse", "# helix_slope_sign: helix-angle", "# probe_noise_um: 0", "# sampling:
 /// linear", "# sampling_reason: checked", "# linear_check_samples: 4", "# linear_check_points_um: …",
-/// "# linear_check_quantities_um: …", then "sample,before.<name>,…,after.<name>,…[,without_<source>.<name>,…]", one row
+/// "# linear_check_quantities_um: …", "# scene_fingerprint: …" (when recorded), then "sample,before.<name>,…,after.<name>,…[,without_<source>.<name>,…]", one row
 /// per sample.
 void write_run_csv(const std::filesystem::path& file, const MonteCarloRun& run);
-/// Throws InputError at the file's line and field. A file without the iso_direction, helix_slope_sign or
-/// probe_noise_um lines (written before they were) reads as transverse, helix-angle and 0: what compensate computed then;
-/// without the sampling lines as exact samples, reason not recorded.
+/// Throws InputError at the file's line, column and field, saying what is allowed, for anything compensate does not
+/// write: a seed outside 0 … 2⁶⁴ − 1, a quantity name geartopo does not write or one given twice, a sample number
+/// outside the run or not increasing, a value that is not finite, a class that is not a whole number of 1 … 11 (12:
+/// worse than class 11), an ISO value or largest |deviation| below 0 (they are magnitudes), any µm value beyond
+/// ±kMaxQuantityUm. A file without the iso_direction, helix_slope_sign or probe_noise_um lines (written before they
+/// were) reads as transverse, helix-angle and 0: what compensate computed then; without the sampling lines as exact
+/// samples, reason not recorded; without scene_fingerprint as not recorded.
 MonteCarloRun read_run_csv(const std::filesystem::path& file);
 
 } // namespace geartopo::pipeline

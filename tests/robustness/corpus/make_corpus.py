@@ -146,6 +146,22 @@ write(S, "strokes_reversed.yaml", GEAR + "machine:\n  strokes: {z_mm: [800, 0]}\
 write(S, "wheel_too_small.yaml", GEAR + "wheel:\n  outer_diameter_mm: 5\n", ("InputError", 9, "wheel.outer_diameter_mm"))
 write(S, "bom_crlf_nan.yaml", b"\xef\xbb\xbf" + gear(normal_module_mm=".nan").replace("\n", "\r\n").encode(), ("InputError", 2, "gear.normal_module_mm"))
 write(S, "component_unknown.yaml", GEAR + "machine:\n  constants:\n    S_xq_urad: 3\n", ("InputError", 10, "S_xq"))
+# Issue 30: lists refuse duplicates in the CLI's words (`--teeth 1,1`: "tooth 1 is listed twice"), at the item.
+write(S, "teeth_listed_twice.yaml", GEAR + "measurement:\n  teeth: [1, 1, 1, 1, 1, 1, 1, 1, 1]\n",
+      ("InputError", 9, "tooth 1 is listed twice"))
+write(S, "table_listed_twice.yaml", GEAR + "machine:\n  tables: [../error_tables/x_short.csv, ../error_tables/x_short.csv]\n",
+      ("InputError", 9, "table ../error_tables/x_short.csv is listed twice"))
+write(S, "assumed_listed_twice.yaml", gear(assumed="[face_width_mm, face_width_mm]"), ("InputError", 8, "'face_width_mm' is listed twice"))
+# Issue 30: a denormal or tiny dimension is below the smallest length a part can have (1 µm), and the bound is named.
+write(S, "face_width_denormal.yaml", gear(face_width_mm="1e-320"), ("InputError", 7, "is outside [0.001, 5000]: below 0.001 mm (1 µm)"))
+write(S, "module_denormal.yaml", gear(normal_module_mm="4.9e-324"), ("InputError", 2, "is outside [0.001, 100]: below 0.001 mm (1 µm)"))
+write(S, "tip_diameter_tiny.yaml", gear(tip_diameter_mm="1e-300"), ("InputError", 8, "gear.tip_diameter_mm: 1e-300 is outside [0.001, 50000]"))
+write(S, "root_form_denormal.yaml", gear(root_form_diameter_mm="2e-310"), ("InputError", 8, "below 0.001 mm (1 µm)"))
+write(S, "probe_diameter_denormal.yaml", GEAR + "report:\n  probe_diameter_mm: 1e-320\n", ("InputError", 9, "report.probe_diameter_mm"))
+# Issue 30: a YAML alias gives the wheel the gear's module: a 14 mm wheel for a 14 mm module (tooth depth h ≈ 31.5 mm)
+# would carry a profile deeper than its own radius. Refused when the scene is read, so `gear` refuses it too.
+write(S, "wheel_alias_module.yaml", gear(normal_module_mm="&m 14") + "wheel:\n  outer_diameter_mm: *m\n",
+      ("InputError", 9, "must exceed 4h"))
 
 # ---------------------------------------------------------------------------------------------------- error tables
 # expected: (exception, line, fragment)
@@ -253,6 +269,104 @@ write(P, "binary_junk.csv", junk, ("InputError", -1, ""))
 write(P, "nul_in_number.csv", PH.encode() + b"280.0,0\x00.5,10\n", ("InputError", 2, "y_mm"))
 write(P, "long_line.csv", PH + "1," + "2" * 65_536 + ",3\n", ("InputError", 2, ""))
 write(P, "semicolons.csv", "x_mm;y_mm;z_mm\n1;2;3\n", ("InputError", 1, "header"))
+
+# ---------------------------------------------------------------------------------------------------- shards
+# Monte Carlo partial results (compensate --shard i/n, docs/monte-carlo.md) as `merge` reads them. Each file is shard
+# 2/2 of a run of 4 samples, seed 7; the test reads it (pipeline::read_run_csv) and merges it with
+# shards/reference/part_1_of_2.csv (samples 0 and 1): the file must be refused by one or the other, naming it.
+M = "shards"
+NAMES = ["F_alpha_um", "F_alpha_class", "overall_class", "largest_abs_um", "thickness_um"]
+FINGERPRINT = "0123456789abcdef"
+def shard(rows, total=4, seed="7", fingerprint=FINGERPRINT, names=NAMES, extra=""):
+    head = (f"# geartopo Monte Carlo partial result (docs/monte-carlo.md); merge with: geartopo merge\n"
+            f"# samples_total: {total}\n# seed: {seed}\n# iso_direction: transverse\n# helix_slope_sign: helix-angle\n"
+            f"# probe_noise_um: 0\n# sampling: linear\n# sampling_reason: checked\n# linear_check_samples: 4\n"
+            f"# linear_check_points_um: 0.01\n# linear_check_quantities_um: 0.002\n")
+    if fingerprint is not None:
+        head += f"# scene_fingerprint: {fingerprint}\n"
+    head += extra
+    head += "sample," + ",".join("before." + n for n in names) + "," + ",".join("after." + n for n in names) + "\n"
+    return head + "".join(r + "\n" for r in rows)
+def row(k, before="12.5,7,7,20.1,-1.5", after="3.25,4,5,6.5,0.25"):
+    return f"{k},{before},{after}"
+os.makedirs(os.path.join(HERE, M, "reference"), exist_ok=True)
+with open(os.path.join(HERE, M, "reference", "part_1_of_2.csv"), "w", newline="") as f:
+    f.write(shard([row(0), row(1, after="3.5,4,5,6.75,0.5")]))
+# The lines: 12 comment lines (11 without a fingerprint), the header on 13, samples from 14.
+write(M, "value_1e300.csv", shard([row(2, before="1e300,7,7,20.1,-1.5"), row(3)]), ("InputError", 14, "beyond ±10000 µm"))
+write(M, "negative_total_deviation.csv", shard([row(2), row(3, after="-3.25,4,5,6.5,0.25")]),
+      ("InputError", 15, "after.F_alpha_um: -3.25 µm is negative: an ISO deviation or largest |deviation| is a magnitude"))
+write(M, "class_99.csv", shard([row(2, after="3.25,99,5,6.5,0.25"), row(3)]),
+      ("InputError", 14, "after.F_alpha_class: 99 is not a class of ISO 1328-1: a whole number of 1 … 11"))
+write(M, "class_0.csv", shard([row(2, before="12.5,7,0,20.1,-1.5"), row(3)]), ("InputError", 14, "before.overall_class: 0 is not a class"))
+write(M, "class_fraction.csv", shard([row(2, before="12.5,6.5,7,20.1,-1.5"), row(3)]), ("InputError", 14, "6.5 is not a class"))
+write(M, "largest_abs_negative.csv", shard([row(2, before="12.5,7,7,-20.1,-1.5"), row(3)]), ("InputError", 14, "before.largest_abs_um"))
+write(M, "signed_value_huge.csv", shard([row(2), row(3, after="3.25,4,5,6.5,-2e4")]), ("InputError", 15, "after.thickness_um: -2e4 µm is beyond ±10000 µm"))
+write(M, "nan_value.csv", shard([row(2, after="nan,4,5,6.5,0.25"), row(3)]), ("InputError", 14, "'nan' is not a finite number"))
+write(M, "sample_beyond_run.csv", shard([row(2), row(4)]), ("InputError", 15, "'4' is not a sample number of this run of 4 samples (0 … 3)"))
+write(M, "sample_negative.csv", shard([row(-1), row(3)]), ("InputError", 14, "sample number"))
+write(M, "samples_not_increasing.csv", shard([row(3), row(2)]), ("InputError", 15, "sample numbers must increase"))
+# 2⁶⁴: CLI11 used to wrap it to 0; the reader refuses it as a seed.
+write(M, "seed_2_64.csv", shard([row(2), row(3)], seed="18446744073709551616"), ("InputError", 3, "is not a seed: a whole number of 0 … 2⁶⁴ − 1"))
+write(M, "seed_negative.csv", shard([row(2), row(3)], seed="-7"), ("InputError", 3, "is not a seed"))
+write(M, "unknown_quantity.csv", shard([row(2), row(3)], names=["F_gamma_um"] + NAMES[1:]),
+      ("InputError", 13, "'F_gamma_um' is not a quantity geartopo writes"))
+write(M, "quantity_twice.csv", shard([row(2), row(3)], names=NAMES[:4] + ["F_alpha_um"]), ("InputError", 13, "'F_alpha_um' is listed twice"))
+write(M, "fingerprint_malformed.csv", shard([row(2), row(3)], fingerprint="not-hex"), ("InputError", 12, "16 hex digits"))
+# Refused by merge: each file alone is a valid shard, but not of the reference's run.
+write(M, "seed_differs.csv", shard([row(2), row(3)], seed="8"), ("invalid_argument", 0, "seed 8"))
+write(M, "samples_total_differs.csv", shard([row(2), row(3)], total=5), ("invalid_argument", 0, "5 samples"))
+write(M, "fingerprint_differs.csv", shard([row(2), row(3)], fingerprint="fedcba9876543210"),
+      ("invalid_argument", 0, "scene fingerprint fedcba9876543210"))
+write(M, "fingerprint_missing.csv", shard([row(2), row(3)], fingerprint=None), ("invalid_argument", 0, "scene fingerprint not recorded"))
+write(M, "names_differ.csv", shard([row(2, before="12.5,7,7,20.1", after="3.25,4,5,6.5"), row(3, before="12.5,7,7,20.1", after="3.25,4,5,6.5")],
+                                   names=NAMES[:4]), ("invalid_argument", 0, "other quantities"))
+write(M, "sample_in_both.csv", shard([row(1), row(2), row(3)]), ("invalid_argument", 0, "sample 1 is in two parts"))
+
+# ---------------------------------------------------------------------------------------------------- Klingelnberg exports
+# Read by measurement::read_klingelnberg (docs/measurement-formats.md). The head of tests/measurement/data's example.
+K = "exports"
+KHEAD = """HEADER KS.MK.FILE
+TYPE       STI          ! geartopo robustness corpus
+SEPARATOR  :
+UNDEFINED  -2147483.648
+  21 :Normalmodul mn [mm]...............: 2.0000
+  22 :Zähnezahl z.......................: 24
+  23 :Schrägungswinkel beta [Grad]......: 15.0000
+  24 :Eingriffswinkel alpha n [Grad]....: 20.0000
+  26 :Zahnbreite b [mm].................: 20.0000
+  41 :Start Messbereich.....da [mm].....: 47.5000     47.5000
+  44 :Ende der Messstrecke..de [mm].....: 53.2000     53.2000
+  61 :Messanfang............ba [mm].....: 2.0000      2.0000
+  64 :Messende..............be [mm].....: 18.0000     18.0000
+"""  # 13 lines: the first trace head is line 14
+def profile(tooth=1, flank="links", values=".000  1.000  2.000  3.000  4.000", count=5, z="10.0"):
+    return f"Profil:  Zahn-Nr.: {tooth} {flank} / {count} Werte / z= {z}\n  {values}\n"
+GOOD_REST = profile(1, "rechts", ".000  -.500  -1.0  -1.500  -2.000") + "Flankenlinie: Zahn-Nr.: 2 links / 4 Werte / d= 50.0\n  -1.000  -2.000  -3.000  -4.000\n"
+os.makedirs(os.path.join(HERE, K, "reference"), exist_ok=True)
+with open(os.path.join(HERE, K, "reference", "good.mka"), "w", newline="") as f:  # the cases' valid twin (3 traces)
+    f.write(KHEAD + profile() + GOOD_REST)
+# Issue 30: "nan" among the values was reported as "the head announces 5 values, 0 follow".
+write(K, "nan_value.mka", KHEAD + profile(values=".000  1.000  nan  3.000  4.000") + GOOD_REST,
+      ("InputError", 15, "'nan' is not a number: value 3 of the profile trace of tooth 1 (head at line 14)"))
+write(K, "nan_first_value.mka", KHEAD + profile(values="NaN  1.000  2.000  3.000  4.000") + GOOD_REST, ("InputError", 15, "'NaN' is not a number"))
+write(K, "inf_value.mka", KHEAD + profile(values=".000  1.000  2.000  -inf  4.000") + GOOD_REST, ("InputError", 15, "'-inf' is not a number"))
+write(K, "text_value.mka", KHEAD + profile(values=".000  1.000  n/a  3.000  4.000") + GOOD_REST, ("InputError", 15, "'n/a' is not a number"))
+write(K, "huge_value.mka", KHEAD + profile(values=".000  1.000  1e300  3.000  4.000") + GOOD_REST, ("InputError", 15, "beyond ±1000 µm"))
+write(K, "value_1e6_um.mka", KHEAD + GOOD_REST + profile(2, "rechts", ".000  1.000  2.000  3.000  1e6"), ("InputError", 19, "1e6 µm is beyond ±1000 µm"))
+# Issue 30: tooth 18's blocks written as tooth 1 again: refused (a repeat would count the flank twice in every fit).
+write(K, "tooth_measured_twice.mka", KHEAD + profile() + GOOD_REST + profile(1, "links", ".100  1.200  2.100  3.300  4.200"),
+      ("InputError", 20, "tooth 1 left profile at z= 10 mm is measured twice (first at line 14)"))
+write(K, "topography_line_twice.mka", KHEAD + GOOD_REST + "TOPOGRAFIE: Zahn-Nr.: 2 /Profil:1 rechts / 3 Werte / z= 5.0\n  .046  .046  .046\n"
+      "TOPOGRAFIE: Zahn-Nr.: 2 /Profil:2 rechts / 3 Werte / z= 5.0\n  .050  .040  .046\n", ("InputError", 20, "is measured twice (first at line 18)"))
+write(K, "too_few_values.mka", KHEAD + profile(values=".000  1.000  2.000") + GOOD_REST, ("InputError", 14, "the head announces 5 values, 3 follow"))
+write(K, "too_many_values.mka", KHEAD + profile(values=".000  1.000  2.000  3.000  4.000  5.000") + GOOD_REST,
+      ("InputError", 15, "more values than the 5 announced"))
+write(K, "tooth_0.mka", KHEAD + profile(tooth=0) + GOOD_REST, ("InputError", 14, "'0' is not a tooth number"))
+write(K, "no_flank.mka", KHEAD + profile(flank="mitte") + GOOD_REST, ("InputError", 14, "expected 'links' or 'rechts'"))
+write(K, "zero_values.mka", KHEAD + profile(count=0, values="") + GOOD_REST, ("InputError", 14, "'0' is not a number of values"))
+write(K, "position_nan.mka", KHEAD + profile(z="nan") + GOOD_REST, ("InputError", 14, "expected a position in mm"))
+write(K, "truncated_in_values.mka", KHEAD + GOOD_REST + "Profil:  Zahn-Nr.: 3 links / 5 Werte / z= 10.0\n  .000  1.0", ("InputError", 18, "announces 5 values, 2 follow"))
 
 for folder, rows in ROWS.items():
     with open(os.path.join(HERE, folder, "expected.tsv"), "w") as f:
