@@ -4,6 +4,7 @@
 #include "app/options.hpp"
 
 #include "geartopo/diagnosis/compare.hpp"
+#include "geartopo/report/residual_follows_figure.hpp"
 #include "geartopo/report/measurement_report.hpp"
 
 #include <CLI/CLI.hpp>
@@ -68,7 +69,14 @@ void register_compare_command(CLI::App& app, Action& action) {
       for (const auto& s : c.trends)
         for (const auto& t : s.trends)
           if (!t.sentence.empty()) std::cout << "  " << t.sentence << "\n";
-      std::cout << "wrote " << (out / "compare.json").string() << ", residuals.csv\n";
+      if (!c.follows.variables.empty()) {
+        std::cout << "What the residual follows (each process variable alone, set-up terms removed; strongest first):\n";
+        for (const auto& d : c.follows.variables)
+          std::cout << "  " << d.sentence << (d.significant ? "" : " — not significant") << "\n";
+        report::render_residual_follows(c.follows, pts, out / "residual_vs_process.png", out / "panels");
+      }
+      std::cout << "wrote " << (out / "compare.json").string() << ", residuals.csv"
+                << (c.follows.variables.empty() ? "" : ", residual_vs_process.png") << "\n";
       finish_output_folder(folder);
       json.emit(summary);
       return 0;

@@ -52,6 +52,7 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
   for (const auto& [side, list] : by_side)
     if (list.size() >= 2) c.trends.push_back(fit_tooth_trends(list, setup.geometry().teeth()));
   c.summary = summarize_residuals(c.flanks);
+  if (pts.size() >= 4) c.follows = residual_dependence(setup, pts, c.residual_um);
   return c;
 }
 

@@ -78,6 +78,25 @@ nlohmann::json compare_json(const std::string& scene, const std::string& measure
   for (const auto& s : comparison.trends)
     for (const auto& t : s.trends) trends.push_back({{"flank", diagnosis::to_string(s.side)}, {"sentence", t.sentence}});
   j["tooth_to_tooth"] = trends;
+  // What the residual follows (docs/diagnosis.md): each process variable alone, the set-up terms fitted alongside.
+  nlohmann::json follows = nlohmann::json::array();
+  for (const auto& d : comparison.follows.variables) {
+    nlohmann::json f{{"variable", d.variable},
+                     {"unit", d.unit},
+                     {"law", d.once_per_revolution ? "once_per_revolution" : "linear"},
+                     {"explained_fraction", d.explained_fraction},
+                     {"delta_bic", d.delta_bic},
+                     {"significant", d.significant},
+                     {"range", {d.lo, d.hi}},
+                     {"sentence", d.sentence}};
+    if (d.once_per_revolution) {
+      f["amplitude_um"] = d.slope_um, f["amplitude_sd_um"] = d.slope_sd_um, f["phase_deg"] = d.phase_deg;
+    } else {
+      f["slope_um_per_unit"] = d.slope_um, f["slope_sd_um_per_unit"] = d.slope_sd_um;
+    }
+    follows.push_back(f);
+  }
+  j["residual_follows"] = follows;
   nlohmann::json regions = nlohmann::json::array();
   for (const auto& r : comparison.regions) regions.push_back(r.sentence);
   j["failing_regions"] = regions;

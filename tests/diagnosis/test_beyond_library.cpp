@@ -10,6 +10,7 @@
 
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
+#include "geartopo/diagnosis/residual_follows.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
 #include "geartopo/effects/effects_process.hpp"
 #include "geartopo/grinding/machine_process.hpp"
@@ -264,6 +265,60 @@ TEST(BeyondLibrary, AWheelFlankProfileErrorActsOnTheFlanksThatWheelFlankGrinds) 
     middle_left = std::max(middle_left, d);
   }
   EXPECT_NEAR(middle_left, 3.0, 0.1);
+}
+
+} // namespace
+} // namespace independent_truth
+
+namespace independent_truth {
+namespace {
+
+TEST(ResidualFollows, AResidualGrowingWithTimeFollowsTheGrindingTime) {
+  // 0.3 µm more material per minute of grinding time at each point's generating pose, written here from the contact's
+  // time stamp (not through any effect): the grinding time is the strongest variable, its slope within 2σ.
+  const auto& l = two_teeth();
+  auto pts = measure_with(l, [](const Contact& c) { return 0.3 * c.pp.time_s / 60.0; }, 0.3, 71);
+  std::vector<double> r(pts.size());
+  const auto model = diagnosis::predict(bench().setup, bench().process(), pts, grinding::Method::Exact);
+  for (size_t i = 0; i < pts.size(); ++i) r[i] = pts[i].deviation_um - model[i];
+  const auto f = diagnosis::residual_dependence(bench().setup, pts, r);
+  // A stroke grinds a whole space, so the grinding time and the stroke order are nearly one variable on whole teeth
+  // (0.3 µm/min × 0.27 min per stroke = 0.081 µm/stroke): the two lead, either first, and the time's slope is right.
+  ASSERT_GE(f.variables.size(), 2u);
+  std::vector<std::string> top_two{f.variables[0].variable, f.variables[1].variable};
+  std::sort(top_two.begin(), top_two.end());
+  EXPECT_EQ(top_two, (std::vector<std::string>{"grinding time", "stroke order"})) << f.variables[0].sentence;
+  const auto& time = f.variables[0].variable == "grinding time" ? f.variables[0] : f.variables[1];
+  EXPECT_TRUE(time.significant);
+  EXPECT_NEAR(time.slope_um, 0.3, 2.0 * time.slope_sd_um) << time.sentence;
+  EXPECT_GT(time.explained_fraction, 0.5);
+  for (const auto& d : f.variables) EXPECT_EQ(d.values.size(), pts.size());
+}
+
+TEST(ResidualFollows, AOncePerRevolutionResidualFollowsTheCAngle) {
+  // 2 µm · cos(γ − 30°) of the C angle that ground the point, on four teeth a quarter turn apart.
+  const auto& l = four_teeth();
+  const double phase = 30.0 * 3.141592653589793 / 180.0;
+  auto pts = measure_with(l, [&](const Contact& c) { return 2.0 * std::cos(c.pp.q.c - phase); }, 0.3, 72);
+  std::vector<double> r(pts.size());
+  const auto model = diagnosis::predict(bench().setup, bench().process(), pts, grinding::Method::Exact);
+  for (size_t i = 0; i < pts.size(); ++i) r[i] = pts[i].deviation_um - model[i];
+  const auto f = diagnosis::residual_dependence(bench().setup, pts, r);
+  ASSERT_FALSE(f.variables.empty());
+  const auto& top = f.variables.front();
+  EXPECT_EQ(top.variable, "C angle") << top.sentence;
+  EXPECT_NEAR(top.slope_um, 2.0, 2.0 * top.slope_sd_um + 0.02) << top.sentence;
+  EXPECT_NEAR(top.phase_deg, 30.0, 3.0) << top.sentence;
+}
+
+TEST(ResidualFollows, NoiseFollowsNothing) {
+  const auto& l = two_teeth();
+  const auto pts = measure_with(l, nullptr, 0.5, 73);
+  std::vector<double> r(pts.size());
+  const auto model = diagnosis::predict(bench().setup, bench().process(), pts, grinding::Method::Exact);
+  for (size_t i = 0; i < pts.size(); ++i) r[i] = pts[i].deviation_um - model[i];
+  for (const auto& d : diagnosis::residual_dependence(bench().setup, pts, r).variables)
+    EXPECT_FALSE(d.significant) << d.sentence;
 }
 
 } // namespace

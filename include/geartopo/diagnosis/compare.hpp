@@ -8,6 +8,7 @@
 #include "geartopo/diagnosis/residuals/flank_patterns.hpp"
 #include "geartopo/diagnosis/residuals/residual_summary.hpp"
 #include "geartopo/diagnosis/residuals/tooth_trends.hpp"
+#include "geartopo/diagnosis/residual_follows.hpp"
 #include "geartopo/gears/involute_helicoid.hpp"
 #include "geartopo/grinding/grinding_process.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
@@ -32,6 +33,9 @@ struct Comparison {
   std::vector<SideTrends> trends;                        ///< per side with ≥ 2 teeth
   std::vector<FailingRegion> regions;                    ///< every flank's regions
   ResidualSummary summary;
+  /// What the residual follows: its dependence on each process variable of the points' generation (grinding time,
+  /// stroke order, Z, C angle, wheel radius), strongest first (residual_follows.hpp). Empty with fewer than 4 points.
+  ResidualFollows follows;
 };
 
 /// The residual (µm, one per point) grouped by measured flank, ordered by tooth then left before right, each with the
