@@ -212,7 +212,9 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       for (const auto& c : d.ranked) {
         std::string params;
         for (const auto& p : c.parameters.front())
-          if (p.fitted) params += fmt::format("{} {}  ", p.key, text::with_uncertainty(p.value, p.uncertainty)); // GUM §7.2.6; the files keep every digit
+          if (p.fitted) // GUM §7.2.6; the files keep every digit. A value the data do not fix is no finding.
+            params += fmt::format("{} {}  ", p.key, p.determined ? text::with_uncertainty(p.value, p.uncertainty)
+                                                                 : std::string("not determined"));
         std::cout << fmt::format("  {:<4} {:<16} {:>9.1f} {:>9.1f}% {:>7.2f} µm  {}{}\n", rank++, c.name(), c.delta_bic,
                                  100.0 * c.explained_fraction, c.rms_after_um, params, !c.rejected.empty() ? "(rejected: " + c.rejected + ")" : c.significant ? std::string() : std::string("(not significant)"));
       }

@@ -181,8 +181,9 @@ std::string parameters_text(const Candidate& c) {
   for (size_t e = 0; e < c.effects.size(); ++e)
     for (const auto& p : c.parameters[e])
       if (p.fitted)
-        s += fmt::format("{}{}{} = {}", s.empty() ? "" : ", ", c.effects.size() > 1 ? c.effects[e].type + "." : std::string(),
-                         p.key, text::with_uncertainty(p.value, p.uncertainty));
+        s += fmt::format("{}{}{}{}", s.empty() ? "" : ", ", c.effects.size() > 1 ? c.effects[e].type + "." : std::string(),
+                         p.key, p.determined ? " = " + text::with_uncertainty(p.value, p.uncertainty)
+                                             : std::string(" not determined by these data"));
   return s;
 }
 

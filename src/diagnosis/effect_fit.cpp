@@ -308,6 +308,12 @@ Candidate to_candidate(EffectFit& f, const LmResult& best, const Eigen::VectorXd
       const auto& spec = eff.parameters()[k];
       const double u = j >= 0 ? sd(j) * spec.typical : 0.0;
       params.push_back({spec.key, eff.value(k), u, j >= 0});
+      if (j >= 0) {
+        const double end = 1e-6 * (spec.hi - spec.lo), v = eff.value(k);
+        const double plausible_width = (std::isnan(spec.plausible_hi) ? spec.hi : spec.plausible_hi) -
+                                       (std::isnan(spec.plausible_lo) ? spec.lo : spec.plausible_lo);
+        params.back().determined = !(v <= spec.lo + end || v >= spec.hi - end) && !(u > plausible_width);
+      }
       if (j < 0 || !c.rejected.empty()) continue;
       // Plausibility: a value the data demand beyond what a real machine shows is the optimiser absorbing a pattern
       // the effect does not make — not a measurement of the effect. "Demand": outside the plausible range by more than

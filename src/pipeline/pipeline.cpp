@@ -62,7 +62,7 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
     d.on_candidate_fitted = o.progress;
     m.diagnosis = diagnosis::diagnose(wb.setup, wb.process(), m.points, wb.effect_types(), d);
     if (m.diagnosis.chosen) {
-      const auto effs = workbench::make_effects(m.diagnosis.chosen->effects, wb.setup);
+      const auto effs = workbench::make_effects(m.diagnosis.chosen->effects, m.diagnosis.chosen->changes, wb.setup);
       const effects::EffectsProcess with(wb.process(), effs);
       m.after = diagnosis::compare(wb.setup, with, m.points, m.before.noise_um);
     }

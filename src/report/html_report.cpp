@@ -487,12 +487,27 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
     for (const auto& c : m.diagnosis.ranked) {
       std::string params;
       for (const auto& p : c.parameters.front())
-        if (p.fitted) params += fmt::format("{} {}; ", p.key, text::with_uncertainty(p.value, p.uncertainty)); // GUM §7.2.6
+        if (p.fitted) // GUM §7.2.6; a value the data do not fix is no finding
+          params += fmt::format("{} {}; ", p.key, p.determined ? text::with_uncertainty(p.value, p.uncertainty)
+                                                               : std::string("not determined"));
       h += fmt::format("<tr><td>{}</td><td>{}{}</td><td>{:.1f}</td><td>{:.1f} %</td><td>{:.2f}</td><td>{}</td></tr>", rank++,
                        esc(c.name()), c.significant ? "" : " (not significant)", c.delta_bic, 100 * c.explained_fraction,
                        c.rms_after_um, esc(params));
     }
-    h += "</table></div>\n<p><b>Verdict.</b> " + esc(m.diagnosis.verdict) + "</p>\n";
+    h += "</table></div>\n";
+    if (!m.diagnosis.hypotheses.empty()) {
+      // Beyond the library (docs/diagnosis.md): the machine's own elements, best first.
+      h += "<p>Beyond the library: the chain's error components under their laws in time, and each wheel flank.</p>\n"
+           "<div class=scroll><table><thead><tr><th>rank</th><th>machine element and law</th><th>ΔBIC</th>"
+           "<th>explained</th><th>finding</th></tr></thead>";
+      int k = 1;
+      for (const auto& c : m.diagnosis.hypotheses)
+        h += fmt::format("<tr><td>{}</td><td>{}</td><td>{:.1f}</td><td>{:.1f} %</td><td>{}{}</td></tr>", k++, esc(c.name()),
+                         c.delta_bic, 100 * c.explained_fraction, esc(c.description),
+                         c.rejected.empty() ? std::string() : esc(" (rejected: " + c.rejected + ")"));
+      h += "</table></div>\n";
+    }
+    h += "<p><b>Verdict.</b> " + esc(m.diagnosis.verdict) + "</p>\n";
     if (m.after)
       h += fmt::format("<p>With the effect added the residual falls from {:.2f} to {:.2f} µm RMS (scene_with_effect.yaml).</p>\n",
                        m.before.summary.overall.rms_um, m.after->summary.overall.rms_um);

@@ -128,7 +128,8 @@ nlohmann::json candidate_json(const diagnosis::Candidate& c) {
       params[key] = {{"value", p.value},
                      {"uncertainty", p.fitted ? nlohmann::json(p.uncertainty) : nlohmann::json(nullptr)},
                      {"unit", unit_of_key(p.key)},
-                     {"fitted", p.fitted}};
+                     {"fitted", p.fitted},
+                     {"determined", p.determined}};
     }
   j["parameters"] = params;
   if (!c.changes.empty()) {

@@ -39,6 +39,10 @@ struct FittedParameter {
   double value = 0.0;
   double uncertainty = 0.0;  ///< standard uncertainty (1σ); 0 for parameters held fixed
   bool fitted = true;
+  /// False when the data do not fix the value: it sits at the end of its allowed range, or its σ is wider than its
+  /// whole plausible range (a thermal amplitude trading against its time constant on two teeth). Such a value is no
+  /// finding: it is printed as "not determined", never as a number with an uncertainty.
+  bool determined = true;
 };
 
 /// Set-up terms of a measurement (not process physics; docs/diagnosis.md): a thickness offset on every flank and the
