@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 namespace geartopo::diagnosis {
 
 IdentifiedEffects identified_effects(const Diagnosis& d, const Candidate& candidate) {
@@ -41,6 +43,14 @@ IdentifiedEffects identified_effects(const Diagnosis& d, const Candidate& candid
           out.correlation(fitted_slot[a], fitted_slot[b]) =
               candidate.correlation(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
   return out;
+}
+
+std::vector<std::string> identification_comments(const Candidate& candidate, const std::string& measured) {
+  std::vector<std::string> comments;
+  for (const auto& e : candidate.effects)
+    comments.push_back(fmt::format("{}: identified by geartopo diagnose from {} (ΔBIC {:.1f})", e.type, measured,
+                                   candidate.delta_bic));
+  return comments;
 }
 
 } // namespace geartopo::diagnosis

@@ -142,9 +142,18 @@ std::string rebase_scene_paths(const std::string& text, const std::filesystem::p
 void write_scene_with_effects(const std::filesystem::path& scene_file, const std::vector<scene::EffectSpec>& effects,
                               const std::vector<std::string>& comments, const std::filesystem::path& out_file,
                               const std::vector<std::vector<double>>& uncertainties, const Eigen::MatrixXd& correlation) {
-  const std::string completed = scene_with_effects(input::read_input_file(scene_file, input::kMaxSceneBytes, "scene file"),
-                                                   effects, comments, uncertainties, correlation);
-  output::write_text_atomically(out_file, rebase_scene_paths(completed, scene_file.parent_path(), out_file.parent_path()));
+  output::write_text_atomically(out_file, scene_text_with_effects(input::read_input_file(scene_file, input::kMaxSceneBytes,
+                                                                                         "scene file"),
+                                                                  scene_file.parent_path(), out_file.parent_path(),
+                                                                  effects, comments, uncertainties, correlation));
+}
+
+std::string scene_text_with_effects(const std::string& scene_text, const std::filesystem::path& from_dir,
+                                    const std::filesystem::path& to_dir, const std::vector<scene::EffectSpec>& effects,
+                                    const std::vector<std::string>& comments,
+                                    const std::vector<std::vector<double>>& uncertainties,
+                                    const Eigen::MatrixXd& correlation) {
+  return rebase_scene_paths(scene_with_effects(scene_text, effects, comments, uncertainties, correlation), from_dir, to_dir);
 }
 
 } // namespace geartopo::diagnosis

@@ -32,6 +32,14 @@ std::string scene_with_effects(const std::string& scene_text, const std::vector<
 std::string rebase_scene_paths(const std::string& scene_text, const std::filesystem::path& from_dir,
                                const std::filesystem::path& to_dir);
 
+/// `scene_text` (read from `from_dir`) with the effects added (scene_with_effects) and its paths rebased to `to_dir`
+/// (rebase_scene_paths): the text of a scene file to be saved in `to_dir`.
+std::string scene_text_with_effects(const std::string& scene_text, const std::filesystem::path& from_dir,
+                                    const std::filesystem::path& to_dir, const std::vector<scene::EffectSpec>& effects,
+                                    const std::vector<std::string>& comments,
+                                    const std::vector<std::vector<double>>& uncertainties = {},
+                                    const Eigen::MatrixXd& correlation = Eigen::MatrixXd());
+
 /// Reads `scene_file`, adds the effects (scene_with_effects), rebases its paths to `out_file`'s folder and writes it
 /// there. Throws std::runtime_error naming the file that cannot be read or written.
 void write_scene_with_effects(const std::filesystem::path& scene_file, const std::vector<scene::EffectSpec>& effects,
