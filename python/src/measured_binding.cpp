@@ -37,8 +37,7 @@ py::dict residual_columns(const std::vector<measurement::MeasuredPoint>& pts, co
   auto id = new_column<std::int64_t>(n);
   auto d = new_column<double>(n), z = new_column<double>(n), measured = new_column<double>(n), model = new_column<double>(n),
        residual = new_column<double>(n), design = new_column<double>(n);
-  std::vector<std::string_view> flank;
-  flank.reserve(n);
+  WordColumn flank(n, kFlankWidth);
   for (std::size_t k = 0; k < n; ++k) {
     const auto i = static_cast<py::ssize_t>(k);
     const auto& p = pts[k];
@@ -46,11 +45,11 @@ py::dict residual_columns(const std::vector<measurement::MeasuredPoint>& pts, co
     id.mutable_at(i) = p.id;
     d.mutable_at(i) = p.diameter_mm, z.mutable_at(i) = p.z_mm, measured.mutable_at(i) = p.deviation_um;
     model.mutable_at(i) = c.model_um[k], residual.mutable_at(i) = c.residual_um[k], design.mutable_at(i) = p.design_um;
-    flank.push_back(to_string(p.flank));
+    flank.set(k, to_string(p.flank));
   }
   py::dict out;
   out["tooth"] = tooth;
-  out["flank"] = word_column(flank, 5);
+  out["flank"] = flank.array();
   out["row"] = row;
   out["col"] = col;
   out["diameter_mm"] = d;

@@ -4,7 +4,6 @@
 
 #include <fmt/format.h>
 
-#include <cstring>
 #include <map>
 #include <utility>
 
@@ -12,55 +11,49 @@ namespace py = pybind11;
 
 namespace geartopo::python {
 
-py::array word_column(const std::vector<std::string_view>& words, std::size_t width) {
-  // numpy's unicode dtype: width UCS-4 code units per element, zero-padded.
-  py::array out(py::dtype(fmt::format("<U{}", width)), std::vector<py::ssize_t>{static_cast<py::ssize_t>(words.size())});
-  auto* data = static_cast<char32_t*>(out.mutable_data());
-  std::memset(data, 0, words.size() * width * sizeof(char32_t));
-  for (std::size_t i = 0; i < words.size(); ++i)
-    for (std::size_t c = 0; c < words[i].size() && c < width; ++c)
-      data[i * width + c] = static_cast<char32_t>(static_cast<unsigned char>(words[i][c]));
-  return out;
-}
+WordColumn::WordColumn(std::size_t n, std::size_t width)
+    // From numpy's own converter (dtype::from_args): py::dtype(string) parses a PEP 3118 format in Python.
+    : array_(py::dtype::from_args(py::str(fmt::format("<U{}", width))), std::vector<py::ssize_t>{static_cast<py::ssize_t>(n)}),
+      width_(width), data_(static_cast<char32_t*>(array_.mutable_data())) {}
 
 namespace {
 
-constexpr std::size_t kFlankWidth = 5; // "right"
-constexpr std::size_t kTraceWidth = 7; // "profile"
 
-/// Columns of n rows, filled by index.
+/// The columns of n rows, filled by index; `grid`: with row and col, `traces`: with the trace names.
 struct Columns {
-  explicit Columns(std::size_t n)
-      : tooth(new_column<int>(n)), row(new_column<int>(n)), col(new_column<int>(n)), roll(new_column<double>(n)),
-        diameter(new_column<double>(n)), z(new_column<double>(n)), deviation(new_column<double>(n)),
-        design(new_column<double>(n)) {
-    flank.reserve(n);
-  }
+  Columns(std::size_t n, bool grid, bool traces)
+      : tooth(new_column<int>(n)), row(new_column<int>(grid ? n : 0)), col(new_column<int>(grid ? n : 0)),
+        roll(new_column<double>(n)), diameter(new_column<double>(n)), z(new_column<double>(n)),
+        deviation(new_column<double>(n)), design(new_column<double>(n)), flank(n, kFlankWidth),
+        trace(traces ? n : 0, kTraceWidth) {}
   py::array_t<int> tooth, row, col;
   py::array_t<double> roll, diameter, z, deviation, design;
-  std::vector<std::string_view> flank, trace;
+  WordColumn flank, trace;
 };
 
 } // namespace
 
 py::dict topology_columns(const std::vector<grinding::FlankTopology>& topo, grinding::GridKind kind) {
+  const auto points = [kind](const grinding::FlankTopology& ft) -> const std::vector<grinding::GridPoint>& {
+    return kind == grinding::GridKind::Topology ? ft.grid : ft.dense;
+  };
   std::size_t n = 0;
-  for (const auto& ft : topo) n += (kind == grinding::GridKind::Topology ? ft.grid : ft.dense).size();
-  Columns c(n);
+  for (const auto& ft : topo) n += points(ft).size();
+  Columns c(n, true, false);
   auto tooth = c.tooth.mutable_unchecked<1>(), row = c.row.mutable_unchecked<1>(), col = c.col.mutable_unchecked<1>();
   auto roll = c.roll.mutable_unchecked<1>(), d = c.diameter.mutable_unchecked<1>(), z = c.z.mutable_unchecked<1>();
   auto dev = c.deviation.mutable_unchecked<1>(), design = c.design.mutable_unchecked<1>();
   py::ssize_t i = 0;
   for (const auto& ft : topo)
-    for (const auto& p : kind == grinding::GridKind::Topology ? ft.grid : ft.dense) {
+    for (const auto& p : points(ft)) {
       tooth(i) = ft.tooth, row(i) = p.row, col(i) = p.col;
       roll(i) = p.roll_length_mm, d(i) = p.diameter_mm, z(i) = p.z_mm, dev(i) = p.deviation_um, design(i) = p.design_um;
-      c.flank.push_back(to_string(ft.flank));
+      c.flank.set(static_cast<std::size_t>(i), to_string(ft.flank));
       ++i;
     }
   py::dict out;
   out["tooth"] = c.tooth;
-  out["flank"] = word_column(c.flank, kFlankWidth);
+  out["flank"] = c.flank.array();
   out["row"] = c.row;
   out["col"] = c.col;
   out["roll_length_mm"] = c.roll;
@@ -74,7 +67,7 @@ py::dict topology_columns(const std::vector<grinding::FlankTopology>& topo, grin
 py::dict traces_columns(const std::vector<grinding::FlankTopology>& topo) {
   std::size_t n = 0;
   for (const auto& ft : topo) n += ft.profile.size() + ft.helix.size();
-  Columns c(n);
+  Columns c(n, false, true);
   auto tooth = c.tooth.mutable_unchecked<1>();
   auto roll = c.roll.mutable_unchecked<1>();
   auto d = c.diameter.mutable_unchecked<1>(), z = c.z.mutable_unchecked<1>();
@@ -85,14 +78,14 @@ py::dict traces_columns(const std::vector<grinding::FlankTopology>& topo) {
       for (const auto& p : *trace) {
         tooth(i) = ft.tooth;
         roll(i) = p.roll_length_mm, d(i) = p.diameter_mm, z(i) = p.z_mm, dev(i) = p.deviation_um, design(i) = p.design_um;
-        c.flank.push_back(to_string(ft.flank));
-        c.trace.push_back(trace == &ft.profile ? "profile" : "helix");
+        c.flank.set(static_cast<std::size_t>(i), to_string(ft.flank));
+        c.trace.set(static_cast<std::size_t>(i), trace == &ft.profile ? "profile" : "helix");
         ++i;
       }
   py::dict out;
   out["tooth"] = c.tooth;
-  out["flank"] = word_column(c.flank, kFlankWidth);
-  out["trace"] = word_column(c.trace, kTraceWidth);
+  out["flank"] = c.flank.array();
+  out["trace"] = c.trace.array();
   out["roll_length_mm"] = c.roll;
   out["diameter_mm"] = c.diameter;
   out["z_mm"] = c.z;
@@ -102,7 +95,7 @@ py::dict traces_columns(const std::vector<grinding::FlankTopology>& topo) {
 }
 
 py::dict topology_row_columns(const std::vector<grinding::TopologyRow>& rows) {
-  Columns c(rows.size());
+  Columns c(rows.size(), true, false);
   auto tooth = c.tooth.mutable_unchecked<1>(), row = c.row.mutable_unchecked<1>(), col = c.col.mutable_unchecked<1>();
   auto d = c.diameter.mutable_unchecked<1>(), z = c.z.mutable_unchecked<1>();
   auto dev = c.deviation.mutable_unchecked<1>(), design = c.design.mutable_unchecked<1>();
@@ -111,11 +104,11 @@ py::dict topology_row_columns(const std::vector<grinding::TopologyRow>& rows) {
     const auto& r = rows[k];
     tooth(i) = r.tooth, row(i) = r.row, col(i) = r.col;
     d(i) = r.diameter_mm, z(i) = r.z_mm, dev(i) = r.deviation_um, design(i) = r.design_um;
-    c.flank.push_back(to_string(r.flank));
+    c.flank.set(k, to_string(r.flank));
   }
   py::dict out;
   out["tooth"] = c.tooth;
-  out["flank"] = word_column(c.flank, kFlankWidth);
+  out["flank"] = c.flank.array();
   out["row"] = c.row;
   out["col"] = c.col;
   out["diameter_mm"] = c.diameter;

@@ -22,9 +22,27 @@ pybind11::array_t<T> new_column(std::size_t n) {
   return pybind11::array_t<T>(static_cast<pybind11::ssize_t>(n));
 }
 
-/// A 1-D numpy array of fixed-width unicode strings (dtype '<U{width}') from words (each at most width characters
-/// of ASCII: flank and trace names).
-pybind11::array word_column(const std::vector<std::string_view>& words, std::size_t width);
+inline constexpr std::size_t kFlankWidth = 5; ///< "right"
+inline constexpr std::size_t kTraceWidth = 7; ///< "profile"
+
+/// A 1-D numpy array of n fixed-width unicode strings (dtype '<U{width}'), filled word by word in place: flank and
+/// trace names (ASCII, at most width characters).
+class WordColumn {
+public:
+  WordColumn(std::size_t n, std::size_t width);
+  void set(std::size_t i, std::string_view word) {
+    char32_t* out = data_ + i * width_;
+    std::size_t c = 0;
+    for (; c < word.size() && c < width_; ++c) out[c] = static_cast<char32_t>(static_cast<unsigned char>(word[c]));
+    for (; c < width_; ++c) out[c] = 0;
+  }
+  pybind11::array array() const { return array_; }
+
+private:
+  pybind11::array array_;
+  std::size_t width_;
+  char32_t* data_;
+};
 
 /// topology.csv's columns of simulated flanks: tooth, flank, row, col, diameter_mm, z_mm, deviation_um, design_um
 /// (and roll_length_mm, which the file leaves out), from the grid or the dense grid.
