@@ -13,7 +13,7 @@ namespace geartopo::python {
 
 WordColumn::WordColumn(std::size_t n, std::size_t width)
     // From numpy's own converter (dtype::from_args): py::dtype(string) parses a PEP 3118 format in Python.
-    : array_(py::dtype::from_args(py::str(fmt::format("<U{}", width))), std::vector<py::ssize_t>{static_cast<py::ssize_t>(n)}),
+    : array_(cached_array(py::dtype::from_args(py::str(fmt::format("<U{}", width))), n)),
       width_(width), data_(static_cast<char32_t*>(array_.mutable_data())) {}
 
 namespace {

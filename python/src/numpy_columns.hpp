@@ -1,6 +1,8 @@
 // geartopo Python module — tables as dicts of numpy arrays (one array per column, the CSV files' column names) and
-// back. Each array is allocated once and filled in place: the only copy is from the library's records into columns.
+// back. Each array is allocated once (column_memory.hpp) and filled in place: the only copy is from the library's records.
 #pragma once
+
+#include "column_memory.hpp"
 
 #include "geartopo/core/flank.hpp"
 #include "geartopo/grinding/topology.hpp"
@@ -16,10 +18,10 @@
 
 namespace geartopo::python {
 
-/// A 1-D array of n elements, uninitialised.
+/// A 1-D array of n elements, uninitialised, its memory from the cache of column_memory.hpp.
 template <class T>
 pybind11::array_t<T> new_column(std::size_t n) {
-  return pybind11::array_t<T>(static_cast<pybind11::ssize_t>(n));
+  return pybind11::array_t<T>(cached_array(pybind11::dtype::of<T>(), n));
 }
 
 inline constexpr std::size_t kFlankWidth = 5; ///< "right"

@@ -33,9 +33,11 @@ def test_arrays_types_and_shapes(scene):
     for key in ("diameter_mm", "z_mm", "deviation_um", "design_um", "roll_length_mm"):
         assert topo[key].dtype == np.float64 and topo[key].shape == (n,)
     assert topo["flank"].dtype == np.dtype("<U5") and set(topo["flank"]) == {"left", "right"}
-    # Filled in place: each array owns its memory, contiguous, nothing copied on the way to numpy.
-    for key in ("tooth", "deviation_um"):
-        assert topo[key].flags.owndata and topo[key].flags.c_contiguous
+    # Filled in place: each array's memory is its own block (its base the module's capsule, not another array),
+    # contiguous and writable; nothing copied on the way to numpy.
+    for key in ("tooth", "flank", "deviation_um"):
+        a = topo[key]
+        assert a.flags.c_contiguous and a.flags.writeable and not isinstance(a.base, np.ndarray)
     traces = topo["traces"]
     assert traces["trace"].dtype == np.dtype("<U7")
     assert len(traces["tooth"]) == 2 * 2 * (100 + 150)  # profile_points + helix_points per flank
@@ -83,3 +85,17 @@ def test_the_gil_is_released_while_simulating(scene):
     t.join()
     assert end - start > 0.05, "the call should take long enough to tell"
     assert sum(start < x < end for x in ticks) >= 10
+
+
+def test_results_never_share_memory(scene):
+    """The columns' blocks are reused once Python frees them (column_memory.hpp), never while a result lives."""
+    first = geartopo.simulate(scene, teeth=[1, 18], method="linear")
+    kept = {k: first[k].copy() for k in ("tooth", "flank", "deviation_um")}
+    for _ in range(3):
+        again = geartopo.simulate(scene, teeth=[1, 18], method="exact")
+        for k in kept:
+            assert not np.shares_memory(first[k], again[k])
+        again["deviation_um"][:] = 1e6  # scribbling on a later result leaves the first alone
+        del again
+    for k in kept:
+        np.testing.assert_array_equal(first[k], kept[k])
