@@ -22,15 +22,9 @@ void bind_simulate(py::module_& m) {
       [](const PyScene& s, const py::object& teeth, const std::string& method, const py::object& dense,
          const py::object& progress, int threads) {
         const auto& wb = *s.wb;
-        grinding::SimulationOptions so;
+        grinding::SimulationOptions so = workbench::scene_simulation(wb.scene.grid);
         so.method = method_argument(method);
         so.teeth = teeth_argument(teeth, wb.setup.geometry().teeth(), wb.scene.grid.teeth);
-        so.rows = wb.scene.grid.rows;
-        so.cols = wb.scene.grid.cols;
-        so.profile_points = wb.scene.grid.profile_points;
-        so.helix_points = wb.scene.grid.helix_points;
-        so.dense_rows = wb.scene.grid.dense_rows;
-        so.dense_cols = wb.scene.grid.dense_cols;
         if (!dense.is_none()) {
           const auto rc = dense.cast<std::pair<int, int>>();
           if (rc.first < 2 || rc.second < 2)
