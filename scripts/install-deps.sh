@@ -20,6 +20,8 @@ packages=(
   libopenmpi-dev openmpi-bin # geartopo-mpi, the MPI driver of the Monte Carlo prediction (-DGEARTOPO_MPI=ON)
   chromium               # the report page in a browser: screenshot and PDF (scripts/screenshot-report.sh, test_report)
   poppler-utils          # pdftoppm/pdfinfo: the printed report read page by page (test_report, docs/rendering.md)
+  python3-dev pybind11-dev python3-numpy # the Python module geartopo (python/, docs/python.md)
+  python3-pytest python3-matplotlib      # its tests (ctest runs pytest) and the example's figure (examples/python/)
 )
 
 packages+=("$@") # extra packages a caller needs (scripts/fuzz.sh: clang-14 libclang-rt-14-dev)

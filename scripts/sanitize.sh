@@ -19,8 +19,10 @@ jobs=${JOBS:-$(nproc)}
 opt=${OPT:--O1}
 flags="-fsanitize=address,undefined -fno-omit-frame-pointer"
 
+# The Python module is left out: an instrumented extension loads into an uninstrumented python3 only with libasan
+# preloaded (LD_PRELOAD), and the C++ it calls is what this run checks through the C++ tests.
 start=$(date +%s)
-cmake -S . -B "$build_dir" -G Ninja \
+cmake -S . -B "$build_dir" -G Ninja -DGEARTOPO_PYTHON=OFF \
   -DCMAKE_BUILD_TYPE=Debug \
   -DCMAKE_CXX_FLAGS="$flags $opt" -DCMAKE_C_FLAGS="$flags $opt" \
   -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags" \

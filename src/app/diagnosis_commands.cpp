@@ -15,10 +15,10 @@
 #include "geartopo/effects/registry.hpp"
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/core/input_error.hpp"
-#include "geartopo/core/random.hpp"
 #include "geartopo/core/uncertain_value.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 #include "geartopo/pipeline/monte_carlo.hpp"
+#include "geartopo/pipeline/synth_corrections.hpp"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -29,52 +29,9 @@
 #include <iostream>
 #include <memory>
 #include <optional>
-#include <set>
 #include <sstream>
 
 namespace geartopo::app {
-
-namespace {
-
-// The corrections a `synth` gear is ground with: those of a compensate run (rounded to the truth machine's command
-// resolution, as the controller takes them, and the Monte Carlo's gear 2 is ground), each stroke's command scatter
-// (machine.repeatability, drawn as every Monte Carlo sample draws it), both or neither (empty).
-std::optional<compensation::CorrectionTable> synth_corrections(const Workbench& wb, const std::string& corrections_file,
-                                                               bool stroke_scatter, std::uint64_t seed) {
-  if (corrections_file.empty() && !stroke_scatter) return std::nullopt;
-  const int teeth = wb.setup.geometry().teeth();
-  std::set<int> spaces;
-  for (int s = 1; s <= teeth; ++s) spaces.insert(s);
-  std::vector<compensation::CorrectionRow> zero_rows; // one row per space: held over the whole stroke
-  for (const int s : spaces) {
-    compensation::CorrectionRow r;
-    r.space = s;
-    zero_rows.push_back(r);
-  }
-  compensation::CorrectionTable table(std::move(zero_rows));
-  if (!corrections_file.empty()) {
-    const auto read = compensation::CorrectionTable::read_csv(corrections_file);
-    // A table of another gear would leave spaces uncorrected (or correct spaces the gear does not have) in silence.
-    std::set<int> in_file;
-    for (const auto& r : read.rows()) in_file.insert(r.space);
-    if (in_file != spaces)
-      throw InputError(corrections_file, 0, 0, "space",
-                       fmt::format("the table corrects spaces {}..{} ({} of them); the truth scene's gear has {} teeth: "
-                                   "a corrections.csv of `geartopo compensate` on a scene of this gear is needed",
-                                   *in_file.begin(), *in_file.rbegin(), in_file.size(), teeth));
-    table = pipeline::rounded_to_resolution(read, wb.scene.machine.uncertainty.resolution);
-  }
-  if (stroke_scatter) {
-    // Its own stream, seeded by the first output of SplitMix64(seed): the probe noise draws from SplitMix64(seed) itself
-    // (core/random.hpp; the same gear with every standard library).
-    random::SplitMix64 gen(random::SplitMix64(seed).next());
-    table = pipeline::with_stroke_offsets(
-        table, pipeline::draw_stroke_offsets(spaces, wb.scene.machine.uncertainty.repeatability, [&] { return gen.normal(); }));
-  }
-  return table;
-}
-
-} // namespace
 
 void register_synth_command(CLI::App& app, Action& action) {
   struct Options {
@@ -118,7 +75,7 @@ void register_synth_command(CLI::App& app, Action& action) {
       so.cols = wb.scene.grid.cols;
       so.noise_um = opt->noise;
       so.seed = opt->seed;
-      const auto table = synth_corrections(wb, opt->corrections, opt->stroke_scatter, opt->seed);
+      const auto table = pipeline::synth_corrections(wb, opt->corrections, opt->stroke_scatter, opt->seed);
       std::optional<compensation::CompensatedProcess> corrected;
       if (table) corrected.emplace(wb.process(), *table);
       const grinding::GrindingProcess& process =
@@ -234,14 +191,8 @@ void register_diagnose_command(CLI::App& app, Action& action) {
         std::cout << "scene_with_effect.yaml not written: " << d.withheld << "\n";
         std::cout << "wrote " << (out / "diagnosis.json").string() << "\n";
       } else if (d.chosen) {
-        std::vector<std::string> comments, change_comments;
-        for (const auto& e : d.chosen->effects)
-          comments.push_back(fmt::format("{}: identified by geartopo diagnose from {} (ΔBIC {:.1f})", e.type,
-                                         opt->measured, d.chosen->delta_bic));
-        for (const auto& c : d.chosen->changes)
-          change_comments.push_back(fmt::format("{} {}: identified by geartopo diagnose from {} (ΔBIC {:.1f})",
-                                                machine::info(c.component).name, machine::to_string(c.law),
-                                                opt->measured, d.chosen->delta_bic));
+        const auto comments = diagnosis::identification_comments(*d.chosen, opt->measured);
+        const auto change_comments = diagnosis::change_identification_comments(*d.chosen, opt->measured);
         const auto path = out / "scene_with_effect.yaml";
         // With the fit's uncertainties and correlation: a prediction from this scene draws the effect within them.
         const auto identified = diagnosis::identified_effects(d, *d.chosen);

@@ -43,13 +43,7 @@ void register_plan_command(CLI::App& app, Action& action) {
       o.on_candidate_fitted = progress.callback();
       const auto d = diagnosis::diagnose(wb.setup, wb.process(), pts, wb.effect_types(), o);
       progress.finish();
-      nlohmann::json j;
-      j["scene"] = opt->scene;
-      j["measured"] = opt->measured;
-      j["chosen"] = d.chosen ? nlohmann::json(d.chosen->name()) : nlohmann::json(nullptr);
-      j["ambiguous"] = !d.rivals.empty();
-      j["plan"] = d.plan ? report::measurement_plan_json(*d.plan) : nlohmann::json(nullptr);
-      j["verdict"] = d.verdict;
+      const nlohmann::json j = report::plan_json(opt->scene, opt->measured, d);
       if (!d.plan) {
         std::cout << (d.chosen ? fmt::format("Not ambiguous: {} is ahead of every other explanation by more than the "
                                              "ΔBIC threshold; nothing more to measure to decide.\n",

@@ -42,16 +42,10 @@ void register_simulate_command(CLI::App& app, Action& action) {
       const auto job_start = std::chrono::steady_clock::now();
       const Workbench wb(opt->scene);
       print_notes(wb);
-      grinding::SimulationOptions so;
+      grinding::SimulationOptions so = workbench::scene_simulation(wb.scene.grid);
       so.method = opt->method == "linear" ? grinding::Method::Linear : grinding::Method::Exact;
       // Given but empty (`--teeth ""`) is refused by parse_teeth, not taken as "not given".
-      so.teeth = teeth_given ? parse_teeth(opt->teeth, wb.setup.geometry().teeth()) : wb.scene.grid.teeth;
-      so.rows = wb.scene.grid.rows;
-      so.cols = wb.scene.grid.cols;
-      so.profile_points = wb.scene.grid.profile_points;
-      so.helix_points = wb.scene.grid.helix_points;
-      so.dense_rows = wb.scene.grid.dense_rows;
-      so.dense_cols = wb.scene.grid.dense_cols;
+      if (teeth_given) so.teeth = parse_teeth(opt->teeth, wb.setup.geometry().teeth());
       if (!opt->dense.empty()) std::tie(so.dense_rows, so.dense_cols) = parse_grid_size(opt->dense);
       const long long flanks = 2LL * static_cast<long long>(so.teeth.empty() ? wb.setup.geometry().teeth() : so.teeth.size());
       const long long points = flanks * (static_cast<long long>(so.rows) * so.cols +

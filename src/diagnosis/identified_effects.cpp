@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 namespace geartopo::diagnosis {
 
 IdentifiedEffects identified_effects(const Diagnosis& d, const Candidate& candidate) {
@@ -41,6 +44,27 @@ IdentifiedEffects identified_effects(const Diagnosis& d, const Candidate& candid
           out.correlation(fitted_slot[a], fitted_slot[b]) =
               candidate.correlation(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
   return out;
+}
+
+std::vector<std::string> identification_comments(const Candidate& candidate, const std::string& measured) {
+  std::vector<std::string> comments;
+  for (const auto& e : candidate.effects)
+    comments.push_back(fmt::format("{}: identified by geartopo diagnose from {} (ΔBIC {:.1f})", e.type, measured,
+                                   candidate.delta_bic));
+  return comments;
+}
+
+std::vector<std::string> change_identification_comments(const Candidate& candidate, const std::string& measured) {
+  std::vector<std::string> comments;
+  for (const auto& c : candidate.changes)
+    comments.push_back(fmt::format("{} {}: identified by geartopo diagnose from {} (ΔBIC {:.1f}){}",
+                                   machine::info(c.component).name, machine::to_string(c.law), measured,
+                                   candidate.delta_bic,
+                                   candidate.equivalent.empty()
+                                       ? std::string()
+                                       : fmt::format("; equivalent on the measured flanks: {}",
+                                                     fmt::join(candidate.equivalent, ", "))));
+  return comments;
 }
 
 } // namespace geartopo::diagnosis

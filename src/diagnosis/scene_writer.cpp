@@ -178,10 +178,25 @@ void write_scene_with_effects(const std::filesystem::path& scene_file, const std
                               const std::vector<machine::ComponentChange>& changes,
                               const std::vector<double>& change_uncertainties,
                               const std::vector<std::string>& change_comments) {
-  std::string completed = input::read_input_file(scene_file, input::kMaxSceneBytes, "scene file");
+  output::write_text_atomically(out_file, scene_text_with_effects(input::read_input_file(scene_file, input::kMaxSceneBytes,
+                                                                                         "scene file"),
+                                                                  scene_file.parent_path(), out_file.parent_path(),
+                                                                  effects, comments, uncertainties, correlation, changes,
+                                                                  change_uncertainties, change_comments));
+}
+
+std::string scene_text_with_effects(const std::string& scene_text, const std::filesystem::path& from_dir,
+                                    const std::filesystem::path& to_dir, const std::vector<scene::EffectSpec>& effects,
+                                    const std::vector<std::string>& comments,
+                                    const std::vector<std::vector<double>>& uncertainties,
+                                    const Eigen::MatrixXd& correlation,
+                                    const std::vector<machine::ComponentChange>& changes,
+                                    const std::vector<double>& change_uncertainties,
+                                    const std::vector<std::string>& change_comments) {
+  std::string completed = scene_text;
   if (!effects.empty()) completed = scene_with_effects(completed, effects, comments, uncertainties, correlation);
   if (!changes.empty()) completed = scene_with_machine_changes(completed, changes, change_uncertainties, change_comments);
-  output::write_text_atomically(out_file, rebase_scene_paths(completed, scene_file.parent_path(), out_file.parent_path()));
+  return rebase_scene_paths(completed, from_dir, to_dir);
 }
 
 } // namespace geartopo::diagnosis

@@ -247,4 +247,15 @@ nlohmann::json diagnosis_json(const std::string& scene, const std::string& measu
   return j;
 }
 
+nlohmann::json plan_json(const std::string& scene, const std::string& measured, const diagnosis::Diagnosis& d) {
+  nlohmann::json j;
+  j["scene"] = scene;
+  j["measured"] = measured;
+  j["chosen"] = d.chosen ? nlohmann::json(d.chosen->name()) : nlohmann::json(nullptr);
+  j["ambiguous"] = !d.rivals.empty();
+  j["plan"] = d.plan ? measurement_plan_json(*d.plan) : nlohmann::json(nullptr);
+  j["verdict"] = d.verdict;
+  return j;
+}
+
 } // namespace geartopo::report

@@ -127,6 +127,18 @@ std::vector<std::string> Workbench::effect_types() const {
   return out;
 }
 
+grinding::SimulationOptions scene_simulation(const scene::MeasurementGrid& grid) {
+  grinding::SimulationOptions so;
+  so.teeth = grid.teeth;
+  so.rows = grid.rows;
+  so.cols = grid.cols;
+  so.profile_points = grid.profile_points;
+  so.helix_points = grid.helix_points;
+  so.dense_rows = grid.dense_rows;
+  so.dense_cols = grid.dense_cols;
+  return so;
+}
+
 std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<scene::EffectSpec>& specs,
                                                            const grinding::GrindingSetup& setup) {
   std::vector<std::unique_ptr<effects::Effect>> out;

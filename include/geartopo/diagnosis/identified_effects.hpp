@@ -9,6 +9,7 @@
 
 #include <Eigen/Dense>
 
+#include <string>
 #include <vector>
 
 namespace geartopo::diagnosis {
@@ -30,5 +31,11 @@ struct IdentifiedEffects {
 
 /// The candidate of a diagnosis `d` (usually *d.chosen) with its uncertainties and correlation.
 IdentifiedEffects identified_effects(const Diagnosis& d, const Candidate& candidate);
+
+/// The comment line each of the candidate's effects gets in the scene it is added to ("thermal_drift: identified by
+/// geartopo diagnose from measured.csv (ΔBIC -123.4)"), `measured` naming the measurement.
+std::vector<std::string> identification_comments(const Candidate& candidate, const std::string& measured);
+/// The same for its changed machine components (one per Candidate::changes), naming its equivalence class.
+std::vector<std::string> change_identification_comments(const Candidate& candidate, const std::string& measured);
 
 } // namespace geartopo::diagnosis

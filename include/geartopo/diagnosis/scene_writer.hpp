@@ -45,9 +45,20 @@ std::string scene_with_machine_changes(const std::string& scene_text, const std:
                                        const std::vector<double>& uncertainties = {},
                                        const std::vector<std::string>& comments = {});
 
-/// Reads `scene_file`, adds the effects (scene_with_effects) and the changed components (scene_with_machine_changes),
-/// rebases its paths to `out_file`'s folder and writes it there. Throws std::runtime_error naming the file that
-/// cannot be read or written.
+/// `scene_text` (read from `from_dir`) with the effects added (scene_with_effects), the changed components added
+/// (scene_with_machine_changes) and its paths rebased to `to_dir` (rebase_scene_paths): the text of a scene file to be
+/// saved in `to_dir`.
+std::string scene_text_with_effects(const std::string& scene_text, const std::filesystem::path& from_dir,
+                                    const std::filesystem::path& to_dir, const std::vector<scene::EffectSpec>& effects,
+                                    const std::vector<std::string>& comments,
+                                    const std::vector<std::vector<double>>& uncertainties = {},
+                                    const Eigen::MatrixXd& correlation = Eigen::MatrixXd(),
+                                    const std::vector<machine::ComponentChange>& changes = {},
+                                    const std::vector<double>& change_uncertainties = {},
+                                    const std::vector<std::string>& change_comments = {});
+
+/// Reads `scene_file`, adds the effects and the changed components (scene_text_with_effects), rebases its paths to
+/// `out_file`'s folder and writes it there. Throws std::runtime_error naming the file that cannot be read or written.
 void write_scene_with_effects(const std::filesystem::path& scene_file, const std::vector<scene::EffectSpec>& effects,
                               const std::vector<std::string>& comments, const std::filesystem::path& out_file,
                               const std::vector<std::vector<double>>& uncertainties = {},

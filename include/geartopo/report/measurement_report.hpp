@@ -38,4 +38,8 @@ nlohmann::json measurement_plan_json(const diagnosis::MeasurementPlan& plan);
 nlohmann::json diagnosis_json(const std::string& scene, const std::string& measured, const diagnosis::Diagnosis& d,
                               double allowance_offset_um);
 
+/// plan.json (`geartopo plan`): the chosen explanation, whether the diagnosis is ambiguous, its measurement plan
+/// (measurement_plan_json; null when not ambiguous) and the verdict.
+nlohmann::json plan_json(const std::string& scene, const std::string& measured, const diagnosis::Diagnosis& d);
+
 } // namespace geartopo::report

@@ -10,6 +10,7 @@
 #include "geartopo/effects/effects_process.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
 #include "geartopo/grinding/machine_process.hpp"
+#include "geartopo/grinding/topology.hpp"
 #include "geartopo/machine/machine_model.hpp"
 #include "geartopo/scene/scene.hpp"
 
@@ -72,6 +73,10 @@ private:
   const grinding::GrindingProcess& inner_;
   std::unique_ptr<compensation::CompensatedProcess> design_;
 };
+
+/// The simulation the scene's `measurement` section asks for (`geartopo simulate` without flags, geartopo.simulate):
+/// its teeth, grid, trace points and dense grid; the exact method on all hardware threads.
+grinding::SimulationOptions scene_simulation(const scene::MeasurementGrid& grid);
 
 /// Wheel diameters tried, largest first, when the scene gives none and the default does not fit the gear (mm).
 inline constexpr double kWheelDiametersToTryMm[] = {350, 300, 250, 200, 160, 125, 100, 80, 63, 50};

@@ -1,0 +1,50 @@
+#include "arguments.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace py = pybind11;
+
+namespace geartopo::python {
+
+std::vector<int> teeth_argument(const py::object& teeth, int z, const std::vector<int>& fallback) {
+  if (teeth.is_none()) return fallback;
+  if (py::isinstance<py::str>(teeth)) {
+    if (teeth.cast<std::string>() == "all") return {};
+    throw std::invalid_argument(fmt::format("teeth: '{}' is not \"all\" or a list of tooth numbers (e.g. [1, 18])",
+                                            teeth.cast<std::string>()));
+  }
+  std::vector<int> out;
+  for (const auto& item : py::iter(teeth)) {
+    const long long v = py::int_(py::reinterpret_borrow<py::object>(item)).cast<long long>();
+    if (v < 1 || v > z) throw std::invalid_argument(fmt::format("teeth: {} is not a tooth number of 1..{}", v, z));
+    if (std::find(out.begin(), out.end(), static_cast<int>(v)) != out.end())
+      throw std::invalid_argument(fmt::format("teeth: tooth {} is listed twice", v));
+    out.push_back(static_cast<int>(v));
+  }
+  if (out.empty()) throw std::invalid_argument("teeth: an empty list (use e.g. [1, 18] or \"all\")");
+  return out;
+}
+
+grinding::Method method_argument(const std::string& method) {
+  if (method == "exact") return grinding::Method::Exact;
+  if (method == "linear") return grinding::Method::Linear;
+  throw std::invalid_argument(fmt::format("method: '{}' is not exact or linear", method));
+}
+
+workbench::IsoOptions iso_arguments(const std::string& iso_direction, const std::string& helix_slope_sign) {
+  workbench::IsoOptions o;
+  const auto d = evaluation::parse_iso_direction(iso_direction);
+  if (!d) throw std::invalid_argument(fmt::format("iso_direction: '{}' is not transverse or normal", iso_direction));
+  const auto s = evaluation::parse_helix_slope_sign(helix_slope_sign);
+  if (!s)
+    throw std::invalid_argument(
+        fmt::format("helix_slope_sign: '{}' is not helix-angle or rise-towards-plus-z", helix_slope_sign));
+  o.direction = *d;
+  o.helix_slope_sign = *s;
+  return o;
+}
+
+} // namespace geartopo::python

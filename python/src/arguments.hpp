@@ -1,0 +1,22 @@
+// geartopo Python module — the arguments several functions take, checked as the CLI checks its flags (a wrong word
+// or number is a ValueError naming the argument).
+#pragma once
+
+#include "geartopo/grinding/flank_deviation.hpp"
+#include "geartopo/workbench/iso_evaluation.hpp"
+
+#include <pybind11/pybind11.h>
+
+#include <string>
+#include <vector>
+
+namespace geartopo::python {
+
+/// teeth=None → `fallback`; "all" → {} (every tooth); a sequence of tooth numbers 1..z, none twice.
+std::vector<int> teeth_argument(const pybind11::object& teeth, int z, const std::vector<int>& fallback);
+/// "exact" or "linear".
+grinding::Method method_argument(const std::string& method);
+/// iso_direction "transverse"|"normal", helix_slope_sign "helix-angle"|"rise-towards-plus-z".
+workbench::IsoOptions iso_arguments(const std::string& iso_direction, const std::string& helix_slope_sign);
+
+} // namespace geartopo::python

@@ -1,0 +1,66 @@
+// geartopo Python module — evaluate(scene, topo): ISO 1328-1:2013 values and classes (workbench::evaluate_iso,
+// report::iso_json) of a simulation, of simulate()'s arrays or of a measured traces file, as `geartopo evaluate`.
+#include "arguments.hpp"
+#include "bindings.hpp"
+#include "json_to_python.hpp"
+#include "numpy_columns.hpp"
+#include "py_scene.hpp"
+#include "python_progress.hpp"
+
+#include "geartopo/measurement/any_measurement.hpp"
+#include "geartopo/report/iso_report.hpp"
+
+#include <stdexcept>
+
+namespace py = pybind11;
+
+namespace geartopo::python {
+
+void bind_evaluate(py::module_& m) {
+  m.def(
+      "evaluate",
+      [](const PyScene& s, const py::object& topo, const std::string& method, const std::string& iso_direction,
+         const std::string& helix_slope_sign, const py::object& progress) {
+        const auto& wb = *s.wb;
+        const workbench::IsoOptions iso = iso_arguments(iso_direction, helix_slope_sign);
+        std::vector<grinding::FlankTopology> flanks;
+        if (topo.is_none()) { // as `geartopo evaluate`: every tooth (pitch and runout need them), traces only
+          grinding::SimulationOptions so;
+          so.method = method_argument(method);
+          so.profile_points = wb.scene.grid.profile_points;
+          so.helix_points = wb.scene.grid.helix_points;
+          so.progress = progress_function(progress);
+          const py::gil_scoped_release nogil;
+          flanks = grinding::simulate_topology(wb.setup, wb.process(), so);
+        } else if (py::isinstance<py::dict>(topo)) { // simulate()'s or synth()'s arrays
+          flanks = topology_from_columns(topo.cast<py::dict>(), "topo");
+        } else { // a measured traces file
+          const std::string file = py::str(topo).cast<std::string>();
+          auto traces = measurement::read_any_traces(file, wb.setup);
+          if (!traces.warnings.empty()) {
+            const auto warn = py::module_::import("warnings").attr("warn");
+            for (const auto& w : traces.warnings) warn(w);
+          }
+          flanks = std::move(traces.flanks);
+        }
+        workbench::IsoResult result;
+        {
+          const py::gil_scoped_release nogil;
+          result = workbench::evaluate_iso(wb.setup.geometry(), wb.setup.ranges(), flanks, iso);
+        }
+        return to_python(report::iso_json(result));
+      },
+      py::arg("scene"), py::arg("topo") = py::none(), py::arg("method") = "exact",
+      py::arg("iso_direction") = "transverse", py::arg("helix_slope_sign") = "helix-angle",
+      py::arg("progress") = py::none(),
+      R"(ISO 1328-1:2013 deviations (µm) and flank tolerance classes, as `geartopo evaluate`.
+
+topo: None (simulate every tooth with `method`, as the CLI), simulate()'s dict (its "traces" are evaluated; pitch
+and runout need every tooth), a traces dict (synth(format="traces")), or the path of a measured traces file (traces
+CSV or Klingelnberg export).
+iso_direction: "transverse" (the standard's) or "normal"; helix_slope_sign: "helix-angle" or "rise-towards-plus-z".
+
+Returns the dict iso1328.json holds under "before": per flank the trace values, pitch, runout and classes.)");
+}
+
+} // namespace geartopo::python

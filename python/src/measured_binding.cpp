@@ -1,0 +1,162 @@
+// geartopo Python module — compare, diagnose, plan: a measurement against the scene's model, with the library calls
+// of `geartopo compare`, `diagnose` and `plan` and their JSON files' content (report/measurement_report.hpp).
+#include "bindings.hpp"
+#include "json_to_python.hpp"
+#include "measured_input.hpp"
+#include "numpy_columns.hpp"
+#include "py_scene.hpp"
+#include "python_progress.hpp"
+
+#include "geartopo/diagnosis/compare.hpp"
+#include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/identified_effects.hpp"
+#include "geartopo/diagnosis/prediction.hpp"
+#include "geartopo/diagnosis/scene_writer.hpp"
+#include "geartopo/diagnosis/stroke_scatter.hpp"
+#include "geartopo/effects/registry.hpp"
+#include "geartopo/report/measurement_report.hpp"
+
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <optional>
+#include <stdexcept>
+
+namespace py = pybind11;
+
+namespace geartopo::python {
+namespace {
+
+/// residuals.csv's columns (report::write_residuals_csv).
+py::dict residual_columns(const std::vector<measurement::MeasuredPoint>& pts, const diagnosis::Comparison& c) {
+  const std::size_t n = pts.size();
+  auto tooth = new_column<int>(n), row = new_column<int>(n), col = new_column<int>(n), line = new_column<int>(n);
+  auto id = new_column<std::int64_t>(n);
+  auto d = new_column<double>(n), z = new_column<double>(n), measured = new_column<double>(n), model = new_column<double>(n),
+       residual = new_column<double>(n), design = new_column<double>(n);
+  WordColumn flank(n, kFlankWidth);
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto i = static_cast<py::ssize_t>(k);
+    const auto& p = pts[k];
+    tooth.mutable_at(i) = p.tooth, row.mutable_at(i) = p.row, col.mutable_at(i) = p.col, line.mutable_at(i) = p.line;
+    id.mutable_at(i) = p.id;
+    d.mutable_at(i) = p.diameter_mm, z.mutable_at(i) = p.z_mm, measured.mutable_at(i) = p.deviation_um;
+    model.mutable_at(i) = c.model_um[k], residual.mutable_at(i) = c.residual_um[k], design.mutable_at(i) = p.design_um;
+    flank.set(k, to_string(p.flank));
+  }
+  py::dict out;
+  out["tooth"] = tooth;
+  out["flank"] = flank.array();
+  out["row"] = row;
+  out["col"] = col;
+  out["diameter_mm"] = d;
+  out["z_mm"] = z;
+  out["measured_um"] = measured;
+  out["model_um"] = model;
+  out["residual_um"] = residual;
+  out["source_line"] = line;
+  out["point_id"] = id;
+  out["design_um"] = design;
+  return out;
+}
+
+void check_noise(double noise_um) {
+  if (!(noise_um >= 0.0 && noise_um <= 1000.0))
+    throw std::invalid_argument(fmt::format("noise_um: {} is outside [0, 1000] (0: estimated)", noise_um));
+}
+
+diagnosis::Diagnosis run_diagnosis(const PyScene& s, const std::vector<measurement::MeasuredPoint>& pts, double noise_um,
+                                   const std::vector<std::string>& candidates, bool scene_uncertainty,
+                                   const py::object& progress) {
+  check_noise(noise_um);
+  for (const auto& c : candidates)
+    if (!effects::make_effect(c))
+      throw std::invalid_argument(fmt::format("candidates: '{}' is not an effect of the library ({})", c,
+                                              fmt::join(effects::effect_types(), ", ")));
+  const auto& wb = *s.wb;
+  diagnosis::DiagnoseOptions o;
+  o.noise_um = noise_um;
+  o.candidates = candidates;
+  o.on_candidate_fitted = progress_function(progress);
+  const py::gil_scoped_release nogil;
+  if (scene_uncertainty) {
+    o.stroke_repeatability_sd = wb.scene.machine.uncertainty.repeatability;
+    o.model_uncertainty_um = diagnosis::map_sensitivity(wb, pts);
+  }
+  return diagnosis::diagnose(wb.setup, wb.process(), pts, wb.effect_types(), o);
+}
+
+} // namespace
+
+void bind_measured(py::module_& m) {
+  m.def(
+      "compare",
+      [](const PyScene& s, const py::object& measured, double noise_um) {
+        check_noise(noise_um);
+        std::string name;
+        const auto pts = measured_points(s, measured, name);
+        std::optional<diagnosis::Comparison> c;
+        {
+          const py::gil_scoped_release nogil;
+          c = diagnosis::compare(s.wb->setup, s.wb->process(), pts, noise_um);
+        }
+        py::dict out = to_python(report::compare_json(s.source, name, pts, *c)).cast<py::dict>();
+        out["residuals"] = residual_columns(pts, *c);
+        return out;
+      },
+      py::arg("scene"), py::arg("measured"), py::arg("noise_um") = 0.0,
+      R"(Measured − model at every measured point, as `geartopo compare`.
+
+measured: a measurement file's path (topology CSV, traces CSV, point cloud, Klingelnberg export) or a dict of arrays
+with topology.csv's columns (synth()'s result). noise_um: the probe noise σ (0: estimated).
+Returns compare.json's content, plus "residuals": residuals.csv's columns as arrays.)");
+
+  m.def(
+      "diagnose",
+      [](const PyScene& s, const py::object& measured, double noise_um, const std::vector<std::string>& candidates,
+         bool scene_uncertainty, const py::object& progress, const py::object& yaml_dir) {
+        std::string name;
+        const auto pts = measured_points(s, measured, name);
+        const auto d = run_diagnosis(s, pts, noise_um, candidates, scene_uncertainty, progress);
+        py::dict out = to_python(report::diagnosis_json(s.source, name, d, diagnosis::mean_allowance_offset_um(s.wb->setup.geometry()))).cast<py::dict>();
+        out["scene_with_effect_yaml"] = py::none();
+        if (d.chosen && d.withheld.empty()) {
+          const auto identified = diagnosis::identified_effects(d, *d.chosen);
+          const std::filesystem::path to = yaml_dir.is_none() ? s.dir : yaml_dir.cast<std::filesystem::path>();
+          out["scene_with_effect_yaml"] = diagnosis::scene_text_with_effects(
+              s.text, s.dir, to, identified.effects, diagnosis::identification_comments(*d.chosen, name),
+              identified.uncertainties, identified.correlation, d.chosen->changes, d.chosen->change_sd,
+              diagnosis::change_identification_comments(*d.chosen, name));
+        }
+        return out;
+      },
+      py::arg("scene"), py::arg("measured"), py::arg("noise_um") = 0.0,
+      py::arg("candidates") = std::vector<std::string>{}, py::arg("scene_uncertainty") = false,
+      py::arg("progress") = py::none(), py::arg("yaml_dir") = py::none(),
+      R"(Which physical effect the model is missing, as `geartopo diagnose`.
+
+measured: as for compare. candidates: effect types to try (default: every library effect not in the scene).
+scene_uncertainty: fit with the scene's declared uncertainties (generalised least squares).
+progress: None or a callable(fits_done, fits) (with the GIL).
+yaml_dir: the folder the completed scene will be saved in, its relative paths rewritten for it (default: the
+scene's own folder).
+Returns diagnosis.json's content, plus "scene_with_effect_yaml": the scene's text with the chosen effect added (the
+file `geartopo diagnose` writes), or None when nothing is chosen or it is withheld (see "withheld").)");
+
+  m.def(
+      "plan",
+      [](const PyScene& s, const py::object& measured, double noise_um, const py::object& progress) {
+        std::string name;
+        const auto pts = measured_points(s, measured, name);
+        const auto d = run_diagnosis(s, pts, noise_um, {}, false, progress);
+        return to_python(report::plan_json(s.source, name, d));
+      },
+      py::arg("scene"), py::arg("measured"), py::arg("noise_um") = 0.0, py::arg("progress") = py::none(),
+      R"(What to measure next when explanations are within ΔBIC 10 of each other, as `geartopo plan`.
+Returns plan.json's content: chosen, ambiguous, plan (None when not ambiguous), verdict.)");
+}
+
+} // namespace geartopo::python

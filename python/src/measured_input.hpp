@@ -1,0 +1,24 @@
+// geartopo Python module — a measurement as Python gives it: the path of a measurement file (every format the CLI's
+// --measured reads, told apart by content: measurement::read_any_measurement) or a dict of arrays with topology.csv's
+// columns (synth()'s result, or a user's own: tooth, flank, diameter_mm, z_mm, deviation_um; row, col and design_um
+// optional), checked as the topology reader checks a file, each fault located at its 1-based element.
+#pragma once
+
+#include "py_scene.hpp"
+
+#include "geartopo/measurement/measured_points.hpp"
+
+#include <pybind11/pybind11.h>
+
+#include <string>
+#include <vector>
+
+namespace geartopo::python {
+
+/// The measured points on the scene's gear, referred to the scene's design as the CLI refers a file's; `name` gets
+/// the file's path or "measured arrays" (what the JSON results name as "measured"). Reader warnings become Python
+/// warnings.
+std::vector<measurement::MeasuredPoint> measured_points(const PyScene& scene, const pybind11::object& measured,
+                                                        std::string& name);
+
+} // namespace geartopo::python
