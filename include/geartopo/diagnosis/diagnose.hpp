@@ -234,9 +234,14 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
                                  const std::vector<double>& residual_um, const Candidate& a, const Candidate& b,
                                  double noise_um, const DiagnoseOptions& options);
 
-/// Noise σ (µm) estimated from residuals: a quadratic surface in (roll length, z) fitted per flank, the pooled
-/// residual standard deviation. Flanks with fewer than 10 points are skipped; if none is left, 0.1 µm — a
-/// conservative probe figure, so that no caller divides by or compares with a zero noise.
+/// The smallest σ an estimate gives (µm): the exports' resolution (3 decimals), so that noise-free data give a finite
+/// σ nobody divides by zero with.
+inline constexpr double kNoiseFloorUm = 1e-3;
+
+/// Noise σ (µm) estimated from residuals. Measured lines (traces: kDenseLinePoints or more points sharing z or ξ on a
+/// flank): from their own point-to-point scatter (line_noise_um), at least kNoiseFloorUm. Otherwise (grids, point
+/// clouds): a quadratic surface in (roll length, z) fitted per flank, the pooled residual standard deviation; flanks
+/// with fewer than 10 points are skipped; if none is left, 0.1 µm — a conservative probe figure.
 double estimate_noise_um(const std::vector<MeasuredPoint>& points, const std::vector<double>& residual_um);
 
 } // namespace geartopo::diagnosis
