@@ -77,6 +77,7 @@ nlohmann::json compare_json(const std::string& scene, const std::string& measure
                         {"helix_crowning_um", estimate_json(p.helix_crowning_um)},
                         {"waviness_along_profile", wave_json(p.waviness_profile)},
                         {"waviness_along_helix", wave_json(p.waviness_helix)},
+                        {"waviness_scanned", {{"along_profile", p.waviness_profile.scanned}, {"along_helix", p.waviness_helix.scanned}}},
                         {"rms_unexplained_um", p.rms_unexplained_um}};
       fj["description"] = diagnosis::describe_patterns(p);
     }

@@ -223,9 +223,15 @@ TEST(TracePatterns, NoiseOnlyTracesGiveNoPatternAtTheStatedFalseAlarmRate) {
   for (const auto& p : r.points) residual.push_back(p.deviation_um);
   const double est = diagnosis::estimate_noise_um(r.points, residual);
   EXPECT_NEAR(est, sigma, 0.05 * sigma);
-  int waves = 0, scans = 0, beyond = 0;
+  int waves = 0, scans = 0, beyond = 0, regions = 0;
+  std::vector<diagnosis::FlankPatterns> left, right;
+  diagnosis::RegionOptions ro;
+  ro.noise_um = est;
+  ro.min_points = 2; // as compare: two failing neighbours of one sign
   for (const auto& f : flanks_of(r)) {
     const auto p = patterns_of(f, est);
+    (f.side == Flank::Left ? left : right).push_back(p);
+    regions += static_cast<int>(diagnosis::find_failing_regions(f, ro).size());
     EXPECT_DOUBLE_EQ(p.waviness_profile.chi2_threshold > 0 ? 1.0 : 0.0, 1.0);
     scans += p.waviness_profile.scanned + p.waviness_helix.scanned;
     waves += p.waviness_profile.wave.has_value() + p.waviness_helix.wave.has_value();
@@ -236,4 +242,45 @@ TEST(TracePatterns, NoiseOnlyTracesGiveNoPatternAtTheStatedFalseAlarmRate) {
   EXPECT_EQ(scans, 140);
   EXPECT_LE(waves, 2);
   EXPECT_EQ(beyond, 0);
+  // Failing regions: a 3σ point is 0.27 % of 46 200 (125 points), two neighbours of one sign both beyond 3σ about
+  // 0.2 pairs in all; tooth trends: every pattern constant over the 35 teeth at 3σ (6 patterns × 2 sides × 0.27 %).
+  EXPECT_LE(regions, 2);
+  for (const auto* side : {&left, &right}) {
+    const auto trends = diagnosis::fit_tooth_trends(*side, 35);
+    for (const auto& t : trends.trends) EXPECT_EQ(t.kind, diagnosis::TrendKind::Constant) << t.sentence;
+  }
+}
+
+// Tooth trends from traces: an offset growing by 0.05 µm per tooth and a profile slope varying once per revolution
+// (amplitude 1 µm, largest at tooth 10) over 35 teeth of three profile and two helix traces with 0.3 µm noise.
+TEST(TracePatterns, ToothTrendsFromTracesAreFound) {
+  const auto& wb = ideal_workbench();
+  const auto& rg = wb.setup.ranges();
+  const double x0 = rg.xi_eval_start_mm, x1 = rg.xi_eval_end_mm;
+  std::mt19937_64 gen(7);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  const auto theta = [](int tooth) { return 2 * kPi * (tooth - 1) / 35.0; };
+  const auto truth = [&](Flank, int tooth, double xi, double) {
+    const double u = 2 * (xi - x0) / (x1 - x0) - 1;
+    return 0.05 * tooth + 0.5 * std::cos(theta(tooth) - theta(10)) * u + noise(gen);
+  };
+  Layout l = three_profiles_two_helices();
+  l.teeth.clear();
+  for (int t = 1; t <= 35; ++t) l.teeth.push_back(t);
+  l.profile_points = 120, l.helix_points = 150;
+  const auto r = read_export(write_export(wb.setup.geometry(), l, truth));
+  std::vector<double> residual;
+  for (const auto& p : r.points) residual.push_back(p.deviation_um);
+  const double est = diagnosis::estimate_noise_um(r.points, residual);
+  std::vector<diagnosis::FlankPatterns> right;
+  for (const auto& f : flanks_of(r))
+    if (f.side == Flank::Right) right.push_back(patterns_of(f, est));
+  const auto t = diagnosis::fit_tooth_trends(right, 35);
+  const auto& offset = t.trends[0];
+  const auto& slope = t.trends[1];
+  EXPECT_EQ(offset.kind, diagnosis::TrendKind::Linear) << offset.sentence;
+  EXPECT_NEAR(offset.slope_um_per_tooth.value, 0.05, 0.005) << offset.sentence;
+  EXPECT_EQ(slope.kind, diagnosis::TrendKind::OncePerRevolution) << slope.sentence;
+  EXPECT_NEAR(slope.amplitude_um.value, 1.0, 0.05) << slope.sentence;
+  EXPECT_NEAR(slope.max_at_tooth, 10.0, 0.5) << slope.sentence;
 }

@@ -90,6 +90,8 @@ LineNoise line_noise_um(std::span<const FlankResiduals> flanks) {
   return out;
 }
 
+DenseLineCount dense_line_count(const FlankResiduals& f) { return {dense_lines(f, true).size(), dense_lines(f, false).size()}; }
+
 std::vector<LineCrossing> line_crossings(const FlankResiduals& f) {
   std::vector<LineCrossing> out;
   const auto profiles = dense_lines(f, true), helices = dense_lines(f, false);

@@ -30,6 +30,12 @@ struct LineNoise {
 /// spike spoils. lines = 0 (σ 0) when no flank has a dense line.
 LineNoise line_noise_um(std::span<const FlankResiduals> flanks);
 
+/// The dense lines of a flank: profile lines (sharing z) and helix lines (sharing ξ).
+struct DenseLineCount {
+  std::size_t profile = 0, helix = 0;
+};
+DenseLineCount dense_line_count(const FlankResiduals& flank);
+
 /// Where a profile line (z = z_p) and a helix line (ξ = ξ_h) of one flank cross inside both, each line's value
 /// interpolated linearly there: profile − helix (µm). Both measure the same point of the flank.
 struct LineCrossing {
