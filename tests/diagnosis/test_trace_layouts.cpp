@@ -7,6 +7,7 @@
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
+#include "geartopo/grinding/topology_csv.hpp"
 #include "geartopo/measurement/any_measurement.hpp"
 
 #include <gtest/gtest.h>
@@ -141,3 +142,41 @@ INSTANTIATE_TEST_SUITE_P(Layouts, TraceLayout,
                            }
                            return std::string("Unknown");
                          });
+
+// The same hidden thermal drift measured as the 7 × 9 grid (topology rows of teeth 1 and 18) and as traces (three
+// profile and two helix lines per flank, an export) with the same 0.3 µm noise: diagnose names the same effect, and
+// the fitted thickness set-up term agrees within 3 combined standard errors.
+TEST(TraceDiagnosis, SameThermalDriftAsGridAndAsTracesGivesTheSameDiagnosis) {
+  const workbench::Workbench model{std::filesystem::path(kDefaultScene)};
+  const workbench::Workbench truth{std::filesystem::path(std::string(GEARTOPO_SOURCE_DIR) + "/scenes/truth-skmc1200w-mn14-z35.yaml")};
+  std::mt19937_64 gen(31);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  // Grid: the truth's topology at the scene's grid, as a topology CSV would hold it.
+  grinding::SimulationOptions so;
+  so.teeth = {1, 18};
+  auto rows = grinding::topology_rows(grinding::simulate_topology(truth.setup, truth.process(), so));
+  for (auto& r : rows) r.deviation_um += noise(gen);
+  const auto grid = measurement::measured_points(rows, model.setup.geometry(), "grid");
+  // Traces: the truth's deviations at the points of an export of three profile and two helix lines per flank.
+  const auto& g = model.setup.geometry();
+  Layout l;
+  l.profile_z_mm = {20.0, 75.0, 130.0};
+  const double xa = g.roll_length_at(g.root_form_diameter_mm()), xe = g.roll_length_at(g.tip_diameter_mm());
+  l.helix_d_mm = {g.diameter_at_roll_length(xa + 0.4 * (xe - xa)), g.diameter_at_roll_length(xa + 0.7 * (xe - xa))};
+  const auto at = read(write_export(g, l, [](Flank, int, double, double) { return 0.0; }), model.setup);
+  const auto values = diagnosis::predict(truth.setup, truth.process(), at, grinding::Method::Exact);
+  std::size_t next = 0;
+  const auto traces = read(write_export(g, l, [&](Flank, int, double, double) { return values[next++] + noise(gen); }), model.setup);
+
+  const diagnosis::DiagnoseOptions o; // noise estimated: the grid's surface, the traces' lines
+  const auto d_grid = diagnosis::diagnose(model.setup, model.process(), grid, {}, o);
+  const auto d_traces = diagnosis::diagnose(model.setup, model.process(), traces, {}, o);
+  ASSERT_TRUE(d_grid.chosen.has_value()) << d_grid.verdict;
+  ASSERT_TRUE(d_traces.chosen.has_value()) << d_traces.verdict;
+  EXPECT_EQ(d_grid.chosen->name(), "thermal_drift") << d_grid.verdict;
+  EXPECT_EQ(d_traces.chosen->name(), d_grid.chosen->name()) << d_traces.verdict;
+  EXPECT_NEAR(d_grid.noise_um, 0.3, 0.05);
+  EXPECT_NEAR(d_traces.noise_um, 0.3, 0.03);
+  EXPECT_NEAR(d_traces.setup.thickness_um, d_grid.setup.thickness_um,
+              3 * std::hypot(d_traces.setup.thickness_sd_um, d_grid.setup.thickness_sd_um));
+}

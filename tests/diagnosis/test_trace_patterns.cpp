@@ -284,3 +284,29 @@ TEST(TracePatterns, ToothTrendsFromTracesAreFound) {
   EXPECT_NEAR(slope.amplitude_um.value, 1.0, 0.05) << slope.sentence;
   EXPECT_NEAR(slope.max_at_tooth, 10.0, 0.5) << slope.sentence;
 }
+
+// ------------------------------------------------------------------------------------------------------- allowance
+
+// A gear ground to the mean of its designed allowances (A_sne −40 µm, A_sni −80 µm), measured as an export: every flank
+// lies Δn = A_sn cos α_n / 2 = −28.19 µm along its normal from the zero-allowance flank (docs/conventions.md: the
+// normal thickness at the reference cylinder, an arc in the normal section, which each flank meets at α_n). With the
+// allowances in the scene, compare subtracts Δn on both flanks and the residual is zero; without them it is Δn.
+TEST(TraceAllowance, TheDesignedAllowanceIsSubtractedOnEveryFlank) {
+  const double A_sn_mean_um = (-40.0 + -80.0) / 2, alpha_n = 20.0 * kPi / 180;
+  const double dn_um = A_sn_mean_um * std::cos(alpha_n) / 2;
+  const workbench::Workbench with(scene::parse_scene(
+      ideal_scene_text("  thickness_allowance_upper_um: -40\n  thickness_allowance_lower_um: -80\n"), kDefaultScene));
+  const auto e = write_export(with.setup.geometry(), three_profiles_two_helices(), [&](Flank, int, double, double) { return dn_um; });
+  TempFile f("allowance.mka", e.text);
+  const auto pts = measurement::read_any_measurement(f.path.string(), with.setup);
+  const auto c_with = diagnosis::compare(with.setup, with.process(), pts, 0.0);
+  const auto c_without = diagnosis::compare(ideal_workbench().setup, ideal_workbench().process(), pts, 0.0);
+  EXPECT_NEAR(c_with.allowance_offset_um, -28.19, 0.005);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    ASSERT_NEAR(c_with.residual_um[i], 0.0, 1e-3) << "point " << i; // the file's 4 decimals
+    ASSERT_NEAR(c_without.residual_um[i], dn_um, 1e-3) << "point " << i;
+  }
+  std::set<std::pair<int, int>> flanks;
+  for (const auto& p : pts) flanks.insert({p.tooth, static_cast<int>(p.flank)});
+  EXPECT_EQ(flanks.size(), 4u); // both flanks of both teeth
+}

@@ -29,18 +29,22 @@ using namespace geartopo;
 
 inline const std::string kDefaultScene = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35.yaml";
 
-/// The default scene without the machine's error tables and constants: an ideal machine grinds the design.
+/// The default scene's text without the machine's error tables and constants (an ideal machine grinds the design),
+/// with extra_gear_keys (indented YAML lines) added to its gear.
+inline std::string ideal_scene_text(const std::string& extra_gear_keys = "") {
+  std::ifstream in(kDefaultScene);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  text = std::regex_replace(text, std::regex("  tables: \\[[^\\]]*\\]\\n"), "");
+  text = std::regex_replace(text, std::regex("  constants:[^\\n]*\\n(    [^\\n]*\\n)+"), "");
+  text = std::regex_replace(text, std::regex("  measured: demo/measured.csv\\n"), "");
+  text.insert(text.find("gear:\n") + 6, extra_gear_keys);
+  return text;
+}
+
 inline const workbench::Workbench& ideal_workbench() {
-  static const workbench::Workbench wb = [] {
-    std::ifstream in(kDefaultScene);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    std::string text = ss.str();
-    text = std::regex_replace(text, std::regex("  tables: \\[[^\\]]*\\]\\n"), "");
-    text = std::regex_replace(text, std::regex("  constants:[^\\n]*\\n(    [^\\n]*\\n)+"), "");
-    text = std::regex_replace(text, std::regex("  measured: demo/measured.csv\\n"), "");
-    return workbench::Workbench(scene::parse_scene(text, kDefaultScene));
-  }();
+  static const workbench::Workbench wb(scene::parse_scene(ideal_scene_text(), kDefaultScene));
   return wb;
 }
 
