@@ -1,5 +1,7 @@
 #include "geartopo/diagnosis/compare.hpp"
 
+#include "geartopo/core/parallel.hpp"
+
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 
@@ -47,17 +49,26 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
   // A lone point beyond 3σ is what noise gives 0.27 % of the points (0.7 of the 252 of two measured teeth): listed
   // beside a whole-flank region it read as a finding (issue 17). Regions need two points here.
   ro.min_points = 2;
-  std::map<int, std::vector<FlankPatterns>> by_side;
-  for (const auto& f : c.flanks) {
+  // Each flank's patterns and regions on their own (both cores; every flank writes its own slot, so the result does
+  // not depend on the thread count), then gathered in flank order.
+  const auto nf = c.flanks.size();
+  c.patterns.assign(nf, FlankPatterns{});
+  std::vector<char> fitted(nf, 0);
+  std::vector<std::vector<FailingRegion>> flank_regions(nf);
+  parallel_for(static_cast<int>(nf), 0, [&](int k) {
+    const auto& f = c.flanks[static_cast<std::size_t>(k)];
     try {
-      c.patterns.push_back(fit_flank_patterns(f, po));
-      c.has_patterns.push_back(true);
-      by_side[static_cast<int>(f.side)].push_back(c.patterns.back());
+      c.patterns[static_cast<std::size_t>(k)] = fit_flank_patterns(f, po);
+      fitted[static_cast<std::size_t>(k)] = 1;
     } catch (const std::invalid_argument&) { // too few distinct positions on this flank for the six patterns
-      c.patterns.emplace_back();
-      c.has_patterns.push_back(false);
     }
-    for (auto& reg : find_failing_regions(f, ro)) c.regions.push_back(std::move(reg));
+    flank_regions[static_cast<std::size_t>(k)] = find_failing_regions(f, ro);
+  });
+  std::map<int, std::vector<FlankPatterns>> by_side;
+  for (std::size_t k = 0; k < nf; ++k) {
+    c.has_patterns.push_back(fitted[k] != 0);
+    if (fitted[k]) by_side[static_cast<int>(c.flanks[k].side)].push_back(c.patterns[k]);
+    for (auto& reg : flank_regions[k]) c.regions.push_back(std::move(reg));
   }
   for (const auto& [side, list] : by_side)
     if (list.size() >= 2) c.trends.push_back(fit_tooth_trends(list, setup.geometry().teeth()));

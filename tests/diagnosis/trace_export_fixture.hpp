@@ -14,7 +14,10 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <regex>
@@ -123,6 +126,8 @@ struct TempFile {
     path = dir / name;
     std::ofstream(path) << text;
   }
+  TempFile(const TempFile&) = delete; // one owner removes the folder
+  TempFile& operator=(const TempFile&) = delete;
   ~TempFile() { std::filesystem::remove_all(dir); }
 };
 
