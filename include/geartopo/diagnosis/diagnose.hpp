@@ -121,7 +121,7 @@ struct MeasurementPlan {
 
 /// What diagnose does and when; the defaults are the documented behaviour (docs/diagnosis.md).
 struct DiagnoseOptions {
-  double noise_um = 0.0;            ///< probe noise σ (µm); ≤ 0: estimated from the residual (quadratic surface per flank)
+  double noise_um = 0.0;            ///< probe noise σ (µm); ≤ 0: estimated from the residual (estimate_noise_um)
   /// Stroke-to-stroke scatter of the axis commands, one standard deviation per axis X, Y, Z (mm), A, C (rad): the
   /// scene's `machine.repeatability` (ISO 230-2 R/4). Non-zero: the residual's covariance is σ² I plus each stroke's
   /// scatter (stroke_scatter.hpp) and every fit is generalised least squares. Zero (default): white noise only.
