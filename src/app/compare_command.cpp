@@ -38,8 +38,9 @@ void register_compare_command(CLI::App& app, Action& action) {
     action = [opt] {
       JsonSummary json(opt->json);
       const Workbench wb(opt->scene);
-      const auto pts = read_measured_points(wb, opt->measured, opt->mka);
-      const auto c = diagnosis::compare(wb.setup, wb.process(), pts, opt->noise);
+      measurement::ReadCounts read;
+      const auto pts = read_measured_points(wb, opt->measured, opt->mka, &read);
+      const auto c = diagnosis::compare(wb.setup, wb.process(), pts, opt->noise, read);
 
       const std::filesystem::path out(opt->out);
       output::OutputFolder folder(out);
@@ -47,34 +48,9 @@ void register_compare_command(CLI::App& app, Action& action) {
       const nlohmann::json summary = report::compare_json(opt->scene, opt->measured, pts, c);
       output::write_text_atomically(out / "compare.json", summary.dump(2) + "\n");
 
-      std::cout << fmt::format("{} measured points on {} flanks; residual (measured − model) {:.2f} µm RMS, max |{:.2f}| µm; "
-                               "noise {:.2f} µm{}\n",
-                               pts.size(), c.flanks.size(), c.summary.overall.rms_um, c.summary.overall.max_abs_um, c.noise_um,
-                               c.noise_estimated ? " (estimated)" : "");
-      std::cout << fmt::format("Model: nominal flank at mean allowance {:+.2f} µm (along the normal, every flank)\n",
-                               c.allowance_offset_um);
-      for (size_t f = 0; f < c.flanks.size(); ++f)
-        std::cout << fmt::format("  tooth {:>3} {:<5}  RMS {:6.2f} µm  max {:6.2f} µm\n", c.flanks[f].tooth,
-                                 diagnosis::to_string(c.flanks[f].side), c.summary.flanks[f].stats.rms_um,
-                                 c.summary.flanks[f].stats.max_abs_um);
-      if (c.regions.empty())
-        std::cout << "Where the model fails: nowhere above 3σ of the noise.\n";
-      else {
-        std::cout << "Where the model fails (|residual| > 3σ):\n";
-        for (const auto& r : c.regions) std::cout << "  " << r.sentence << "\n";
-      }
-      std::cout << "Patterns of the residual:\n";
-      for (size_t f = 0; f < c.flanks.size(); ++f)
-        if (c.has_patterns[f]) std::cout << "  " << diagnosis::describe_patterns(c.patterns[f]) << "\n";
-      for (const auto& s : c.trends)
-        for (const auto& t : s.trends)
-          if (!t.sentence.empty()) std::cout << "  " << t.sentence << "\n";
-      if (!c.follows.variables.empty()) {
-        std::cout << "What the residual follows (each process variable alone, set-up terms removed; strongest first):\n";
-        for (const auto& d : c.follows.variables)
-          std::cout << "  " << d.sentence << (d.significant ? "" : " — not significant") << "\n";
+      std::cout << report::compare_summary_text(c);
+      if (!c.follows.variables.empty())
         report::render_residual_follows(c.follows, pts, out / "residual_vs_process.png", out / "panels");
-      }
       std::cout << "wrote " << (out / "compare.json").string() << ", residuals.csv"
                 << (c.follows.variables.empty() ? "" : ", residual_vs_process.png") << "\n";
       finish_output_folder(folder);

@@ -3,6 +3,7 @@
 #include "geartopo/report/iso_report.hpp"
 #include "geartopo/report/prediction_report.hpp"
 #include "app/options.hpp"
+#include "geartopo/workbench/machine_pitch.hpp"
 
 #include "geartopo/measurement/any_measurement.hpp"
 
@@ -69,8 +70,10 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       const auto& g = wb.setup.geometry();
       std::vector<grinding::FlankTopology> topo;
       std::string source;
+      std::vector<measurement::KlingelnbergPitchRow> machine_pitch; // an export's own pitch table, if any
       if (!opt->traces.empty()) {
         auto traces = measurement::read_any_traces(opt->traces, wb.setup, opt->mka);
+        if (traces.klingelnberg) machine_pitch = measurement::read_klingelnberg(opt->traces).pitch;
         for (const auto& w : traces.warnings) say("geartopo: warning: " + w);
         topo = std::move(traces.flanks);
         source = (traces.klingelnberg ? "measured traces (Klingelnberg export) " : "measured traces ") + opt->traces;
@@ -89,6 +92,22 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       j["units"] = "µm; plus material positive";
       j["iso_direction"] = std::string(evaluation::to_string(opt->iso.direction));
       j["before"] = report::iso_json(iso);
+      std::optional<workbench::MachinePitchComparison> beside;
+      if (!machine_pitch.empty()) {
+        beside = workbench::compare_machine_pitch(machine_pitch, iso.evaluation);
+        nlohmann::json rows = nlohmann::json::array();
+        for (const auto& r : beside->rows)
+          rows.push_back({{"tooth", r.tooth}, {"flank", geartopo::to_string(r.side)}, {"machine_fp_um", r.machine_fp_um},
+                          {"geartopo_fp_um", r.geartopo_fp_um}, {"machine_Fp_um", r.machine_Fp_um},
+                          {"geartopo_Fp_um", r.geartopo_Fp_um}, {"flagged", r.flagged}});
+        j["machine_pitch_table"] = {{"rows", rows},
+                                    {"max_abs_fp_difference_um", beside->max_abs_fp_difference_um},
+                                    {"max_abs_Fp_difference_um", beside->max_abs_Fp_difference_um},
+                                    {"flagged", beside->flagged},
+                                    {"flag_above_um", workbench::kMachineMismatchUm},
+                                    {"likely_cause", beside->likely_cause.empty() ? nlohmann::json(nullptr)
+                                                                                  : nlohmann::json(beside->likely_cause)}};
+      }
       // The quantities as the prediction names them; largest |deviation| needs the grid (none in a traces file).
       std::vector<report::PredictionCheck> checks;
       if (prediction) {
@@ -102,6 +121,16 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       output::OutputFolder folder(out);
       output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
       std::cout << "Source: " << source << "\n" << report::iso_table(iso);
+      if (beside) {
+        if (beside->rows.empty())
+          std::cout << "The export's pitch table: not compared (geartopo evaluates pitch only with every tooth of a side)\n";
+        else
+          std::cout << fmt::format("The export's pitch table beside geartopo's evaluation of the same traces ({} rows): "
+                                   "max |Δf_p| {:.2f} µm, max |ΔF_p| {:.2f} µm; {} rows differ by more than {:.1f} µm{}\n",
+                                   beside->rows.size(), beside->max_abs_fp_difference_um, beside->max_abs_Fp_difference_um,
+                                   beside->flagged, workbench::kMachineMismatchUm,
+                                   beside->likely_cause.empty() ? "" : " — likely cause: " + beside->likely_cause);
+      }
       if (prediction) {
         std::cout << "Against " << opt->prediction << ":\n";
         for (const auto& l : report::prediction_check_lines(checks, *prediction, opt->side)) std::cout << "  " << l << "\n";

@@ -462,9 +462,10 @@ void add_measurement_options(CLI::App* cmd, std::string& file, measurement::Klin
 }
 
 std::vector<measurement::MeasuredPoint> read_measured_points(const workbench::Workbench& wb, const std::string& file,
-                                                             const measurement::KlingelnbergOptions& options) {
+                                                             const measurement::KlingelnbergOptions& options,
+                                                             measurement::ReadCounts* counts) {
   std::vector<std::string> warnings;
-  auto points = measurement::read_any_measurement(file, wb.setup, &warnings, options);
+  auto points = measurement::read_any_measurement(file, wb.setup, &warnings, options, counts);
   for (const auto& w : warnings) say("geartopo: warning: " + w);
   return points;
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "geartopo/core/output_folder.hpp"
+#include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/measurement/klingelnberg.hpp"
 #include "geartopo/pipeline/monte_carlo.hpp"
 #include "geartopo/workbench/iso_evaluation.hpp"
@@ -213,7 +214,8 @@ void add_measurement_options(CLI::App* cmd, std::string& file, measurement::Klin
 /// The measured points of `file` on the workbench's gear (measurement::read_any_measurement); the reader's warnings
 /// (blocks of an export it did not use, …) on stderr. Throws InputError.
 std::vector<measurement::MeasuredPoint> read_measured_points(const workbench::Workbench& wb, const std::string& file,
-                                                             const measurement::KlingelnbergOptions& options);
+                                                             const measurement::KlingelnbergOptions& options,
+                                                             measurement::ReadCounts* counts = nullptr);
 
 /// How a command that prints ISO 1328-1 values reports them (docs/iso1328.md): --iso-direction transverse|normal
 /// (default transverse, the standard's), --helix-slope-sign helix-angle|rise-towards-plus-z (default helix-angle).

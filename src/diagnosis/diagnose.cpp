@@ -1,4 +1,5 @@
 #include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/residuals/line_noise.hpp"
 
 #include "effect_fit.hpp"
 #include "machine_hypotheses.hpp"
@@ -251,6 +252,14 @@ SetupTermModel setup_term_model(const grinding::GrindingSetup& setup, const grin
 } // namespace
 
 double estimate_noise_um(const std::vector<MeasuredPoint>& pts, const std::vector<double>& r) {
+  // Measured traces: σ from the lines' own point-to-point scatter (line_noise.hpp). A surface fitted across lines
+  // would take their disagreement and every pattern the surface lacks for noise (issue 28: 1.23 µm on noise-free data).
+  std::map<std::pair<int, int>, FlankResiduals> by_flank;
+  for (size_t i = 0; i < pts.size(); ++i)
+    by_flank[{pts[i].tooth, static_cast<int>(pts[i].flank)}].points.push_back({pts[i].roll_length_mm, pts[i].z_mm, r[i]});
+  std::vector<FlankResiduals> flanks;
+  for (auto& [key, f] : by_flank) flanks.push_back(std::move(f));
+  if (const LineNoise lines = line_noise_um(flanks); lines.lines > 0) return std::max(lines.sigma_um, kNoiseFloorUm);
   double rss = 0.0, dof = 0.0;
   for (const auto& f : flank_surfaces(pts)) {
     Eigen::VectorXd y(static_cast<long>(f.idx.size()));

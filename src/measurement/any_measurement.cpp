@@ -31,13 +31,16 @@ std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file,
 }
 
 std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
-                                                std::vector<std::string>* warnings, const KlingelnbergOptions& mka) {
+                                                std::vector<std::string>* warnings, const KlingelnbergOptions& mka,
+                                                ReadCounts* counts) {
   auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "measurement");
+  if (counts) *counts = {};
   std::vector<MeasuredPoint> points;
   // First: an export's header lines and trace heads are not numbers, so neither other reader would take it anyway.
   if (looks_like_klingelnberg(in)) {
     auto res = klingelnberg_points(read_klingelnberg(file), setup.geometry(), mka);
     if (warnings) warnings->insert(warnings->end(), res.warnings.begin(), res.warnings.end());
+    if (counts) *counts = {res.undefined_values, res.off_flank_points};
     points = std::move(res.points);
   } else if (grinding::starts_like_traces_csv(in)) {
     points = read_traces_measurement(file, setup.geometry());

@@ -526,6 +526,8 @@ KlingelnbergPoints klingelnberg_points(const KlingelnbergFile& f, const gears::G
       out.trace_of_point.push_back(static_cast<std::size_t>(&t - f.traces.data()));
     }
   }
+  out.undefined_values = static_cast<std::size_t>(f.undefined_points);
+  out.off_flank_points = static_cast<std::size_t>(off_flank);
   if (!f.skipped_blocks.empty())
     out.warnings.push_back(fmt::format("{}: blocks not read (this reader knows Profil, Flankenlinie, TOPOGRAFIE and the "
                                        "pitch tables): {}",

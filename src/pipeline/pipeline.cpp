@@ -53,9 +53,10 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
   if (!o.measured_file.empty()) {
     MeasurementResult m;
     m.file = o.measured_file;
-    m.points = measurement::read_any_measurement(o.measured_file, wb.setup, &m.warnings, o.measurement_format);
+    measurement::ReadCounts read;
+    m.points = measurement::read_any_measurement(o.measured_file, wb.setup, &m.warnings, o.measurement_format, &read);
     stage("compare", 0);
-    m.before = diagnosis::compare(wb.setup, wb.process(), m.points, o.noise_um);
+    m.before = diagnosis::compare(wb.setup, wb.process(), m.points, o.noise_um, read);
     stage(kDiagnoseStage, 0);
     diagnosis::DiagnoseOptions d;
     d.noise_um = m.before.noise_um;
@@ -64,7 +65,7 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
     if (m.diagnosis.chosen) {
       const auto effs = workbench::make_effects(m.diagnosis.chosen->effects, m.diagnosis.chosen->changes, wb.setup);
       const effects::EffectsProcess with(wb.process(), effs);
-      m.after = diagnosis::compare(wb.setup, with, m.points, m.before.noise_um);
+      m.after = diagnosis::compare(wb.setup, with, m.points, m.before.noise_um, read);
     }
     r.measurement = std::move(m);
   }

@@ -46,8 +46,18 @@ nlohmann::json compare_json(const std::string& scene, const std::string& measure
                "flank is at the mean tooth-thickness allowance";
   j["nominal_offset_at_mean_allowance_um"] = comparison.allowance_offset_um;
   j["points_without_grid_indices"] = std::count_if(points.begin(), points.end(), [](const auto& p) { return p.row == 0; });
+  const auto& n = comparison.counts;
+  // Every statistic below is over the "used" points; read = used + outside_evaluation_range + duplicates.
+  j["point_counts"] = {{"read", n.read},
+                       {"used", n.used},
+                       {"outside_evaluation_range", n.outside_evaluation_range},
+                       {"duplicates", n.duplicates},
+                       {"undefined_values", n.undefined_values},
+                       {"off_flank_points", n.off_flank_points},
+                       {"sentence", diagnosis::describe_point_counts(n)}};
   j["noise_um"] = comparison.noise_um;
   j["noise_estimated"] = comparison.noise_estimated;
+  j["noise_source"] = comparison.noise_source.empty() ? nlohmann::json(nullptr) : nlohmann::json(comparison.noise_source);
   j["overall"] = stats_json(comparison.summary.overall);
   nlohmann::json flanks = nlohmann::json::array();
   for (size_t f = 0; f < comparison.flanks.size(); ++f) {
@@ -55,6 +65,8 @@ nlohmann::json compare_json(const std::string& scene, const std::string& measure
     fj["tooth"] = comparison.flanks[f].tooth;
     fj["flank"] = diagnosis::to_string(comparison.flanks[f].side);
     fj["stats"] = stats_json(comparison.summary.flanks[f].stats);
+    fj["points_outside_evaluation_range"] = comparison.summary.flanks[f].points_outside_range;
+    fj["duplicates"] = comparison.flank_duplicates.empty() ? 0 : comparison.flank_duplicates[f];
     if (comparison.has_patterns[f]) {
       const auto& p = comparison.patterns[f];
       fj["patterns"] = {{"offset_um", estimate_json(p.offset_um)},
@@ -65,6 +77,7 @@ nlohmann::json compare_json(const std::string& scene, const std::string& measure
                         {"helix_crowning_um", estimate_json(p.helix_crowning_um)},
                         {"waviness_along_profile", wave_json(p.waviness_profile)},
                         {"waviness_along_helix", wave_json(p.waviness_helix)},
+                        {"waviness_scanned", {{"along_profile", p.waviness_profile.scanned}, {"along_helix", p.waviness_helix.scanned}}},
                         {"rms_unexplained_um", p.rms_unexplained_um}};
       fj["description"] = diagnosis::describe_patterns(p);
     }
@@ -100,7 +113,53 @@ nlohmann::json compare_json(const std::string& scene, const std::string& measure
   nlohmann::json regions = nlohmann::json::array();
   for (const auto& r : comparison.regions) regions.push_back(r.sentence);
   j["failing_regions"] = regions;
+  nlohmann::json agreement = nlohmann::json::array();
+  for (const auto& a : comparison.line_agreement)
+    agreement.push_back({{"tooth", a.tooth},
+                         {"flank", diagnosis::to_string(a.side)},
+                         {"crossings", a.crossings},
+                         {"mean_profile_minus_helix_um", a.mean_difference_um},
+                         {"max_abs_profile_minus_helix_um", a.max_abs_difference_um},
+                         {"disagree", a.disagree},
+                         {"sentence", a.sentence.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.sentence)}});
+  j["line_crossings"] = agreement;
   return j;
+}
+
+std::string compare_summary_text(const diagnosis::Comparison& c) {
+  std::string s = diagnosis::describe_point_counts(c.counts) + "\n";
+  const auto& o = c.summary.overall;
+  s += fmt::format("Residual (measured − model) over the {} used points on {} flanks: {:.2f} µm RMS, extreme {:+.2f} µm "
+                   "(tooth {} {}, L_y {:.2f} mm, z {:.2f} mm); noise {:.{}f} µm{}\n",
+                   o.points, c.flanks.size(), o.rms_um, o.extreme_um, o.extreme_tooth, diagnosis::to_string(o.extreme_side),
+                   o.extreme_xi_mm, o.extreme_z_mm, c.noise_um, c.noise_um < 0.1 ? 3 : 2,
+                   c.noise_estimated ? " (" + c.noise_source + ")" : "");
+  s += fmt::format("Model: nominal flank at mean allowance {:+.2f} µm (along the normal, every flank)\n", c.allowance_offset_um);
+  for (size_t f = 0; f < c.flanks.size(); ++f) {
+    const auto& fs = c.summary.flanks[f];
+    s += fmt::format("  tooth {:>3} {:<5}  {:>5} points used ({} outside, {} duplicates)  RMS {:6.2f} µm  extreme {:+7.2f} µm\n",
+                     c.flanks[f].tooth, diagnosis::to_string(c.flanks[f].side), fs.stats.points, fs.points_outside_range,
+                     c.flank_duplicates.empty() ? 0 : c.flank_duplicates[f], fs.stats.rms_um, fs.stats.extreme_um);
+  }
+  if (c.regions.empty())
+    s += "Where the model fails: nowhere above 3σ of the noise.\n";
+  else {
+    s += "Where the model fails (|residual| > 3σ):\n";
+    for (const auto& r : c.regions) s += "  " + r.sentence + "\n";
+  }
+  for (const auto& a : c.line_agreement)
+    if (a.disagree) s += "Warning: " + a.sentence + "\n";
+  s += "Patterns of the residual:\n";
+  for (size_t f = 0; f < c.flanks.size(); ++f)
+    if (c.has_patterns[f]) s += "  " + diagnosis::describe_patterns(c.patterns[f]) + "\n";
+  for (const auto& side : c.trends)
+    for (const auto& t : side.trends)
+      if (!t.sentence.empty()) s += "  " + t.sentence + "\n";
+  if (!c.follows.variables.empty()) {
+    s += "What the residual follows (each process variable alone, set-up terms removed; strongest first):\n";
+    for (const auto& d : c.follows.variables) s += "  " + d.sentence + (d.significant ? "" : " — not significant") + "\n";
+  }
+  return s;
 }
 
 std::string unit_of_key(const std::string& key) {

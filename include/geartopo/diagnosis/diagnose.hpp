@@ -137,7 +137,7 @@ struct MeasurementPlan {
 
 /// What diagnose does and when; the defaults are the documented behaviour (docs/diagnosis.md).
 struct DiagnoseOptions {
-  double noise_um = 0.0;            ///< probe noise σ (µm); ≤ 0: estimated from the residual (quadratic surface per flank)
+  double noise_um = 0.0;            ///< probe noise σ (µm); ≤ 0: estimated from the residual (estimate_noise_um)
   /// Stroke-to-stroke scatter of the axis commands, one standard deviation per axis X, Y, Z (mm), A, C (rad): the
   /// scene's `machine.repeatability` (ISO 230-2 R/4). Non-zero: the residual's covariance is σ² I plus each stroke's
   /// scatter (stroke_scatter.hpp) and every fit is generalised least squares. Zero (default): white noise only.
@@ -263,9 +263,14 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
                                  const std::vector<double>& residual_um, const Candidate& a, const Candidate& b,
                                  double noise_um, const DiagnoseOptions& options);
 
-/// Noise σ (µm) estimated from residuals: a quadratic surface in (roll length, z) fitted per flank, the pooled
-/// residual standard deviation. Flanks with fewer than 10 points are skipped; if none is left, 0.1 µm — a
-/// conservative probe figure, so that no caller divides by or compares with a zero noise.
+/// The smallest σ an estimate gives (µm): the exports' resolution (3 decimals), so that noise-free data give a finite
+/// σ nobody divides by zero with.
+inline constexpr double kNoiseFloorUm = 1e-3;
+
+/// Noise σ (µm) estimated from residuals. Measured lines (traces: kDenseLinePoints or more points sharing z or ξ on a
+/// flank): from their own point-to-point scatter (line_noise_um), at least kNoiseFloorUm. Otherwise (grids, point
+/// clouds): a quadratic surface in (roll length, z) fitted per flank, the pooled residual standard deviation; flanks
+/// with fewer than 10 points are skipped; if none is left, 0.1 µm — a conservative probe figure.
 double estimate_noise_um(const std::vector<MeasuredPoint>& points, const std::vector<double>& residual_um);
 
 } // namespace geartopo::diagnosis

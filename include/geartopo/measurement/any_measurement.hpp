@@ -22,13 +22,21 @@ namespace geartopo::measurement {
 std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file, const gears::InvoluteHelicoid& flanks,
                                                         double max_offset_mm = 0.5);
 
+/// What a reader left out of the points it returns (an export's undefined values and points off the active flank):
+/// counted so that every count printed about a measurement adds up (docs/measurement-formats.md, "Counts").
+struct ReadCounts {
+  std::size_t undefined_values = 0;  ///< the export's undefined value −2147483.648: no point
+  std::size_t off_flank_points = 0;  ///< an export's points off the active flank (other formats refuse them)
+};
+
 /// Topology CSV, traces CSV, point cloud or Klingelnberg export (read with `mka`), told apart by their content, with
 /// the deviations referred to the set-up's design (refer_to_design: a file without a design column is read as measured
 /// against the bare involute).
-/// Findings that are not errors (blocks a reader skipped, undefined points) go to `warnings` when given.
+/// Findings that are not errors (blocks a reader skipped, undefined points) go to `warnings` when given; what was left
+/// out, counted, to `counts` when given.
 std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
                                                 std::vector<std::string>* warnings = nullptr,
-                                                const KlingelnbergOptions& mka = {});
+                                                const KlingelnbergOptions& mka = {}, ReadCounts* counts = nullptr);
 
 /// Measured traces for the ISO 1328-1 evaluator (`geartopo evaluate --traces`).
 struct MeasuredTraces {

@@ -89,6 +89,8 @@ struct KlingelnbergPoints {
   std::vector<MeasuredPoint> points;
   std::vector<std::size_t> trace_of_point; ///< per point: its trace, an index into KlingelnbergFile::traces
   std::vector<std::string> warnings; ///< skipped blocks, undefined and off-flank points, unchecked header values
+  std::size_t undefined_values = 0;  ///< values equal to the undefined value: no point
+  std::size_t off_flank_points = 0;  ///< points off the active flank: skipped
 };
 
 /// The traces as measured points on the gear: positions from the measuring ranges (profile da … de, helix ba … be;

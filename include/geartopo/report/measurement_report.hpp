@@ -21,6 +21,10 @@ namespace geartopo::report {
 void write_residuals_csv(const std::filesystem::path& file, const std::vector<measurement::MeasuredPoint>& points,
                          const diagnosis::Comparison& comparison);
 
+/// What `geartopo compare` prints: the point counts, the residual's RMS and extreme overall and per flank (the numbers
+/// of compare_json, rounded), where the model fails, the patterns and the tooth-to-tooth trends.
+std::string compare_summary_text(const diagnosis::Comparison& comparison);
+
 /// compare.json: statistics, patterns per flank, tooth-to-tooth trends, failing regions.
 nlohmann::json compare_json(const std::string& scene, const std::string& measured,
                             const std::vector<measurement::MeasuredPoint>& points, const diagnosis::Comparison& comparison);

@@ -2,6 +2,7 @@
 // section 1). Units: mm (ξ, z, wavelengths), µm (residuals, patterns, σ), rad.
 #include "geartopo/diagnosis/residuals/flank_patterns.hpp"
 
+#include "geartopo/diagnosis/residuals/line_noise.hpp"
 #include "residuals/residual_fit.hpp"
 #include "residuals/waviness_scan.hpp"
 
@@ -95,20 +96,48 @@ FlankPatterns fit_flank_patterns(const FlankResiduals& flank, const PatternOptio
   out.points_used = p.size();
   out.points_outside_range = p.outside;
 
-  // Waviness: along z on the Legendre model, then along ξ with a significant z wave included.
-  out.waviness_helix =
-      scan_waviness(WaveDirection::Helix, A, y, p.z, flank.z_start_mm, flank.z_end_mm, sigma, o);
-  if (out.waviness_helix.wave) {
-    auto B = with_wave(A, p.z, flank.z_start_mm, out.waviness_helix.wave->wavelength_mm);
-    if (least_squares(B, y)) A = std::move(B);
-    else out.waviness_helix.wave.reset();
+  // Traces (a flank with dense lines, line_noise.hpp) are scanned only along their dense lines' direction: a wave along
+  // z read off a few profile lines at a few heights would be fitted to the lines' offsets (issue 28). Grids and clouds:
+  // both directions, as the distinct positions allow.
+  const DenseLineCount lines = dense_line_count(flank);
+  const bool traces = lines.profile + lines.helix > 0;
+  // Waviness: along z on the Legendre model, then along ξ with a significant z wave included. When both are found, z is
+  // scanned once more with the ξ wave in the model (and ξ with that z wave): on traces the wave of the other direction,
+  // unmodelled, pulls the first scan's wavelength (a 30 mm lead wave read as 29.4 mm beside a 9 mm profile wave).
+  const Eigen::MatrixXd A0 = A;
+  const auto scan = [&](WaveDirection dir, const Eigen::MatrixXd& base) {
+    const bool helix = dir == WaveDirection::Helix;
+    WavinessScan w;
+    w.direction = dir;
+    if (traces && (helix ? lines.helix : lines.profile) == 0) {
+      w.no_dense_line = true;
+      return w;
+    }
+    w = helix ? scan_waviness(dir, base, y, p.z, flank.z_start_mm, flank.z_end_mm, sigma, o)
+              : scan_waviness(dir, base, y, p.xi, flank.xi_start_mm, flank.xi_end_mm, sigma, o);
+    if (w.wave && !least_squares(helix ? with_wave(base, p.z, flank.z_start_mm, w.wave->wavelength_mm)
+                                       : with_wave(base, p.xi, flank.xi_start_mm, w.wave->wavelength_mm),
+                                 y))
+      w.wave.reset();
+    return w;
+  };
+  const auto plus_helix_wave = [&](const Eigen::MatrixXd& base) {
+    return out.waviness_helix.wave ? with_wave(base, p.z, flank.z_start_mm, out.waviness_helix.wave->wavelength_mm) : base;
+  };
+  const auto plus_profile_wave = [&](const Eigen::MatrixXd& base) {
+    return out.waviness_profile.wave ? with_wave(base, p.xi, flank.xi_start_mm, out.waviness_profile.wave->wavelength_mm)
+                                     : base;
+  };
+  out.waviness_helix = scan(WaveDirection::Helix, A0);
+  out.waviness_profile = scan(WaveDirection::Profile, plus_helix_wave(A0));
+  if (out.waviness_helix.wave && out.waviness_profile.wave) {
+    out.waviness_helix = scan(WaveDirection::Helix, plus_profile_wave(A0));
+    out.waviness_profile = scan(WaveDirection::Profile, plus_helix_wave(A0));
   }
-  out.waviness_profile =
-      scan_waviness(WaveDirection::Profile, A, y, p.xi, flank.xi_start_mm, flank.xi_end_mm, sigma, o);
-  if (out.waviness_profile.wave) {
-    auto B = with_wave(A, p.xi, flank.xi_start_mm, out.waviness_profile.wave->wavelength_mm);
-    if (least_squares(B, y)) A = std::move(B);
-    else out.waviness_profile.wave.reset();
+  A = plus_profile_wave(plus_helix_wave(A0)); // columns: Legendre, z wave, ξ wave (the order read below)
+  if (!least_squares(A, y)) { // not expected: each wave was checked on its own
+    out.waviness_profile.wave.reset();
+    A = plus_helix_wave(A0);
   }
 
   const auto fit = least_squares(A, y);
@@ -163,6 +192,8 @@ std::string describe_patterns(const FlankPatterns& f) {
                      w->wave->wavelength_mm, w->wave->first_crest_mm);
   }
   if (!any) s += " no significant waviness;";
+  for (const WavinessScan* w : {&f.waviness_helix, &f.waviness_profile})
+    if (w->no_dense_line) s += fmt::format(" waviness {} not scanned (no measured line in that direction);", to_string(w->direction));
   s += fmt::format(" RMS {:.2f} µm, unexplained {:.2f} µm (σ {:.2f} µm)", f.rms_residual_um, f.rms_unexplained_um,
                    f.noise_um);
   return s;

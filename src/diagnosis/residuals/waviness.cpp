@@ -17,32 +17,50 @@ std::string_view to_string(WaveDirection d) {
 namespace residuals {
 namespace {
 
-/// RSS removed by adding a wave of frequency f (cycles/mm) along x to a base model with orthonormal basis Q, applied
-/// to the base residual r0. Rank-deficient wave columns (e.g. at the Nyquist wavelength) count with their rank.
-double wave_gain(const Eigen::MatrixXd& Q, const Eigen::VectorXd& r0, const std::vector<double>& x, double x0,
-                 double f) {
-  const Eigen::Index n = Q.rows();
-  Eigen::MatrixXd C(n, 2);
+/// ΔRSS of a wave from its sums over the points (cos c_i, sin s_i of its phase): with Q the base model's orthonormal
+/// basis (Qt: p × n, its transpose) and r0 the base residual (⟂ Q), the projected columns C' = C − Q QᵀC have
+/// C'ᵀC' = CᵀC − (QᵀC)ᵀ(QᵀC) and C'ᵀr0 = Cᵀr0: one pass over the points, nothing allocated. Rank-deficient wave columns
+/// (e.g. at the Nyquist wavelength) count with their rank.
+struct WaveSums {
+  double cc = 0.0, cs = 0.0, ss = 0.0, hc = 0.0, hs = 0.0;
+  Eigen::VectorXd qc, qs; // QᵀC, p each
+  explicit WaveSums(Eigen::Index p) : qc(Eigen::VectorXd::Zero(p)), qs(Eigen::VectorXd::Zero(p)) {}
+  void add(const Eigen::MatrixXd& Qt, Eigen::Index i, double c, double s, double r) {
+    cc += c * c, cs += c * s, ss += s * s, hc += c * r, hs += s * r;
+    // p is 6 to 10: a plain loop over the column, not Eigen's dynamic-size expression machinery, per point.
+    const double* q = Qt.data() + i * Qt.rows();
+    double* a = qc.data();
+    double* b = qs.data();
+    for (Eigen::Index j = 0; j < Qt.rows(); ++j) a[j] += c * q[j], b[j] += s * q[j];
+  }
+  double gain(Eigen::Index n) const {
+    Eigen::Matrix2d G;
+    G << cc - qc.squaredNorm(), cs - qc.dot(qs), cs - qc.dot(qs), ss - qs.squaredNorm();
+    const Eigen::Vector2d h(hc, hs);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(G);
+    const double top = es.eigenvalues().maxCoeff();
+    if (!(top > 1e-12 * static_cast<double>(n))) return 0.0;
+    double g = 0.0;
+    for (int k = 0; k < 2; ++k) {
+      const double lam = es.eigenvalues()(k);
+      if (lam > 1e-9 * top) {
+        const double proj = es.eigenvectors().col(k).dot(h);
+        g += proj * proj / lam;
+      }
+    }
+    return g;
+  }
+};
+
+/// RSS removed by adding a wave of frequency f (cycles/mm) along x to the base model (Qt, r0: WaveSums).
+double wave_gain(const Eigen::MatrixXd& Qt, const Eigen::VectorXd& r0, const std::vector<double>& x, double x0, double f) {
+  const Eigen::Index n = Qt.cols();
+  WaveSums sums(Qt.rows());
   for (Eigen::Index i = 0; i < n; ++i) {
     const double ph = kTwoPi * f * (x[static_cast<std::size_t>(i)] - x0);
-    C(i, 0) = std::cos(ph);
-    C(i, 1) = std::sin(ph);
+    sums.add(Qt, i, std::cos(ph), std::sin(ph), r0(i));
   }
-  C -= Q * (Q.transpose() * C);
-  const Eigen::Matrix2d G = C.transpose() * C;
-  const Eigen::Vector2d h = C.transpose() * r0;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(G);
-  const double top = es.eigenvalues().maxCoeff();
-  if (!(top > 1e-12 * static_cast<double>(n))) return 0.0;
-  double gain = 0.0;
-  for (int k = 0; k < 2; ++k) {
-    const double lam = es.eigenvalues()(k);
-    if (lam > 1e-9 * top) {
-      const double proj = es.eigenvectors().col(k).dot(h);
-      gain += proj * proj / lam;
-    }
-  }
-  return gain;
+  return sums.gain(n);
 }
 
 } // namespace
@@ -78,41 +96,63 @@ WavinessScan scan_waviness(WaveDirection dir, const Eigen::MatrixXd& base, const
 
   Eigen::HouseholderQR<Eigen::MatrixXd> qr(base);
   const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(base.rows(), base.cols());
+  const Eigen::MatrixXd Qt = Q.transpose(); // p × n: a point's basis values contiguous
   const Eigen::VectorXd r0 = y - Q * (Q.transpose() * y);
   const double rss0 = r0.squaredNorm();
 
+  // The frequency grid f_k = f_lo + k df: each point's phase advances by 2π df (x − x0) per step, so its cos and sin
+  // follow by rotation instead of sincos (2000 steps drift < 1e-12; the last step, clamped to f_hi, is computed).
   const double df = 1.0 / (o.waviness_oversampling * L);
   const auto steps = static_cast<std::size_t>(std::ceil((f_hi - f_lo) / df));
+  const Eigen::Index n = base.rows();
+  std::vector<double> cs(static_cast<std::size_t>(n)), sn(cs.size()), rc(cs.size()), rs(cs.size());
+  for (std::size_t i = 0; i < cs.size(); ++i) {
+    cs[i] = std::cos(kTwoPi * f_lo * (x[i] - x0)), sn[i] = std::sin(kTwoPi * f_lo * (x[i] - x0));
+    rc[i] = std::cos(kTwoPi * df * (x[i] - x0)), rs[i] = std::sin(kTwoPi * df * (x[i] - x0));
+  }
   double best_f = f_lo, best_gain = -1.0;
   for (std::size_t k = 0; k <= steps; ++k) {
-    const double f = std::min(f_hi, f_lo + static_cast<double>(k) * df);
-    const double g = wave_gain(Q, r0, x, x0, f);
+    const double f = f_lo + static_cast<double>(k) * df;
+    double g = 0.0;
+    if (f >= f_hi) {
+      g = wave_gain(Qt, r0, x, x0, f_hi);
+    } else {
+      WaveSums sums(Qt.rows());
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const auto u = static_cast<std::size_t>(i);
+        sums.add(Qt, i, cs[u], sn[u], r0(i));
+        const double cu = cs[u];
+        cs[u] = cu * rc[u] - sn[u] * rs[u];
+        sn[u] = sn[u] * rc[u] + cu * rs[u];
+      }
+      g = sums.gain(n);
+    }
     if (g > best_gain) {
       best_gain = g;
-      best_f = f;
+      best_f = std::min(f, f_hi);
     }
   }
   // Golden-section refinement around the best grid frequency.
   double a = std::max(f_lo, best_f - df), b = std::min(f_hi, best_f + df);
   const double gr = 0.5 * (std::sqrt(5.0) - 1.0);
   double c = b - gr * (b - a), e = a + gr * (b - a);
-  double gc = wave_gain(Q, r0, x, x0, c), ge = wave_gain(Q, r0, x, x0, e);
+  double gc = wave_gain(Qt, r0, x, x0, c), ge = wave_gain(Qt, r0, x, x0, e);
   for (int it = 0; it < 60 && b - a > 1e-9 * f_hi; ++it) {
     if (gc > ge) {
       b = e;
       e = c;
       ge = gc;
       c = b - gr * (b - a);
-      gc = wave_gain(Q, r0, x, x0, c);
+      gc = wave_gain(Qt, r0, x, x0, c);
     } else {
       a = c;
       c = e;
       gc = ge;
       e = a + gr * (b - a);
-      ge = wave_gain(Q, r0, x, x0, e);
+      ge = wave_gain(Qt, r0, x, x0, e);
     }
   }
-  const double fm = 0.5 * (a + b), gm = wave_gain(Q, r0, x, x0, fm);
+  const double fm = 0.5 * (a + b), gm = wave_gain(Qt, r0, x, x0, fm);
   if (gm > best_gain) {
     best_gain = gm;
     best_f = fm;

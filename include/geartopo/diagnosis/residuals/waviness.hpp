@@ -32,7 +32,9 @@ struct Waviness {
 /// (docs/residual-patterns.md): chi2 > chi2_threshold = 2 ln(M/α) and variance_drop ≥ the minimum fraction.
 struct WavinessScan {
   WaveDirection direction = WaveDirection::Helix;
-  bool scanned = false;            ///< false: fewer than 5 distinct positions or λ_min ≥ range length
+  bool scanned = false;            ///< false: fewer than 5 distinct positions or λ_min ≥ range length, or (traces)
+                                   ///< no dense line along this direction
+  bool no_dense_line = false;      ///< traces measured, but none along this direction: not scanned
   double min_wavelength_mm = 0.0;  ///< λ_min = 2 × largest spacing between neighbouring distinct positions, ≥ L/max_waves
   double max_wavelength_mm = 0.0;  ///< λ_max = range length
   std::size_t independent_wavelengths = 0; ///< M = max(1, 2⌈L (1/λ_min − 1/λ_max)⌉) (calibrated, see the doc)
