@@ -58,7 +58,6 @@ struct Layout {
   std::vector<double> helix_d_mm;       ///< one helix trace per entry (diameter)
   int profile_points = 200, helix_points = 300;
   std::set<std::pair<std::size_t, int>> undefined; ///< (trace number in the file, value index): not measured
-  bool repeat_first_helix = false;                 ///< the first flank's first helix trace listed twice
 };
 
 /// Normal deviation (µm, DIN sign: plus material positive) at (flank, tooth, ξ, z).
@@ -93,7 +92,6 @@ inline Export write_export(const gears::GearGeometry& g, const Layout& l, const 
     }
     ++trace;
   };
-  bool first_flank = true;
   for (const int tooth : l.teeth)
     for (const Flank side : {Flank::Left, Flank::Right}) {
       const char* name = side == Flank::Left ? "links" : "rechts";
@@ -104,14 +102,10 @@ inline Export write_export(const gears::GearGeometry& g, const Layout& l, const 
       }
       for (std::size_t k = 0; k < l.helix_d_mm.size(); ++k) {
         const double d = l.helix_d_mm[k], xi = g.roll_length_at(d);
-        const int repeat = first_flank && k == 0 && l.repeat_first_helix ? 2 : 1;
-        for (int r = 0; r < repeat; ++r) {
-          t += fmt::format("Flankenlinie: Zahn-Nr.: {} {} / {} Werte / d= {:.4f}\n", tooth, name, l.helix_points, d);
-          const int n = l.helix_points;
-          values(n, [&](int i) { return truth(side, tooth, xi, b * i / (n - 1)); }, -1.0);
-        }
+        t += fmt::format("Flankenlinie: Zahn-Nr.: {} {} / {} Werte / d= {:.4f}\n", tooth, name, l.helix_points, d);
+        const int n = l.helix_points;
+        values(n, [&](int i) { return truth(side, tooth, xi, b * i / (n - 1)); }, -1.0);
       }
-      first_flank = false;
     }
   return e;
 }
