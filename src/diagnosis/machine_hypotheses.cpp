@@ -15,12 +15,13 @@ namespace {
 
 using machine::ChangeLaw;
 
-/// A hypothesis before its fit: what it is, and its first-order columns at the points (n × p, µm per unit of each
-/// coefficient: mm or rad for a component change, µm for a wheel flank's slope and crowning).
+/// A hypothesis before its fit: what it is. Its first-order columns at the points (n × p, µm per unit of each
+/// coefficient: mm or rad for a component change, µm for a wheel flank's slope and crowning) are built when needed
+/// (Columns below) and not kept: 300 hypotheses × 10⁵ points would hold half a gigabyte.
 struct Hypothesis {
-  Candidate c;         ///< changes (size 1) or the one-sided wheel_flank_profile effect, qualifier
-  Eigen::MatrixXd X;   ///< n × p
+  Candidate c;         ///< changes (size 1, its law and τ) or the one-sided wheel_flank_profile effect, qualifier
   int component = -1;  ///< its component (−1: a wheel flank)
+  int side = 0;        ///< a wheel flank: 0 the one grinding the left flanks, 1 the right
 };
 
 struct LinearFit {
@@ -80,63 +81,77 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
   double job_s = setup.path().strokes().empty() ? 0.0 : setup.path().strokes().back().t_end_s;
   job_s = std::max(job_s, t.maxCoeff());
 
-  std::vector<Hypothesis> hyps;
   const Eigen::MatrixXd S = at.component_sensitivity_um(o.threads); // n × 43
+  // The hypothesis' columns: its component's column times its law, or the wheel flank's slope and crowning columns.
+  const auto columns_of = [&](const Hypothesis& h) -> Eigen::MatrixXd {
+    if (h.component < 0) {
+      Eigen::MatrixXd X(n, 2);
+      for (int j = 0; j < 2; ++j) {
+        std::vector<double> values(4, 0.0);
+        values[static_cast<size_t>(2 * h.side + j)] = 1.0;
+        const auto e = effects::make_effect("wheel_flank_profile", values, setup);
+        const effects::Effect* list[] = {e.get()};
+        X.col(j) = at.deviation_um(list, o.threads);
+      }
+      return X;
+    }
+    const Eigen::VectorXd col = S.col(h.component);
+    const auto& ch = h.c.changes.front();
+    switch (ch.law) {
+    case ChangeLaw::Constant: return col;
+    case ChangeLaw::LinearInTime: return col.cwiseProduct(t);
+    case ChangeLaw::SteadyState:
+      return col.cwiseProduct(Eigen::VectorXd(1.0 - (-(t.array() / ch.time_constant_s)).exp()));
+    case ChangeLaw::OncePerRevolution: {
+      Eigen::MatrixXd X(n, 2);
+      X.col(0) = col.cwiseProduct(Eigen::VectorXd(gamma.array().cos()));
+      X.col(1) = col.cwiseProduct(Eigen::VectorXd(gamma.array().sin()));
+      return X;
+    }
+    }
+    return col;
+  };
+
+  std::vector<Hypothesis> hyps;
   for (int k = 0; k < machine::kComponentCount; ++k) {
-    const Eigen::VectorXd col = S.col(k);
-    if (col.isZero(0.0)) continue;
+    if (S.col(k).isZero(0.0)) continue;
     const auto& info = machine::info(machine::component_at(k));
-    const auto add = [&](ChangeLaw law, Eigen::MatrixXd X, double tau = 0.0) {
+    const auto add = [&](ChangeLaw law, double tau = 0.0) {
       Hypothesis h;
       machine::ComponentChange ch;
       ch.component = info.id, ch.law = law, ch.time_constant_s = tau;
       h.c.changes.push_back(ch);
-      h.X = std::move(X);
       h.component = k;
       hyps.push_back(std::move(h));
     };
-    add(ChangeLaw::Constant, col);
+    add(ChangeLaw::Constant);
     if (job_s > 0.0) {
-      add(ChangeLaw::LinearInTime, col.cwiseProduct(t));
+      add(ChangeLaw::LinearInTime);
       // τ on a grid over the job: with one or two teeth measured a time constant is rarely determined, and a law
       // whose τ the data do not fix is reported as the linear drift it then looks like (below).
-      for (double f : {0.125, 0.25, 0.5, 1.0, 2.0})
-        add(ChangeLaw::SteadyState, col.cwiseProduct(Eigen::VectorXd((-(t.array() / (f * job_s))).exp().matrix()).unaryExpr(
-                                                         [](double e) { return 1.0 - e; })),
-            f * job_s);
+      for (double f : {0.125, 0.25, 0.5, 1.0, 2.0}) add(ChangeLaw::SteadyState, f * job_s);
     }
-    if (info.axis == machine::Axis::C && info.position_dependent) {
-      Eigen::MatrixXd X(n, 2);
-      X.col(0) = col.cwiseProduct(Eigen::VectorXd(gamma.array().cos()));
-      X.col(1) = col.cwiseProduct(Eigen::VectorXd(gamma.array().sin()));
-      add(ChangeLaw::OncePerRevolution, std::move(X));
-    }
+    if (info.axis == machine::Axis::C && info.position_dependent) add(ChangeLaw::OncePerRevolution);
   }
   // One wheel flank's profile error: the gear flanks it grinds, slope and crowning (µm), the other flank untouched.
   for (const int side : {0, 1}) {
     Hypothesis h;
-    h.X.resize(n, 2);
-    for (int j = 0; j < 2; ++j) {
-      std::vector<double> values(4, 0.0);
-      values[static_cast<size_t>(2 * side + j)] = 1.0;
-      const auto e = effects::make_effect("wheel_flank_profile", values, setup);
-      const effects::Effect* list[] = {e.get()};
-      h.X.col(j) = at.deviation_um(list, o.threads);
-    }
-    if (h.X.isZero(0.0)) continue;
+    h.side = side;
     h.c.effects.push_back({"wheel_flank_profile", std::vector<double>(4, 0.0)});
     h.c.qualifier = side == 0 ? "(left)" : "(right)";
     hyps.push_back(std::move(h));
   }
 
   std::vector<Candidate> out;
-  std::vector<Eigen::MatrixXd> columns; // projected, parallel to out, for the equivalence of the best
+  std::vector<const Hypothesis*> source; // parallel to out: what to rebuild the columns of
   // A hypothesis whose largest plausible size changes the projected data by less than 1e-4 µm RMS is invisible on
   // these flanks (a roll of the wheel spindle about its own axis turns a surface of revolution into itself): its fit
   // would be numerical noise with a huge value, so it is not tried.
   const double rms_scale = 1.0 / std::sqrt(static_cast<double>(n));
   for (auto& h : hyps) {
-    Eigen::MatrixXd Xp = projected(h.X, st);
+    const Eigen::MatrixXd X = columns_of(h);
+    if (X.isZero(0.0)) continue;
+    const Eigen::MatrixXd Xp = projected(X, st);
     double largest = 0.0;
     for (Eigen::Index j = 0; j < Xp.cols(); ++j) {
       double size_limit = 100.0; // µm: a wheel flank's slope or crowning
@@ -151,7 +166,7 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
     if (largest < 1e-4) continue;
     const LinearFit f = fit(Xp, y, st.count());
     if (!f.ok) continue;
-    Candidate c = std::move(h.c);
+    Candidate c = h.c;
     const auto p = static_cast<double>(Xp.cols());
     c.delta_bic = static_cast<double>(n) * std::log(std::max(f.rss, 1e-300) / rss0) + p * ln_n;
     c.explained_fraction = 1.0 - f.rss / rss0;
@@ -218,7 +233,7 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
     }
     c.explanations.push_back(c.description);
     out.push_back(std::move(c));
-    columns.push_back(std::move(Xp));
+    source.push_back(&h);
   }
 
   // A steady state whose time constant the data do not fix is no finding: kept only where it beats the same
@@ -244,9 +259,11 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
   if (order.empty()) return {};
   // The best one's equivalence class: those within the threshold whose fields are ≥ 95 % alike both ways.
   const size_t best = order.front();
+  const Eigen::MatrixXd best_columns = projected(columns_of(*source[best]), st);
   for (size_t a : order) {
     if (a == best || !out[a].rejected.empty() || out[a].delta_bic >= out[best].delta_bic + o.bic_threshold) continue;
-    const double alike = std::min(share_in_span(columns[a], columns[best]), share_in_span(columns[best], columns[a]));
+    const Eigen::MatrixXd other = projected(columns_of(*source[a]), st);
+    const double alike = std::min(share_in_span(other, best_columns), share_in_span(best_columns, other));
     if (alike >= 0.95) out[best].equivalent.push_back(out[a].name());
   }
   std::vector<Candidate> ranked;
