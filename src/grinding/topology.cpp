@@ -1,6 +1,6 @@
 #include "geartopo/grinding/topology.hpp"
 
-#include <atomic>
+#include <mutex>
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/core/parallel.hpp"
@@ -88,7 +88,10 @@ std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const G
   const FlankDeviation dev(setup.flanks(), setup.wheel(), setup.path(), process);
 
   std::vector<FlankTopology> out(2 * teeth.size());
-  std::atomic<long long> flanks_done{0};
+  // Reports in order: the count is raised and reported under one lock, so a progress display (or a Python callback,
+  // which takes its own lock) never sees 6 before 5.
+  std::mutex report;
+  long long flanks_done = 0;
   parallel_for(static_cast<int>(out.size()), o.threads, [&](int i) {
     FlankTopology& ft = out[static_cast<size_t>(i)];
     ft.tooth = teeth[static_cast<size_t>(i / 2)];
@@ -101,7 +104,10 @@ std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const G
       ft.helix.push_back({helix_xi, g.diameter_at_roll_length(helix_xi), z,
                           units::um_from_mm(dev.at(ft.tooth, ft.flank, helix_xi, z, o.method).deviation_mm)});
     if (!pts.dense_rows.empty()) ft.dense = grid(dev, g, ft.tooth, ft.flank, pts.dense_rows, pts.dense_cols, o.method);
-    if (o.progress) o.progress(++flanks_done, static_cast<long long>(out.size()));
+    if (o.progress) {
+      const std::lock_guard lock(report);
+      o.progress(++flanks_done, static_cast<long long>(out.size()));
+    }
   });
   require_all_reached(out);
   attach_design(out, setup.design());

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <mutex>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -244,7 +245,10 @@ MonteCarloRun run_prepared(const Prepared& p, const workbench::Workbench& wb, co
   const size_t variants = run.without.size();
   std::vector<GearQuantities> before(static_cast<size_t>(count)), after(static_cast<size_t>(count));
   std::vector<std::vector<GearQuantities>> without(static_cast<size_t>(count));
-  std::atomic<long long> done{0};
+  // Reports in order: the count is raised and reported under one lock, so a progress display (or a Python callback,
+  // which takes its own lock) never sees 6 before 5.
+  std::mutex report;
+  long long done = 0;
   std::atomic<bool> stopped{false}; // on_sample_done threw: start no more samples
   if (options.on_prepared) options.on_prepared();
   parallel_for(count, options.threads, [&](int i) {
@@ -273,6 +277,7 @@ MonteCarloRun run_prepared(const Prepared& p, const workbench::Workbench& wb, co
     }
     if (options.on_sample_done) {
       try {
+        const std::lock_guard lock(report);
         options.on_sample_done(++done, count);
       } catch (...) {
         stopped = true;
