@@ -32,7 +32,7 @@ public:
 
 private:
   std::vector<machine::ComponentChange> changes_;
-  bool constant_ = false; ///< every change constant and of a position-independent component's frame: one pose
+  bool constant_ = false; ///< every change zero: J_twistw_e(q)·δe depends on q (the C angle turns w) otherwise
 };
 
 /// The pose of a pose-error twist (translation; rotation vector), the inverse of machine::pose_error_twist.
