@@ -188,6 +188,53 @@ std::string parameters_text(const Candidate& c) {
   return s;
 }
 
+/// What a thermal drift with an undetermined amplitude or time constant still fixes: its X and Z growth between t1 and
+/// t2 (s). δ(t) = g·(1 − e^(−t/τ)), so Δ = g·(e^(−t1/τ) − e^(−t2/τ)); 1σ by the delta method from the linearised
+/// covariance (Candidate::linearised_sd and correlation: the same linearisation, so the trade between g and τ, which
+/// leaves Δ nearly unchanged, cancels). Empty for another effect or when its values are all determined.
+std::vector<std::string> thermal_growth_determined(const Candidate& c, double t1_s, double t2_s) {
+  std::vector<std::string> out;
+  long slot = 0; // the effect's first fitted value among the candidate's fitted values
+  for (size_t e = 0; e < c.effects.size(); ++e) {
+    const auto& params = c.parameters[e];
+    const auto fitted_index = [&](const std::string& key) -> long {
+      long k = slot;
+      for (const auto& p : params) {
+        if (!p.fitted) continue;
+        if (p.key == key) return k;
+        ++k;
+      }
+      return -1;
+    };
+    const auto value_of = [&](const std::string& key) {
+      for (const auto& p : params)
+        if (p.key == key) return &p;
+      return static_cast<const FittedParameter*>(nullptr);
+    };
+    const FittedParameter *x = value_of("x_growth_um"), *z = value_of("z_growth_um"), *tau = value_of("time_constant_s");
+    const long it = fitted_index("time_constant_s");
+    const bool usable = c.effects[e].type == "thermal_drift" && x && z && tau && it >= 0 && tau->value > 0.0 &&
+                        c.linearised_sd.size() == c.correlation.rows() && c.correlation.rows() > it;
+    if (usable && !(x->determined && z->determined && tau->determined)) {
+      const double a = std::exp(-t1_s / tau->value), b = std::exp(-t2_s / tau->value);
+      for (const FittedParameter* g : {x, z}) {
+        const long ig = fitted_index(g->key);
+        if (ig < 0 || ig >= c.correlation.rows()) continue;
+        // Δ = g (a − b); ∂Δ/∂g = a − b, ∂Δ/∂τ = g (a t1 − b t2)/τ².
+        const double delta = g->value * (a - b);
+        const double dg = (a - b) * c.linearised_sd(ig);
+        const double dt = g->value * (a * t1_s - b * t2_s) / (tau->value * tau->value) * c.linearised_sd(it);
+        const double var = dg * dg + dt * dt + 2.0 * c.correlation(ig, it) * dg * dt;
+        out.push_back(fmt::format("{} grew by {} µm between {:.1f} and {:.1f} min", g == x ? "X" : "Z",
+                                  text::with_uncertainty(delta, std::sqrt(std::max(var, 0.0)), true), t1_s / 60.0,
+                                  t2_s / 60.0));
+      }
+    }
+    for (const auto& p : params) slot += p.fitted ? 1 : 0;
+  }
+  return out;
+}
+
 /// The pattern of a residual r (µm, set-up terms removed), one sentence: the two largest named patterns
 /// (docs/residual-patterns.md) averaged over the measured flanks with their spread, and the RMS per tooth.
 std::string residual_pattern_sentence(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
@@ -605,6 +652,15 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     d.verdict += fmt::format(" {} fits better (ΔBIC {:.1f}) but was rejected: {}.", better->name(), better->delta_bic,
                              better->rejected);
   if (!d.withheld.empty() && d.rivals.empty()) d.verdict += " Not added to the scene: " + d.withheld + ".";
+  // What the data fix when single values are "not determined" (a thermal drift's amplitude and time constant).
+  if (d.chosen) {
+    double t1 = 1e300, t2 = -1e300;
+    for (size_t i = 0; i < pts.size(); ++i)
+      t1 = std::min(t1, at_points.path_point(i).time_s), t2 = std::max(t2, at_points.path_point(i).time_s);
+    d.determined = thermal_growth_determined(*d.chosen, t1, t2);
+    if (!d.determined.empty())
+      d.verdict += fmt::format(" Its single values are not all determined; the data fix: {}.", fmt::join(d.determined, "; "));
+  }
   if (!d.assumed.empty()) {
     std::string list;
     for (const auto& a : d.assumed) list += (list.empty() ? "" : "; ") + a;

@@ -358,10 +358,13 @@ Candidate fit_effects(const grinding::GrindingSetup& setup, const EffectContribu
   const double dof = n - static_cast<double>(f.size()) - setup_terms.count();
   const double sigma2 = best.rss / std::max(1.0, dof); // σ̂² (µm²)
   Eigen::VectorXd sd = linearised_sd(best, sigma2, o.covariance_ridge);
+  const Eigen::VectorXd sd_linear = sd; // scaled units
   widen_by_profile_likelihood(f, best, box, sigma2, o, sd);
   const Eigen::VectorXd r0v = Eigen::Map<const Eigen::VectorXd>(r0.data(), static_cast<Eigen::Index>(r0.size()));
   Candidate c = to_candidate(f, best, sd, setup_terms.remove(r0v).squaredNorm(), n);
   c.correlation = linearised_correlation(best, o.covariance_ridge);
+  c.linearised_sd.resize(sd_linear.size());
+  for (Eigen::Index j = 0; j < sd_linear.size(); ++j) c.linearised_sd(j) = sd_linear(j) * f.spec(static_cast<size_t>(j)).typical;
   return c;
 }
 

@@ -299,6 +299,7 @@ nlohmann::json diagnosis_json(const std::string& scene, const std::string& measu
   j["residual_chi2_dof"] = d.chi2_dof;
   j["residual_pattern"] = d.residual_pattern.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.residual_pattern);
   j["assumed"] = d.assumed; // set-up values not fitted and not given: the effect's default
+  j["determined_by_the_data"] = d.determined; // when single values are "not determined": what the data do fix
   // scene_with_effect.yaml is written only for an accepted explanation; otherwise why not.
   j["scene_with_effect_withheld"] = d.withheld.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.withheld);
   j["verdict"] = d.verdict;

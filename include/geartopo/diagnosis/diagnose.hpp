@@ -79,6 +79,9 @@ struct Candidate {
   /// Correlation of the fitted parameters (p × p, unit-free; p the fitted parameters, effect by effect in parameter
   /// order) from the linearised covariance (JᵀJ)⁻¹; the uncertainties themselves may be wider (profile likelihood).
   Eigen::MatrixXd correlation;
+  /// The fitted parameters' σ from the same linearised covariance (p, file units), before the profile-likelihood
+  /// widening: with `correlation` the covariance a derived quantity's σ is taken from (delta method), consistently.
+  Eigen::VectorXd linearised_sd;
   std::string name() const;        ///< "thermal_drift", "thermal_drift + wheel_wear" or "E_AOA linear_in_time"
   int fitted_parameters() const;   ///< number of fitted parameters over its effects (count)
   /// Every effect of this one is in `bigger`, which has more (eccentricity in eccentricity + wheel_wear).
@@ -218,6 +221,12 @@ struct Diagnosis {
   /// interval, a runout frequency): the effect's default was assumed. One line each, e.g. "deflection.arbor_span_mm =
   /// 600 (assumed: the effect's default; the scene gives none and the flanks cannot identify it)".
   std::vector<std::string> assumed;
+  /// What the data do fix when single values of the chosen explanation are "not determined" (FittedParameter::
+  /// determined): for a thermal drift whose amplitude and time constant trade against each other, its X and Z growth
+  /// between the first and the last measured point's grinding time, with 1σ by the delta method from the linearised
+  /// covariance (Candidate::linearised_sd, correlation), e.g. "X grew by +5.5 ± 0.3 µm between 0.0 and 9.4 min".
+  /// Empty when every value is determined.
+  std::vector<std::string> determined;
   /// Why `chosen` is not to be added to the scene (scene_with_effect.yaml is then not written): ambiguous, or a fitted
   /// parameter at the end of its allowed range (the fit pushed against its box: the value is no measurement). Empty:
   /// accepted, add it.
