@@ -103,10 +103,10 @@ std::string machine_changes_yaml_items(const std::vector<machine::ComponentChang
                        machine::to_string(c.law), machine::size_key(c.law, q), c.size * scale);
     if (c.law == machine::ChangeLaw::SteadyState) out += fmt::format(", time_constant_s: {:.6g}", c.time_constant_s);
     if (c.law == machine::ChangeLaw::OncePerRevolution) out += fmt::format(", phase_deg: {:.6g}", c.phase_rad * 180.0 / 3.141592653589793);
-    out += "}";
+    // The fit's 1σ: a prediction from the completed scene draws the size within it (docs/monte-carlo.md).
     if (i < uncertainties.size() && uncertainties[i] > 0.0)
-      out += fmt::format("  # ± {:.2g} (1σ of the fit)", uncertainties[i] * scale);
-    out += "\n";
+      out += fmt::format(", uncertainty: {{{}: {:.6g}}}", machine::size_key(c.law, q), uncertainties[i] * scale);
+    out += "}\n";
   }
   return out;
 }

@@ -137,7 +137,9 @@ SampleDraw SampleModel::draw(long long k) const {
   if (any_uncertain(effect_values_)) {
     d.z_effects.resize(static_cast<Eigen::Index>(effect_values_.size()));
     for (auto& z : d.z_effects) z = rng.normal();
-    if (effect_factor_.rows() == d.z_effects.size() && effect_factor_.rows() > 0) d.z_effects = effect_factor_ * d.z_effects;
+    // The effects' values are correlated as the scene says; the machine changes' sizes after them independently.
+    const Eigen::Index m = effect_factor_.rows();
+    if (m > 0 && m <= d.z_effects.size()) d.z_effects.head(m) = effect_factor_ * d.z_effects.head(m);
   }
   return d;
 }
@@ -146,12 +148,20 @@ std::vector<std::unique_ptr<effects::Effect>> SampleModel::drawn_effects(const S
   if (d.z_effects.size() == 0) return {};
   // Each uncertain value within its standard uncertainty, held inside the effect's range.
   std::vector<scene::EffectSpec> specs = wb_.scene.effects;
+  std::vector<machine::ComponentChange> changes = wb_.scene.machine_changes;
   for (size_t j = 0; j < effect_values_.size(); ++j) {
     const auto& v = effect_values_[j];
+    const double z = d.z_effects(static_cast<Eigen::Index>(j));
+    if (v.change) { // file units of the change's key, held inside what the scene reader accepts
+      auto& ch = changes[v.effect];
+      const double scale = machine::file_per_internal(ch.law, machine::info(ch.component).quantity);
+      ch.size = std::clamp(ch.size * scale + v.u * z, v.lo, v.hi) / scale;
+      continue;
+    }
     auto& value = specs[v.effect].values[v.value];
-    value = std::clamp(value + v.u * d.z_effects(static_cast<Eigen::Index>(j)), v.lo, v.hi);
+    value = std::clamp(value + v.u * z, v.lo, v.hi);
   }
-  return workbench::make_effects(specs, wb_.scene.machine_changes, wb_.setup);
+  return workbench::make_effects(specs, changes, wb_.setup);
 }
 
 SampleGears SampleModel::exact(const SampleDraw& d) const {

@@ -22,6 +22,12 @@ std::vector<UncertainEffectValue> uncertain_effect_values(const scene::Scene& s)
     for (size_t v = 0; v < s.effect_uncertainties[e].size() && v < s.effects[e].values.size() && v < params.size(); ++v)
       out.push_back({e, v, s.effect_uncertainties[e][v], params[v].lo, params[v].hi});
   }
+  for (size_t c = 0; c < s.machine_changes.size() && c < s.machine_change_uncertainties.size(); ++c) {
+    if (!(s.machine_change_uncertainties[c] > 0.0)) continue;
+    const auto& ch = s.machine_changes[c];
+    const double limit = scene::machine_change_limit(ch.law, machine::info(ch.component).quantity);
+    out.push_back({c, 0, s.machine_change_uncertainties[c], -limit, limit, true});
+  }
   return out;
 }
 

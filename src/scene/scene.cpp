@@ -511,7 +511,7 @@ void read_machine_changes(MapReader& top, ReadContext& ctx, Scene& scene) {
     const auto q = machine::info(c.component).quantity;
     // Hard limits, far beyond any real machine (a change of 1 mm or 10 mrad, 100 µm or 1 mrad per minute): a value
     // beyond them is a typing error, not a drift.
-    const double limit = (q == machine::Quantity::Length ? 1000.0 : 10000.0) / (c.law == machine::ChangeLaw::LinearInTime ? 10.0 : 1.0);
+    const double limit = machine_change_limit(c.law, q);
     const auto other_q = q == machine::Quantity::Length ? machine::Quantity::Angle : machine::Quantity::Length;
     if (m.has(machine::size_key(c.law, other_q)) && !m.has(machine::size_key(c.law, q)) &&
         m.optional_number(machine::size_key(c.law, other_q), {-1e300, 1e300})) // located at that key
@@ -527,8 +527,14 @@ void read_machine_changes(MapReader& top, ReadContext& ctx, Scene& scene) {
                                                    "epsilon_zc); {} does not turn with the table", name));
       c.phase_rad = units::rad_from_deg(m.number("phase_deg", {-360.0, 360.0}));
     }
+    double u = 0.0;
+    if (auto um = m.optional_map("uncertainty")) {
+      u = um->number(machine::size_key(c.law, q), {0.0, limit});
+      um->finish();
+    }
     m.finish();
     scene.machine_changes.push_back(c);
+    scene.machine_change_uncertainties.push_back(u);
   }
 }
 
@@ -569,6 +575,10 @@ MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& 
 }
 
 } // namespace
+
+double machine_change_limit(machine::ChangeLaw law, machine::Quantity q) {
+  return (q == machine::Quantity::Length ? 1000.0 : 10000.0) / (law == machine::ChangeLaw::LinearInTime ? 10.0 : 1.0);
+}
 
 MachineUncertainty MachineUncertainty::defaults() {
   MachineUncertainty u;

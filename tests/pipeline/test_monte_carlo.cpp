@@ -191,6 +191,28 @@ TEST(MonteCarlo, UncertainCIndexIsANormallyDistributedRigidRotation) {
   }
 }
 
+// The same rotation from a machine change instead of the map: E_COC changed by 0 ± 20 µrad (scene key
+// machine_changes with its uncertainty, as diagnose writes a change it found) and nothing else uncertain. The
+// prediction draws the change's size within its σ: the rotation line is N(0, (r_b cos β_b u)²) again.
+TEST(MonteCarlo, AnUncertainMachineChangeIsDrawnWithinItsSigma) {
+  const double u_urad = 20.0;
+  const workbench::Workbench wb(scene::parse_scene(
+      mc_scene_text(kNothingUncertain) + "machine_changes:\n  - {component: E_COC, change_urad: 0, uncertainty: {change_urad: 20}}\n",
+      "mem"));
+  ASSERT_EQ(wb.scene.machine_change_uncertainties, std::vector<double>{20.0});
+  const double sigma_um = rotation_sd_um(u_urad);
+  pipeline::MonteCarloOptions o;
+  o.samples = 200;
+  o.seed = 7;
+  const auto s = pipeline::summarise(pipeline::run_monte_carlo(wb, nominal_corrections(wb), o));
+  for (const auto* side : {&s.before, &s.after}) {
+    const auto& rot = (*side)[static_cast<size_t>(s.find("rotation_um"))];
+    EXPECT_NEAR(rot.median, 0.0, 3 * 0.089 * sigma_um);
+    EXPECT_NEAR(rot.low, -1.96 * sigma_um, 3 * 0.189 * sigma_um);
+    EXPECT_NEAR(rot.high, 1.96 * sigma_um, 3 * 0.189 * sigma_um);
+  }
+}
+
 // Rounding to a step q leaves an error uniform on [−q/2, q/2]: standard deviation q/√12 (GUM 4.3.7), never more than
 // q/2. Checked on the corrections of a gear whose corrections spread over many steps.
 TEST(MonteCarlo, RoundingToTheResolutionErrsUniformly) {

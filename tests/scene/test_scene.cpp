@@ -595,6 +595,10 @@ TEST(SceneMachineChanges, EveryLawIsReadInItsFileUnits) {
   EXPECT_NEAR(c[2].at(0.0, 0.0), 0.0, 1e-15);
   EXPECT_EQ(c[3].law, machine::ChangeLaw::Constant);           // the default law
   EXPECT_NEAR(c[3].at(1e4, 1.0), 3e-3, 1e-15);
+  EXPECT_EQ(sc.machine_change_uncertainties, (std::vector<double>{0.0, 0.0, 0.0, 0.0}));
+  const auto u = scene::parse_scene(kGood + "machine_changes:\n  - {component: E_AOA, law: linear_in_time, "
+                                            "rate_urad_per_min: 40, uncertainty: {rate_urad_per_min: 1.2}}\n", "mem");
+  EXPECT_EQ(u.machine_change_uncertainties, std::vector<double>{1.2});
 }
 
 TEST(SceneMachineChanges, BadChangesAreLocated) {
@@ -614,4 +618,7 @@ TEST(SceneMachineChanges, BadChangesAreLocated) {
                                              "  - {component: E_XOC, change_um: 4}\n");
   EXPECT_EQ(twice, "scenes/x.yaml:12:17: machine_changes[1].component: E_XOC with law constant is listed twice");
   EXPECT_NE(error_of(kGood + "machine_changes: {component: E_XOC}\n").find("expected a list"), std::string::npos);
+  EXPECT_NE(err("{component: E_XOC, change_um: 3, uncertainty: {change_um: -1}}").find("is outside [0, 1000]"),
+            std::string::npos);
+  EXPECT_NE(err("{component: E_XOC, change_um: 3, uncertainty: {change_urad: 1}}").find("uncertainty"), std::string::npos);
 }

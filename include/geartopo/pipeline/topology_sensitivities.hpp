@@ -24,10 +24,13 @@
 namespace geartopo::pipeline {
 
 /// An effect value with a standard uncertainty (Scene::effect_uncertainties), in the order the Monte Carlo draws them.
+/// After the effects' values come the uncertain sizes of the scene's machine_changes (`change` true, `effect` the
+/// index into Scene::machine_changes; only those with an uncertainty, so a scene without them draws as before).
 struct UncertainEffectValue {
-  size_t effect = 0, value = 0; ///< indices into Scene::effects and its values
+  size_t effect = 0, value = 0; ///< indices into Scene::effects and its values (a change: into machine_changes, 0)
   double u = 0.0;               ///< standard uncertainty (file units)
   double lo = 0.0, hi = 0.0;    ///< the effect's allowed range: a draw is held inside it
+  bool change = false;          ///< a machine change's size (file units of its law's key)
 };
 std::vector<UncertainEffectValue> uncertain_effect_values(const scene::Scene& scene);
 

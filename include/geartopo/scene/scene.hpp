@@ -77,6 +77,10 @@ struct ReportHeader {
   std::optional<int> tolerance_class;      ///< class whose tolerance boxes the trace charts show (else the achieved one)
 };
 
+/// The largest |size| a machine_changes entry may give (file units of its key): 1000 µm or 10000 µrad, a tenth of that
+/// per minute for a rate — far beyond any real machine, so a value beyond it is a typing error.
+double machine_change_limit(machine::ChangeLaw law, machine::Quantity q);
+
 struct Scene {
   std::string source;      ///< file the scene was read from (as given), for messages
   std::string name;        ///< free text
@@ -94,6 +98,9 @@ struct Scene {
   /// Error components changed since the map in `machine` was measured, with their laws in time (scene key
   /// `machine_changes`, docs/scene-format.md): what diagnosis finds beyond the library. Empty: none.
   std::vector<machine::ComponentChange> machine_changes;
+  /// Standard uncertainty of each change's size (file units of its key), parallel to machine_changes; 0: exact. From
+  /// the item's `uncertainty: {<key>: u}`; the Monte Carlo prediction draws the size within it.
+  std::vector<double> machine_change_uncertainties;
   ReportHeader report;
   /// Standard uncertainty of each effect value (file units), parallel to `effects` and their values, e.g. from the fit
   /// that identified them (diagnosis); empty or missing entries: exact. The Monte Carlo prediction draws the values
