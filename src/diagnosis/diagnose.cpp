@@ -513,7 +513,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   std::string hypothesis_rivals, nearest_element;
   const std::string chosen_at_bound = d.chosen ? at_the_end_of_its_range(*d.chosen) : std::string();
   if (d.unexplained || !chosen_at_bound.empty()) {
-    d.hypotheses = fit_machine_hypotheses(setup, at_points, d.residual_before_um, setup_terms, o);
+    d.hypotheses = fit_machine_hypotheses(setup, at_points, d.residual_before_um, setup_terms, o, in_scene);
     if (!d.hypotheses.empty() && d.hypotheses.front().rejected.empty() && d.hypotheses.front().delta_bic < -o.bic_threshold &&
         (!d.chosen || d.hypotheses.front().delta_bic < d.chosen->delta_bic + o.bic_threshold)) {
       Candidate& h = d.hypotheses.front();

@@ -66,7 +66,7 @@ std::string unit_of(machine::Quantity q) { return q == machine::Quantity::Length
 
 std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& setup, const EffectContribution& at,
                                               const std::vector<double>& residual_um, const SetupTermModel& st,
-                                              const DiagnoseOptions& o) {
+                                              const DiagnoseOptions& o, const std::vector<std::string>& in_scene) {
   const auto n = static_cast<Eigen::Index>(residual_um.size());
   const Eigen::VectorXd y = st.remove(Eigen::Map<const Eigen::VectorXd>(residual_um.data(), n));
   const double rss0 = y.squaredNorm(), ln_n = std::log(static_cast<double>(n));
@@ -148,7 +148,12 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
   // these flanks (a roll of the wheel spindle about its own axis turns a surface of revolution into itself): its fit
   // would be numerical noise with a huge value, so it is not tried.
   const double rms_scale = 1.0 / std::sqrt(static_cast<double>(n));
+  const auto modelled = [&](const Hypothesis& h) {
+    const std::string name = h.component >= 0 ? h.c.name() : "wheel_flank_profile";
+    return std::find(in_scene.begin(), in_scene.end(), name) != in_scene.end();
+  };
   for (auto& h : hyps) {
+    if (modelled(h)) continue;
     const Eigen::MatrixXd X = columns_of(h);
     if (X.isZero(0.0)) continue;
     const Eigen::MatrixXd Xp = projected(X, st);

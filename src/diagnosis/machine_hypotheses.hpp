@@ -23,8 +23,10 @@ namespace geartopo::diagnosis {
 /// rejected ones. Each Candidate has its `changes` (with change_sd) or its one-sided wheel_flank_profile effect, the
 /// description, ΔBIC against no hypothesis (set-up terms fitted in both), rms_before/after with the set-up removed,
 /// and for the first its `equivalent` hypotheses.
+/// `in_scene`: what the scene models already (effect types, changes as "E_AOA linear_in_time"): not proposed again, so
+/// that the completed scene never lists a change twice.
 std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& setup, const EffectContribution& at_points,
                                               const std::vector<double>& residual_um, const SetupTermModel& setup_terms,
-                                              const DiagnoseOptions& options);
+                                              const DiagnoseOptions& options, const std::vector<std::string>& in_scene = {});
 
 } // namespace geartopo::diagnosis

@@ -374,3 +374,36 @@ TEST(DeterminedByTheData, AThermalDriftWhoseTimeConstantIsOpenStillFixesItsGrowt
 
 } // namespace
 } // namespace independent_truth
+
+namespace independent_truth {
+namespace {
+
+TEST(BeyondLibrary, AChangeTheSceneHoldsIsNotProposedAgain) {
+  // The scene already says E_AOA drifts by 20 µrad/min; the measured gear drifted by 80. What is left is the same
+  // law once more: diagnose names one of its look-alikes (ε_xa, ε_xz, ε_xy turn the head about the same line), never
+  // E_AOA linear_in_time again, and the completed scene is read back with both entries.
+  scene::Scene s = scene::load_scene(kSceneFile);
+  machine::ComponentChange known;
+  known.component = machine::ComponentId::E_AOA;
+  known.law = machine::ChangeLaw::LinearInTime;
+  known.size = 20e-6 / 60.0;
+  s.machine_changes.push_back(known);
+  s.machine_change_uncertainties.push_back(0.0);
+  const workbench::Workbench model(std::move(s));
+  const double rate = 80e-6 / 60.0; // rad/s, the truth
+  const auto hidden = [&](const Contact& c) { return component_change_um(c, machine::ComponentId::E_AOA, rate * c.pp.time_s); };
+  const auto pts = measure_with(two_teeth(), hidden, 0.5, 91);
+  diagnosis::DiagnoseOptions o;
+  o.noise_um = 0.5;
+  const auto d = diagnosis::diagnose(model.setup, model.process(), pts, model.effect_types(), o);
+  SCOPED_TRACE(d.verdict);
+  ASSERT_TRUE(d.beyond_library);
+  const auto names = named_class(d);
+  EXPECT_FALSE(lists(names, "E_AOA linear_in_time"));
+  EXPECT_TRUE(lists(names, "epsilon_xa linear_in_time"));
+  const auto& ch = d.chosen->changes.front();
+  EXPECT_NEAR(ch.size * 60e6, 60.0, 2.0 * d.chosen->change_sd.front() * 60e6 + 1.2); // the rest: 60 µrad/min
+}
+
+} // namespace
+} // namespace independent_truth

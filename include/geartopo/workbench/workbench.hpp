@@ -53,7 +53,8 @@ struct Workbench {
   const grinding::GrindingProcess& machine_and_effects() const {
     return effects_process ? static_cast<const grinding::GrindingProcess&>(*effects_process) : machine_process;
   }
-  /// The types of the scene's effects, in scene order ("thermal_drift", …): what diagnosis must not propose again.
+  /// The types of the scene's effects, in scene order ("thermal_drift", …), then its machine changes by name and law
+  /// ("E_AOA linear_in_time", diagnosis::Candidate::name's form): what diagnosis must not propose again.
   std::vector<std::string> effect_types() const;
 };
 
