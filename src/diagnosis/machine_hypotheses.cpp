@@ -183,13 +183,15 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
       auto& ch = c.changes.front();
       const auto q = machine::info(ch.component).quantity;
       const double limit = q == machine::Quantity::Length ? o.plausible_change_um * 1e-3 : o.plausible_change_urad * 1e-6;
-      double sd = std::sqrt(f.cov(0, 0)), reach = 0.0, reach_sd = 0.0;
+      double sd = std::sqrt(f.cov(0, 0)), reach = 0.0, reach_sd = 0.0, phase_sd_deg = 0.0;
       if (ch.law == ChangeLaw::OncePerRevolution) {
-        // a·cos(γ − φ) = a cos φ · cos γ + a sin φ · sin γ.
+        // a·cos(γ − φ) = a cos φ · cos γ + a sin φ · sin γ: a = |β|, φ = atan2(β₁, β₀); to first order
+        // δa = gᵀδβ and δφ = hᵀδβ / a with g = (cos φ, sin φ), h = (−sin φ, cos φ).
         const double a = f.beta.norm();
         ch.size = a, ch.phase_rad = std::atan2(f.beta(1), f.beta(0));
-        const Eigen::Vector2d g = a > 0.0 ? Eigen::Vector2d(f.beta / a) : Eigen::Vector2d(1.0, 0.0);
+        const Eigen::Vector2d g(std::cos(ch.phase_rad), std::sin(ch.phase_rad)), h(-g(1), g(0));
         sd = std::sqrt(g.dot(f.cov * g));
+        phase_sd_deg = a > 0.0 ? std::sqrt(h.dot(f.cov * h)) / a * 180.0 / std::numbers::pi : 180.0;
         reach = a, reach_sd = sd;
       } else {
         ch.size = f.beta(0);
@@ -201,13 +203,17 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
       // Its size as a parameter (file units), and the law's second one where it has one: the phase fitted, τ chosen
       // from the grid — each charged ln n in the ΔBIC like any fitted parameter.
       std::vector<FittedParameter> params{{machine::size_key(ch.law, q), ch.size * scale, sd * scale, true}};
-      if (ch.law == ChangeLaw::OncePerRevolution) params.push_back({"phase_deg", ch.phase_rad * 180.0 / std::numbers::pi, 0.0, true});
+      const double phase_deg = ch.phase_rad * 180.0 / std::numbers::pi;
+      if (ch.law == ChangeLaw::OncePerRevolution) params.push_back({"phase_deg", phase_deg, phase_sd_deg, true});
       if (ch.law == ChangeLaw::SteadyState) {
         params.push_back({"time_constant_s", ch.time_constant_s, 0.0, true});
         c.delta_bic += ln_n;
       }
       c.parameters.push_back(std::move(params));
-      std::string text = machine::describe(ch, text::with_uncertainty(ch.size * scale, sd * scale, true));
+      std::string text = machine::describe(ch, text::with_uncertainty(ch.size * scale, sd * scale, true),
+                                           ch.law == ChangeLaw::OncePerRevolution
+                                               ? text::with_uncertainty(phase_deg, phase_sd_deg)
+                                               : std::string());
       if (ch.law == ChangeLaw::LinearInTime)
         text += fmt::format(" ({:+.3g} {} over the {:.0f}-min job)", ch.size * job_s * (scale / 60.0), unit_of(q), job_s / 60.0);
       c.description = text;

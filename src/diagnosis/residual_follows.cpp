@@ -79,10 +79,12 @@ ResidualFollows residual_dependence(const grinding::GrindingSetup& setup,
     const double sigma2 = rss / std::max(1.0, static_cast<double>(n) - st.count() - p);
     const Eigen::MatrixXd cov = sigma2 * (Xp.transpose() * Xp).inverse();
     if (v.periodic) {
-      const double a = beta.norm();
-      const Eigen::Vector2d g = a > 0.0 ? Eigen::Vector2d(beta / a) : Eigen::Vector2d(1.0, 0.0);
+      // a·cos(γ − φ): a = |β|, φ = atan2(β₁, β₀); δa = gᵀδβ, δφ = hᵀδβ / a, g = (cos φ, sin φ), h = (−sin φ, cos φ).
+      const double a = beta.norm(), phi = std::atan2(beta(1), beta(0));
+      const Eigen::Vector2d g(std::cos(phi), std::sin(phi)), h(-g(1), g(0));
       d.slope_um = a, d.slope_sd_um = std::sqrt(g.dot(cov * g));
-      d.phase_deg = std::atan2(beta(1), beta(0)) * 180.0 / std::numbers::pi;
+      d.phase_deg = phi * 180.0 / std::numbers::pi;
+      d.phase_sd_deg = a > 0.0 ? std::sqrt(h.dot(cov * h)) / a * 180.0 / std::numbers::pi : 180.0;
     } else {
       d.slope_um = beta(0), d.slope_sd_um = std::sqrt(cov(0, 0));
     }
@@ -92,8 +94,9 @@ ResidualFollows residual_dependence(const grinding::GrindingSetup& setup,
     d.values = std::move(v.values);
     const std::string size = text::with_uncertainty(d.slope_um, d.slope_sd_um, !v.periodic);
     d.sentence = v.periodic
-                     ? fmt::format("{}: {} µm once per revolution, largest at {:.0f}° (ΔBIC {:.1f}, {:.0f} % of the residual)",
-                                   d.variable, size, d.phase_deg, d.delta_bic, 100.0 * d.explained_fraction)
+                     ? fmt::format("{}: {} µm once per revolution, largest at {}° (ΔBIC {:.1f}, {:.0f} % of the residual)",
+                                   d.variable, size, text::with_uncertainty(d.phase_deg, d.phase_sd_deg), d.delta_bic,
+                                   100.0 * d.explained_fraction)
                      : fmt::format("{}: {} µm/{} over {:.4g} … {:.4g} {} (ΔBIC {:.1f}, {:.0f} % of the residual)",
                                    d.variable, size, d.unit, d.lo, d.hi, d.unit, d.delta_bic, 100.0 * d.explained_fraction);
     out.push_back(std::move(d));

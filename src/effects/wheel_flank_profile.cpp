@@ -3,10 +3,11 @@
 // flanks ground by that wheel flank show it. Parameters as the gear-profile errors caused (plus material), per gear
 // flank: a slope from root to tip and a crowning (middle above the ends) over the active profile, as wheel_profile.
 // Diagnosis tries it one wheel flank at a time, after the library (docs/diagnosis.md, "Beyond the library").
-#include "geartopo/effects/effect.hpp"
-#include "geartopo/core/units.hpp"
+#include "dressed_profile.hpp"
 
-#include <cmath>
+#include "geartopo/effects/effect.hpp"
+
+#include <optional>
 
 namespace geartopo::effects {
 namespace {
@@ -34,37 +35,16 @@ public:
 
   void bind(const grinding::GrindingSetup& s) override {
     Effect::bind(s);
-    const auto& r = s.ranges();
-    // Wheel radii at which the wheel touches the start and the end of the active profile (both wheel flanks are
-    // dressed to the same nominal form), and on which side of the wheel's middle each gear flank's contact lies.
-    auto wheel_radius_at = [&](double xi) {
-      const auto fp = s.flanks().at(1, geartopo::Flank::Right, xi, s.wheel().contact_offset_mm(geartopo::Flank::Right, xi));
-      const Eigen::Vector3d q = s.wheel().reference_wMg().inverse() * fp.p;
-      return std::hypot(q.x(), q.z());
-    };
-    r_root_ = wheel_radius_at(r.xi_active_start_mm);
-    r_tip_ = wheel_radius_at(r.xi_active_end_mm);
-    // The wheel axis is the wheel frame's y: a right flank's contact (tooth 1, the reference space's right flank, as
-    // wheel_radius_at above) lies on one side of the wheel's middle plane, every left flank's on the other.
-    const double xi_mid = 0.5 * (r.xi_active_start_mm + r.xi_active_end_mm);
-    const auto fp = s.flanks().at(1, geartopo::Flank::Right, xi_mid, s.wheel().contact_offset_mm(geartopo::Flank::Right, xi_mid));
-    const double v_right = (s.wheel().reference_wMg().inverse() * fp.p).y();
-    v_middle_ = 0.5 * (s.wheel().v_min() + s.wheel().v_max());
-    left_above_ = !(v_right > v_middle_);
+    profile_.emplace(s);
   }
 
   double wheel_radius_error_mm(double v, const grinding::PathPoint&) const override {
-    const bool left = (v > v_middle_) == left_above_;
-    const double slope = value(left ? 0 : 2), crowning = value(left ? 1 : 3);
-    const double rho = (r_root_ - setup().wheel().radius(v)) / (r_root_ - r_tip_); // 0 at the gear's root, 1 at its tip
-    const double t = rho - 0.5;
-    const double normal = -units::mm_from_um(slope * t + crowning * (1.0 - 4.0 * t * t)); // a bigger wheel removes material
-    return normal / setup().wheel().normal_per_radial(v);
+    const bool left = profile_->grinds_left(v);
+    return profile_->radius_error_mm(setup(), v, value(left ? 0 : 2), value(left ? 1 : 3));
   }
 
 private:
-  double r_root_ = 0.0, r_tip_ = 0.0, v_middle_ = 0.0;
-  bool left_above_ = true;
+  std::optional<DressedProfile> profile_; ///< where the active profile lies on the wheel; set by bind
 };
 
 } // namespace

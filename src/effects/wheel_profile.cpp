@@ -2,12 +2,13 @@
 // wheel flanks get the same error (the dressing path is symmetric), so every gear flank shows the same profile
 // slope and crowning. Parameters are given as the gear-profile errors they cause (plus material): a slope from root
 // to tip and a crowning (middle above the ends) over the active profile.
+#include "dressed_profile.hpp"
+
 #include "geartopo/effects/effect.hpp"
-#include "geartopo/core/units.hpp"
 
 #include "geartopo/gears/involute_helicoid.hpp"
 
-#include <cmath>
+#include <optional>
 
 namespace geartopo::effects {
 namespace {
@@ -30,27 +31,15 @@ public:
 
   void bind(const grinding::GrindingSetup& s) override {
     Effect::bind(s);
-    // Wheel radii at which the wheel touches the start and the end of the active profile.
-    const auto& r = s.ranges();
-    auto wheel_radius_at = [&](double xi) {
-      const auto fp = s.flanks().at(1, geartopo::Flank::Right, xi, s.wheel().contact_offset_mm(geartopo::Flank::Right, xi));
-      const Eigen::Vector3d q = s.wheel().reference_wMg().inverse() * fp.p;
-      return std::hypot(q.x(), q.z());
-    };
-    r_root_ = wheel_radius_at(r.xi_active_start_mm);
-    r_tip_ = wheel_radius_at(r.xi_active_end_mm);
+    profile_.emplace(s);
   }
 
   double wheel_radius_error_mm(double v, const grinding::PathPoint&) const override {
-    const double rho = (r_root_ - setup().wheel().radius(v)) / (r_root_ - r_tip_); // 0 at the gear's root, 1 at its tip
-    const double t = rho - 0.5;
-    // The dresser's error is normal to the wheel surface; as a radial change it is 1/normal_per_radial larger.
-    const double normal = -units::mm_from_um(value(0) * t + value(1) * (1.0 - 4.0 * t * t)); // a bigger wheel removes material
-    return normal / setup().wheel().normal_per_radial(v);
+    return profile_->radius_error_mm(setup(), v, value(0), value(1));
   }
 
 private:
-  double r_root_ = 0.0, r_tip_ = 0.0;
+  std::optional<DressedProfile> profile_; ///< where the active profile lies on the wheel; set by bind
 };
 
 } // namespace

@@ -49,7 +49,7 @@ double file_per_internal(ChangeLaw law, Quantity q) {
   return law == ChangeLaw::LinearInTime ? unit * 60.0 : unit;
 }
 
-std::string describe(const ComponentChange& c, const std::string& size_text) {
+std::string describe(const ComponentChange& c, const std::string& size_text, const std::string& phase_text) {
   const auto& i = info(c.component);
   const std::string unit = i.quantity == Quantity::Length ? "µm" : "µrad";
   switch (c.law) {
@@ -59,8 +59,9 @@ std::string describe(const ComponentChange& c, const std::string& size_text) {
     return fmt::format("{} ({}) approaches {} {} with a time constant of {:.0f} s", i.name, i.meaning, size_text, unit,
                        c.time_constant_s);
   case ChangeLaw::OncePerRevolution:
-    return fmt::format("{} ({}) changed by {} {} once per table revolution, largest at C = {:.0f}°", i.name, i.meaning,
-                       size_text, unit, c.phase_rad * 180.0 / 3.141592653589793);
+    return fmt::format("{} ({}) changed by {} {} once per table revolution, largest at C = {}°", i.name, i.meaning,
+                       size_text, unit,
+                       phase_text.empty() ? fmt::format("{:.0f}", c.phase_rad * 180.0 / 3.141592653589793) : phase_text);
   }
   return {};
 }

@@ -103,7 +103,8 @@ nlohmann::json compare_json(const std::string& scene, const std::string& measure
                      {"range", {d.lo, d.hi}},
                      {"sentence", d.sentence}};
     if (d.once_per_revolution) {
-      f["amplitude_um"] = d.slope_um, f["amplitude_sd_um"] = d.slope_sd_um, f["phase_deg"] = d.phase_deg;
+      f["amplitude_um"] = d.slope_um, f["amplitude_sd_um"] = d.slope_sd_um, f["phase_deg"] = d.phase_deg,
+      f["phase_sd_deg"] = d.phase_sd_deg;
     } else {
       f["slope_um_per_unit"] = d.slope_um, f["slope_sd_um_per_unit"] = d.slope_sd_um;
     }
@@ -190,6 +191,11 @@ nlohmann::json candidate_json(const diagnosis::Candidate& c) {
                      {"fitted", p.fitted},
                      {"determined", p.determined}};
     }
+  // A machine change's fitted values (its size under its law's key, the phase or τ) stand where an effect's do.
+  if (c.effects.empty() && !c.parameters.empty())
+    for (const auto& p : c.parameters.front())
+      params[p.key] = {{"value", p.value}, {"uncertainty", p.uncertainty}, {"unit", unit_of_key(p.key)},
+                       {"fitted", p.fitted}, {"determined", p.determined}};
   j["parameters"] = params;
   if (!c.changes.empty()) {
     // Beyond the library: the changed component, its law and size in file units (docs/scene-format.md,

@@ -27,8 +27,8 @@ void render_residual_follows(const diagnosis::ResidualFollows& follows,
     const auto& d = follows.variables[k];
     render::LineChart c;
     c.title = d.once_per_revolution
-                  ? fmt::format("{}: {:.2f} ± {:.2f} µm at {:.0f}° (ΔBIC {:.0f}{})", d.variable, d.slope_um, d.slope_sd_um,
-                                d.phase_deg, d.delta_bic, d.significant ? "" : ", not significant")
+                  ? fmt::format("{}: {:.2f} ± {:.2f} µm at {:.0f} ± {:.0f}° (ΔBIC {:.0f}{})", d.variable, d.slope_um,
+                                d.slope_sd_um, d.phase_deg, d.phase_sd_deg, d.delta_bic, d.significant ? "" : ", not significant")
                   : fmt::format("{}: {:+.3g} ± {:.2g} µm/{} (ΔBIC {:.0f}{})", d.variable, d.slope_um, d.slope_sd_um,
                                 d.unit, d.delta_bic, d.significant ? "" : ", not significant");
     c.x = {d.variable, d.unit, std::nullopt, std::nullopt};

@@ -165,6 +165,22 @@ TEST(MonteCarlo, NothingUncertainReproducesTheNominalGears) {
     }
 }
 
+namespace {
+
+/// The rotation line of both gears is N(0, σ²) over 200 samples. Standard errors of the sample quantiles of N(0, σ²) for
+/// M = 200: median 1.2533 σ/√M = 0.089 σ; the 2.5 % and 97.5 % quantiles √(p(1−p)/M)/φ(1.96) σ = 0.189 σ. Allowed:
+/// three standard errors.
+void expect_normal_rotation(const pipeline::MonteCarloSummary& s, double sigma_um) {
+  for (const auto* side : {&s.before, &s.after}) {
+    const auto& rot = (*side)[static_cast<size_t>(s.find("rotation_um"))];
+    EXPECT_NEAR(rot.median, 0.0, 3 * 0.089 * sigma_um);
+    EXPECT_NEAR(rot.low, -1.96 * sigma_um, 3 * 0.189 * sigma_um);
+    EXPECT_NEAR(rot.high, 1.96 * sigma_um, 3 * 0.189 * sigma_um);
+  }
+}
+
+} // namespace
+
 // A C zero-position error E_COC of standard uncertainty u and nothing else turns the whole gear about its axis by
 // u·N(0, 1): every flank moves along its normal by r_b·cos β_b·E_COC, left and right in opposite senses. So the
 // rotation line is N(0, σ²) with σ = r_b cos β_b u, and pitch (F_p), thickness and flank form do not change.
@@ -177,13 +193,8 @@ TEST(MonteCarlo, UncertainCIndexIsANormallyDistributedRigidRotation) {
   o.samples = 200;
   o.seed = 7;
   const auto s = pipeline::summarise(pipeline::run_monte_carlo(wb, nominal_corrections(wb), o));
-  // Standard errors of the sample quantiles of N(0, σ²) for M = 200: median 1.2533 σ/√M = 0.089 σ; the 2.5 % and
-  // 97.5 % quantiles √(p(1−p)/M)/φ(1.96) σ = 0.189 σ. Allowed: three standard errors.
+  expect_normal_rotation(s, sigma_um);
   for (const auto* side : {&s.before, &s.after}) {
-    const auto& rot = (*side)[static_cast<size_t>(s.find("rotation_um"))];
-    EXPECT_NEAR(rot.median, 0.0, 3 * 0.089 * sigma_um);
-    EXPECT_NEAR(rot.low, -1.96 * sigma_um, 3 * 0.189 * sigma_um);
-    EXPECT_NEAR(rot.high, 1.96 * sigma_um, 3 * 0.189 * sigma_um);
     const auto& fp = (*side)[static_cast<size_t>(s.find("F_p_um"))];
     EXPECT_LT(fp.high, 0.01 * sigma_um) << "a rigid rotation changed the pitch";
     const auto& th = (*side)[static_cast<size_t>(s.find("thickness_um"))];
@@ -204,13 +215,7 @@ TEST(MonteCarlo, AnUncertainMachineChangeIsDrawnWithinItsSigma) {
   pipeline::MonteCarloOptions o;
   o.samples = 200;
   o.seed = 7;
-  const auto s = pipeline::summarise(pipeline::run_monte_carlo(wb, nominal_corrections(wb), o));
-  for (const auto* side : {&s.before, &s.after}) {
-    const auto& rot = (*side)[static_cast<size_t>(s.find("rotation_um"))];
-    EXPECT_NEAR(rot.median, 0.0, 3 * 0.089 * sigma_um);
-    EXPECT_NEAR(rot.low, -1.96 * sigma_um, 3 * 0.189 * sigma_um);
-    EXPECT_NEAR(rot.high, 1.96 * sigma_um, 3 * 0.189 * sigma_um);
-  }
+  expect_normal_rotation(pipeline::summarise(pipeline::run_monte_carlo(wb, nominal_corrections(wb), o)), sigma_um);
 }
 
 // Rounding to a step q leaves an error uniform on [−q/2, q/2]: standard deviation q/√12 (GUM 4.3.7), never more than

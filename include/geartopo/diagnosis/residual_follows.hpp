@@ -19,7 +19,7 @@ struct ProcessDependence {
   std::string unit;      ///< the variable's unit: "min", "stroke", "mm", "deg"
   bool once_per_revolution = false; ///< the C angle: a·cos(γ − φ) instead of a slope
   double slope_um = 0.0, slope_sd_um = 0.0; ///< µm per unit of the variable (the amplitude a for the C angle), 1σ
-  double phase_deg = 0.0;              ///< C angle only: φ, where the residual is largest
+  double phase_deg = 0.0, phase_sd_deg = 0.0; ///< C angle only: φ, where the residual is largest, and its 1σ
   double explained_fraction = 0.0;     ///< of the residual's sum of squares with the set-up terms removed (0 … 1)
   double delta_bic = 0.0;              ///< n ln(RSS/RSS₀) + p ln n against no dependence (unit-free)
   bool significant = false;            ///< ΔBIC below −threshold

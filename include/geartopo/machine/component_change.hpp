@@ -44,7 +44,8 @@ std::string size_key(ChangeLaw law, Quantity q);
 double file_per_internal(ChangeLaw law, Quantity q);
 
 /// "E_AOA (zero-position error of A) drifts by +0.80 µrad/min": a change in words, with its size in file units and an
-/// optional uncertainty text already formatted.
-std::string describe(const ComponentChange& change, const std::string& size_text);
+/// optional uncertainty text already formatted; for a change once per revolution, `phase_text` (its φ in degrees, with
+/// its uncertainty) replaces the bare φ.
+std::string describe(const ComponentChange& change, const std::string& size_text, const std::string& phase_text = {});
 
 } // namespace geartopo::machine
