@@ -20,12 +20,17 @@ void BM_SimulateCrowned(benchmark::State& state) {
   o.profile_points = o.helix_points = 2;
   o.dense_rows = static_cast<int>(state.range(0));
   o.dense_cols = static_cast<int>(state.range(1));
+  o.threads = static_cast<int>(state.range(2)); // 0: all hardware threads
   for (auto _ : state) benchmark::DoNotOptimize(grinding::simulate_topology(b.setup, b.process(), o).data());
 }
+// Args: dense rows, dense cols, threads (0: all). threads 1 compares with `…/threads:1` of bench_simulation.cpp
+// where the machine is shared (CPU time of one thread is not inflated by other users' load).
 BENCHMARK(BM_SimulateCrowned)
-    ->Name("Simulate/exact/grid7x9+traces2/crowned")->Args({0, 0})->UseRealTime()->Unit(benchmark::kMillisecond);
+    ->Name("Simulate/exact/grid7x9+traces2/crowned")->Args({0, 0, 0})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SimulateCrowned)
-    ->Name("Simulate/exact/dense50x100+grid7x9+traces2/crowned")->Args({50, 100})->Iterations(3)->UseRealTime()
+    ->Name("Simulate/exact/grid7x9+traces2/crowned/threads:1")->Args({0, 0, 1})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SimulateCrowned)
+    ->Name("Simulate/exact/dense50x100+grid7x9+traces2/crowned")->Args({50, 100, 0})->Iterations(3)->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
 void BM_TwistFreeMotions(benchmark::State& state) {

@@ -242,6 +242,18 @@ CorrectionTable compute_corrections(const grinding::GrindingSetup& setup, const 
   return CorrectionTable(std::move(rows));
 }
 
+machine::Pose CompensatedProcess::actual_wMg(const grinding::PathPoint& pp) const {
+  const Vector5d dq = table_.at(pp.space, pp.z_stroke_mm);
+  if (pose_ == CorrectedPose::Exact) return inner_.actual_wMg(with_correction(pp, dq));
+  // q′ = q + Δq on Z and C (the axes a stroke moves anyway), then the ideal motion of X, Y, A from q′ (header).
+  grinding::PathPoint moved = pp;
+  moved.q.z += dq(2);
+  moved.q.c += dq(4);
+  const machine::Pose wMg = inner_.actual_wMg(moved);
+  if (dq(0) == 0.0 && dq(1) == 0.0 && dq(3) == 0.0) return wMg;
+  return wMg * machine::ideal_xya_motion_gMg(moved.q.y, dq(0), dq(1), dq(3));
+}
+
 grinding::PathPoint CompensatedProcess::corrected(const grinding::PathPoint& pp) const {
   return with_correction(pp, table_.at(pp.space, pp.z_stroke_mm));
 }

@@ -47,7 +47,18 @@ machine::Vector5d CorrectionTable::at(int space, double z) const {
   if (first_row == last_row) return machine::Vector5d::Zero();
   const auto first = z_.begin() + static_cast<long>(first_row);
   const auto last = z_.begin() + static_cast<long>(last_row);
-  const auto hi = std::lower_bound(first, last, z);
+  // std::lower_bound's answer (the first row with z_stroke ≥ z), found from where an even spacing puts z and walked
+  // to the exact row: the rows are sampled at a constant step, so the guess is almost always right.
+  auto hi = first;
+  if (const long n = last - first; n > 1) {
+    const double guess = std::ceil((z - *first) / (*(last - 1) - *first) * static_cast<double>(n - 1));
+    // (a NaN guess — one row position repeated — starts the walk at the first row)
+    hi = first + (guess > 0.0 ? static_cast<long>(std::min(guess, static_cast<double>(n))) : 0L);
+    while (hi != first && *(hi - 1) >= z) --hi;
+    while (hi != last && *hi < z) ++hi;
+  } else if (*first < z) {
+    hi = last;
+  }
   const auto row = [&](std::vector<double>::const_iterator it) -> const CorrectionRow& {
     return rows_[static_cast<size_t>(it - z_.begin())];
   };

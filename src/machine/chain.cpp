@@ -33,6 +33,16 @@ Pose ideal_wMg(const AxisPose& q) {
   return Pose(m);
 }
 
+Pose ideal_xya_motion_gMg(double y, double dx, double dy, double da) {
+  const double s = std::sin(da), h = std::sin(0.5 * da), c = std::cos(da);
+  Pose m = Pose::Identity();
+  m.linear() << 1.0, 0.0, 0.0, //
+      0.0, c, -s,               //
+      0.0, s, c;
+  m.translation() = Eigen::Vector3d(dx, dy - (y + dy) * 2.0 * h * h, (y + dy) * s);
+  return m;
+}
+
 IdealFrames ideal_frames(const AxisPose& q) {
   IdealFrames f;
   f.wMF = Rz(-q.c);

@@ -46,12 +46,29 @@ struct StrokeCheck {
 CorrectionTable compute_corrections(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
                                     const StrokeCheck& strokes, const CompensationOptions& options);
 
+/// How CompensatedProcess evaluates the wheel pose at a corrected command.
+enum class CorrectedPose {
+  /// The inner process at q + Δq: every joint whose axis the correction moves is recomputed (X, Y, A besides C, Z).
+  Exact,
+  /// The inner process at q with C and Z corrected, then the ideal motion of the X, Y, A corrections:
+  /// wMg(q + Δq) = wMg(q′) · ideal(q′)⁻¹ · ideal(q′ + Δq_XYA), q′ = q + Δq_ZC. Exact for the ideal chain; what it
+  /// leaves out is how the pose error E_w (wMg = E_w·ideal) changes over the µm and µrad of Δq_XYA: the slopes of the
+  /// X, Y, A error tables times Δq, the squareness times ΔY, the Y slide's errors and the A axis' location turned by
+  /// ΔA — products of an error and a correction, second order: 0.004 µm on the crowned default scene (motions up to
+  /// 70 µm / 484 µrad), ≤ 0.011 µm with every component at up to 50 µm / 100 µrad (test_corrected_pose.cpp compares
+  /// it with Exact). Along a stroke X, Y and A then stand still for the chain evaluator, which recomputes only C and
+  /// Z: a modified or compensated gear costs 1.3× a plain one instead of 1.9× (docs/performance.md).
+  HeldSlideErrors,
+};
+
 /// The machine running the corrected commands: command q + Δq(space, Z) for every path point.
 class CompensatedProcess final : public grinding::GrindingProcess {
 public:
-  CompensatedProcess(const grinding::GrindingProcess& inner, const CorrectionTable& table) : inner_(inner), table_(table) {}
+  CompensatedProcess(const grinding::GrindingProcess& inner, const CorrectionTable& table,
+                     CorrectedPose pose = CorrectedPose::HeldSlideErrors)
+      : inner_(inner), table_(table), pose_(pose) {}
 
-  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override { return inner_.actual_wMg(corrected(pp)); }
+  machine::Pose actual_wMg(const grinding::PathPoint& pp) const override;
   /// First order: the inner twist at the corrected command plus the ideal spatial Jacobian times the correction.
   machine::Vector6d error_twist_w(const grinding::PathPoint& pp) const override;
   double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override {
@@ -64,6 +81,7 @@ public:
 private:
   const grinding::GrindingProcess& inner_;
   const CorrectionTable& table_;
+  CorrectedPose pose_;
 };
 
 } // namespace geartopo::compensation

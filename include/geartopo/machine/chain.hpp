@@ -22,6 +22,12 @@ namespace geartopo::machine {
 /// Ideal wheel pose in the workpiece frame, the closed form of Eq. 11.
 Pose ideal_wMg(const AxisPose& q);
 
+/// The ideal wheel motion, in the wheel frame g, of moving X, Y and A by dx, dy, da from a pose with Y at y:
+/// gMg′ = ideal_wMg(q)⁻¹ · ideal_wMg(q + (dx, dy, 0, da, 0)). With wMg = Rz(−c)·T(x,0,0)·T(0,0,z)·Rx(a)·T(0,y,0) the
+/// C and Z factors cancel and Rx(−a)·T(dx,0,0)·Rx(a) = T(dx,0,0), so gMg′ = T(dx, −y, 0)·Rx(da)·T(0, y + dy, 0): the
+/// rotation Rx(da) and the translation (dx, dy − (y + dy)·2 sin²(da/2), (y + dy) sin da) — independent of x, z, a, c.
+Pose ideal_xya_motion_gMg(double y, double dx, double dy, double da);
+
 /// The ideal chain's cumulative frames at q (w → F → X → Z → A → g): where the first-order error model and the
 /// axis Jacobian place their twists.
 struct IdealFrames {
