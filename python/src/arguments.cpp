@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace py = pybind11;
@@ -18,7 +19,17 @@ std::vector<int> teeth_argument(const py::object& teeth, int z, const std::vecto
   }
   std::vector<int> out;
   for (const auto& item : py::iter(teeth)) {
-    const long long v = py::int_(py::reinterpret_borrow<py::object>(item)).cast<long long>();
+    // A tooth is a whole number: 1.5 or True is refused, not truncated to 1 (an integral float such as 18.0 is read).
+    const auto object = py::reinterpret_borrow<py::object>(item);
+    if (py::isinstance<py::bool_>(object) ||
+        (py::isinstance<py::float_>(object) && object.cast<double>() != std::floor(object.cast<double>())) ||
+        !(py::isinstance<py::int_>(object) || py::isinstance<py::float_>(object) || py::hasattr(object, "__index__")))
+      throw std::invalid_argument(fmt::format("teeth: {} is not a tooth number (a whole number of 1..{})",
+                                              py::repr(object).cast<std::string>(), z));
+    const double as_double = py::float_(object).cast<double>();
+    if (!std::isfinite(as_double) || std::abs(as_double) > 1e9)
+      throw std::invalid_argument(fmt::format("teeth: {} is not a tooth number of 1..{}", py::repr(object).cast<std::string>(), z));
+    const long long v = py::int_(object).cast<long long>();
     if (v < 1 || v > z) throw std::invalid_argument(fmt::format("teeth: {} is not a tooth number of 1..{}", v, z));
     if (std::find(out.begin(), out.end(), static_cast<int>(v)) != out.end())
       throw std::invalid_argument(fmt::format("teeth: tooth {} is listed twice", v));

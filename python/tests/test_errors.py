@@ -72,11 +72,27 @@ def test_measured_arrays_are_checked_element_by_element(scene, truth):
         geartopo.compare(scene, m)
 
 
+def test_a_tooth_number_is_a_whole_number_never_truncated(scene, truth):
+    m = geartopo.synth(truth)
+    m["tooth"] = m["tooth"].astype(float)
+    m["tooth"][6] = 1.5
+    with pytest.raises(geartopo.InputError, match=r"^measured arrays:7: tooth: 1\.5 is not a whole number"):
+        geartopo.compare(scene, m)
+    m["tooth"][6] = 2.0**32 + 1  # numpy's cast to int would wrap it round to tooth 1
+    with pytest.raises(geartopo.InputError, match=r"^measured arrays:7: tooth: 4294967297 is not a whole number"):
+        geartopo.compare(scene, m)
+    m["tooth"][6] = m["tooth"][5]  # a whole number given as a float is read
+    geartopo.compare(scene, m)
+
+
 @pytest.mark.parametrize("call, message", [
     (lambda s: geartopo.simulate(s, method="quadratic"), "method: 'quadratic' is not exact or linear"),
     (lambda s: geartopo.simulate(s, teeth=[0]), "teeth: 0 is not a tooth number of 1..35"),
     (lambda s: geartopo.simulate(s, teeth=[3, 3]), "teeth: tooth 3 is listed twice"),
     (lambda s: geartopo.simulate(s, teeth="some"), "teeth: 'some' is not \"all\" or a list"),
+    (lambda s: geartopo.simulate(s, teeth=[1.5]), "teeth: 1.5 is not a tooth number \\(a whole number of 1..35\\)"),
+    (lambda s: geartopo.simulate(s, teeth=[True]), "teeth: True is not a tooth number"),
+    (lambda s: geartopo.simulate(s, teeth=[1e300]), "teeth: 1e\\+300 is not a tooth number of 1..35"),
     (lambda s: geartopo.simulate(s, dense=(1, 5)), "dense: \\(1, 5\\) is not"),
     (lambda s: geartopo.evaluate(s, iso_direction="sideways"), "iso_direction: 'sideways' is not transverse or normal"),
     (lambda s: geartopo.compensate(s, method="magic"), "method: 'magic' is not paper, flank or cycle"),
