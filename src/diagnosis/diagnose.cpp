@@ -354,7 +354,9 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     // One wheel flank's profile error is a hypothesis beyond the library (machine_hypotheses.hpp), tried one flank at a
     // time when the library explains nothing; as a library candidate its four parameters would stand beside
     // wheel_profile's two for every symmetric dressing error.
-    if (!asked && t == "wheel_flank_profile") continue;
+    // So is the wheel's profile wearing with the strokes (wheel_profile_wear), which a wheel_wear + wheel_profile
+    // pair would otherwise meet in every ranked table.
+    if (!asked && (t == "wheel_flank_profile" || t == "wheel_profile_wear")) continue;
     const bool modelled = std::find(in_scene.begin(), in_scene.end(), t) != in_scene.end();
     if (modelled && asked)
       throw std::invalid_argument(fmt::format("diagnose: candidate '{}' is already in the scene's effects", t));

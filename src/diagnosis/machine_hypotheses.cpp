@@ -19,9 +19,11 @@ using machine::ChangeLaw;
 /// coefficient: mm or rad for a component change, µm for a wheel flank's slope and crowning) are built when needed
 /// (Columns below) and not kept: 300 hypotheses × 10⁵ points would hold half a gigabyte.
 struct Hypothesis {
-  Candidate c;         ///< changes (size 1, its law and τ) or the one-sided wheel_flank_profile effect, qualifier
-  int component = -1;  ///< its component (−1: a wheel flank)
-  int side = 0;        ///< a wheel flank: 0 the one grinding the left flanks, 1 the right
+  Candidate c;         ///< changes (size 1, its law and τ), or one effect (wheel_flank_profile on one side, qualifier;
+                       ///< wheel_profile_wear) whose linear parameters are fitted
+  int component = -1;  ///< its component (−1: an effect)
+  int side = 0;        ///< wheel_flank_profile: 0 the wheel flank grinding the left flanks, 1 the right
+  std::vector<int> fitted; ///< an effect: the indices of its parameters fitted (its columns), the others at default
 };
 
 struct LinearFit {
@@ -85,13 +87,14 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
   // The hypothesis' columns: its component's column times its law, or the wheel flank's slope and crowning columns.
   const auto columns_of = [&](const Hypothesis& h) -> Eigen::MatrixXd {
     if (h.component < 0) {
-      Eigen::MatrixXd X(n, 2);
-      for (int j = 0; j < 2; ++j) {
-        std::vector<double> values(4, 0.0);
-        values[static_cast<size_t>(2 * h.side + j)] = 1.0;
-        const auto e = effects::make_effect("wheel_flank_profile", values, setup);
+      const auto& spec = h.c.effects.front();
+      Eigen::MatrixXd X(n, static_cast<Eigen::Index>(h.fitted.size()));
+      for (size_t j = 0; j < h.fitted.size(); ++j) {
+        std::vector<double> values = spec.values;
+        values[static_cast<size_t>(h.fitted[j])] = 1.0; // every fitted parameter is linear (ParameterSpec::linear)
+        const auto e = effects::make_effect(spec.type, values, setup);
         const effects::Effect* list[] = {e.get()};
-        X.col(j) = at.deviation_um(list, o.threads);
+        X.col(static_cast<Eigen::Index>(j)) = at.deviation_um(list, o.threads);
       }
       return X;
     }
@@ -139,6 +142,15 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
     h.side = side;
     h.c.effects.push_back({"wheel_flank_profile", std::vector<double>(4, 0.0)});
     h.c.qualifier = side == 0 ? "(left)" : "(right)";
+    h.fitted = {2 * side, 2 * side + 1};
+    hyps.push_back(std::move(h));
+  }
+  // The wheel's profile wearing with every stroke (its edge faster than its flanks): the profile slope and crowning
+  // growing along the grinding order, not dressed during the gear.
+  {
+    Hypothesis h;
+    h.c.effects.push_back({"wheel_profile_wear", {0.0, 0.0, 0.0}});
+    h.fitted = {0, 1};
     hyps.push_back(std::move(h));
   }
 
@@ -149,7 +161,7 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
   // would be numerical noise with a huge value, so it is not tried.
   const double rms_scale = 1.0 / std::sqrt(static_cast<double>(n));
   const auto modelled = [&](const Hypothesis& h) {
-    const std::string name = h.component >= 0 ? h.c.name() : "wheel_flank_profile";
+    const std::string name = h.component >= 0 ? h.c.name() : h.c.effects.front().type;
     return std::find(in_scene.begin(), in_scene.end(), name) != in_scene.end();
   };
   for (auto& h : hyps) {
@@ -159,7 +171,7 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
     const Eigen::MatrixXd Xp = projected(X, st);
     double largest = 0.0;
     for (Eigen::Index j = 0; j < Xp.cols(); ++j) {
-      double size_limit = 100.0; // µm: a wheel flank's slope or crowning
+      double size_limit = 100.0; // µm: an effect's slope or crowning (per stroke)
       if (h.component >= 0) {
         const auto& ch = h.c.changes.front();
         const bool length = machine::info(ch.component).quantity == machine::Quantity::Length;
@@ -222,6 +234,27 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
                                  machine::info(ch.component).name, reach * (q == machine::Quantity::Length ? 1e3 : 1e6),
                                  unit_of(q), q == machine::Quantity::Length ? o.plausible_change_um : o.plausible_change_urad,
                                  unit_of(q));
+    } else if (c.effects.front().type == "wheel_profile_wear") {
+      auto& values = c.effects.front().values;
+      values[0] = f.beta(0), values[1] = f.beta(1);
+      const double slope_sd = std::sqrt(f.cov(0, 0)), crowning_sd = std::sqrt(f.cov(1, 1));
+      c.parameters.push_back({{"profile_slope_um_per_stroke", f.beta(0), slope_sd, true},
+                              {"profile_crowning_um_per_stroke", f.beta(1), crowning_sd, true},
+                              {"dressing_interval_strokes", 0.0, 0.0, false}});
+      const double strokes = static_cast<double>(setup.path().strokes().size());
+      c.description = fmt::format(
+          "the wheel's profile wears with the strokes: the gear profile slope changes by {} µm and its crowning by {} "
+          "µm per stroke ({:+.2f} µm and {:+.2f} µm over the {:.0f} strokes)",
+          text::with_uncertainty(f.beta(0), slope_sd, true), text::with_uncertainty(f.beta(1), crowning_sd, true),
+          f.beta(0) * strokes, f.beta(1) * strokes, strokes);
+      const auto specs = effects::make_effect("wheel_profile_wear")->parameters();
+      for (int j = 0; j < 2; ++j) {
+        const double v = f.beta(j), sd = std::sqrt(f.cov(j, j));
+        const auto& spec = specs[static_cast<size_t>(j)];
+        if (v - 2.0 * sd > spec.plausible_hi || v + 2.0 * sd < spec.plausible_lo)
+          c.rejected = fmt::format("{} = {:.3g} µm is outside its plausible range [{:g}, {:g}]", spec.key, v,
+                                   spec.plausible_lo, spec.plausible_hi);
+      }
     } else {
       const bool left = c.qualifier == "(left)";
       auto& values = c.effects.front().values;

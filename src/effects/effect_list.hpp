@@ -10,4 +10,5 @@
   X(wheel_profile)              \
   X(servo_lag)                  \
   X(wheel_runout)               \
-  X(wheel_flank_profile)
+  X(wheel_flank_profile)        \
+  X(wheel_profile_wear)
