@@ -4,10 +4,10 @@
 // it causes per stroke (plus material), over the active profile: a slope from root to tip and a crowning (middle above
 // the ends), both wheel flanks alike (the edge is shared). Diagnosis tries it beyond the library (docs/diagnosis.md).
 #include "dressed_profile.hpp"
+#include "strokes_since_dressing.hpp"
 
 #include "geartopo/effects/effect.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -40,12 +40,7 @@ public:
   }
 
   double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override {
-    // Strokes since the last dressing, with the running stroke's progress: wheel_wear's count.
-    const auto& path = setup().path();
-    double strokes = path.stroke_index(pp.space);
-    const int interval = static_cast<int>(std::lround(value(2)));
-    if (interval > 0) strokes = std::fmod(strokes, interval);
-    strokes += std::clamp(path.stroke_progress(pp.space, pp.z_stroke_mm), 0.0, 1.0);
+    const double strokes = strokes_since_dressing(setup(), pp, static_cast<int>(std::lround(value(2))));
     return profile_->radius_error_mm(setup(), v, value(0) * strokes, value(1) * strokes);
   }
 

@@ -1,6 +1,8 @@
 // Wheel wear with ground length: the wheel wears as it grinds, evenly along its surface normal over the profile, a
 // little with every stroke; dressing restores it every N strokes. A smaller wheel cuts less: plus material, growing along the grinding
 // order in a saw-tooth that dressing resets.
+#include "strokes_since_dressing.hpp"
+
 #include "geartopo/effects/effect.hpp"
 #include "geartopo/core/units.hpp"
 
@@ -26,12 +28,8 @@ public:
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<WheelWear>(*this); }
   double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override {
-    const auto& path = setup().path();
-    double strokes = path.stroke_index(pp.space);
-    const int interval = static_cast<int>(std::lround(value(1)));
-    if (interval > 0) strokes = std::fmod(strokes, interval);
-    const double progress = std::clamp(path.stroke_progress(pp.space, pp.z_stroke_mm), 0.0, 1.0);
-    const double normal_wear = units::mm_from_um(value(0)) * (strokes + progress);
+    const double strokes = strokes_since_dressing(setup(), pp, static_cast<int>(std::lround(value(1))));
+    const double normal_wear = units::mm_from_um(value(0)) * strokes;
     return -normal_wear / setup().wheel().normal_per_radial(v); // normal wear as a radial change
   }
 };
