@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <utility>
 
 namespace geartopo::diagnosis {
 namespace {
@@ -62,6 +64,49 @@ double share_in_span(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
 
 std::string unit_of(machine::Quantity q) { return q == machine::Quantity::Length ? "µm" : "µrad"; }
 
+/// A component's column (n, µm per unit) under a change's law: constant, × t, × (1 − e^(−t/τ)), or the pair
+/// (× cos γ, × sin γ) once per revolution (n × 1 or n × 2). t: the points' grinding times (s), γ: their C angles (rad).
+Eigen::MatrixXd law_columns(const Eigen::VectorXd& col, const machine::ComponentChange& ch, const Eigen::VectorXd& t,
+                            const Eigen::VectorXd& gamma) {
+  switch (ch.law) {
+  case ChangeLaw::Constant: return col;
+  case ChangeLaw::LinearInTime: return col.cwiseProduct(t);
+  case ChangeLaw::SteadyState: return col.cwiseProduct(Eigen::VectorXd(1.0 - (-(t.array() / ch.time_constant_s)).exp()));
+  case ChangeLaw::OncePerRevolution: {
+    Eigen::MatrixXd X(col.size(), 2);
+    X.col(0) = col.cwiseProduct(Eigen::VectorXd(gamma.array().cos()));
+    X.col(1) = col.cwiseProduct(Eigen::VectorXd(gamma.array().sin()));
+    return X;
+  }
+  }
+  return col;
+}
+
+/// One wheel flank's slope and crowning columns (n × 2, µm per µm): side 0 grinds the left flanks, 1 the right.
+Eigen::MatrixXd wheel_flank_columns(const grinding::GrindingSetup& setup, const EffectContribution& at, int side,
+                                    int threads) {
+  Eigen::MatrixXd X(static_cast<Eigen::Index>(at.size()), 2);
+  for (int j = 0; j < 2; ++j) {
+    std::vector<double> values(4, 0.0);
+    values[static_cast<size_t>(2 * side + j)] = 1.0;
+    const auto e = effects::make_effect("wheel_flank_profile", values, setup);
+    const effects::Effect* list[] = {e.get()};
+    X.col(j) = at.deviation_um(list, threads);
+  }
+  return X;
+}
+
+/// The points' grinding times (s) and C angles (rad), n each.
+std::pair<Eigen::VectorXd, Eigen::VectorXd> times_and_angles(const EffectContribution& at) {
+  const auto n = static_cast<Eigen::Index>(at.size());
+  Eigen::VectorXd t(n), gamma(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    t(i) = at.path_point(static_cast<size_t>(i)).time_s;
+    gamma(i) = at.path_point(static_cast<size_t>(i)).q.c;
+  }
+  return {t, gamma};
+}
+
 } // namespace
 
 std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& setup, const EffectContribution& at,
@@ -73,43 +118,15 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
   if (!(rss0 > 0.0) || n < 3) return {};
 
   // The job's duration: a drift's reach is judged over it (the last stroke's end, or the last point's time).
-  Eigen::VectorXd t(n), gamma(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    t(i) = at.path_point(static_cast<size_t>(i)).time_s;
-    gamma(i) = at.path_point(static_cast<size_t>(i)).q.c;
-  }
+  const auto [t, gamma] = times_and_angles(at);
   double job_s = setup.path().strokes().empty() ? 0.0 : setup.path().strokes().back().t_end_s;
   job_s = std::max(job_s, t.maxCoeff());
 
   const Eigen::MatrixXd S = at.component_sensitivity_um(o.threads); // n × 43
   // The hypothesis' columns: its component's column times its law, or the wheel flank's slope and crowning columns.
   const auto columns_of = [&](const Hypothesis& h) -> Eigen::MatrixXd {
-    if (h.component < 0) {
-      Eigen::MatrixXd X(n, 2);
-      for (int j = 0; j < 2; ++j) {
-        std::vector<double> values(4, 0.0);
-        values[static_cast<size_t>(2 * h.side + j)] = 1.0;
-        const auto e = effects::make_effect("wheel_flank_profile", values, setup);
-        const effects::Effect* list[] = {e.get()};
-        X.col(j) = at.deviation_um(list, o.threads);
-      }
-      return X;
-    }
-    const Eigen::VectorXd col = S.col(h.component);
-    const auto& ch = h.c.changes.front();
-    switch (ch.law) {
-    case ChangeLaw::Constant: return col;
-    case ChangeLaw::LinearInTime: return col.cwiseProduct(t);
-    case ChangeLaw::SteadyState:
-      return col.cwiseProduct(Eigen::VectorXd(1.0 - (-(t.array() / ch.time_constant_s)).exp()));
-    case ChangeLaw::OncePerRevolution: {
-      Eigen::MatrixXd X(n, 2);
-      X.col(0) = col.cwiseProduct(Eigen::VectorXd(gamma.array().cos()));
-      X.col(1) = col.cwiseProduct(Eigen::VectorXd(gamma.array().sin()));
-      return X;
-    }
-    }
-    return col;
+    if (h.component < 0) return wheel_flank_columns(setup, at, h.side, o.threads);
+    return law_columns(S.col(h.component), h.c.changes.front(), t, gamma);
   };
 
   std::vector<Hypothesis> hyps;
@@ -280,6 +297,33 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
   std::vector<Candidate> ranked;
   for (size_t a : order) ranked.push_back(std::move(out[a]));
   return ranked;
+}
+
+bool is_machine_hypothesis(const Candidate& c) {
+  if (c.changes.size() == 1 && c.effects.empty()) return true;
+  return c.changes.empty() && c.effects.size() == 1 && c.effects.front().type == "wheel_flank_profile" &&
+         (c.qualifier == "(left)" || c.qualifier == "(right)");
+}
+
+HypothesisField hypothesis_field(const grinding::GrindingSetup& setup, const EffectContribution& at, const Candidate& c,
+                                 int threads) {
+  if (!is_machine_hypothesis(c)) throw std::invalid_argument("hypothesis_field: " + c.name() + " is no machine hypothesis");
+  HypothesisField f;
+  if (!c.changes.empty()) {
+    const auto& ch = c.changes.front();
+    const auto [t, gamma] = times_and_angles(at);
+    const Eigen::MatrixXd S = at.component_sensitivity_um(threads); // n × 43
+    f.X = law_columns(S.col(machine::index(ch.component)), ch, t, gamma);
+    f.beta = ch.law == ChangeLaw::OncePerRevolution
+                 ? Eigen::VectorXd(Eigen::Vector2d(ch.size * std::cos(ch.phase_rad), ch.size * std::sin(ch.phase_rad)))
+                 : Eigen::VectorXd::Constant(1, ch.size);
+  } else {
+    const int side = c.qualifier == "(left)" ? 0 : 1;
+    const auto& v = c.effects.front().values;
+    f.X = wheel_flank_columns(setup, at, side, threads);
+    f.beta = Eigen::Vector2d(v[static_cast<size_t>(2 * side)], v[static_cast<size_t>(2 * side + 1)]);
+  }
+  return f;
 }
 
 } // namespace geartopo::diagnosis

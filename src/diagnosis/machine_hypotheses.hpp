@@ -29,4 +29,19 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
                                               const std::vector<double>& residual_um, const SetupTermModel& setup_terms,
                                               const DiagnoseOptions& options, const std::vector<std::string>& in_scene = {});
 
+/// Whether c is a hypothesis beyond the library: one component change under its law, or one wheel flank's profile
+/// error (its wheel_flank_profile effect qualified "(left)" or "(right)").
+bool is_machine_hypothesis(const Candidate& c);
+
+/// A hypothesis' first-order field at `at`'s points, linear in its coefficients: the columns fit_machine_hypotheses
+/// fits, X (n × p; µm per mm or rad of the component, or per µm of a wheel flank's slope and crowning), and the
+/// candidate's coefficients β (p; a once-per-revolution change as (a cos φ, a sin φ)): its field is X β (n, µm).
+/// Throws std::invalid_argument for a candidate that is no machine hypothesis.
+struct HypothesisField {
+  Eigen::MatrixXd X;
+  Eigen::VectorXd beta;
+};
+HypothesisField hypothesis_field(const grinding::GrindingSetup& setup, const EffectContribution& at, const Candidate& c,
+                                 int threads = 0);
+
 } // namespace geartopo::diagnosis
