@@ -23,6 +23,7 @@ void register_plan_command(CLI::App& app, Action& action) {
   struct Options {
     std::string scene, measured, out;
     double noise = 0.0;
+    std::string layout = "grid";
     measurement::KlingelnbergOptions mka;
   };
   auto opt = std::make_shared<Options>();
@@ -33,12 +34,18 @@ void register_plan_command(CLI::App& app, Action& action) {
   cmd->add_option("--out", opt->out, "Output directory: plan.json (default: print only)")->check(non_empty_path());
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated from the residual)")
       ->check(finite_in(0.0, 1000.0));
+  cmd->add_option("--layout", opt->layout,
+                  "What to measure on the new teeth: grid (7×9 per flank and denser) or traces (3 profile traces at "
+                  "face-width positions and 3 helix traces at diameters per flank, 100 points each, as a gear measuring "
+                  "machine takes them)")
+      ->check(CLI::IsMember({"grid", "traces"}));
   cmd->callback([&action, opt] {
     action = [opt] {
       const workbench::Workbench wb(opt->scene);
       const auto pts = read_measured_points(wb, opt->measured, opt->mka);
       diagnosis::DiagnoseOptions o;
       o.noise_um = opt->noise;
+      if (opt->layout == "traces") o.plan_layout = diagnosis::DiagnoseOptions::PlanLayout::Traces;
       Progress progress("diagnose", 0, "candidate fits");
       o.on_candidate_fitted = progress.callback();
       const auto d = diagnosis::diagnose(wb.setup, wb.process(), pts, wb.effect_types(), o);
@@ -53,10 +60,10 @@ void register_plan_command(CLI::App& app, Action& action) {
         const auto& p = *d.plan;
         std::cout << fmt::format("Ambiguous between {} and {} (ΔBIC gap {:.1f}).\n", p.first, p.second, p.delta_bic_gap);
         const auto& r = p.recommended;
-        std::cout << fmt::format("{} teeth {} with a {}×{} grid per flank: expected ΔBIC gap after refit {:.0f} if {} "
+        std::cout << fmt::format("{} teeth {} with {}: expected ΔBIC gap after refit {:.0f} if {} "
                                  "is right, {:.0f} if {} is (noise {:.2f} µm).\n",
                                  r.resolves ? "Measure" : "Not enough, the closest: measure", fmt::join(r.teeth, ","),
-                                 r.rows, r.cols, r.delta_bic_if_first, p.first, r.delta_bic_if_second, p.second,
+                                 diagnosis::what_to_measure(r), r.delta_bic_if_first, p.first, r.delta_bic_if_second, p.second,
                                  p.noise_um);
         std::cout << fmt::format("  {:>5} {:>10} {:>12}  {}\n", "tooth", "sep (σ)", "max |Δ| µm", "where");
         for (const auto& t : p.teeth)

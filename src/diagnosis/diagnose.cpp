@@ -42,6 +42,10 @@ void check_options(const DiagnoseOptions& o) {
   if (o.pair_candidates < 1) refuse("pair_candidates", static_cast<double>(o.pair_candidates), "≥ 1");
   if (!(std::isfinite(o.covariance_ridge) && o.covariance_ridge >= 0.0))
     refuse("covariance_ridge", o.covariance_ridge, "finite and ≥ 0");
+  if (o.plan_profile_traces < 1 || o.plan_helix_traces < 1)
+    refuse("plan_profile_traces / plan_helix_traces", std::min(o.plan_profile_traces, o.plan_helix_traces), "≥ 1");
+  if (o.plan_trace_points < 2) refuse("plan_trace_points", o.plan_trace_points, "≥ 2");
+  if (o.plan_rows < 1 || o.plan_cols < 1) refuse("plan_rows / plan_cols", std::min(o.plan_rows, o.plan_cols), "≥ 1");
   if (o.profile_walk_steps < 0) refuse("profile_walk_steps", o.profile_walk_steps, "≥ 0");
   if (!(std::isfinite(o.profile_min_step) && o.profile_min_step > 0.0))
     refuse("profile_min_step", o.profile_min_step, "finite and > 0");
@@ -67,15 +71,32 @@ std::string plan_sentence(const MeasurementPlan& plan, std::size_t named, double
     return static_cast<int>(std::max_element(v.begin(), v.end()) - v.begin()) + 1;
   };
   const auto& r = plan.recommended;
-  return fmt::format("{} teeth {} with a {} × {} grid per flank, both flanks ({} points): after both explanations are "
+  return fmt::format("{} teeth {} with {}, both flanks ({} points): after both explanations are "
                      "refitted, the expected ΔBIC gap is {:.0f} if {} is right and {:.0f} if {} is ({}{:g} needed; "
                      "{:.1f}σ apart before the refit, in units of the {:.2f} µm noise). Largest differences: {}; the "
                      "profile row {} and face-width column {} of the {} × {} grid carry most of it.",
                      r.resolves ? "To decide, measure" : "No option tried is expected to decide; the closest: measure",
-                     fmt::join(r.teeth, ","), r.rows, r.cols, r.points, r.delta_bic_if_first, plan.first,
+                     fmt::join(r.teeth, ","), what_to_measure(r), r.points, r.delta_bic_if_first, plan.first,
                      r.delta_bic_if_second, plan.second, r.resolves ? "≥ " : "< ", target,
                      r.separation_before_refit_sigma, plan.noise_um, teeth, best(plan.row_separation_sigma),
                      best(plan.col_separation_sigma), plan.rows, plan.cols);
+}
+
+/// Whether another measurement would tell an equivalence class's members apart, from their plan: the teeth that
+/// would, or that no tooth of this gear on the grids tried does (their fields are alike there too).
+std::string equivalence_sentence(const MeasurementPlan& plan) {
+  const auto& r = plan.recommended;
+  if (plan.teeth.empty()) return "Every tooth is measured: no measurement on this gear separates them.";
+  if (!r.resolves)
+    return fmt::format("No measurement of the other teeth tried separates them either (at most {:.1f}σ apart on "
+                       "teeth {} with {}; expected ΔBIC gap {:.0f} / {:.0f} after the refit): "
+                       "their fields are alike on every flank of this gear.",
+                       r.separation_before_refit_sigma, fmt::join(r.teeth, ","), what_to_measure(r), r.delta_bic_if_first,
+                       r.delta_bic_if_second);
+  return fmt::format("Measuring teeth {} with {} would separate them (expected ΔBIC gap {:.0f} "
+                     "if {} is right, {:.0f} if {} is).",
+                     fmt::join(r.teeth, ","), what_to_measure(r), r.delta_bic_if_first, plan.first, r.delta_bic_if_second,
+                     plan.second);
 }
 
 } // namespace
@@ -513,6 +534,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   // (a thermal drift whose time constant runs away turns into a drift rate), and a machine element whose law the data
   // do determine, fitting about as well, is named instead.
   std::string hypothesis_rivals, nearest_element;
+  std::optional<Candidate> equivalent_member; // the best other member of the chosen hypothesis' equivalence class
   const std::string chosen_at_bound = d.chosen ? at_the_end_of_its_range(*d.chosen) : std::string();
   if (d.unexplained || !chosen_at_bound.empty()) {
     d.hypotheses = fit_machine_hypotheses(setup, at_points, d.residual_before_um, setup_terms, o, in_scene);
@@ -533,11 +555,17 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
         d.beyond_library = true;
         d.unexplained = false;
         rem = std::move(hr);
+        // Within the threshold with a different field: rivals, as a library explanation's are (the verdict says
+        // "ambiguous between", the plan what separates them). An equivalent one is not: one class, said as such.
         for (size_t k = 1; k < d.hypotheses.size(); ++k) {
           const Candidate& c = d.hypotheses[k];
           if (!c.rejected.empty() || c.delta_bic >= h.delta_bic + o.bic_threshold) continue;
-          if (std::find(h.equivalent.begin(), h.equivalent.end(), c.name()) != h.equivalent.end()) continue;
+          if (std::find(h.equivalent.begin(), h.equivalent.end(), c.name()) != h.equivalent.end()) {
+            if (!equivalent_member) equivalent_member = c;
+            continue;
+          }
           hypothesis_rivals += (hypothesis_rivals.empty() ? "" : ", ") + fmt::format("{} (ΔBIC {:.1f})", c.name(), c.delta_bic);
+          d.rivals.push_back(c);
         }
       } else if (d.unexplained) {
         h.rejected = "what it leaves is more than noise (" + hr.excess + ")";
@@ -562,16 +590,17 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   if (d.unexplained) d.residual_pattern = residual_pattern_sentence(setup, pts, d.residual_after_um, d.noise_um);
 
   // Only now (the chosen one may have been no explanation): the plan that tells it from its best rival.
+  // Every explanation with a field has one (library effects, pairs, machine hypotheses: measurement_plan.cpp).
   if (d.chosen && !d.rivals.empty())
     d.plan = plan_measurement(setup, pts, d.residual_before_um, *d.chosen, d.rivals.front(), d.noise_um, o);
+  // An equivalence class is no ambiguity, but the user may ask whether another tooth would tell its members apart.
+  if (d.chosen && d.beyond_library && equivalent_member)
+    d.equivalent_plan = plan_measurement(setup, pts, d.residual_before_um, *d.chosen, *equivalent_member, d.noise_um, o);
   if (d.chosen && !d.rivals.empty())
     d.withheld = fmt::format("ambiguous between {} and {}: measure more (the plan) before adding either",
                              d.chosen->name(), d.rivals.front().name());
   // A value pushed against the end of its allowed range is no measurement (thermal drift's amplitude trading against
   // its time constant on two teeth): the effect explains the residual, but is not added with that value.
-  else if (d.chosen && !hypothesis_rivals.empty())
-    d.withheld = fmt::format("ambiguous: {} fit within ΔBIC {:g} with a different field; measure more before adding it",
-                             hypothesis_rivals, o.bic_threshold);
   else if (d.chosen)
     d.withheld = at_the_end_of_its_range(*d.chosen);
   // Set-up values assumed, not fitted: every unfitted parameter of what the verdict names (chosen, rivals, nearest).
@@ -608,11 +637,15 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
                 fmt::format("Not an effect of the library: {} (ΔBIC {:.1f}). ", h.description, h.delta_bic) +
                 (h.equivalent.empty() ? std::string()
                                       : fmt::format("Equivalent on these flanks (the data cannot tell them apart; one "
-                                                    "class): {}. ",
-                                                    fmt::join(h.equivalent, ", "))) +
-                (hypothesis_rivals.empty() ? std::string()
-                                           : fmt::format("Also within ΔBIC {:g}, with a different field: {}. ",
-                                                         o.bic_threshold, hypothesis_rivals)) +
+                                                    "class): {}. {} ",
+                                                    fmt::join(h.equivalent, ", "),
+                                                    d.equivalent_plan ? equivalence_sentence(*d.equivalent_plan) : "")) +
+                (hypothesis_rivals.empty()
+                     ? std::string()
+                     : fmt::format("Ambiguous between {} and {}, within ΔBIC {:g} with a different field: these data "
+                                   "cannot tell them apart; not added to the scene. {} ",
+                                   h.name(), hypothesis_rivals, o.bic_threshold,
+                                   d.plan ? plan_sentence(*d.plan, o.plan_teeth_named, o.plan_target_delta_bic) : "")) +
                 fmt::format("Adding it takes the residual (set-up removed) from {:.2f} to {:.2f} µm RMS (noise {:.2f} "
                             "µm{}). Nearest library explanation: {}.",
                             d.rms_before_setup_um, rms_after, d.noise_um, d.noise_estimated ? ", estimated" : "",

@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <utility>
 
 namespace geartopo::diagnosis {
 namespace {
@@ -22,7 +24,6 @@ struct Hypothesis {
   Candidate c;         ///< changes (size 1, its law and τ), or one effect (wheel_flank_profile on one side, qualifier;
                        ///< wheel_profile_wear) whose linear parameters are fitted
   int component = -1;  ///< its component (−1: an effect)
-  int side = 0;        ///< wheel_flank_profile: 0 the wheel flank grinding the left flanks, 1 the right
   std::vector<int> fitted; ///< an effect: the indices of its parameters fitted (its columns), the others at default
 };
 
@@ -64,6 +65,59 @@ double share_in_span(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
 
 std::string unit_of(machine::Quantity q) { return q == machine::Quantity::Length ? "µm" : "µrad"; }
 
+/// A component's column (n, µm per unit) under a change's law: constant, × t, × (1 − e^(−t/τ)), or the pair
+/// (× cos γ, × sin γ) once per revolution (n × 1 or n × 2). t: the points' grinding times (s), γ: their C angles (rad).
+Eigen::MatrixXd law_columns(const Eigen::VectorXd& col, const machine::ComponentChange& ch, const Eigen::VectorXd& t,
+                            const Eigen::VectorXd& gamma) {
+  switch (ch.law) {
+  case ChangeLaw::Constant: return col;
+  case ChangeLaw::LinearInTime: return col.cwiseProduct(t);
+  case ChangeLaw::SteadyState: return col.cwiseProduct(Eigen::VectorXd(1.0 - (-(t.array() / ch.time_constant_s)).exp()));
+  case ChangeLaw::OncePerRevolution: {
+    Eigen::MatrixXd X(col.size(), 2);
+    X.col(0) = col.cwiseProduct(Eigen::VectorXd(gamma.array().cos()));
+    X.col(1) = col.cwiseProduct(Eigen::VectorXd(gamma.array().sin()));
+    return X;
+  }
+  }
+  return col;
+}
+
+/// An effect's columns (n × k, µm per unit of each fitted parameter): the deviation of `spec` with fitted parameter
+/// j set to 1 — every fitted parameter of a hypothesis' effect is linear (ParameterSpec::linear), zero at its default.
+Eigen::MatrixXd effect_columns(const grinding::GrindingSetup& setup, const EffectContribution& at,
+                               const scene::EffectSpec& spec, const std::vector<int>& fitted, int threads) {
+  Eigen::MatrixXd X(static_cast<Eigen::Index>(at.size()), static_cast<Eigen::Index>(fitted.size()));
+  for (size_t j = 0; j < fitted.size(); ++j) {
+    std::vector<double> values = spec.values;
+    for (const int k : fitted) values[static_cast<size_t>(k)] = 0.0;
+    values[static_cast<size_t>(fitted[j])] = 1.0;
+    const auto e = effects::make_effect(spec.type, values, setup);
+    const effects::Effect* list[] = {e.get()};
+    X.col(static_cast<Eigen::Index>(j)) = at.deviation_um(list, threads);
+  }
+  return X;
+}
+
+/// The parameters a hypothesis' effect fits: one wheel flank's slope and crowning (side from the qualifier), or the
+/// wheel profile's wear rates.
+std::vector<int> fitted_parameters_of(const Candidate& c) {
+  if (c.effects.front().type == "wheel_profile_wear") return {0, 1};
+  const int side = c.qualifier == "(left)" ? 0 : 1;
+  return {2 * side, 2 * side + 1};
+}
+
+/// The points' grinding times (s) and C angles (rad), n each.
+std::pair<Eigen::VectorXd, Eigen::VectorXd> times_and_angles(const EffectContribution& at) {
+  const auto n = static_cast<Eigen::Index>(at.size());
+  Eigen::VectorXd t(n), gamma(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    t(i) = at.path_point(static_cast<size_t>(i)).time_s;
+    gamma(i) = at.path_point(static_cast<size_t>(i)).q.c;
+  }
+  return {t, gamma};
+}
+
 } // namespace
 
 std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& setup, const EffectContribution& at,
@@ -75,44 +129,15 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
   if (!(rss0 > 0.0) || n < 3) return {};
 
   // The job's duration: a drift's reach is judged over it (the last stroke's end, or the last point's time).
-  Eigen::VectorXd t(n), gamma(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    t(i) = at.path_point(static_cast<size_t>(i)).time_s;
-    gamma(i) = at.path_point(static_cast<size_t>(i)).q.c;
-  }
+  const auto [t, gamma] = times_and_angles(at);
   double job_s = setup.path().strokes().empty() ? 0.0 : setup.path().strokes().back().t_end_s;
   job_s = std::max(job_s, t.maxCoeff());
 
   const Eigen::MatrixXd S = at.component_sensitivity_um(o.threads); // n × 43
   // The hypothesis' columns: its component's column times its law, or the wheel flank's slope and crowning columns.
   const auto columns_of = [&](const Hypothesis& h) -> Eigen::MatrixXd {
-    if (h.component < 0) {
-      const auto& spec = h.c.effects.front();
-      Eigen::MatrixXd X(n, static_cast<Eigen::Index>(h.fitted.size()));
-      for (size_t j = 0; j < h.fitted.size(); ++j) {
-        std::vector<double> values = spec.values;
-        values[static_cast<size_t>(h.fitted[j])] = 1.0; // every fitted parameter is linear (ParameterSpec::linear)
-        const auto e = effects::make_effect(spec.type, values, setup);
-        const effects::Effect* list[] = {e.get()};
-        X.col(static_cast<Eigen::Index>(j)) = at.deviation_um(list, o.threads);
-      }
-      return X;
-    }
-    const Eigen::VectorXd col = S.col(h.component);
-    const auto& ch = h.c.changes.front();
-    switch (ch.law) {
-    case ChangeLaw::Constant: return col;
-    case ChangeLaw::LinearInTime: return col.cwiseProduct(t);
-    case ChangeLaw::SteadyState:
-      return col.cwiseProduct(Eigen::VectorXd(1.0 - (-(t.array() / ch.time_constant_s)).exp()));
-    case ChangeLaw::OncePerRevolution: {
-      Eigen::MatrixXd X(n, 2);
-      X.col(0) = col.cwiseProduct(Eigen::VectorXd(gamma.array().cos()));
-      X.col(1) = col.cwiseProduct(Eigen::VectorXd(gamma.array().sin()));
-      return X;
-    }
-    }
-    return col;
+    if (h.component < 0) return effect_columns(setup, at, h.c.effects.front(), h.fitted, o.threads);
+    return law_columns(S.col(h.component), h.c.changes.front(), t, gamma);
   };
 
   std::vector<Hypothesis> hyps;
@@ -139,10 +164,9 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
   // One wheel flank's profile error: the gear flanks it grinds, slope and crowning (µm), the other flank untouched.
   for (const int side : {0, 1}) {
     Hypothesis h;
-    h.side = side;
     h.c.effects.push_back({"wheel_flank_profile", std::vector<double>(4, 0.0)});
     h.c.qualifier = side == 0 ? "(left)" : "(right)";
-    h.fitted = {2 * side, 2 * side + 1};
+    h.fitted = fitted_parameters_of(h.c);
     hyps.push_back(std::move(h));
   }
   // The wheel's profile wearing with every stroke (its edge faster than its flanks): the profile slope and crowning
@@ -150,7 +174,7 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
   {
     Hypothesis h;
     h.c.effects.push_back({"wheel_profile_wear", {0.0, 0.0, 0.0}});
-    h.fitted = {0, 1};
+    h.fitted = fitted_parameters_of(h.c);
     hyps.push_back(std::move(h));
   }
 
@@ -171,7 +195,7 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
     const Eigen::MatrixXd Xp = projected(X, st);
     double largest = 0.0;
     for (Eigen::Index j = 0; j < Xp.cols(); ++j) {
-      double size_limit = 100.0; // µm: an effect's slope or crowning (per stroke)
+      double size_limit = 100.0; // µm: a wheel flank's slope or crowning
       if (h.component >= 0) {
         const auto& ch = h.c.changes.front();
         const bool length = machine::info(ch.component).quantity == machine::Quantity::Length;
@@ -313,6 +337,35 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
   std::vector<Candidate> ranked;
   for (size_t a : order) ranked.push_back(std::move(out[a]));
   return ranked;
+}
+
+bool is_machine_hypothesis(const Candidate& c) {
+  if (c.changes.size() == 1 && c.effects.empty()) return true;
+  if (!c.changes.empty() || c.effects.size() != 1) return false;
+  const std::string& type = c.effects.front().type;
+  return (type == "wheel_flank_profile" && (c.qualifier == "(left)" || c.qualifier == "(right)")) ||
+         (type == "wheel_profile_wear" && c.qualifier.empty());
+}
+
+HypothesisField hypothesis_field(const grinding::GrindingSetup& setup, const EffectContribution& at, const Candidate& c,
+                                 int threads) {
+  if (!is_machine_hypothesis(c)) throw std::invalid_argument("hypothesis_field: " + c.name() + " is no machine hypothesis");
+  HypothesisField f;
+  if (!c.changes.empty()) {
+    const auto& ch = c.changes.front();
+    const auto [t, gamma] = times_and_angles(at);
+    const Eigen::MatrixXd S = at.component_sensitivity_um(threads); // n × 43
+    f.X = law_columns(S.col(machine::index(ch.component)), ch, t, gamma);
+    f.beta = ch.law == ChangeLaw::OncePerRevolution
+                 ? Eigen::VectorXd(Eigen::Vector2d(ch.size * std::cos(ch.phase_rad), ch.size * std::sin(ch.phase_rad)))
+                 : Eigen::VectorXd::Constant(1, ch.size);
+  } else {
+    const std::vector<int> fitted = fitted_parameters_of(c);
+    const auto& v = c.effects.front().values;
+    f.X = effect_columns(setup, at, c.effects.front(), fitted, threads);
+    f.beta = Eigen::Vector2d(v[static_cast<size_t>(fitted[0])], v[static_cast<size_t>(fitted[1])]);
+  }
+  return f;
 }
 
 } // namespace geartopo::diagnosis

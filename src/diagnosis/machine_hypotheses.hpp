@@ -20,7 +20,8 @@
 namespace geartopo::diagnosis {
 
 /// Every hypothesis fitted to `residual_um` (measured − model, n), ranked: plausible ones by ΔBIC (best first), then the
-/// rejected ones. Each Candidate has its `changes` (with change_sd) or its one-sided wheel_flank_profile effect, the
+/// rejected ones. Each Candidate has its `changes` (with change_sd) or its effect (one-sided wheel_flank_profile, or
+/// wheel_profile_wear), the
 /// description, ΔBIC against no hypothesis (set-up terms fitted in both), rms_before/after with the set-up removed,
 /// and for the first its `equivalent` hypotheses.
 /// `in_scene`: what the scene models already (effect types, changes as "E_AOA linear_in_time"): not proposed again, so
@@ -28,5 +29,21 @@ namespace geartopo::diagnosis {
 std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& setup, const EffectContribution& at_points,
                                               const std::vector<double>& residual_um, const SetupTermModel& setup_terms,
                                               const DiagnoseOptions& options, const std::vector<std::string>& in_scene = {});
+
+/// Whether c is a hypothesis beyond the library: one component change under its law, one wheel flank's profile
+/// error (its wheel_flank_profile effect qualified "(left)" or "(right)"), or the wheel profile's wear
+/// (wheel_profile_wear).
+bool is_machine_hypothesis(const Candidate& c);
+
+/// A hypothesis' first-order field at `at`'s points, linear in its coefficients: the columns fit_machine_hypotheses
+/// fits, X (n × p; µm per mm or rad of the component, or per µm of a wheel flank's slope and crowning), and the
+/// candidate's coefficients β (p; a once-per-revolution change as (a cos φ, a sin φ)): its field is X β (n, µm).
+/// Throws std::invalid_argument for a candidate that is no machine hypothesis.
+struct HypothesisField {
+  Eigen::MatrixXd X;
+  Eigen::VectorXd beta;
+};
+HypothesisField hypothesis_field(const grinding::GrindingSetup& setup, const EffectContribution& at, const Candidate& c,
+                                 int threads = 0);
 
 } // namespace geartopo::diagnosis

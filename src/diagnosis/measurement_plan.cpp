@@ -10,6 +10,7 @@
 #include "geartopo/diagnosis/diagnose.hpp"
 
 #include "effect_fit.hpp"
+#include "machine_hypotheses.hpp"
 #include "setup_terms.hpp"
 
 #include "geartopo/diagnosis/effect_contribution.hpp"
@@ -17,6 +18,9 @@
 #include "geartopo/effects/effects_process.hpp"
 #include "geartopo/grinding/topology.hpp"
 #include "geartopo/workbench/workbench.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,9 +31,17 @@
 namespace geartopo::diagnosis {
 namespace {
 
-/// The first-order deviation (µm) of a candidate's effects at the points; zero for "no effect" (no effects).
+/// The first-order deviation (µm) of a candidate's effects at the points; zero for "no effect" (no effects). A machine
+/// hypothesis (a component change, one wheel flank's profile) by its linear field X β at the points' generating poses:
+/// the same columns it was fitted with (machine_hypotheses.hpp).
 std::vector<double> effects_at(const grinding::GrindingSetup& setup, const Candidate& c,
                                const std::vector<MeasuredPoint>& pts, int threads) {
+  if (is_machine_hypothesis(c)) {
+    const EffectContribution at(setup, pts, threads);
+    const auto f = hypothesis_field(setup, at, c, threads);
+    const Eigen::VectorXd field = f.X * f.beta;
+    return {field.data(), field.data() + field.size()};
+  }
   if (c.effects.empty()) return std::vector<double>(pts.size(), 0.0);
   const auto effs = workbench::make_effects(c.effects, setup);
   const grinding::IdealProcess ideal;
@@ -70,12 +82,39 @@ std::vector<MeasuredPoint> grid_points(const grinding::GrindingSetup& setup, con
   return grid;
 }
 
+/// The points of traces on both flanks of each tooth, tooth by tooth, as a measuring machine takes them: a profile
+/// trace (points_per_trace roll lengths over the ISO profile evaluation range) at each face-width position z (mm) and a
+/// helix trace (points_per_trace positions over the helix evaluation range) at each roll length (mm). No grid indices.
+std::vector<MeasuredPoint> trace_points(const grinding::GrindingSetup& setup, const std::vector<int>& teeth,
+                                        const std::vector<double>& profile_z_mm, const std::vector<double>& helix_roll_mm,
+                                        int points_per_trace) {
+  const auto& g = setup.geometry();
+  const auto rolls = grinding::grid_roll_lengths(setup.ranges(), points_per_trace);
+  const auto zs = grinding::grid_axial_positions(setup.ranges(), points_per_trace);
+  std::vector<MeasuredPoint> out;
+  const auto add = [&](int tooth, Flank flank, double roll, double z) {
+    MeasuredPoint p;
+    p.tooth = tooth, p.flank = flank, p.roll_length_mm = roll, p.z_mm = z;
+    p.diameter_mm = g.diameter_at_roll_length(roll);
+    out.push_back(p);
+  };
+  for (int tooth : teeth)
+    for (Flank flank : {Flank::Left, Flank::Right}) {
+      for (double z : profile_z_mm)
+        for (double roll : rolls) add(tooth, flank, roll, z);
+      for (double roll : helix_roll_mm)
+        for (double z : zs) add(tooth, flank, roll, z);
+    }
+  return out;
+}
+
 /// One explanation as fitted on the measured points: its effects at them and its set-up terms.
 struct Fitted {
   const Candidate* candidate = nullptr;
   std::vector<double> effects_measured; ///< first-order deviation of its effects at the measured points (µm)
   SetupTerms terms;
   double rss = 0.0;                     ///< Σ r² left on the measured points, set-up terms removed (µm²)
+  Eigen::MatrixXd columns_measured;     ///< a machine hypothesis: its columns at the measured points (n × p), else empty
 };
 
 /// Its prediction (µm) at new points: effects plus set-up terms (t + σ_i r_b cos β_b ψ).
@@ -101,7 +140,19 @@ double expected_gap(const grinding::GrindingSetup& setup, const std::vector<Meas
   const SetupTermModel terms(setup.geometry(), all);
   const double n = static_cast<double>(all.size());
   double loser_rss = 0.0;
-  if (loser.candidate->effects.empty()) {
+  if (is_machine_hypothesis(*loser.candidate)) {
+    // Linear in its coefficients: least squares on its columns at measured + new points, set-up terms removed.
+    const EffectContribution at_new(setup, grid, o.threads);
+    const Eigen::MatrixXd& Xm = loser.columns_measured;
+    const Eigen::MatrixXd Xn = hypothesis_field(setup, at_new, *loser.candidate, o.threads).X; // grid × p
+    Eigen::MatrixXd X(Xm.rows() + Xn.rows(), Xm.cols());
+    X << Xm, Xn;
+    Eigen::MatrixXd Xp(X.rows(), X.cols());
+    for (Eigen::Index j = 0; j < X.cols(); ++j) Xp.col(j) = terms.remove(Eigen::VectorXd(X.col(j)));
+    const Eigen::VectorXd y = terms.remove(Eigen::Map<const Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size())));
+    const Eigen::VectorXd beta = Xp.colPivHouseholderQr().solve(y);
+    loser_rss = (y - Xp * beta).squaredNorm();
+  } else if (loser.candidate->effects.empty()) {
     loser_rss = terms.remove(Eigen::Map<const Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size()))).squaredNorm();
   } else {
     std::vector<std::string> types;
@@ -120,23 +171,46 @@ double expected_gap(const grinding::GrindingSetup& setup, const std::vector<Meas
 
 } // namespace
 
+std::string what_to_measure(const MeasurementOption& m) {
+  if (!m.traces) return fmt::format("a {} × {} grid per flank", m.rows, m.cols);
+  return fmt::format("{} profile traces (z = {:.1f} mm) and {} helix traces (d = {:.1f} mm) of {} points per flank",
+                     m.profile_z_mm.size(), fmt::join(m.profile_z_mm, ", "), m.helix_diameter_mm.size(),
+                     fmt::join(m.helix_diameter_mm, ", "), m.points_per_trace);
+}
+
 MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
                                  const std::vector<double>& residual, const Candidate& a, const Candidate& b,
                                  double noise_um, const DiagnoseOptions& o) {
   MeasurementPlan plan;
-  plan.first = a.effects.empty() ? "none" : a.name();
-  plan.second = b.effects.empty() ? "none" : b.name();
+  plan.first = a.effects.empty() && a.changes.empty() ? "none" : a.name();
+  plan.second = b.effects.empty() && b.changes.empty() ? "none" : b.name();
   plan.delta_bic_gap = b.delta_bic - a.delta_bic;
   plan.noise_um = noise_um;
   plan.rows = o.plan_rows;
   plan.cols = o.plan_cols;
+
+  // The unmeasured teeth: where the two explanations can part (none: nothing to suggest).
+  std::set<int> measured;
+  for (const auto& p : pts) measured.insert(p.tooth);
+  std::vector<int> unmeasured;
+  for (int tooth = 1; tooth <= setup.geometry().teeth(); ++tooth)
+    if (!measured.count(tooth)) unmeasured.push_back(tooth);
+  if (unmeasured.empty()) return plan;
 
   // Each explanation on the measured points: its effects, its set-up terms and the RSS it leaves.
   const SetupTermModel model(setup.geometry(), pts);
   const auto fitted = [&](const Candidate& c) {
     Fitted f;
     f.candidate = &c;
-    f.effects_measured = effects_at(setup, c, pts, o.threads);
+    if (is_machine_hypothesis(c)) {
+      const EffectContribution at(setup, pts, o.threads);
+      const auto field = hypothesis_field(setup, at, c, o.threads);
+      f.columns_measured = field.X;
+      const Eigen::VectorXd e = field.X * field.beta;
+      f.effects_measured.assign(e.data(), e.data() + e.size());
+    } else {
+      f.effects_measured = effects_at(setup, c, pts, o.threads);
+    }
     f.terms = setup_terms_of(model, residual, f.effects_measured);
     Eigen::VectorXd r(static_cast<Eigen::Index>(pts.size()));
     for (size_t i = 0; i < pts.size(); ++i) r(static_cast<Eigen::Index>(i)) = residual[i] - f.effects_measured[i];
@@ -146,12 +220,6 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
   const Fitted fa = fitted(a), fb = fitted(b);
 
   // The grid of every unmeasured tooth, both flanks.
-  std::set<int> measured;
-  for (const auto& p : pts) measured.insert(p.tooth);
-  std::vector<int> unmeasured;
-  for (int tooth = 1; tooth <= setup.geometry().teeth(); ++tooth)
-    if (!measured.count(tooth)) unmeasured.push_back(tooth);
-  if (unmeasured.empty()) return plan; // every tooth measured: nothing left to suggest
   const auto grid = grid_points(setup, unmeasured, o.plan_rows, o.plan_cols);
 
   // Raw difference per tooth, row and column: where the two explanations part, before any refit.
@@ -183,11 +251,15 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
   // Options: the best k teeth (k = 2, 4, 8, 16, at most all) on the plan grid and on grids 2× and 3× denser each
   // way, fewest new points first (then fewest teeth). Scored after refit until one resolves: both expected gaps reach
   // the target. A few joint fits each; the denser ones only when the cheaper ones do not suffice.
+  // Traces: m × the profile and helix lines per flank instead of an m×-denser grid.
+  const bool traces = o.plan_layout == DiagnoseOptions::PlanLayout::Traces;
+  const int lines = o.plan_profile_traces + o.plan_helix_traces;
   std::vector<std::tuple<int, int, int>> shapes; // (points, teeth, density)
   for (int k : {2, 4, 8, 16}) {
     const int teeth = std::min<int>(k, static_cast<int>(plan.teeth.size()));
     for (int m : {1, 2, 3}) {
-      const auto shape = std::make_tuple(teeth * 2 * m * o.plan_rows * m * o.plan_cols, teeth, m);
+      const int per_flank = traces ? m * lines * o.plan_trace_points : m * o.plan_rows * m * o.plan_cols;
+      const auto shape = std::make_tuple(teeth * 2 * per_flank, teeth, m);
       if (std::find(shapes.begin(), shapes.end(), shape) == shapes.end()) shapes.push_back(shape);
     }
   }
@@ -196,10 +268,20 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
   for (const auto& [points, k, m] : shapes) {
     MeasurementOption opt;
     for (int j = 0; j < k; ++j) opt.teeth.push_back(plan.teeth[static_cast<size_t>(j)].tooth);
-    opt.rows = m * o.plan_rows;
-    opt.cols = m * o.plan_cols;
     opt.points = points;
-    const auto new_points = grid_points(setup, opt.teeth, opt.rows, opt.cols);
+    std::vector<MeasuredPoint> new_points;
+    if (traces) {
+      opt.traces = true;
+      opt.points_per_trace = o.plan_trace_points;
+      opt.profile_z_mm = grinding::grid_axial_positions(setup.ranges(), m * o.plan_profile_traces);
+      const auto helix_rolls = grinding::grid_roll_lengths(setup.ranges(), m * o.plan_helix_traces);
+      for (double roll : helix_rolls) opt.helix_diameter_mm.push_back(setup.geometry().diameter_at_roll_length(roll));
+      new_points = trace_points(setup, opt.teeth, opt.profile_z_mm, helix_rolls, o.plan_trace_points);
+    } else {
+      opt.rows = m * o.plan_rows;
+      opt.cols = m * o.plan_cols;
+      new_points = grid_points(setup, opt.teeth, opt.rows, opt.cols);
+    }
     const auto a_new = prediction_at(setup, fa, new_points, o.threads), b_new = prediction_at(setup, fb, new_points, o.threads);
     double chi2 = 0.0;
     for (size_t i = 0; i < new_points.size(); ++i) chi2 += (a_new[i] - b_new[i]) * (a_new[i] - b_new[i]) / s2;

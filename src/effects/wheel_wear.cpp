@@ -27,6 +27,7 @@ public:
     return p;
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<WheelWear>(*this); }
+  bool table_in_gear_is_constant() const override { return true; } // the default identity table
   double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override {
     const double strokes = strokes_since_dressing(setup(), pp, static_cast<int>(std::lround(value(1))));
     const double normal_wear = units::mm_from_um(value(0)) * strokes;

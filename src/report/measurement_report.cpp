@@ -237,6 +237,16 @@ nlohmann::json measurement_plan_json(const diagnosis::MeasurementPlan& plan) {
                      {"at", {{"flank", t.flank == Flank::Left ? "left" : "right"}, {"row", t.row}, {"col", t.col}}}});
   // A measurement option: new teeth, grid, and the ΔBIC gap expected after both explanations are refitted.
   const auto option_json = [](const diagnosis::MeasurementOption& m) {
+    if (m.traces)
+      return nlohmann::json{{"teeth", m.teeth},
+                            {"traces", {{"profile_z_mm", m.profile_z_mm},
+                                        {"helix_diameter_mm", m.helix_diameter_mm},
+                                        {"points_per_trace", m.points_per_trace}}},
+                            {"points", m.points},
+                            {"separation_before_refit_sigma", m.separation_before_refit_sigma},
+                            {"expected_delta_bic_if_first", m.delta_bic_if_first},
+                            {"expected_delta_bic_if_second", m.delta_bic_if_second},
+                            {"resolves", m.resolves}};
     return nlohmann::json{{"teeth", m.teeth},
                           {"grid", {{"rows", m.rows}, {"cols", m.cols}}},
                           {"points", m.points},
@@ -287,6 +297,7 @@ nlohmann::json diagnosis_json(const std::string& scene, const std::string& measu
   for (const auto& r : d.rivals) rivals.push_back(candidate_json(r));
   j["rivals"] = rivals;
   j["plan"] = d.plan ? measurement_plan_json(*d.plan) : nlohmann::json(nullptr);
+  j["equivalent_plan"] = d.equivalent_plan ? measurement_plan_json(*d.equivalent_plan) : nlohmann::json(nullptr);
   // Beyond the library: tried when nothing in it explains the residual (docs/diagnosis.md).
   nlohmann::json hyps = nlohmann::json::array();
   for (const auto& h : d.hypotheses) hyps.push_back(candidate_json(h));
@@ -320,6 +331,7 @@ nlohmann::json plan_json(const std::string& scene, const std::string& measured, 
   j["chosen"] = d.chosen ? nlohmann::json(d.chosen->name()) : nlohmann::json(nullptr);
   j["ambiguous"] = !d.rivals.empty();
   j["plan"] = d.plan ? measurement_plan_json(*d.plan) : nlohmann::json(nullptr);
+  j["equivalent_plan"] = d.equivalent_plan ? measurement_plan_json(*d.equivalent_plan) : nlohmann::json(nullptr);
   j["verdict"] = d.verdict;
   return j;
 }

@@ -430,6 +430,19 @@ TEST(Cli, PlanNamesTheTeethThatSeparateAmbiguousExplanations) {
     EXPECT_NE(tooth, 18);
   }
   EXPECT_NE(plan.out.find("Measure teeth"), std::string::npos) << plan.out;
+  // The same as traces a measuring machine takes (issue 28): 3 profile and 3 helix traces per flank on the new teeth.
+  const CliResult traces =
+      run("plan " + kScene + " --measured " + measured + " --noise-um 1.5 --layout traces --out " + (dir / "t").string());
+  ASSERT_EQ(traces.code, 0) << traces.err;
+  std::ifstream tj(dir / "t" / "plan.json");
+  const auto t = nlohmann::json::parse(tj);
+  const auto& rec = t["plan"]["recommended"];
+  ASSERT_TRUE(rec.contains("traces")) << rec;
+  EXPECT_EQ(rec["traces"]["profile_z_mm"].size(), 3u);
+  EXPECT_EQ(rec["traces"]["helix_diameter_mm"].size(), 3u);
+  EXPECT_EQ(rec["points"].get<int>(), static_cast<int>(rec["teeth"].size()) * 2 * 6 * rec["traces"]["points_per_trace"].get<int>());
+  EXPECT_NE(traces.out.find("3 profile traces (z = "), std::string::npos) << traces.out;
+  EXPECT_NE(run("plan " + kScene + " --measured " + measured + " --layout dots").code, 0);
   std::filesystem::remove_all(dir);
 }
 

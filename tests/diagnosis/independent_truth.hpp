@@ -4,6 +4,7 @@
 // and why that is fair is said in test_hidden_effects_independent.cpp. Units: µm, mm, s, rad.
 #pragma once
 
+#include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/diagnosis/synth.hpp"
 #include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/machine/chain.hpp"
@@ -41,15 +42,9 @@ struct Layout {
   std::vector<Contact> contacts;
 };
 
-inline Layout make_layout(const std::vector<int>& teeth, int rows, int cols) {
+/// The contacts of l.points (each point's nominal flank point and generating pose), and each one's profile fraction.
+inline void add_contacts(Layout& l) {
   const auto& s = bench().setup;
-  diagnosis::SynthOptions o;
-  o.teeth = teeth;
-  o.rows = rows;
-  o.cols = cols;
-  o.noise_um = 0.0;
-  Layout l;
-  l.points = measurement::measured_points(diagnosis::synthesize(s, bench().process(), o), s.geometry(), "independent");
   const grinding::IdealProcess ideal;
   const grinding::FlankDeviation generating(s.flanks(), s.wheel(), s.path(), ideal);
   for (const auto& p : l.points) {
@@ -65,6 +60,47 @@ inline Layout make_layout(const std::vector<int>& teeth, int rows, int cols) {
   double lo = 1e300, hi = -1e300;
   for (const auto& p : l.points) lo = std::min(lo, p.roll_length_mm), hi = std::max(hi, p.roll_length_mm);
   for (size_t i = 0; i < l.points.size(); ++i) l.contacts[i].profile_fraction = (l.points[i].roll_length_mm - lo) / (hi - lo);
+}
+
+inline Layout make_layout(const std::vector<int>& teeth, int rows, int cols) {
+  const auto& s = bench().setup;
+  diagnosis::SynthOptions o;
+  o.teeth = teeth;
+  o.rows = rows;
+  o.cols = cols;
+  o.noise_um = 0.0;
+  Layout l;
+  l.points = measurement::measured_points(diagnosis::synthesize(s, bench().process(), o), s.geometry(), "independent");
+  add_contacts(l);
+  return l;
+}
+
+/// Traces as a gear measuring machine takes them, on both flanks of each tooth: a profile trace of `points` roll
+/// lengths evenly over the ISO profile evaluation range at each face-width position z (mm), and a helix trace of
+/// `points` positions evenly over the helix evaluation range at each diameter d (mm); noise-free, the scene as
+/// modelled (the simulator's exact deviation, as make_layout's), with their contacts.
+inline Layout trace_layout(const std::vector<int>& teeth, const std::vector<double>& profile_z_mm,
+                           const std::vector<double>& helix_d_mm, int points) {
+  const auto& s = bench().setup;
+  const auto& g = s.geometry();
+  const auto& r = s.ranges();
+  const auto at = [&](double a, double b, int k) { return a + (b - a) * k / (points - 1); };
+  Layout l;
+  const auto add = [&](int tooth, Flank flank, double roll, double z) {
+    measurement::MeasuredPoint p;
+    p.tooth = tooth, p.flank = flank, p.roll_length_mm = roll, p.z_mm = z, p.diameter_mm = g.diameter_at_roll_length(roll);
+    l.points.push_back(p);
+  };
+  for (int tooth : teeth)
+    for (Flank flank : {Flank::Left, Flank::Right}) {
+      for (double z : profile_z_mm)
+        for (int k = 0; k < points; ++k) add(tooth, flank, at(r.xi_eval_start_mm, r.xi_eval_end_mm, k), z);
+      for (double d : helix_d_mm)
+        for (int k = 0; k < points; ++k) add(tooth, flank, g.roll_length_at(d), at(r.z_eval_start_mm, r.z_eval_end_mm, k));
+    }
+  const auto model = diagnosis::predict(s, bench().process(), l.points, grinding::Method::Exact);
+  for (size_t i = 0; i < l.points.size(); ++i) l.points[i].deviation_um = model[i];
+  add_contacts(l);
   return l;
 }
 

@@ -455,5 +455,46 @@ TEST(BeyondLibrary, AChangeTheSceneHoldsIsNotProposedAgain) {
   EXPECT_NEAR(ch.size * 60e6, 60.0, 2.0 * d.chosen->change_sd.front() * 60e6 + 1.2); // the rest: 60 µrad/min
 }
 
+TEST(BeyondLibrary, TwoMachineElementsWithinTenAreAmbiguousAndThePlannedTeethDecide) {
+  // The C axis line tilted about y (E_BOC) by a constant 12 µrad since the map: on teeth 1 and 18 at 0.5 µm noise the
+  // Z squareness S_xz (a different field, ΔBIC within 10) fits as well, and pitch of X (ε_yx) is the same field as
+  // E_BOC (one class). The verdict must say "ambiguous between" with a plan of teeth that separates the rivals;
+  // measuring those teeth (the truth computed here through the exact chain, a new noise seed) names E_BOC's class
+  // with no rival left. The class itself is no ambiguity: its plan says no other tooth separates its members.
+  const auto hidden = [](const Contact& c) { return component_change_um(c, machine::ComponentId::E_BOC, 12e-6); };
+  for (std::uint64_t seed : {71u, 73u, 74u, 75u}) {
+    const auto pts = measure_with(two_teeth(), hidden, 0.5, seed);
+    const auto d = diagnose_points(pts, 0.5);
+    SCOPED_TRACE(d.verdict);
+    ASSERT_TRUE(d.beyond_library);
+    ASSERT_FALSE(d.rivals.empty());
+    EXPECT_NE(d.verdict.find("Ambiguous between " + d.chosen->name()), std::string::npos);
+    EXPECT_FALSE(d.withheld.empty()); // nothing written into the scene while ambiguous
+    std::vector<std::string> named = named_class(d);
+    for (const auto& r : d.rivals) named.push_back(r.name());
+    EXPECT_TRUE(lists(named, "E_BOC constant"));
+    ASSERT_TRUE(d.plan.has_value());
+    const auto& m = d.plan->recommended;
+    ASSERT_FALSE(m.teeth.empty());
+    EXPECT_TRUE(m.resolves);
+    EXPECT_GE(std::min(m.delta_bic_if_first, m.delta_bic_if_second), diagnosis::DiagnoseOptions{}.plan_target_delta_bic);
+    EXPECT_NE(d.verdict.find("To decide, measure teeth"), std::string::npos);
+    if (lists(named_class(d), "E_BOC constant") && d.equivalent_plan) {
+      EXPECT_FALSE(d.equivalent_plan->recommended.resolves);
+      EXPECT_LT(d.equivalent_plan->recommended.separation_before_refit_sigma, 0.1);
+      EXPECT_NE(d.verdict.find("No measurement of the other teeth tried separates them"), std::string::npos);
+    }
+    auto all = pts;
+    const auto more = measure_with(make_layout(m.teeth, m.rows, m.cols), hidden, 0.5, seed + 500);
+    all.insert(all.end(), more.begin(), more.end());
+    const auto after = diagnose_points(all, 0.5);
+    SCOPED_TRACE("after measuring the planned teeth: " + after.verdict);
+    ASSERT_TRUE(after.beyond_library);
+    EXPECT_TRUE(lists(named_class(after), "E_BOC constant"));
+    EXPECT_TRUE(after.rivals.empty());
+    EXPECT_TRUE(after.withheld.empty());
+  }
+}
+
 } // namespace
 } // namespace independent_truth

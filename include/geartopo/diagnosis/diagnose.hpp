@@ -106,7 +106,12 @@ struct ToothSuggestion {
 struct MeasurementOption {
   std::vector<int> teeth;   ///< new teeth, both flanks each
   int rows = 0, cols = 0;   ///< grid per flank (ISO evaluation ranges): rows along the profile, columns along the face
-  int points = 0;           ///< new points (count): teeth × 2 flanks × rows × cols
+  int points = 0;           ///< new points (count): teeth × 2 flanks × rows × cols (traces: × lines × points per line)
+  /// Traces instead of a grid (DiagnoseOptions::PlanLayout::Traces): per flank, a profile trace at each face-width
+  /// position and a helix trace at each diameter, points_per_trace points each (rows, cols then 0).
+  bool traces = false;
+  std::vector<double> profile_z_mm, helix_diameter_mm;
+  int points_per_trace = 0;
   /// √(Σ Δ²)/σ over the new points, Δ the difference of the two explanations' predictions as fitted now: the
   /// separation before the refit (noise units), for comparison — the refit absorbs part of it.
   double separation_before_refit_sigma = 0.0;
@@ -119,6 +124,10 @@ struct MeasurementOption {
   /// extra parameters' penalty, and a nested rival that is not the better fit is no rival.
   bool resolves = false;
 };
+
+/// What an option measures on each new tooth, in words: "a 7 × 9 grid per flank" or "3 profile traces (z = 20, 75,
+/// 130 mm) and 3 helix traces (d = 498.1, 507.3, 516.8 mm) of 100 points per flank".
+std::string what_to_measure(const MeasurementOption& option);
 
 /// What to measure to tell two explanations apart, whose ΔBIC are within the threshold of each other.
 struct MeasurementPlan {
@@ -182,6 +191,13 @@ struct DiagnoseOptions {
   /// Grid of the measurement plan on every unmeasured tooth and flank (count): rows along the profile, columns along
   /// the face width — the simulator's default topological grid (docs/grinding.md).
   int plan_rows = 7, plan_cols = 9;
+  /// What the plan recommends measuring on the new teeth: grids (plan_rows × plan_cols and 2×, 3× denser), or traces
+  /// as a gear measuring machine takes them — per flank, plan_profile_traces profile traces at evenly spaced face-width
+  /// positions and plan_helix_traces helix traces at evenly spaced roll lengths of the evaluation ranges (ends
+  /// included), plan_trace_points points each (and 2×, 3× the lines).
+  enum class PlanLayout { Grid, Traces };
+  PlanLayout plan_layout = PlanLayout::Grid;
+  int plan_profile_traces = 3, plan_helix_traces = 3, plan_trace_points = 100;
   /// Expected ΔBIC gap (unit-free) a measurement option must reach, whichever of the two explanations is right, to be
   /// recommended. Once the expected gap is λ, the realised one scatters by about 2√λ (a non-central χ² difference):
   /// at 30 it falls below bic_threshold = 10 in about 3 % of measurements, so a followed plan decides. The gap is
@@ -217,6 +233,9 @@ struct Diagnosis {
   /// "ambiguous between …", `chosen` is only the best of them and the plan says what to measure to decide.
   std::vector<Candidate> rivals;
   std::optional<MeasurementPlan> plan;  ///< between `chosen` and the best rival, when there is one
+  /// A machine hypothesis named with an equivalence class: the plan between it and the best other member — not an
+  /// ambiguity (their fields are ≥ 95 % alike on the measured flanks), but whether other teeth would tell them apart.
+  std::optional<MeasurementPlan> equivalent_plan;
   /// Set-up values the named explanations need and nobody gave (ParameterSpec::fitted false: an arbor span, a dressing
   /// interval, a runout frequency): the effect's default was assumed. One line each, e.g. "deflection.arbor_span_mm =
   /// 600 (assumed: the effect's default; the scene gives none and the flanks cannot identify it)".
