@@ -10,6 +10,8 @@
 
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
+#include "geartopo/diagnosis/effect_contribution.hpp"
+#include "geartopo/effects/registry.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/measurement/any_measurement.hpp"
 
@@ -77,5 +79,24 @@ void BM_DiagnoseTraces(benchmark::State& state) {
                                                 benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_DiagnoseTraces)->Name("Diagnose/traces/35teeth_6x500")->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// One evaluation of an effect's first-order deviation at all 210 000 points of the export (what a fit repeats for every
+// trial value of a nonlinear parameter), on one thread: its CPU time per pass. Arg: 0 thermal_drift, 1 eccentricity.
+void BM_DeviationPass(benchmark::State& state) {
+  const auto& model = bench::default_scene();
+  static const auto pts = measurement::read_any_measurement(full_export().path.string(), model.setup);
+  static const diagnosis::EffectContribution at(model.setup, pts, 0);
+  auto e = effects::make_effect(state.range(0) == 0 ? "thermal_drift" : "eccentricity");
+  e->bind(model.setup);
+  auto v = e->values();
+  v[0] = 5.0, v[1] = 3.0;
+  e->set_values(v);
+  const effects::Effect* list[] = {e.get()};
+  for (auto _ : state) benchmark::DoNotOptimize(at.deviation_um(list, 1).data());
+  state.SetLabel(std::string(e->type()));
+  state.counters["points"] = benchmark::Counter(static_cast<double>(pts.size()) * static_cast<double>(state.iterations()),
+                                                benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_DeviationPass)->Name("DeviationPass/traces/35teeth_6x500/threads:1")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 } // namespace

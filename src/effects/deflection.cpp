@@ -26,6 +26,7 @@ public:
     return p;
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<Deflection>(*this); }
+  bool table_in_gear_is_constant() const override { return true; } // the default identity table
   machine::Vector5d command_offset(const grinding::PathPoint& pp) const override {
     const double b = setup().geometry().spec().face_width_mm;
     const double L = std::max(value(1), b);

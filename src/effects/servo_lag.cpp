@@ -21,6 +21,7 @@ public:
     return p;
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<ServoLag>(*this); }
+  bool table_in_gear_is_constant() const override { return true; } // the default identity table
   machine::Vector5d command_offset(const grinding::PathPoint& pp) const override {
     const auto& path = setup().path();
     const double v = path.process().feed_mm_per_min / 60.0 * path.stroke_direction(pp.space); // dZ/dt, mm/s

@@ -25,6 +25,7 @@ public:
     return p;
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<ThermalDrift>(*this); }
+  bool table_in_gear_is_constant() const override { return true; } // the default identity table
   machine::Vector5d command_offset(const grinding::PathPoint& pp) const override {
     const double f = 1.0 - std::exp(-pp.time_s / value(2));
     machine::Vector5d o = machine::Vector5d::Zero();

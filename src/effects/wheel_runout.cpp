@@ -28,6 +28,7 @@ public:
     return p;
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<WheelRunout>(*this); }
+  bool table_in_gear_is_constant() const override { return true; } // the default identity table
   machine::Vector5d command_offset(const grinding::PathPoint& pp) const override {
     const double phase = 2.0 * std::numbers::pi * value(2) * pp.time_s;
     machine::Vector5d o = machine::Vector5d::Zero();

@@ -25,6 +25,7 @@ public:
     return p;
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<WheelWear>(*this); }
+  bool table_in_gear_is_constant() const override { return true; } // the default identity table
   double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override {
     const auto& path = setup().path();
     double strokes = path.stroke_index(pp.space);
