@@ -33,6 +33,7 @@ public:
     return p;
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<WheelProfileWear>(*this); }
+  bool table_in_gear_is_constant() const override { return true; } // the default identity table
 
   void bind(const grinding::GrindingSetup& s) override {
     Effect::bind(s);
