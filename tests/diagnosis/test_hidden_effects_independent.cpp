@@ -153,9 +153,11 @@ Score score(const Truth& t, const diagnosis::Diagnosis& d) {
   bool foreign = false; // a named explanation holds an effect that is not hidden
   for (const auto* c : named) {
     if (sorted_types(*c) == t.effects) truth_named = c;
-    // A machine element beyond the library (a component change, one wheel flank's profile: changes or a qualifier)
-    // is no library effect named falsely; it is scored as the machine elements are (right only outside the library).
-    const bool machine_element = !c->changes.empty() || !c->qualifier.empty();
+    // A machine element beyond the library (a component change, one wheel flank's profile: changes or a qualifier;
+    // the wheel profile's wear) is no library effect named falsely; it is scored as the machine elements are (right
+    // only outside the library).
+    const bool machine_element = !c->changes.empty() || !c->qualifier.empty() ||
+                                 (c->effects.size() == 1 && c->effects.front().type == "wheel_profile_wear");
     for (const auto& n : sorted_types(*c))
       foreign |= !machine_element && std::find(t.effects.begin(), t.effects.end(), n) == t.effects.end();
     why << (c == named.front() ? "chose " : " | rival ") << c->name();
