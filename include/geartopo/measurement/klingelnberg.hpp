@@ -82,6 +82,11 @@ inline constexpr double kKlingelnbergUndefined = -2147483.648;
 KlingelnbergFile parse_klingelnberg(std::string_view text, const std::string& source);
 KlingelnbergFile read_klingelnberg(const std::string& file);
 
+/// Throws InputError naming `source` when `head` (a file's first bytes) is UTF-16 (byte-order mark FF FE or FE FF,
+/// or a NUL byte between the characters): every measurement reader takes UTF-8 or latin-1 only,
+/// and says so rather than failing on the first header it cannot match.
+void refuse_utf16(std::string_view head, const std::string& source);
+
 /// True when the stream's first 64 KiB hold a "HEADER KS." line or a "Zahn-Nr." trace head. Rewinds the stream.
 bool looks_like_klingelnberg(std::istream& in);
 

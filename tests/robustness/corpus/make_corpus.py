@@ -367,6 +367,50 @@ write(K, "no_flank.mka", KHEAD + profile(flank="mitte") + GOOD_REST, ("InputErro
 write(K, "zero_values.mka", KHEAD + profile(count=0, values="") + GOOD_REST, ("InputError", 14, "'0' is not a number of values"))
 write(K, "position_nan.mka", KHEAD + profile(z="nan") + GOOD_REST, ("InputError", 14, "expected a position in mm"))
 write(K, "truncated_in_values.mka", KHEAD + GOOD_REST + "Profil:  Zahn-Nr.: 3 links / 5 Werte / z= 10.0\n  .000  1.0", ("InputError", 18, "announces 5 values, 2 follow"))
+# Issue 31: as strict as the writers. Ranges must run forwards, each flank (line 11 is de, line 13 be).
+write(K, "range_reversed.mka", KHEAD.replace("53.2000     53.2000", "53.2000     47.0000") + profile() + GOOD_REST,
+      ("InputError", 11, "the range da … de = 47.5 … 47 mm (right flank) is reversed"))
+write(K, "range_empty.mka", KHEAD.replace("18.0000     18.0000", "2.0000      2.0000") + profile() + GOOD_REST,
+      ("InputError", 13, "the range ba … be = 2 … 2 mm (left flank) is empty"))
+# Header numbers the reader uses: an error, not a warning and an unchecked file.
+write(K, "module_unreadable.mka", KHEAD.replace("mn [mm]...............: 2.0000", "mn [mm]...............: zwei") + profile() + GOOD_REST,
+      ("InputError", 5, "'zwei' is not a number"))
+write(K, "teeth_fraction.mka", KHEAD.replace("z.......................: 24", "z.......................: 24.5") + profile() + GOOD_REST,
+      ("InputError", 6, "24.5 is not a number of teeth"))
+write(K, "teeth_missing_value.mka", KHEAD.replace("z.......................: 24", "z.......................:") + profile() + GOOD_REST,
+      ("InputError", 6, "no value after the label"))
+write(K, "range_1e300.mka", KHEAD.replace("47.5000     47.5000", "1e300       47.5000") + profile() + GOOD_REST,
+      ("InputError", 10, "1e300 is beyond ±100000"))
+write(K, "position_1e300.mka", KHEAD + profile(z="1e300") + GOOD_REST, ("InputError", 14, "1e300 mm is beyond ±100000 mm"))
+# Tooth numbers 1 … z (z = 24 from line 6): tooth 10⁹ is an error like tooth 25, "1e9" too (not a tagged block).
+write(K, "tooth_beyond_z.mka", KHEAD + profile(tooth=25) + GOOD_REST, ("InputError", 14, "tooth 25 of a gear with 24 teeth"))
+write(K, "tooth_1e9_digits.mka", KHEAD + profile(tooth=1000000000) + GOOD_REST, ("InputError", 14, "tooth 1000000000 of a gear with 24 teeth"))
+write(K, "tooth_1e9.mka", KHEAD + profile(tooth="1e9") + GOOD_REST, ("InputError", 14, "'1e9' is not a tooth number: a whole number 1 … 24"))
+# A bad number named with its column and what is allowed, not "the head announces 5 values, 0 follow".
+write(K, "value_dashes.mka", KHEAD + profile(values="--  --  --  --  --") + GOOD_REST,
+      ("InputError", 15, "'--' is not a number: value 1 of the profile trace of tooth 1 (head at line 14); numbers are written 1.5"))
+write(K, "value_decimal_comma_among_points.mka", KHEAD + profile(values=".000  1.000  2,838  3.000  4.000") + GOOD_REST,
+      ("InputError", 15, "'2,838' has a decimal comma, but this file's numbers have a decimal point (the first, '2.0000', at line 5)"))
+write(K, "value_inf_word.mka", KHEAD + profile(values="inf  1.000  2.000  3.000  4.000") + GOOD_REST,
+      ("InputError", 15, "'inf' is not a number: value 1"))
+# Pitch tables (title at line 20, rows from line 22): nan, inf, a value beyond ±1000 µm, a tooth twice or beyond z, each at its place.
+def pitch(rows):
+    return "linke Zahnflanke\nZahn-Nr.   fp     Fp     Fr\n" + "".join(f"  {r}\n" for r in rows)
+write(K, "pitch_nan.mka", KHEAD + profile() + GOOD_REST + pitch(["1      0.662  0.662  0.778", "2      nan   .262  1.100"]),
+      ("InputError", 23, "'nan' is not a number: the pitch table's fp of tooth 2 (left flank)"))
+write(K, "pitch_inf.mka", KHEAD + profile() + GOOD_REST + pitch(["1      0.662  inf  0.778"]),
+      ("InputError", 22, "'inf' is not a number: the pitch table's Fp of tooth 1"))
+write(K, "pitch_1e6.mka", KHEAD + profile() + GOOD_REST + pitch(["1      0.662  0.662  1e6"]),
+      ("InputError", 22, "1e6 µm is beyond ±1000 µm"))
+write(K, "pitch_tooth_twice.mka", KHEAD + profile() + GOOD_REST + pitch(["1      0.662  0.662  0.778", "1      -.400   .262  1.100"]),
+      ("InputError", 23, "tooth 1 is in the left pitch table twice (first at line 22)"))
+write(K, "pitch_tooth_beyond_z.mka", KHEAD + profile() + GOOD_REST + pitch(["36      0.662  0.662  0.778"]),
+      ("InputError", 22, "tooth 36 in the pitch table: a tooth number is 1 … 24"))
+# UTF-16 (Windows "Unicode"): named as such, not as a bad header.
+GOOD = KHEAD + profile() + GOOD_REST
+write(K, "utf16_le_bom.mka", GOOD.encode("utf-16-le").join([b"\xff\xfe", b""]), ("InputError", 0, "the file is UTF-16 (little-endian, byte-order mark FF FE)"))
+write(K, "utf16_be_bom.mka", b"\xfe\xff" + GOOD.encode("utf-16-be"), ("InputError", 0, "byte-order mark FE FF), which geartopo does not read: save it as UTF-8 or latin-1"))
+write(K, "utf16_no_bom.mka", GOOD.encode("utf-16-le"), ("InputError", 0, "the file is UTF-16 without a byte-order mark"))
 
 for folder, rows in ROWS.items():
     with open(os.path.join(HERE, folder, "expected.tsv"), "w") as f:
