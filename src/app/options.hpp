@@ -30,6 +30,10 @@ namespace geartopo::app {
 /// A number within [lo, hi] and finite: CLI::Range lets NaN through (every comparison with NaN is false), so
 /// `--noise-um nan` or `--step nan` passed the check. Refuses NaN, ±inf and values outside the range (exit 2).
 CLI::Validator finite_in(double lo, double hi);
+/// The probe noise σ a fit divides by (--noise-um of compare, diagnose, plan, report): finite and within
+/// [kMinProbeSigmaUm, kMaxProbeSigmaUm]; 1e-320 µm would make Σr²/σ² infinite in diagnosis.json and plan.json.
+inline constexpr double kMinProbeSigmaUm = 1e-6, kMaxProbeSigmaUm = 1000.0;
+CLI::Validator probe_sigma_um();
 /// A path that is not empty: `--out ""` wrote into the current folder's root ("" / "file" is "file"; "" as a folder
 /// was created as nothing) instead of being refused.
 CLI::Validator non_empty_path();
