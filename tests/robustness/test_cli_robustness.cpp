@@ -426,3 +426,25 @@ TEST(Cli, AUtf16MeasurementIsNamedAsSuch) {
   }
   fs::remove_all(out);
 }
+
+// Issue 31: evaluate --prediction accepted another gear's prediction and hostile values without a word, and said
+// "[json.exception.out_of_range.406]" of a 1e400. The prediction is read (and its gear compared) before the traces.
+TEST(Cli, EvaluateRefusesAPredictionOfAnotherGearOrWithBadValues) {
+  const auto out = temp_path("cli_prediction");
+  const std::string evaluate = "evaluate " + kDefaultScene.string() + " --traces " + (out / "none.csv").string() + " --out " +
+                               out.string() + " --prediction ";
+  const auto other = run(evaluate + corpus("predictions/reference/other_gear.json"));
+  expect_bad_input(other, "other_gear.json");
+  EXPECT_NE(other.err.find("a prediction of another gear (teeth=36 "), std::string::npos) << other.err;
+  EXPECT_NE(other.err.find("is teeth=35 "), std::string::npos) << other.err;
+  const auto good = run(evaluate + corpus("predictions/reference/good.json")); // passes the gear, fails at the traces
+  EXPECT_EQ(good.code, 1) << good.err;
+  EXPECT_NE(good.err.find("none.csv"), std::string::npos) << good.err;
+  for (const std::string file : {"value_1e400.json", "duplicate_quantity.json", "class_1_5.json", "coverage_2.json"}) {
+    const auto r = run(evaluate + corpus("predictions/" + file));
+    expect_bad_input(r, file);
+    EXPECT_EQ(r.err.find("json.exception"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(out / "iso1328.json"));
+  fs::remove_all(out);
+}

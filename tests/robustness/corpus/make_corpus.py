@@ -321,7 +321,12 @@ write(M, "fingerprint_differs.csv", shard([row(2), row(3)], fingerprint="fedcba9
 write(M, "fingerprint_missing.csv", shard([row(2), row(3)], fingerprint=None), ("invalid_argument", 0, "scene fingerprint not recorded"))
 write(M, "names_differ.csv", shard([row(2, before="12.5,7,7,20.1", after="3.25,4,5,6.5"), row(3, before="12.5,7,7,20.1", after="3.25,4,5,6.5")],
                                    names=NAMES[:4]), ("invalid_argument", 0, "other quantities"))
-write(M, "sample_in_both.csv", shard([row(1), row(2), row(3)]), ("invalid_argument", 0, "sample 1 is in two parts"))
+write(M, "sample_in_both.csv", shard([row(1), row(2), row(3)]), ("invalid_argument", 0, "sample 1 is in two parts: part 1 ("))
+# Issue 31: a shard of another gear (the reference records none, as shards written before the gear was recorded).
+write(M, "gear_differs.csv", shard([row(2), row(3)], extra="# gear: teeth=36 normal_module_mm=14 normal_pressure_angle_deg=20 "
+                                   "helix_angle_deg=30 profile_shift=0.274 face_width_mm=150\n"),
+      ("invalid_argument", 0, "gear teeth=36 normal_module_mm=14"))
+write(M, "gear_malformed.csv", shard([row(2), row(3)], extra="# gear: 36\n"), ("InputError", 13, "'36' is not a gear record geartopo writes"))
 
 # ---------------------------------------------------------------------------------------------------- Klingelnberg exports
 # Read by measurement::read_klingelnberg (docs/measurement-formats.md). The head of tests/measurement/data's example.
@@ -411,6 +416,51 @@ GOOD = KHEAD + profile() + GOOD_REST
 write(K, "utf16_le_bom.mka", GOOD.encode("utf-16-le").join([b"\xff\xfe", b""]), ("InputError", 0, "the file is UTF-16 (little-endian, byte-order mark FF FE)"))
 write(K, "utf16_be_bom.mka", b"\xfe\xff" + GOOD.encode("utf-16-be"), ("InputError", 0, "byte-order mark FE FF), which geartopo does not read: save it as UTF-8 or latin-1"))
 write(K, "utf16_no_bom.mka", GOOD.encode("utf-16-le"), ("InputError", 0, "the file is UTF-16 without a byte-order mark"))
+
+# ---------------------------------------------------------------------------------------------------- predictions
+# prediction.json as `evaluate --prediction` reads it (report::read_prediction_json; the keys of report::prediction_json,
+# written here by hand). Issue 31: every value checked as merge checks a shard's, keys once, numbers a double holds.
+R = "predictions"
+GEAR_RECORD = "teeth=35 normal_module_mm=14 normal_pressure_angle_deg=20 helix_angle_deg=30 profile_shift=0.274 face_width_mm=150"
+def prediction(quantities=None, top=None, raw_quantities=None):
+    q = quantities or {"F_alpha_um": ("12.5, 11.0, 14.0", "3.25, 2.5, 4.0"), "F_alpha_class": ("7, 6, 8", "4, 3, 5")}
+    fields = {"samples": "40", "seed": "1", "coverage_probability": "0.95", "gear": f'"{GEAR_RECORD}"',
+              "probe_noise_um": "0"}
+    fields.update(top or {})
+    def band(t):
+        m, lo, hi = (x.strip() for x in t.split(","))
+        return f'{{"median": {m}, "low": {lo}, "high": {hi}}}'
+    body = raw_quantities or ",\n".join(f'    "{n}": {{"before": {band(b)}, "after": {band(a)}}}' for n, (b, a) in q.items())
+    return "{\n" + "".join(f'  "{k}": {v},\n' for k, v in fields.items()) + '  "quantities": {\n' + body + "\n  }\n}\n"
+os.makedirs(os.path.join(HERE, R, "reference"), exist_ok=True)
+with open(os.path.join(HERE, R, "reference", "good.json"), "w", newline="") as f:
+    f.write(prediction())
+with open(os.path.join(HERE, R, "reference", "other_gear.json"), "w", newline="") as f:  # refused by evaluate, not the reader
+    f.write(prediction(top={"gear": '"' + GEAR_RECORD.replace("teeth=35", "teeth=36") + '"'}))
+write(R, "negative_um.json", prediction({"F_alpha_um": ("12.5, 11.0, 14.0", "-3.25, -4.0, -2.5")}), ("InputError", 0, "µm is negative"))
+write(R, "class_99.json", prediction({"F_alpha_class": ("99, 99, 99", "4, 3, 5")}), ("InputError", 0, "99 is not a class of ISO 1328-1"))
+write(R, "class_1_5.json", prediction({"F_alpha_class": ("1.5, 1, 2", "4, 3, 5")}), ("InputError", 0, "1.5 is not a class of ISO 1328-1"))
+write(R, "unknown_quantity.json", prediction({"F_gamma_um": ("1, 1, 1", "1, 1, 1")}), ("InputError", 0, "'F_gamma_um' is not a quantity geartopo writes"))
+write(R, "coverage_2.json", prediction(top={"coverage_probability": "2"}), ("InputError", 0, "2 is not a probability in (0, 1)"))
+write(R, "coverage_0.json", prediction(top={"coverage_probability": "0"}), ("InputError", 0, "0 is not a probability in (0, 1)"))
+write(R, "value_1e400.json", prediction({"F_alpha_um": ("1e400, 11.0, 14.0", "3.25, 2.5, 4.0")}),
+      ("InputError", 8, "'1e400' is beyond the range of a number"))
+write(R, "value_beyond_bound.json", prediction({"F_alpha_um": ("1e300, 1e300, 1e300", "3.25, 2.5, 4.0")}), ("InputError", 0, "beyond ±10000 µm"))
+write(R, "duplicate_top_key.json", prediction(top={"samples": "40", "seed": "1"}).replace('"seed": 1,', '"seed": 1,\n  "seed": 2,'),
+      ("InputError", 0, "the key 'seed' is given twice"))
+write(R, "duplicate_quantity.json", prediction(raw_quantities='    "F_alpha_um": {"before": {"median": 1, "low": 1, "high": 1}, "after": {"median": 1, "low": 1, "high": 1}},\n'
+                                                             '    "F_alpha_um": {"before": {"median": 9, "low": 9, "high": 9}, "after": {"median": 9, "low": 9, "high": 9}}'),
+      ("InputError", 0, "the key 'F_alpha_um' is given twice in quantities"))
+write(R, "duplicate_band_key.json", prediction(raw_quantities='    "F_alpha_um": {"before": {"median": 1, "low": 1, "high": 1, "high": 7}, "after": {"median": 1, "low": 1, "high": 1}}'),
+      ("InputError", 0, "the key 'high' is given twice in quantities.F_alpha_um.before"))
+write(R, "syntax_error.json", prediction().replace('"samples": 40,', '"samples": 40,,'), ("InputError", 2, "not JSON"))
+write(R, "nan_literal.json", prediction({"F_alpha_um": ("NaN, 11.0, 14.0", "3.25, 2.5, 4.0")}), ("InputError", 8, "not JSON"))
+write(R, "low_above_high.json", prediction({"F_alpha_um": ("12.5, 15.0, 14.0", "3.25, 2.5, 4.0")}), ("InputError", 0, "does not hold"))
+write(R, "seed_negative.json", prediction(top={"seed": "-1"}), ("InputError", 0, "not a seed"))
+write(R, "probe_noise_negative.json", prediction(top={"probe_noise_um": "-0.5"}), ("InputError", 0, "is not a σ of 0 … 1000 µm"))
+write(R, "gear_malformed.json", prediction(top={"gear": "35"}), ("InputError", 0, "not a gear record geartopo writes"))
+write(R, "samples_0.json", prediction(top={"samples": "0"}), ("InputError", 0, "is not a count of samples"))
+write(R, "not_an_object.json", "[1, 2, 3]\n", ("InputError", 0, "not a JSON object"))
 
 for folder, rows in ROWS.items():
     with open(os.path.join(HERE, folder, "expected.tsv"), "w") as f:
