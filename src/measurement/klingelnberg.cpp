@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <istream>
 #include <limits>
 #include <map>
@@ -23,6 +24,42 @@ namespace {
 
 [[noreturn]] void fail(const std::string& source, int line, const std::string& field, const std::string& message) {
   throw InputError(source, line, 0, field, message);
+}
+
+// An export with English labels (docs/measurement-formats.md, "English labels" [M]) read as its German twin: the words
+// of heads, block titles and pitch tables replaced word by word, so every rule and message is the German one's.
+// Header lines keep their labels (they are read by their code). `out` is reused; returns the line to parse.
+// `from[i]`: the byte of `line` that byte i of `out` comes from (for columns in the file's own line).
+std::string_view german_words(std::string_view line, std::string& out, std::vector<size_t>& from) {
+  static const std::pair<std::string_view, std::string_view> kWords[] = {
+      {"Tooth-No.", "Zahn-Nr."}, {"Tooth No.", "Zahn-Nr."}, {"TOPOGRAPHY", "TOPOGRAFIE"}, {"Profile", "Profil"},
+      {"Lead", "Flankenlinie"},  {"left flank", "linke Zahnflanke"}, {"right flank", "rechte Zahnflanke"},
+      {"left", "links"},         {"right", "rechts"}, {"Values", "Werte"}, {"values", "Werte"}};
+  const auto word_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_'; };
+  bool any = false;
+  for (const auto& [en, de] : kWords)
+    if (line.find(en) != std::string_view::npos) any = true;
+  if (!any) return line;
+  out.clear();
+  from.clear();
+  for (size_t i = 0; i < line.size();) {
+    bool replaced = false;
+    if (i == 0 || !word_char(line[i - 1]))
+      for (const auto& [en, de] : kWords)
+        if (line.substr(i, en.size()) == en && (i + en.size() == line.size() || !word_char(line[i + en.size()]) ||
+                                                en.back() == '.')) {
+          out += de;
+          from.insert(from.end(), de.size(), i);
+          i += en.size();
+          replaced = true;
+          break;
+        }
+    if (!replaced) {
+      from.push_back(i);
+      out += line[i++];
+    }
+  }
+  return out;
 }
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -188,9 +225,14 @@ std::string strip_leaders(std::string_view label) {
 
 const char* kRangeSymbols[] = {"da", "de", "d1", "d2", "ba", "be", "b1", "b2"};
 
-// Only measuring ("Mess…") and evaluation ("Auswerte…") lines define ranges: line 27 may say "Kopfkreis … da".
+// Only measuring ("Mess…", "measuring") and evaluation ("Auswerte…", "evaluation") lines define ranges: line 27 may say
+// "Kopfkreis … da".
 std::optional<std::string> range_symbol(std::string_view label) {
-  if (label.find("Mess") == std::string_view::npos && label.find("Auswert") == std::string_view::npos) return std::nullopt;
+  std::string lower(label);
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (lower.find("mess") == std::string::npos && lower.find("auswert") == std::string::npos &&
+      lower.find("measur") == std::string::npos && lower.find("evaluat") == std::string::npos)
+    return std::nullopt;
   for (const auto t : tokens(label, " \t.[]")) {
     for (const char* s : kRangeSymbols)
       if (t == s) return std::string(s);
@@ -216,7 +258,7 @@ struct Head {
 // after a title line ("Profil:").
 // `teeth`: the header's number of teeth (line 22), 0 when not (yet) read.
 Head parse_head(std::string_view line, std::optional<TraceKind> pending, const std::string& source, int ln,
-                DecimalMark& decimal, int teeth, int indent) {
+                DecimalMark& decimal, int teeth, const std::function<int(std::string_view)>& column_in_file) {
   Head h;
   const auto at = line.find("Zahn-Nr.");
   std::string title = std::string(trim(line.substr(0, at)));
@@ -276,7 +318,7 @@ Head parse_head(std::string_view line, std::optional<TraceKind> pending, const s
       const std::string field(t[k].substr(0, 2));
       const std::string_view at = t[k].size() > 2 ? t[k].substr(2) : (k + 1 < t.size() ? t[k + 1] : std::string_view());
       if (at.empty()) fail(source, ln, field, "expected a position in mm after it");
-      const int column = static_cast<int>(at.data() - line.data()) + 1 + indent;
+      const int column = column_in_file(at);
       if (const auto why = read_number(at, ln, decimal, h.position); !why.empty())
         throw InputError(source, ln, column, field, fmt::format("{}: expected a position in mm after it; {}", why, kNumberRule));
       if (std::abs(h.position) > kMaxPositionMm)
@@ -353,7 +395,9 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
   std::map<std::string, int> skipped_count;
   std::map<std::pair<int, int>, int> pitch_rows; // (tooth, flank) → line
   DecimalMark decimal;
-  int teeth = 0; // header line 22, once read
+  int teeth = 0;       // header line 22, once read
+  std::string english; // a line with English labels in German words (german_words)
+  std::vector<size_t> english_from;
   bool skip_numbers_only = false; // a skipped trace ends at its last number line, an unknown block at a known line
   auto skip_block = [&](const std::string& title, int ln) {
     if (skipped_count[title]++ == 0) f.skipped_blocks.push_back(fmt::format("{} (line {})", title, ln));
@@ -374,8 +418,15 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
     const std::string_view full = raw.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
     pos = nl == std::string_view::npos ? raw.size() : nl + 1;
     ++ln;
-    const std::string_view line = trim(full);
-    if (line.empty()) continue;
+    const std::string_view trimmed = trim(full);
+    if (trimmed.empty()) continue;
+    std::string_view line = trimmed;
+    if (std::string_view unused; !header_code(line, unused)) line = german_words(line, english, english_from);
+    // The column of a token of `line` in the file's own line.
+    const auto col = [&](std::string_view tok) {
+      if (line.data() == trimmed.data()) return column_of(full, tok);
+      return column_of(full, trimmed.substr(english_from[static_cast<size_t>(tok.data() - line.data())]));
+    };
 
     if (state == State::Values) {
       if (all_numbers(line) || is_value_line(line, f.traces.back())) {
@@ -384,7 +435,7 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
           if (static_cast<int>(t.values_um.size()) == t.announced_values)
             fail(source, ln, "Werte",
                  fmt::format("more values than the {} announced by the head at line {}", t.announced_values, t.line));
-          const int column = column_of(full, tok);
+          const int column = col(tok);
           double v = 0.0;
           // nan, inf, "--" or text among the values: said as such, at its place (not as a trace that ends too early).
           if (const auto why = read_number(tok, ln, decimal, v); !why.empty())
@@ -439,7 +490,7 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
         r.line = ln;
         const std::string allowed = teeth > 0 ? fmt::format("1 … {} (z, header line 22)", teeth) : "from 1";
         if (r.tooth < 1 || (teeth > 0 && r.tooth > teeth))
-          throw InputError(source, ln, column_of(full, t[0]), "Zahn-Nr.",
+          throw InputError(source, ln, col(t[0]), "Zahn-Nr.",
                            fmt::format("tooth {} in the pitch table: a tooth number is {}", r.tooth, allowed));
         const auto [at, fresh] = pitch_rows.emplace(std::pair{r.tooth, static_cast<int>(pitch_flank)}, ln);
         if (!fresh)
@@ -447,7 +498,7 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
                fmt::format("tooth {} is in the {} pitch table twice (first at line {})", r.tooth, to_string(pitch_flank), at->second));
         for (size_t c = 0; c < pitch_columns.size(); ++c) {
           const auto tok = t[c + 1];
-          const int column = column_of(full, tok);
+          const int column = col(tok);
           double v = 0.0;
           if (const auto why = read_number(tok, ln, decimal, v); !why.empty())
             throw InputError(source, ln, column, pitch_columns[c],
@@ -487,10 +538,10 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
             continue;
           }
           if (const auto why = read_number(t, ln, decimal, v); !why.empty())
-            throw InputError(source, ln, column_of(full, t), field,
+            throw InputError(source, ln, col(t), field,
                              fmt::format("{}; this line's values are numbers ({})", why, kNumberRule));
           if (std::abs(v) > kMaxPositionMm)
-            throw InputError(source, ln, column_of(full, t), field,
+            throw InputError(source, ln, col(t), field,
                              fmt::format("{} is beyond ±{:g}, more than any gear measures (a wrong unit?)",
                                          text::excerpt(t), kMaxPositionMm));
           h.values.push_back(v);
@@ -515,7 +566,7 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
       continue;
     }
     if (line.find("Zahn-Nr.") != std::string_view::npos) {
-      const Head h = parse_head(line, pending, source, ln, decimal, teeth, static_cast<int>(line.data() - full.data()));
+      const Head h = parse_head(line, pending, source, ln, decimal, teeth, col);
       pending.reset();
       if (!h.kind) { // e.g. "Verschränkung:" (twist) traces: listed, their values skipped
         skip_block(h.title.empty() ? std::string("Zahn-Nr.") : h.title, ln);
@@ -591,7 +642,8 @@ bool looks_like_klingelnberg(std::istream& in) {
   head.resize(static_cast<size_t>(in.gcount()));
   in.clear();
   in.seekg(0);
-  return head.find("HEADER KS.") != std::string::npos || head.find("Zahn-Nr.") != std::string::npos;
+  return head.find("HEADER KS.") != std::string::npos || head.find("Zahn-Nr.") != std::string::npos ||
+         head.find("Tooth-No.") != std::string::npos || head.find("Tooth No.") != std::string::npos;
 }
 
 namespace {

@@ -422,3 +422,35 @@ TEST(KlingelnbergStrict, Utf16IsNamed) {
   EXPECT_NE(points_error(be, example_gear()).find("byte-order mark FE FF"), std::string::npos);
   EXPECT_NE(points_error(bare, example_gear()).find("x.mka: the file is UTF-16 without a byte-order mark"), std::string::npos);
 }
+
+// English labels (Profile, Lead, TOPOGRAPHY, Tooth-No., left/right, Values, "left flank", measuring/evaluation range
+// lines): tests/measurement/data/klingelnberg_english.mka, the example in English words, UTF-8 without BOM, LF.
+TEST(KlingelnbergVariations, EnglishLabelsReadAsTheExample) {
+  const auto en = measurement::read_klingelnberg(std::string(GEARTOPO_SOURCE_DIR) + "/tests/measurement/data/klingelnberg_english.mka");
+  ASSERT_EQ(en.traces.size(), 5u);
+  EXPECT_EQ(en.traces[0].kind, measurement::TraceKind::Profile);
+  EXPECT_EQ(en.traces[0].flank, Flank::Left);
+  EXPECT_EQ(en.traces[2].kind, measurement::TraceKind::Helix);
+  EXPECT_EQ(en.traces[3].position_symbol, 'x');
+  EXPECT_TRUE(en.traces[4].topography);
+  EXPECT_DOUBLE_EQ(en.ranges.at("da").values.at(0), 47.5); // "measuring range", not line 27's "Tip diameter da"
+  EXPECT_DOUBLE_EQ(en.ranges.at("be").values.at(1), 18.0);
+  ASSERT_EQ(en.pitch.size(), 4u);
+  EXPECT_EQ(en.pitch[2].flank, Flank::Right);
+  EXPECT_DOUBLE_EQ(en.pitch[3].fp_um, -0.3);
+  EXPECT_TRUE(en.skipped_blocks.empty());
+  const auto g = example_gear();
+  const auto a = measurement::klingelnberg_points(en, g);
+  const auto b = measurement::klingelnberg_points(measurement::read_klingelnberg(kExample), g);
+  ASSERT_EQ(a.points.size(), 20u);
+  for (size_t i = 0; i < a.points.size(); ++i) {
+    EXPECT_EQ(a.points[i].deviation_um, b.points[i].deviation_um);
+    EXPECT_EQ(a.points[i].roll_length_mm, b.points[i].roll_length_mm);
+  }
+  // A bad value in an English head is located in the file's own columns.
+  std::ifstream in(std::string(GEARTOPO_SOURCE_DIR) + "/tests/measurement/data/klingelnberg_english.mka");
+  std::stringstream s;
+  s << in.rdbuf();
+  const auto bad = points_error(replaced(s.str(), "Tooth-No.: 1 left / 5 Values / z= 10.0", "Tooth-No.: 1 left / 5 Values / z= 1,0"), g);
+  EXPECT_EQ(bad.rfind("x.mka:22:45: z=: '1,0' has a decimal comma", 0), 0u) << bad;
+}
