@@ -257,6 +257,8 @@ write(P, "extra_field.csv", PH + prows(2) + "290,3,4,5\n", ("InputError", 4, "")
 write(P, "nan.csv", PH + prows(2) + "290,nan,4\n", ("InputError", 4, "y_mm"))
 write(P, "inf.csv", PH + prows(2) + "290,3,-inf\n", ("InputError", 4, "z_mm"))
 write(P, "huge_overflow.csv", PH + prows(2) + "1e400,3,4\n", ("InputError", 4, "x_mm"))
+# Issue 31: a 1e300 coordinate reached diagnose as "noise level σ = inf µm", no file named; refused at reading.
+write(P, "coordinate_1e300.csv", PH + prows(2) + "290,1e300,4\n", ("InputError", 4, "'1e300' mm is beyond ±100000 mm"))
 write(P, "duplicate_point.csv", PH + prows(3) + "280.000,0.000,10.000\n", ("InputError", 5, "line 2"))
 write(P, "duplicate_id.csv", "x_mm,y_mm,z_mm,id\n1,2,3,7\n4,5,6,7\n", ("InputError", 3, "id"))
 write(P, "negative_id.csv", "x_mm,y_mm,z_mm,id\n1,2,3,-1\n", ("InputError", 2, "id"))
