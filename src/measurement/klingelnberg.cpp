@@ -63,8 +63,8 @@ std::string_view german_words(std::string_view line, std::string& out, std::vect
 }
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kSlackMm = 1e-3;
-constexpr double kMaxPositionMm = 1e5; // positions and ranges: 100 m, beyond any gear (a wrong unit or a corrupt file) // points within 1 µm of the active flank count as on it (as measured_points does)
+constexpr double kSlackMm = 1e-3; // points within 1 µm of the active flank count as on it (as measured_points does)
+constexpr double kMaxPositionMm = 1e5; // positions and ranges: 100 m, beyond any gear (a wrong unit or a corrupt file)
 
 // Valid UTF-8 (so a file without BOM but with "ä" as two bytes is UTF-8); else the text is latin-1.
 bool is_utf8(std::string_view s) {
@@ -370,7 +370,7 @@ void refuse_utf16(std::string_view head, const std::string& source) {
   const auto nuls = std::count(sample.begin(), sample.end(), '\0');
   if (sample.size() < 4 || 3 * nuls < static_cast<std::ptrdiff_t>(sample.size())) return;
   fail(source, 0, "",
-       fmt::format("the file is UTF-16 without a byte-order mark ({} of its first {} bytes are NUL), which geartopo does "
+       fmt::format("the file is UTF-16 without a byte-order mark (NUL in {} of its first {} bytes), which geartopo does "
                    "not read: {}",
                    nuls, sample.size(), kSave));
 }
