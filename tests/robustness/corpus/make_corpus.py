@@ -301,6 +301,7 @@ write(M, "negative_total_deviation.csv", shard([row(2), row(3, after="-3.25,4,5,
 write(M, "class_99.csv", shard([row(2, after="3.25,99,5,6.5,0.25"), row(3)]),
       ("InputError", 14, "after.F_alpha_class: 99 is not a class of ISO 1328-1: a whole number of 1 … 11"))
 write(M, "class_0.csv", shard([row(2, before="12.5,7,0,20.1,-1.5"), row(3)]), ("InputError", 14, "before.overall_class: 0 is not a class"))
+write(M, "class_1_5.csv", shard([row(2, after="3.25,1.5,5,6.5,0.25"), row(3)]), ("InputError", 14, "after.F_alpha_class: 1.5 is not a class"))
 write(M, "class_fraction.csv", shard([row(2, before="12.5,6.5,7,20.1,-1.5"), row(3)]), ("InputError", 14, "6.5 is not a class"))
 write(M, "largest_abs_negative.csv", shard([row(2, before="12.5,7,7,-20.1,-1.5"), row(3)]), ("InputError", 14, "before.largest_abs_um"))
 write(M, "signed_value_huge.csv", shard([row(2), row(3, after="3.25,4,5,6.5,-2e4")]), ("InputError", 15, "after.thickness_um: -2e4 µm is beyond ±10000 µm"))
