@@ -21,9 +21,15 @@
 namespace geartopo::app {
 
 void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards) {
-  cmd->add_option("--samples", flags.samples,
-                  fmt::format("Monte Carlo samples of the predicted after-state over all shards (default {}; 0: none)",
-                              flags.samples))
+  cmd->add_option_function<long long>(
+         "--samples",
+         [&flags](const long long& v) {
+           flags.samples = v;
+           flags.samples_given = true;
+         },
+         fmt::format("Monte Carlo samples of the predicted after-state over all shards (default {}; 0: none; not with "
+                     "--adaptive-tolerance-um)",
+                     flags.samples))
       ->check(CLI::Range(0LL, 1'000'000LL));
   cmd->add_option("--seed", flags.seed, "Seed of the Monte Carlo draws (default 1): sample k depends on (seed, k) only")
       ->check(seed_value());
@@ -104,6 +110,10 @@ void refuse_flags_without_effect(const MonteCarloFlags& flags) {
       throw CLI::ValidationError("--probe-noise-um", "has no effect with --samples 0: there is no prediction whose "
                                                      "gears it would measure");
   }
+  if (flags.samples_given && adaptive)
+    throw CLI::ValidationError("--samples", fmt::format("{} has no effect with --adaptive-tolerance-um: the adaptive run "
+                                                        "takes batches of 100 until stable, at most --max-samples",
+                                                        flags.samples));
   if (flags.max_samples_given && !adaptive)
     throw CLI::ValidationError("--max-samples", "has no effect without --adaptive-tolerance-um: it is the adaptive "
                                                 "run's limit; a fixed run takes --samples N");

@@ -394,6 +394,8 @@ TEST(Cli, FlagsThatWouldDoNothingOrOverflowAreBadUsage) {
        {"--adaptive-tolerance-um", "has no effect with --samples 0"}},
       {"compensate " + scene + " --out " + out.string() + " --max-samples 500",
        {"--max-samples", "has no effect without --adaptive-tolerance-um"}},
+      {"compensate " + scene + " --out " + out.string() + " --samples 200 --adaptive-tolerance-um 0.5",
+       {"--samples", "200 has no effect with --adaptive-tolerance-um"}},
       {"run " + scene + " --out " + out.string() + " --samples 0 --probe-noise-um 0.3", {"--probe-noise-um"}},
       {"diagnose " + scene + " --measured " + mka + " --out " + out.string() + " --noise-um 1e-320",
        {"--noise-um", "1e-320 µm is not a probe noise σ: 1e-06 … 1000 µm"}},
