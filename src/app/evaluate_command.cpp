@@ -84,6 +84,7 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       std::string source;
       std::vector<measurement::KlingelnbergPitchRow> machine_pitch; // an export's own pitch table, if any
       if (!opt->traces.empty()) {
+        refuse_mka_flags_without_export(opt->traces);
         auto traces = measurement::read_any_traces(opt->traces, wb.setup, opt->mka);
         if (traces.klingelnberg) machine_pitch = measurement::read_klingelnberg(opt->traces).pitch;
         for (const auto& w : traces.warnings) say("geartopo: warning: " + w);

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -437,17 +438,24 @@ namespace {
 
 // A word option bound to an enum: a word not in `words` is refused naming the words allowed ("'radius' is not one of
 // roll-length, diameter"), not with CLI11's text of its internal map.
+// The --mka-… flags given on this command line (their names), for refuse_mka_flags_without_export.
+std::vector<std::string>& mka_flags_given() {
+  static std::vector<std::string> given;
+  return given;
+}
+
 template <class E>
 void add_word_option(CLI::App* cmd, const std::string& name, E& target, std::vector<std::pair<std::string, E>> words,
-                     const std::string& help) {
+                     const std::string& help, std::vector<std::string>* given = nullptr) {
   std::vector<std::string> names;
   for (const auto& [w, e] : words) names.push_back(w);
   const std::string allowed = fmt::format("{}", fmt::join(names, ", "));
   cmd->add_option_function<std::string>(
          name,
-         [&target, words](const std::string& word) {
+         [&target, words, given, name](const std::string& word) {
            for (const auto& [w, e] : words)
              if (w == word) target = e;
+           if (given != nullptr) given->push_back(name);
          },
          help)
       ->check(CLI::Validator(
@@ -467,14 +475,16 @@ void add_klingelnberg_options(CLI::App* cmd, measurement::KlingelnbergOptions& o
   using measurement::SignConvention;
   add_word_option<ProfileSpacing>(cmd, "--mka-spacing", o.spacing,
                                   {{"roll-length", ProfileSpacing::RollLength}, {"diameter", ProfileSpacing::Diameter}},
-                                  "Klingelnberg export: profile points evenly in roll-length (default) or diameter");
+                                  "Klingelnberg export: profile points evenly in roll-length (default) or diameter",
+                                  &mka_flags_given());
   add_word_option<DeviationDirection>(
       cmd, "--mka-direction", o.direction,
       {{"transverse", DeviationDirection::Transverse}, {"normal", DeviationDirection::Normal}},
-      "Klingelnberg export: deviations transverse (default; × cos β_b to the normal) or normal");
+      "Klingelnberg export: deviations transverse (default; × cos β_b to the normal) or normal", &mka_flags_given());
   add_word_option<SignConvention>(cmd, "--mka-signs", o.signs, {{"raw", SignConvention::Raw}, {"din", SignConvention::Din}},
                                   "Klingelnberg export: raw probe sign (default; profile left and helix × −1) or din "
-                                  "(plus material)");
+                                  "(plus material)",
+                                  &mka_flags_given());
 }
 
 void add_iso_options(CLI::App* cmd, workbench::IsoOptions& o) {
@@ -502,9 +512,20 @@ void add_measurement_options(CLI::App* cmd, std::string& file, measurement::Klin
   add_klingelnberg_options(cmd, options);
 }
 
+void refuse_mka_flags_without_export(const std::string& file) {
+  if (mka_flags_given().empty()) return;
+  std::ifstream in(file, std::ios::binary); // unreadable: the reader says why
+  if (!in || measurement::looks_like_klingelnberg(in)) return;
+  throw CLI::ValidationError(mka_flags_given().front(),
+                             fmt::format("has no effect: {} is not a Klingelnberg export (the --mka-… options read "
+                                         "exports only)",
+                                         file));
+}
+
 std::vector<measurement::MeasuredPoint> read_measured_points(const workbench::Workbench& wb, const std::string& file,
                                                              const measurement::KlingelnbergOptions& options,
                                                              measurement::ReadCounts* counts) {
+  refuse_mka_flags_without_export(file);
   std::vector<std::string> warnings;
   auto points = measurement::read_any_measurement(file, wb.setup, &warnings, options, counts);
   for (const auto& w : warnings) say("geartopo: warning: " + w);

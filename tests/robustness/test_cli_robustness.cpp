@@ -404,6 +404,12 @@ TEST(Cli, FlagsThatWouldDoNothingOrOverflowAreBadUsage) {
       {"compare " + scene + " --measured " + mka + " --out " + out.string() + " --mka-spacing radius",
        {"--mka-spacing: 'radius' is not one of roll-length, diameter"}},
       {"compare " + scene + " --measured " + mka + " --out " + out.string() + " --mka-signs +", {"'+' is not one of raw, din"}},
+      // An --mka-… option for a file that is not an export would do nothing (refused before the file is read).
+      {"compare " + scene + " --measured " + corpus("topology/huge_deviation.csv") + " --out " + out.string() + " --mka-signs din",
+       {"--mka-signs: has no effect: ", "huge_deviation.csv is not a Klingelnberg export"}},
+      {"evaluate " + scene + " --traces " + corpus("topology/traces_huge_deviation.csv") + " --out " + out.string() +
+           " --mka-direction normal",
+       {"--mka-direction"}},
   };
   for (const auto& [args, fragments] : cases) {
     const auto r = run(args);
