@@ -32,7 +32,7 @@ void register_compare_command(CLI::App& app, Action& action) {
   cmd->add_option("SCENE", opt->scene, "Model scene (YAML)")->required();
   add_measurement_options(cmd, opt->measured, opt->mka);
   cmd->add_option("--out", opt->out, "Output directory: compare.json, residuals.csv")->required()->check(non_empty_path());
-  cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated)")->check(finite_in(0.0, 1000.0));
+  cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated)")->check(probe_sigma_um());
   cmd->add_flag("--json", opt->json, "Print compare.json's content on stdout instead of the text summary");
   cmd->callback([&action, opt] {
     action = [opt] {

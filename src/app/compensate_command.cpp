@@ -127,6 +127,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
         // What `merge` checks that every shard shares: the scene, its tables and the settings behind the corrections.
         mc_run->scene_fingerprint =
             pipeline::scene_fingerprint(wb, fmt::format("method={} step_mm={}", opt->method, opt->step));
+        mc_run->gear = pipeline::gear_record(g.spec()); // also when rank 0 gathered the samples as numbers (MPI)
       }
 
       const std::filesystem::path out(opt->out);

@@ -126,7 +126,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
   add_measurement_options(cmd, opt->measured, opt->mka);
   cmd->add_option("--out", opt->out, "Output directory: diagnosis.json, scene_with_effect.yaml")->required()->check(non_empty_path());
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated from the residual)")
-      ->check(finite_in(0.0, 1000.0));
+      ->check(probe_sigma_um());
   cmd->add_option("--candidates", opt->candidates, "Effect types to try (default: every library effect not in the scene)")
       ->delimiter(',');
   cmd->add_flag("--json", opt->json, "Print diagnosis.json's content on stdout instead of the text summary");

@@ -1,5 +1,6 @@
 #include "app/commands.hpp"
 #include "geartopo/core/atomic_file.hpp"
+#include "geartopo/core/input_error.hpp"
 #include "geartopo/report/iso_report.hpp"
 #include "geartopo/report/prediction_report.hpp"
 #include "app/options.hpp"
@@ -50,7 +51,18 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       const Workbench wb(opt->scene);
       // Read before anything is written: a wrong prediction file leaves the output folder as it was.
       std::optional<pipeline::MonteCarloSummary> prediction;
-      if (!opt->prediction.empty()) prediction = report::read_prediction_json(opt->prediction);
+      if (!opt->prediction.empty()) {
+        prediction = report::read_prediction_json(opt->prediction);
+        // A prediction of another gear (z, module, angles, shift, width) compares nothing: refused, naming both.
+        const std::string gear = pipeline::gear_record(wb.setup.geometry().spec());
+        if (prediction->gear.empty())
+          throw InputError(opt->prediction, 0, 0, "gear",
+                           "does not record the gear it predicts (written before geartopo recorded it), so it cannot be "
+                           "shown to be of this scene's gear: predict again with geartopo compensate");
+        if (prediction->gear != gear)
+          throw InputError(opt->prediction, 0, 0, "gear",
+                           fmt::format("a prediction of another gear ({}); {} is {}", prediction->gear, opt->scene, gear));
+      }
       // The measurement is evaluated as the prediction's samples were (prediction.json "iso_options"); a flag that
       // says otherwise would compare values of another convention. A file without the key: the flags, as before.
       if (prediction && prediction->iso) {
@@ -72,6 +84,7 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       std::string source;
       std::vector<measurement::KlingelnbergPitchRow> machine_pitch; // an export's own pitch table, if any
       if (!opt->traces.empty()) {
+        refuse_mka_flags_without_export(opt->traces);
         auto traces = measurement::read_any_traces(opt->traces, wb.setup, opt->mka);
         if (traces.klingelnberg) machine_pitch = measurement::read_klingelnberg(opt->traces).pitch;
         for (const auto& w : traces.warnings) say("geartopo: warning: " + w);

@@ -21,9 +21,15 @@
 namespace geartopo::app {
 
 void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards) {
-  cmd->add_option("--samples", flags.samples,
-                  fmt::format("Monte Carlo samples of the predicted after-state over all shards (default {}; 0: none)",
-                              flags.samples))
+  cmd->add_option_function<long long>(
+         "--samples",
+         [&flags](const long long& v) {
+           flags.samples = v;
+           flags.samples_given = true;
+         },
+         fmt::format("Monte Carlo samples of the predicted after-state over all shards (default {}; 0: none; not with "
+                     "--adaptive-tolerance-um)",
+                     flags.samples))
       ->check(CLI::Range(0LL, 1'000'000LL));
   cmd->add_option("--seed", flags.seed, "Seed of the Monte Carlo draws (default 1): sample k depends on (seed, k) only")
       ->check(seed_value());
@@ -38,13 +44,24 @@ void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards)
                   "Adaptive Monte Carlo (JCGM 101 §7.9): batches of 100 samples until twice the standard deviation of "
                   "every µm quantity's median and 95 % interval ends over the batches is at most this (µm); replaces "
                   "--samples")
-      ->check(CLI::Range(1e-6, 1e6));
-  cmd->add_option("--max-samples", flags.max_samples,
-                  fmt::format("The adaptive run's limit (default {})", flags.max_samples))
+      ->check(finite_in(1e-6, 1e6)); // CLI::Range lets nan through, which turned adaptivity off
+  cmd->add_option_function<long long>(
+         "--max-samples",
+         [&flags](const long long& v) {
+           flags.max_samples = v;
+           flags.max_samples_given = true;
+         },
+         fmt::format("The adaptive run's limit (default {}; with --adaptive-tolerance-um only)", flags.max_samples))
       ->check(CLI::Range(200LL, 1'000'000LL));
-  cmd->add_option("--probe-noise-um", flags.probe_noise_um,
-                  "Predict the gears as measured: each trace and grid point of every sample's gears plus Gaussian probe "
-                  "noise of this standard deviation, µm (the model of geartopo synth --noise-um; default 0: the true gears)")
+  cmd->add_option_function<double>(
+         "--probe-noise-um",
+         [&flags](const double& v) {
+           flags.probe_noise_um = v;
+           flags.probe_noise_given = true;
+         },
+         "Predict the gears as measured: each trace and grid point of every sample's gears plus Gaussian probe "
+         "noise of this standard deviation, µm (the model of geartopo synth --noise-um; default 0: the true gears; "
+         "not with --samples 0)")
       ->check(finite_in(0.0, 1000.0));
   cmd->add_flag("--exact-samples", flags.exact_samples,
                 "Simulate every sample exactly (default: the nominal gears plus first-order sensitivities times each "
@@ -80,7 +97,32 @@ std::optional<std::string> shard_from_slurm(const std::function<const char*(cons
   return fmt::format("{}/{}", i - lo + 1, n);
 }
 
+namespace {
+
+// A flag that cannot act in the combination given is bad usage, not silently ignored (issue 31).
+void refuse_flags_without_effect(const MonteCarloFlags& flags) {
+  const bool adaptive = flags.adaptive_tolerance_um > 0.0;
+  if (flags.samples == 0) { // no prediction at all, adaptive or not
+    if (adaptive)
+      throw CLI::ValidationError("--adaptive-tolerance-um", "has no effect with --samples 0: there is no prediction to "
+                                                            "stop adaptively (leave --samples out, or this flag)");
+    if (flags.probe_noise_given)
+      throw CLI::ValidationError("--probe-noise-um", "has no effect with --samples 0: there is no prediction whose "
+                                                     "gears it would measure");
+  }
+  if (flags.samples_given && adaptive)
+    throw CLI::ValidationError("--samples", fmt::format("{} has no effect with --adaptive-tolerance-um: the adaptive run "
+                                                        "takes batches of 100 until stable, at most --max-samples",
+                                                        flags.samples));
+  if (flags.max_samples_given && !adaptive)
+    throw CLI::ValidationError("--max-samples", "has no effect without --adaptive-tolerance-um: it is the adaptive "
+                                                "run's limit; a fixed run takes --samples N");
+}
+
+} // namespace
+
 pipeline::MonteCarloOptions monte_carlo_options(const MonteCarloFlags& flags) {
+  refuse_flags_without_effect(flags);
   pipeline::MonteCarloOptions o;
   o.samples = flags.samples;
   o.seed = flags.seed;
@@ -146,6 +188,7 @@ void set_monte_carlo_driver(const MonteCarloDriver* driver) {
 }
 
 std::optional<pipeline::MonteCarloOptions> prediction_options(const MonteCarloFlags& flags) {
+  refuse_flags_without_effect(flags);
   if (flags.samples == 0) return std::nullopt;
   return monte_carlo_options(flags);
 }

@@ -32,6 +32,9 @@ struct MonteCarloFlags {
   long long max_samples = 10'000;     ///< the adaptive run's limit
   double probe_noise_um = 0.0;        ///< --probe-noise-um: σ of the probe noise each sample's gears are measured with
   bool exact_samples = false;         ///< --exact-samples: every sample simulated exactly (no first-order samples)
+  bool samples_given = false;         ///< --samples was on the command line (an adaptive run does not use it)
+  bool max_samples_given = false;     ///< --max-samples was on the command line (it only acts on an adaptive run)
+  bool probe_noise_given = false;     ///< --probe-noise-um was on the command line (it only acts on a prediction)
 };
 
 /// The shard of a Slurm array task (docs/monte-carlo.md, "Slurm array job"): "i/n" with i = SLURM_ARRAY_TASK_ID −

@@ -193,7 +193,12 @@ MpiMonteCarloDriver::MpiMonteCarloDriver(MPI_Comm comm) : comm_(comm) {
 void MpiMonteCarloDriver::check(const pipeline::MonteCarloOptions& options) const {
   if (options.shards != 1)
     throw CLI::ValidationError("--shard", "geartopo-mpi gives rank r of n the shard r+1/n: leave --shard out");
-  if (options.samples <= 0) return; // no prediction: nothing to scatter
+  // No prediction: nothing to scatter over the ranks, each would compute and rank 0 write the nominal result alone
+  // (docs/monte-carlo.md: more ranks than --samples are refused).
+  if (options.samples <= 0)
+    throw CLI::ValidationError("--samples", fmt::format("0 samples over {} MPI ranks: geartopo-mpi scatters the Monte Carlo "
+                                                        "samples; without a prediction run geartopo compensate --samples 0",
+                                                        size_));
   if (options.adaptive_tolerance_um > 0.0) {
     if (options.adaptive_batch < size_)
       throw CLI::ValidationError("--adaptive-tolerance-um",

@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/grinding/topology.hpp"
@@ -15,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -46,6 +48,23 @@ CLI::Validator finite_in(double lo, double hi) {
         return {};
       },
       fmt::format("FINITE in [{}, {}]", lo, hi));
+}
+
+CLI::Validator probe_sigma_um() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double v = 0.0;
+        const char* end = text.data() + text.size();
+        const auto [p, ec] = std::from_chars(text.data(), end, v);
+        if (ec != std::errc() && ec != std::errc::result_out_of_range) return fmt::format("'{}' is not a number", text::excerpt(text));
+        if (p != end) return fmt::format("'{}' is not a number", text::excerpt(text));
+        if (ec == std::errc::result_out_of_range || !std::isfinite(v) || v < kMinProbeSigmaUm || v > kMaxProbeSigmaUm)
+          return fmt::format("{} µm is not a probe noise σ: {:g} … {:g} µm (below {:g} µm no probe measures, and the "
+                             "fit's Σr²/σ² would overflow)",
+                             text::excerpt(text), kMinProbeSigmaUm, kMaxProbeSigmaUm, kMinProbeSigmaUm);
+        return {};
+      },
+      fmt::format("σ in [{:g}, {:g}] µm", kMinProbeSigmaUm, kMaxProbeSigmaUm));
 }
 
 CLI::Validator non_empty_path() {
@@ -415,25 +434,57 @@ std::pair<int, int> parse_grid_size(const std::string& text) {
   return {r, c};
 }
 
+namespace {
+
+// A word option bound to an enum: a word not in `words` is refused naming the words allowed ("'radius' is not one of
+// roll-length, diameter"), not with CLI11's text of its internal map.
+// The --mka-… flags given on this command line (their names), for refuse_mka_flags_without_export.
+std::vector<std::string>& mka_flags_given() {
+  static std::vector<std::string> given;
+  return given;
+}
+
+template <class E>
+void add_word_option(CLI::App* cmd, const std::string& name, E& target, std::vector<std::pair<std::string, E>> words,
+                     const std::string& help, std::vector<std::string>* given = nullptr) {
+  std::vector<std::string> names;
+  for (const auto& [w, e] : words) names.push_back(w);
+  const std::string allowed = fmt::format("{}", fmt::join(names, ", "));
+  cmd->add_option_function<std::string>(
+         name,
+         [&target, words, given, name](const std::string& word) {
+           for (const auto& [w, e] : words)
+             if (w == word) target = e;
+           if (given != nullptr) given->push_back(name);
+         },
+         help)
+      ->check(CLI::Validator(
+          [names, allowed](std::string& word) -> std::string {
+            if (std::find(names.begin(), names.end(), word) != names.end()) return {};
+            return fmt::format("'{}' is not one of {}", text::excerpt(word), allowed);
+          },
+          "", "word"))
+      ->option_text(fmt::format("{}", fmt::join(names, "|")));
+}
+
+} // namespace
+
 void add_klingelnberg_options(CLI::App* cmd, measurement::KlingelnbergOptions& o) {
   using measurement::DeviationDirection;
   using measurement::ProfileSpacing;
   using measurement::SignConvention;
-  cmd->add_option("--mka-spacing", o.spacing,
-                  "Klingelnberg export: profile points evenly in roll-length (default) or diameter")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, ProfileSpacing>{{"roll-length", ProfileSpacing::RollLength},
-                                                                                {"diameter", ProfileSpacing::Diameter}}))
-      ->option_text("roll-length|diameter");
-  cmd->add_option("--mka-direction", o.direction,
-                  "Klingelnberg export: deviations transverse (default; × cos β_b to the normal) or normal")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, DeviationDirection>{
-          {"transverse", DeviationDirection::Transverse}, {"normal", DeviationDirection::Normal}}))
-      ->option_text("transverse|normal");
-  cmd->add_option("--mka-signs", o.signs,
-                  "Klingelnberg export: raw probe sign (default; profile left and helix × −1) or din (plus material)")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, SignConvention>{{"raw", SignConvention::Raw},
-                                                                                {"din", SignConvention::Din}}))
-      ->option_text("raw|din");
+  add_word_option<ProfileSpacing>(cmd, "--mka-spacing", o.spacing,
+                                  {{"roll-length", ProfileSpacing::RollLength}, {"diameter", ProfileSpacing::Diameter}},
+                                  "Klingelnberg export: profile points evenly in roll-length (default) or diameter",
+                                  &mka_flags_given());
+  add_word_option<DeviationDirection>(
+      cmd, "--mka-direction", o.direction,
+      {{"transverse", DeviationDirection::Transverse}, {"normal", DeviationDirection::Normal}},
+      "Klingelnberg export: deviations transverse (default; × cos β_b to the normal) or normal", &mka_flags_given());
+  add_word_option<SignConvention>(cmd, "--mka-signs", o.signs, {{"raw", SignConvention::Raw}, {"din", SignConvention::Din}},
+                                  "Klingelnberg export: raw probe sign (default; profile left and helix × −1) or din "
+                                  "(plus material)",
+                                  &mka_flags_given());
 }
 
 void add_iso_options(CLI::App* cmd, workbench::IsoOptions& o) {
@@ -461,9 +512,20 @@ void add_measurement_options(CLI::App* cmd, std::string& file, measurement::Klin
   add_klingelnberg_options(cmd, options);
 }
 
+void refuse_mka_flags_without_export(const std::string& file) {
+  if (mka_flags_given().empty()) return;
+  std::ifstream in(file, std::ios::binary); // unreadable: the reader says why
+  if (!in || measurement::looks_like_klingelnberg(in)) return;
+  throw CLI::ValidationError(mka_flags_given().front(),
+                             fmt::format("has no effect: {} is not a Klingelnberg export (the --mka-… options read "
+                                         "exports only)",
+                                         file));
+}
+
 std::vector<measurement::MeasuredPoint> read_measured_points(const workbench::Workbench& wb, const std::string& file,
                                                              const measurement::KlingelnbergOptions& options,
                                                              measurement::ReadCounts* counts) {
+  refuse_mka_flags_without_export(file);
   std::vector<std::string> warnings;
   auto points = measurement::read_any_measurement(file, wb.setup, &warnings, options, counts);
   for (const auto& w : warnings) say("geartopo: warning: " + w);

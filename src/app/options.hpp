@@ -30,6 +30,10 @@ namespace geartopo::app {
 /// A number within [lo, hi] and finite: CLI::Range lets NaN through (every comparison with NaN is false), so
 /// `--noise-um nan` or `--step nan` passed the check. Refuses NaN, ±inf and values outside the range (exit 2).
 CLI::Validator finite_in(double lo, double hi);
+/// The probe noise σ a fit divides by (--noise-um of compare, diagnose, plan, report): finite and within
+/// [kMinProbeSigmaUm, kMaxProbeSigmaUm]; 1e-320 µm would make Σr²/σ² infinite in diagnosis.json and plan.json.
+inline constexpr double kMinProbeSigmaUm = 1e-6, kMaxProbeSigmaUm = 1000.0;
+CLI::Validator probe_sigma_um();
 /// A path that is not empty: `--out ""` wrote into the current folder's root ("" / "file" is "file"; "" as a folder
 /// was created as nothing) instead of being refused.
 CLI::Validator non_empty_path();
@@ -211,8 +215,11 @@ void add_klingelnberg_options(CLI::App* cmd, measurement::KlingelnbergOptions& o
 /// scene's measurement.measured when not given).
 void add_measurement_options(CLI::App* cmd, std::string& file, measurement::KlingelnbergOptions& options,
                              bool required = true);
+/// Throws CLI::ValidationError naming the first --mka-… flag on the command line when `file` is not a Klingelnberg
+/// export (measurement::looks_like_klingelnberg): the flag would do nothing. Before the file is read.
+void refuse_mka_flags_without_export(const std::string& file);
 /// The measured points of `file` on the workbench's gear (measurement::read_any_measurement); the reader's warnings
-/// (blocks of an export it did not use, …) on stderr. Throws InputError.
+/// (blocks of an export it did not use, …) on stderr. Throws InputError; refuse_mka_flags_without_export first.
 std::vector<measurement::MeasuredPoint> read_measured_points(const workbench::Workbench& wb, const std::string& file,
                                                              const measurement::KlingelnbergOptions& options,
                                                              measurement::ReadCounts* counts = nullptr);

@@ -33,7 +33,7 @@ void register_plan_command(CLI::App& app, Action& action) {
   add_measurement_options(cmd, opt->measured, opt->mka);
   cmd->add_option("--out", opt->out, "Output directory: plan.json (default: print only)")->check(non_empty_path());
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ in µm (default: estimated from the residual)")
-      ->check(finite_in(0.0, 1000.0));
+      ->check(probe_sigma_um());
   cmd->add_option("--layout", opt->layout,
                   "What to measure on the new teeth: grid (7×9 per flank and denser) or traces (3 profile traces at "
                   "face-width positions and 3 helix traces at diameters per flank, 100 points each, as a gear measuring "

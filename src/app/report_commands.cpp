@@ -286,7 +286,7 @@ void register_run_command(CLI::App& app, Action& action) {
       ->check(CLI::IsMember({"exact", "linear"}));
   cmd->add_option("--step", opt->step, "Correction table spacing along each stroke, mm (default 2)")->check(finite_in(0.05, 50.0));
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ of the measurement, µm (default: estimated from the residual)")
-      ->check(finite_in(0.0, 1000.0));
+      ->check(probe_sigma_um());
   add_iso_options(cmd, opt->iso);
   add_monte_carlo_options(cmd, opt->mc, false);
   cmd->add_flag("--json", opt->json,

@@ -30,11 +30,27 @@ std::vector<MeasuredPoint> read_point_cloud_measurement(const std::string& file,
   return out;
 }
 
+namespace {
+
+// UTF-16 or NUL bytes are named as such before the format is guessed from the first line (a UTF-16 export would
+// otherwise read as a topology CSV with a bad header). Rewinds the stream.
+void refuse_utf16_stream(std::istream& in, const std::string& file) {
+  std::string head(64 * 1024, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(in.gcount()));
+  in.clear();
+  in.seekg(0);
+  refuse_utf16(head, file);
+}
+
+} // namespace
+
 std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
                                                 std::vector<std::string>* warnings, const KlingelnbergOptions& mka,
                                                 ReadCounts* counts) {
   auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "measurement");
   if (counts) *counts = {};
+  refuse_utf16_stream(in, file);
   std::vector<MeasuredPoint> points;
   // First: an export's header lines and trace heads are not numbers, so neither other reader would take it anyway.
   if (looks_like_klingelnberg(in)) {
@@ -57,6 +73,7 @@ MeasuredTraces read_any_traces(const std::string& file, const grinding::Grinding
   MeasuredTraces t;
   const auto& g = setup.geometry();
   auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "traces file");
+  refuse_utf16_stream(in, file);
   t.klingelnberg = looks_like_klingelnberg(in);
   t.flanks = t.klingelnberg ? klingelnberg_traces(read_klingelnberg(file), g, mka, &t.warnings)
                             : grinding::read_traces_csv(file, g.teeth());

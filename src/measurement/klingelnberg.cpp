@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <istream>
 #include <limits>
 #include <map>
@@ -21,8 +22,49 @@
 namespace geartopo::measurement {
 namespace {
 
+[[noreturn]] void fail(const std::string& source, int line, const std::string& field, const std::string& message) {
+  throw InputError(source, line, 0, field, message);
+}
+
+// An export with English labels (docs/measurement-formats.md, "English labels" [M]) read as its German twin: the words
+// of heads, block titles and pitch tables replaced word by word, so every rule and message is the German one's.
+// Header lines keep their labels (they are read by their code). `out` is reused; returns the line to parse.
+// `from[i]`: the byte of `line` that byte i of `out` comes from (for columns in the file's own line).
+std::string_view german_words(std::string_view line, std::string& out, std::vector<size_t>& from) {
+  static const std::pair<std::string_view, std::string_view> kWords[] = {
+      {"Tooth-No.", "Zahn-Nr."}, {"Tooth No.", "Zahn-Nr."}, {"TOPOGRAPHY", "TOPOGRAFIE"}, {"Profile", "Profil"},
+      {"Lead", "Flankenlinie"},  {"left flank", "linke Zahnflanke"}, {"right flank", "rechte Zahnflanke"},
+      {"left", "links"},         {"right", "rechts"}, {"Values", "Werte"}, {"values", "Werte"}};
+  const auto word_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_'; };
+  bool any = false;
+  for (const auto& [en, de] : kWords)
+    if (line.find(en) != std::string_view::npos) any = true;
+  if (!any) return line;
+  out.clear();
+  from.clear();
+  for (size_t i = 0; i < line.size();) {
+    bool replaced = false;
+    if (i == 0 || !word_char(line[i - 1]))
+      for (const auto& [en, de] : kWords)
+        if (line.substr(i, en.size()) == en && (i + en.size() == line.size() || !word_char(line[i + en.size()]) ||
+                                                en.back() == '.')) {
+          out += de;
+          from.insert(from.end(), de.size(), i);
+          i += en.size();
+          replaced = true;
+          break;
+        }
+    if (!replaced) {
+      from.push_back(i);
+      out += line[i++];
+    }
+  }
+  return out;
+}
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kSlackMm = 1e-3; // points within 1 µm of the active flank count as on it (as measured_points does)
+constexpr double kMaxPositionMm = 1e5; // positions and ranges: 100 m, beyond any gear (a wrong unit or a corrupt file)
 
 // Valid UTF-8 (so a file without BOM but with "ä" as two bytes is UTF-8); else the text is latin-1.
 bool is_utf8(std::string_view s) {
@@ -58,7 +100,8 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-std::vector<std::string_view> tokens(std::string_view s, std::string_view separators = " \t") {
+// Fields are separated by blanks or ';' (exports with decimal commas).
+std::vector<std::string_view> tokens(std::string_view s, std::string_view separators = " \t;") {
   std::vector<std::string_view> out;
   size_t i = 0;
   while (i < s.size()) {
@@ -70,11 +113,59 @@ std::vector<std::string_view> tokens(std::string_view s, std::string_view separa
   return out;
 }
 
+// A finite number written with '.' or with ',' as its decimal separator (which one the file uses is checked where a
+// number is read: DecimalMark).
 std::optional<double> number(std::string_view s) {
   double v = 0.0;
+  std::string dotted;
+  if (s.find(',') != std::string_view::npos) {
+    if (s.find('.') != std::string_view::npos) return std::nullopt;
+    dotted.assign(s);
+    std::replace(dotted.begin(), dotted.end(), ',', '.');
+    s = dotted;
+  }
   if (text::parse_number(s, v) != std::errc() || !std::isfinite(v)) return std::nullopt;
   return v;
 }
+
+// The 1-based character column of `tok` in `line` (a view into it): UTF-8 continuation bytes do not count, so a
+// column after "Zähnezahl" is where an editor shows it.
+int column_of(std::string_view line, std::string_view tok) {
+  const auto before = line.substr(0, static_cast<size_t>(tok.data() - line.data()));
+  return 1 + static_cast<int>(std::count_if(before.begin(), before.end(), [](char c) {
+           return (static_cast<unsigned char>(c) & 0xC0) != 0x80;
+         }));
+}
+
+// The file's decimal separator, one for the whole file: '.' or ',' (German exports), decided by the first number the
+// reader uses that is written with one (docs/measurement-formats.md, "Text").
+struct DecimalMark {
+  char mark = 0; ///< 0 until decided
+  int line = 0;
+  std::string token;
+};
+
+// Why `tok` is not a number of this file, or "" when it is one (and then `value` holds it; the first number written
+// with a separator decides the file's).
+std::string read_number(std::string_view tok, int ln, DecimalMark& d, double& value) {
+  const bool comma = tok.find(',') != std::string_view::npos, dot = tok.find('.') != std::string_view::npos;
+  const auto v = number(tok);
+  if (!v) return fmt::format("'{}' is not a number", text::excerpt(tok));
+  if (comma || dot) {
+    const char mark = comma ? ',' : '.';
+    if (d.mark == 0) d = {mark, ln, std::string(text::excerpt(tok))};
+    if (d.mark != mark)
+      return fmt::format("'{}' has a decimal {}, but this file's numbers have a decimal {} (the first, '{}', at line {}): "
+                         "one decimal separator for the whole file",
+                         text::excerpt(tok), comma ? "comma" : "point", comma ? "point" : "comma", d.token, d.line);
+  }
+  value = *v;
+  return {};
+}
+
+// What the message of a bad number adds: how numbers are written.
+constexpr const char* kNumberRule = "numbers are written 1.5, -.046 or 1e-3 (1,5 and -,046 throughout a file with decimal "
+                                    "commas)";
 
 std::optional<int> whole(std::string_view s) {
   int v = 0;
@@ -91,15 +182,16 @@ bool all_numbers(std::string_view line) {
 
 std::optional<int> header_code(std::string_view line, std::string_view& rest);
 
-// A line inside a trace that still expects values, starting with a number (nan and inf included) and neither a header
-// line nor a head: a value line, even when one of its values is not a number (which is then refused as such).
+// A line inside a trace that still expects values that is neither a header line, a head nor a block title: a value
+// line, even when its values are not numbers ("--", "2,838" in a file with decimal points, "inf"), which are then
+// refused as such at their place rather than as a trace that ends too early.
 bool is_value_line(std::string_view line, const KlingelnbergTrace& t) {
   if (static_cast<int>(t.values_um.size()) >= t.announced_values) return false;
   std::string_view unused;
   if (header_code(line, unused) || line.find("Zahn-Nr.") != std::string_view::npos) return false;
-  const auto first = tokens(line);
-  double v = 0.0;
-  return !first.empty() && text::parse_number(first[0], v) == std::errc();
+  // Block titles have a colon ("Profil:", "Teilung:"); the pitch tables' titles are known by name.
+  if (line.find(':') != std::string_view::npos || line == "linke Zahnflanke" || line == "rechte Zahnflanke") return false;
+  return !tokens(line).empty();
 }
 
 // "  21 :Normalmodul mn [mm]......: 2.5" → code 21.
@@ -133,9 +225,14 @@ std::string strip_leaders(std::string_view label) {
 
 const char* kRangeSymbols[] = {"da", "de", "d1", "d2", "ba", "be", "b1", "b2"};
 
-// Only measuring ("Mess…") and evaluation ("Auswerte…") lines define ranges: line 27 may say "Kopfkreis … da".
+// Only measuring ("Mess…", "measuring") and evaluation ("Auswerte…", "evaluation") lines define ranges: line 27 may say
+// "Kopfkreis … da".
 std::optional<std::string> range_symbol(std::string_view label) {
-  if (label.find("Mess") == std::string_view::npos && label.find("Auswert") == std::string_view::npos) return std::nullopt;
+  std::string lower(label);
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (lower.find("mess") == std::string::npos && lower.find("auswert") == std::string::npos &&
+      lower.find("measur") == std::string::npos && lower.find("evaluat") == std::string::npos)
+    return std::nullopt;
   for (const auto t : tokens(label, " \t.[]")) {
     for (const char* s : kRangeSymbols)
       if (t == s) return std::string(s);
@@ -143,9 +240,6 @@ std::optional<std::string> range_symbol(std::string_view label) {
   return std::nullopt;
 }
 
-[[noreturn]] void fail(const std::string& source, int line, const std::string& field, const std::string& message) {
-  throw InputError(source, line, 0, field, message);
-}
 
 const char* kind_name(TraceKind k) { return k == TraceKind::Profile ? "profile" : "helix"; }
 
@@ -162,7 +256,9 @@ struct Head {
 // "Profil:  Zahn-Nr.: 1 links / 480 Werte / z= 12.5", "Flankenlinie: Zahn-Nr.: 1 rechts / 915 Werte / d= 47.82",
 // "TOPOGRAFIE: Zahn-Nr.: 26 /Profil:1 rechts / 480 Werte / z= 3.5", or a bare "Zahn-Nr.: 44 links / 480 Werte x= 8.742"
 // after a title line ("Profil:").
-Head parse_head(std::string_view line, std::optional<TraceKind> pending, const std::string& source, int ln) {
+// `teeth`: the header's number of teeth (line 22), 0 when not (yet) read.
+Head parse_head(std::string_view line, std::optional<TraceKind> pending, const std::string& source, int ln,
+                DecimalMark& decimal, int teeth, const std::function<int(std::string_view)>& column_in_file) {
   Head h;
   const auto at = line.find("Zahn-Nr.");
   std::string title = std::string(trim(line.substr(0, at)));
@@ -179,10 +275,19 @@ Head parse_head(std::string_view line, std::optional<TraceKind> pending, const s
   // Tooth number: digits, possibly followed by a letter tag (twist traces: 1k, 1f, …), which marks a block we skip.
   size_t i = 0;
   while (i < rest.size() && rest[i] >= '0' && rest[i] <= '9') ++i;
+  // A tag is letters only: "1e9", "1.5" or "1,5" is a tooth number that is not one, not a tagged block.
+  size_t tag_end = i;
+  while (tag_end < rest.size() && std::isalpha(static_cast<unsigned char>(rest[tag_end]))) ++tag_end;
+  const bool tag_ends = tag_end == rest.size() || rest[tag_end] == ' ' || rest[tag_end] == '\t' || rest[tag_end] == '/';
   const auto tooth = whole(rest.substr(0, i));
-  if (!tooth || *tooth < 1) fail(source, ln, "Zahn-Nr.", fmt::format("'{}' is not a tooth number", text::excerpt(rest.substr(0, rest.find(' ')))));
+  const std::string_view tooth_text = rest.substr(0, rest.find_first_of(" \t/"));
+  const std::string allowed = teeth > 0 ? fmt::format("a whole number 1 … {} (z, header line 22)", teeth) : "a whole number from 1";
+  if (!tooth || *tooth < 1 || !tag_ends)
+    fail(source, ln, "Zahn-Nr.", fmt::format("'{}' is not a tooth number: {}", text::excerpt(tooth_text), allowed));
+  if (teeth > 0 && *tooth > teeth)
+    fail(source, ln, "Zahn-Nr.", fmt::format("tooth {} of a gear with {} teeth: {}", *tooth, teeth, allowed));
   h.tooth = *tooth;
-  const bool tagged = i < rest.size() && rest[i] != ' ' && rest[i] != '/';
+  const bool tagged = tag_end > i;
   rest.remove_prefix(i);
   if (title == "TOPOGRAFIE") {
     // "/Profil:1 rechts" or "/Flankenlinie:3 links": the kind of line in the topography, its number.
@@ -211,9 +316,15 @@ Head parse_head(std::string_view line, std::optional<TraceKind> pending, const s
     } else if (t[k].size() >= 2 && t[k][1] == '=' && (t[k][0] == 'x' || t[k][0] == 'z' || t[k][0] == 'd')) {
       h.symbol = t[k][0];
       const std::string field(t[k].substr(0, 2));
-      const auto v = t[k].size() > 2 ? number(t[k].substr(2)) : (k + 1 < t.size() ? number(t[k + 1]) : std::nullopt);
-      if (!v) fail(source, ln, field, "expected a position in mm after it");
-      h.position = *v;
+      const std::string_view at = t[k].size() > 2 ? t[k].substr(2) : (k + 1 < t.size() ? t[k + 1] : std::string_view());
+      if (at.empty()) fail(source, ln, field, "expected a position in mm after it");
+      const int column = column_in_file(at);
+      if (const auto why = read_number(at, ln, decimal, h.position); !why.empty())
+        throw InputError(source, ln, column, field, fmt::format("{}: expected a position in mm after it; {}", why, kNumberRule));
+      if (std::abs(h.position) > kMaxPositionMm)
+        throw InputError(source, ln, column, field,
+                         fmt::format("{} mm is beyond ±{:g} mm, further than any gear reaches (a wrong unit?)",
+                                     text::excerpt(at), kMaxPositionMm));
     }
   }
   if (!have_flank) fail(source, ln, "Zahn-Nr.", "expected 'links' or 'rechts' after the tooth number");
@@ -222,11 +333,52 @@ Head parse_head(std::string_view line, std::optional<TraceKind> pending, const s
   return h;
 }
 
+// A measuring (da < de, ba < be) or evaluation range (d1 < d2, b1 < b2) must run forwards and not be empty, for each
+// flank (two values: left and right; one: both). Positions spread over a reversed range would land in the wrong order
+// on the flank, over an empty one on a single point.
+void check_ranges(const KlingelnbergFile& f) {
+  const std::pair<const char*, const char*> pairs[] = {{"da", "de"}, {"ba", "be"}, {"d1", "d2"}, {"b1", "b2"}};
+  for (const auto& [lo, hi] : pairs) {
+    const auto a = f.ranges.find(lo), b = f.ranges.find(hi);
+    if (a == f.ranges.end() || b == f.ranges.end()) continue;
+    for (int flank = 0; flank < 2; ++flank) {
+      const auto& va = a->second.values;
+      const auto& vb = b->second.values;
+      const double x = flank == 1 && va.size() >= 2 ? va[1] : va[0];
+      const double y = flank == 1 && vb.size() >= 2 ? vb[1] : vb[0];
+      if (x < y) continue;
+      const bool two = va.size() >= 2 || vb.size() >= 2;
+      fail(f.source, b->second.line, fmt::format("{} {}", hi, b->second.label),
+           fmt::format("the range {} … {} = {} … {} mm{} is {}: it must run forwards ({} < {}; {} at line {})", lo, hi, x,
+                       y, two ? (flank == 0 ? " (left flank)" : " (right flank)") : "", x == y ? "empty" : "reversed", lo,
+                       hi, lo, a->second.line));
+    }
+  }
+}
+
 } // namespace
+
+void refuse_utf16(std::string_view head, const std::string& source) {
+  constexpr const char* kSave = "save it as UTF-8 or latin-1 (Windows Notepad: Save as, Encoding UTF-8)";
+  if (head.starts_with("\xFF\xFE") || head.starts_with("\xFE\xFF"))
+    fail(source, 0, "", fmt::format("the file is UTF-16 ({} byte-order mark {}), which geartopo does not read: {}",
+                                    head[0] == '\xFF' ? "little-endian," : "big-endian,",
+                                    head[0] == '\xFF' ? "FF FE" : "FE FF", kSave));
+  // UTF-16 of Latin text without a byte-order mark: every other byte is NUL. A stray NUL is left to the readers,
+  // which name it at its place.
+  const auto sample = head.substr(0, 4096);
+  const auto nuls = std::count(sample.begin(), sample.end(), '\0');
+  if (sample.size() < 4 || 3 * nuls < static_cast<std::ptrdiff_t>(sample.size())) return;
+  fail(source, 0, "",
+       fmt::format("the file is UTF-16 without a byte-order mark (NUL in {} of its first {} bytes), which geartopo does "
+                   "not read: {}",
+                   nuls, sample.size(), kSave));
+}
 
 KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& source) {
   KlingelnbergFile f;
   f.source = source;
+  refuse_utf16(raw, source);
   std::string converted;
   if (!text::strip_bom(raw) && !is_utf8(raw)) { // no BOM and not UTF-8: the older latin-1 exports
     converted = latin1_to_utf8(raw);
@@ -241,6 +393,11 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
   Flank pitch_flank = Flank::Left;
   std::vector<std::string> pitch_columns;
   std::map<std::string, int> skipped_count;
+  std::map<std::pair<int, int>, int> pitch_rows; // (tooth, flank) → line
+  DecimalMark decimal;
+  int teeth = 0;       // header line 22, once read
+  std::string english; // a line with English labels in German words (german_words)
+  std::vector<size_t> english_from;
   bool skip_numbers_only = false; // a skipped trace ends at its last number line, an unknown block at a known line
   auto skip_block = [&](const std::string& title, int ln) {
     if (skipped_count[title]++ == 0) f.skipped_blocks.push_back(fmt::format("{} (line {})", title, ln));
@@ -261,8 +418,15 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
     const std::string_view full = raw.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
     pos = nl == std::string_view::npos ? raw.size() : nl + 1;
     ++ln;
-    const std::string_view line = trim(full);
-    if (line.empty()) continue;
+    const std::string_view trimmed = trim(full);
+    if (trimmed.empty()) continue;
+    std::string_view line = trimmed;
+    if (std::string_view unused; !header_code(line, unused)) line = german_words(line, english, english_from);
+    // The column of a token of `line` in the file's own line.
+    const auto col = [&](std::string_view tok) {
+      if (line.data() == trimmed.data()) return column_of(full, tok);
+      return column_of(full, trimmed.substr(english_from[static_cast<size_t>(tok.data() - line.data())]));
+    };
 
     if (state == State::Values) {
       if (all_numbers(line) || is_value_line(line, f.traces.back())) {
@@ -271,20 +435,20 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
           if (static_cast<int>(t.values_um.size()) == t.announced_values)
             fail(source, ln, "Werte",
                  fmt::format("more values than the {} announced by the head at line {}", t.announced_values, t.line));
-          const int column = static_cast<int>(tok.data() - full.data()) + 1;
-          const auto v = number(tok);
-          // nan, inf or text among the values: said as such, at its place (not as a trace that ends too early).
-          if (!v)
+          const int column = col(tok);
+          double v = 0.0;
+          // nan, inf, "--" or text among the values: said as such, at its place (not as a trace that ends too early).
+          if (const auto why = read_number(tok, ln, decimal, v); !why.empty())
             throw InputError(source, ln, column, "Werte",
-                             fmt::format("'{}' is not a number: value {} of the {} trace of tooth {} (head at line {}); "
-                                         "a point the machine could not measure is written {}",
-                                         text::excerpt(tok), t.values_um.size() + 1, kind_name(t.kind), t.tooth, t.line,
+                             fmt::format("{}: value {} of the {} trace of tooth {} (head at line {}); {}; a point "
+                                         "the machine could not measure is written {}",
+                                         why, t.values_um.size() + 1, kind_name(t.kind), t.tooth, t.line, kNumberRule,
                                          kKlingelnbergUndefined));
-          if (*v > kKlingelnbergUndefined + 1.0 && std::abs(*v) > grinding::kMaxDeviationUm)
+          if (v > kKlingelnbergUndefined + 1.0 && std::abs(v) > grinding::kMaxDeviationUm)
             throw InputError(source, ln, column, "Werte",
                              fmt::format("{} µm is beyond ±{} µm, more than any ground flank deviates (a wrong unit?)",
                                          text::excerpt(tok), grinding::kMaxDeviationUm));
-          t.values_um.push_back(*v <= kKlingelnbergUndefined + 1.0 ? kNaN : *v);
+          t.values_um.push_back(v <= kKlingelnbergUndefined + 1.0 ? kNaN : v);
           t.value_lines.push_back(ln);
         }
         continue;
@@ -314,7 +478,9 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
     }
     if (state == State::PitchRows) {
       const auto t = tokens(line);
-      if (all_numbers(line) && whole(t[0])) {
+      // A row starts with a whole number (the tooth); every other field must be a number of this file (nan, inf or
+      // "--" is an error at its place, not the end of the table).
+      if (whole(t[0])) {
         if (t.size() != pitch_columns.size() + 1)
           fail(source, ln, "Zahn-Nr.",
                fmt::format("{} fields, the pitch table has {} columns", t.size(), pitch_columns.size() + 1));
@@ -322,8 +488,27 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
         r.tooth = *whole(t[0]);
         r.flank = pitch_flank;
         r.line = ln;
+        const std::string allowed = teeth > 0 ? fmt::format("1 … {} (z, header line 22)", teeth) : "from 1";
+        if (r.tooth < 1 || (teeth > 0 && r.tooth > teeth))
+          throw InputError(source, ln, col(t[0]), "Zahn-Nr.",
+                           fmt::format("tooth {} in the pitch table: a tooth number is {}", r.tooth, allowed));
+        const auto [at, fresh] = pitch_rows.emplace(std::pair{r.tooth, static_cast<int>(pitch_flank)}, ln);
+        if (!fresh)
+          fail(source, ln, "Zahn-Nr.",
+               fmt::format("tooth {} is in the {} pitch table twice (first at line {})", r.tooth, to_string(pitch_flank), at->second));
         for (size_t c = 0; c < pitch_columns.size(); ++c) {
-          const double v = *number(t[c + 1]);
+          const auto tok = t[c + 1];
+          const int column = col(tok);
+          double v = 0.0;
+          if (const auto why = read_number(tok, ln, decimal, v); !why.empty())
+            throw InputError(source, ln, column, pitch_columns[c],
+                             fmt::format("{}: the pitch table's {} of tooth {} ({} flank), in µm; {}", why,
+                                         pitch_columns[c], r.tooth, to_string(pitch_flank), kNumberRule));
+          if (std::abs(v) > grinding::kMaxDeviationUm)
+            throw InputError(source, ln, column, pitch_columns[c],
+                             fmt::format("{} µm is beyond ±{} µm, more than any ground gear's pitch deviates (a wrong "
+                                         "unit?)",
+                                         text::excerpt(tok), grinding::kMaxDeviationUm));
           if (pitch_columns[c] == "fp") r.fp_um = v;
           if (pitch_columns[c] == "Fp") r.Fp_um = v;
           if (pitch_columns[c] == "Fr") r.Fr_um = v;
@@ -340,15 +525,48 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
       KlingelnbergHeaderLine h;
       h.label = strip_leaders(rest.substr(0, colon));
       h.line = ln;
+      const auto sym = range_symbol(h.label);
+      // The lines the reader checks or uses (module, teeth, ranges) must hold numbers only, at least one; on any other
+      // line (a date, an order number) what is not a number is text.
+      const bool used = *code == 21 || *code == 22 || sym.has_value();
+      const std::string field = fmt::format("{} {}", *code, h.label);
       if (colon != std::string_view::npos)
-        for (const auto t : tokens(rest.substr(colon + 1), " \t:"))
-          if (const auto v = number(t)) h.values.push_back(*v);
-      if (const auto sym = range_symbol(h.label)) f.ranges[*sym] = h;
+        for (const auto t : tokens(rest.substr(colon + 1), " \t:;")) {
+          double v = 0.0;
+          if (!used) {
+            if (const auto n = number(t)) h.values.push_back(*n);
+            continue;
+          }
+          if (const auto why = read_number(t, ln, decimal, v); !why.empty())
+            throw InputError(source, ln, col(t), field,
+                             fmt::format("{}; this line's values are numbers ({})", why, kNumberRule));
+          if (std::abs(v) > kMaxPositionMm)
+            throw InputError(source, ln, col(t), field,
+                             fmt::format("{} is beyond ±{:g}, more than any gear measures (a wrong unit?)",
+                                         text::excerpt(t), kMaxPositionMm));
+          h.values.push_back(v);
+        }
+      if (used && h.values.empty())
+        fail(source, ln, field, "no value after the label: expected a number (the reader uses this line)");
+      if (*code == 21 && h.values[0] <= 0.0)
+        fail(source, ln, field, fmt::format("{} mm is not a normal module: a length > 0 mm", h.values[0]));
+      if (*code == 22) {
+        const double z = h.values[0];
+        if (z != std::floor(z) || z < 1.0 || z > 10000.0)
+          fail(source, ln, field, fmt::format("{} is not a number of teeth: a whole number 1 … 10000", z));
+        teeth = static_cast<int>(z);
+        if (!f.traces.empty())
+          for (const auto& t : f.traces)
+            if (t.tooth > teeth)
+              fail(source, t.line, "Zahn-Nr.",
+                   fmt::format("tooth {} of a gear with {} teeth (header line 22 at line {})", t.tooth, teeth, ln));
+      }
+      if (sym) f.ranges[*sym] = h;
       f.codes[*code] = std::move(h);
       continue;
     }
     if (line.find("Zahn-Nr.") != std::string_view::npos) {
-      const Head h = parse_head(line, pending, source, ln);
+      const Head h = parse_head(line, pending, source, ln, decimal, teeth, col);
       pending.reset();
       if (!h.kind) { // e.g. "Verschränkung:" (twist) traces: listed, their values skipped
         skip_block(h.title.empty() ? std::string("Zahn-Nr.") : h.title, ln);
@@ -403,6 +621,7 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
   }
   f.last_line = ln;
   if (state == State::Values) end_trace();
+  check_ranges(f);
   for (const auto& t : f.traces)
     f.undefined_points += static_cast<int>(std::count_if(t.values_um.begin(), t.values_um.end(), [](double v) { return std::isnan(v); }));
   return f;
@@ -423,7 +642,8 @@ bool looks_like_klingelnberg(std::istream& in) {
   head.resize(static_cast<size_t>(in.gcount()));
   in.clear();
   in.seekg(0);
-  return head.find("HEADER KS.") != std::string::npos || head.find("Zahn-Nr.") != std::string::npos;
+  return head.find("HEADER KS.") != std::string::npos || head.find("Zahn-Nr.") != std::string::npos ||
+         head.find("Tooth-No.") != std::string::npos || head.find("Tooth No.") != std::string::npos;
 }
 
 namespace {

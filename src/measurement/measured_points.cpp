@@ -4,9 +4,16 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace geartopo::measurement {
+
+namespace {
+// A position as a message shows it: to 0.1 µm, or in 6 significant digits when absurd (1e300 mm, not 301 digits).
+std::string mm_text(double v) { return std::abs(v) < 1e6 ? fmt::format("{:.4f}", v) : fmt::format("{:.6g}", v); }
+} // namespace
 
 std::vector<MeasuredPoint> measured_points(const std::vector<grinding::TopologyRow>& rows, const gears::GearGeometry& g,
                                            const std::string& source) {
@@ -18,10 +25,10 @@ std::vector<MeasuredPoint> measured_points(const std::vector<grinding::TopologyR
   for (const auto& r : rows) {
     if (r.diameter_mm < d_lo || r.diameter_mm > d_hi)
       throw InputError(source, r.line, 0, "diameter_mm",
-                       fmt::format("{:.4f} mm is off the flank (active profile {:.4f} … {:.4f} mm)", r.diameter_mm,
+                       fmt::format("{} mm is off the flank (active profile {:.4f} … {:.4f} mm)", mm_text(r.diameter_mm),
                                    g.root_form_diameter_mm(), g.tip_diameter_mm()));
     if (r.z_mm < -slack || r.z_mm > b + slack)
-      throw InputError(source, r.line, 0, "z_mm", fmt::format("{:.4f} mm is off the flank (face width 0 … {} mm)", r.z_mm, b));
+      throw InputError(source, r.line, 0, "z_mm", fmt::format("{} mm is off the flank (face width 0 … {} mm)", mm_text(r.z_mm), b));
     MeasuredPoint p;
     p.tooth = r.tooth;
     p.flank = r.flank;

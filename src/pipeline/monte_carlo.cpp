@@ -6,6 +6,7 @@
 #include "geartopo/core/input_file.hpp"
 #include "geartopo/core/parallel.hpp"
 #include "geartopo/core/text_field.hpp"
+#include "geartopo/core/units.hpp"
 #include "geartopo/evaluation/tolerances.hpp"
 #include "geartopo/pipeline/topology_sensitivities.hpp"
 
@@ -239,6 +240,7 @@ MonteCarloRun run_prepared(const Prepared& p, const workbench::Workbench& wb, co
   run.seed = options.seed;
   run.iso = options.iso;
   run.probe_noise_um = options.probe_noise_um;
+  run.gear = gear_record(g.spec());
   run.sampling = p.report;
   if (p.linear) run.without = p.model->without();
   const auto count = static_cast<int>(last - first);
@@ -432,6 +434,7 @@ MonteCarloRun merge_runs(std::vector<MonteCarloRun> parts) {
   out.sampling = parts.front().sampling;
   out.without = parts.front().without;
   out.scene_fingerprint = parts.front().scene_fingerprint;
+  out.gear = parts.front().gear;
   const std::string first = part_name(0);
   std::vector<std::pair<long long, size_t>> from; // sample index → part it came from
   for (size_t p = 0; p < parts.size(); ++p) {
@@ -460,6 +463,10 @@ MonteCarloRun merge_runs(std::vector<MonteCarloRun> parts) {
               ? "one was written before geartopo recorded it, so they cannot be shown to be of the same scene: "
                 "compute every shard with this geartopo"
               : "computed from another scene, error table or compensation setting"));
+    if (part.gear != out.gear)
+      throw std::invalid_argument(fmt::format("{}: gear {} ({}: {}): not the same gear", here,
+                                              part.gear.empty() ? "not recorded" : part.gear, first,
+                                              out.gear.empty() ? "not recorded" : out.gear));
     if (!(part.sampling == out.sampling))
       throw std::invalid_argument(fmt::format("{}: {} samples ({}) ({}: {} samples ({})): not the same run", here,
                                               part.sampling.method, part.sampling.reason, first, out.sampling.method,
@@ -513,6 +520,7 @@ MonteCarloSummary summarise(const MonteCarloRun& run) {
   s.seed = run.seed;
   s.iso = run.iso;
   s.probe_noise_um = run.probe_noise_um;
+  s.gear = run.gear;
   s.names = run.names;
   s.sampling = run.sampling;
   s.without = run.without;
@@ -563,6 +571,22 @@ AfterLimit after_limit(const MonteCarloSummary& s) {
   return out;
 }
 
+std::optional<std::string> quantity_value_refusal(const std::string& name, double value) {
+  const auto rule = rule_of(name);
+  if (!rule)
+    return fmt::format("'{}' is not a quantity geartopo writes ({})", text::excerpt(name), fmt::join(known_quantity_names(), ", "));
+  if (!std::isfinite(value)) return fmt::format("{} is not a finite number", value);
+  if (const std::string why = rule->refusal(value); !why.empty()) return fmt::format("{:.6g} {}", value, why);
+  return std::nullopt;
+}
+
+std::string gear_record(const gears::GearSpec& spec) {
+  return fmt::format("teeth={} normal_module_mm={:.9g} normal_pressure_angle_deg={:.9g} helix_angle_deg={:.9g} "
+                     "profile_shift={:.9g} face_width_mm={:.9g}",
+                     spec.teeth, spec.normal_module_mm, units::deg_from_rad(spec.normal_pressure_angle_rad),
+                     units::deg_from_rad(spec.helix_angle_rad), spec.profile_shift, spec.face_width_mm);
+}
+
 std::string scene_fingerprint(const workbench::Workbench& wb, const std::string& options) {
   std::uint64_t h = 14695981039346656037ull; // FNV-1a 64 offset basis
   const auto add = [&h](std::string_view bytes) {
@@ -592,6 +616,7 @@ void write_run_csv(const std::filesystem::path& file, const MonteCarloRun& run) 
                        run.sampling.checked_samples, run.sampling.largest_point_difference_um,
                        run.sampling.largest_quantity_difference_um);
     if (!run.scene_fingerprint.empty()) out << "# scene_fingerprint: " << run.scene_fingerprint << "\n";
+    if (!run.gear.empty()) out << "# gear: " << run.gear << "\n";
     out << "sample";
     for (const auto& n : run.names) out << ",before." << n;
     for (const auto& n : run.names) out << ",after." << n;
@@ -681,6 +706,13 @@ MonteCarloRun read_run_csv(const std::filesystem::path& file) {
           fail(static_cast<int>(key.size()) + 1, "scene_fingerprint",
                fmt::format("'{}' is not a fingerprint geartopo writes (16 hex digits, 0-9 a-f)", text::excerpt(rest)));
         run.scene_fingerprint = std::string(rest);
+      }
+      if (constexpr std::string_view key = "# gear: "; view.substr(0, key.size()) == key) {
+        const auto rest = view.substr(key.size());
+        if (!rest.starts_with("teeth=") || rest.size() > 200)
+          fail(static_cast<int>(key.size()) + 1, "gear",
+               fmt::format("'{}' is not a gear record geartopo writes ('teeth=… normal_module_mm=…')", text::excerpt(rest)));
+        run.gear = std::string(rest);
       }
       word("# iso_direction: ", evaluation::parse_iso_direction, run.iso.direction);
       word("# helix_slope_sign: ", evaluation::parse_helix_slope_sign, run.iso.helix_slope_sign);

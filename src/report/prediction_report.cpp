@@ -2,13 +2,16 @@
 
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/core/input_file.hpp"
+#include "geartopo/core/text_field.hpp"
 #include "geartopo/evaluation/tolerances.hpp"
 #include "geartopo/render/charts.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
+#include <set>
 #include <map>
 #include <stdexcept>
 #include <tuple>
@@ -105,6 +108,7 @@ nlohmann::json prediction_json(const pipeline::MonteCarloSummary& s) {
     j["iso_options"] = {{"iso_direction", std::string(evaluation::to_string(s.iso->direction))},
                         {"helix_slope_sign", std::string(evaluation::to_string(s.iso->helix_slope_sign))}};
   j["probe_noise_um"] = s.probe_noise_um;
+  if (!s.gear.empty()) j["gear"] = s.gear; // the gear it is of: evaluate --prediction refuses another's
   nlohmann::json q = nlohmann::json::object();
   const auto band = [](const pipeline::Band& b) { return nlohmann::json{{"median", b.median}, {"low", b.low}, {"high", b.high}}; };
   for (size_t i = 0; i < s.names.size(); ++i) q[s.names[i]] = {{"before", band(s.before[i])}, {"after", band(s.after[i])}};
@@ -134,17 +138,81 @@ nlohmann::json prediction_json(const pipeline::MonteCarloSummary& s) {
   return j;
 }
 
+namespace {
+
+// 1-based line and column of byte `at` of `text`.
+std::pair<int, int> line_column(const std::string& text, std::size_t at) {
+  at = std::min(at, text.size());
+  const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+  const auto nl = text.rfind('\n', at == 0 ? 0 : at - 1);
+  const std::size_t start = nl == std::string::npos || nl >= at ? 0 : nl + 1;
+  return {static_cast<int>(line), static_cast<int>(at - start) + 1};
+}
+
+// prediction.json as JSON, each error located and said without the library's text: a syntax error at its line and
+// column, a number beyond a double's range (nlohmann's out_of_range.406) at the number, a key given twice in one
+// object by its path (the parser would keep the last silently).
+nlohmann::json parse_prediction_text(const std::string& text, const std::string& source) {
+  struct Frame {
+    std::set<std::string> keys;
+    std::string last;
+  };
+  std::vector<Frame> frames;
+  const auto path = [&] {
+    std::string p;
+    for (size_t i = 0; i + 1 < frames.size(); ++i) p += (p.empty() ? "" : ".") + frames[i].last;
+    return p;
+  };
+  const nlohmann::json::parser_callback_t cb = [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using E = nlohmann::json::parse_event_t;
+    if (event == E::object_start) frames.emplace_back();
+    if (event == E::object_end && !frames.empty()) frames.pop_back();
+    if (event == E::key && !frames.empty()) {
+      const auto key = parsed.get<std::string>();
+      if (!frames.back().keys.insert(key).second) {
+        const std::string where = path();
+        throw InputError(source, 0, 0, where.empty() ? key : where + "." + key,
+                         fmt::format("the key '{}' is given twice{}: each key once (which one would count?)", key,
+                                     where.empty() ? "" : " in " + where));
+      }
+      frames.back().last = key;
+    }
+    return true;
+  };
+  try {
+    return nlohmann::json::parse(text, cb);
+  } catch (const nlohmann::json::parse_error& e) {
+    const auto [line, column] = line_column(text, e.byte > 0 ? e.byte - 1 : 0);
+    // nlohmann's text after "parse error at line L, column C: ", without its "[json.exception…]" prefix.
+    std::string what = e.what();
+    if (const auto at = what.find("column"); at != std::string::npos)
+      if (const auto colon = what.find(": ", at); colon != std::string::npos) what = what.substr(colon + 2);
+    throw InputError(source, line, column, "", fmt::format("not JSON ({}): a prediction.json of geartopo compensate", what));
+  } catch (const nlohmann::json::out_of_range& e) {
+    // 406: "number overflow parsing '1e400'".
+    std::string token;
+    const std::string what = e.what();
+    if (const auto a = what.find('\''), b = what.rfind('\''); a != std::string::npos && b > a) token = what.substr(a + 1, b - a - 1);
+    const auto at = token.empty() ? std::string::npos : text.find(token);
+    const auto [line, column] = at == std::string::npos ? std::pair{0, 0} : line_column(text, at);
+    throw InputError(source, line, column, "",
+                     fmt::format("'{}' is beyond the range of a number (±1.8·10³⁰⁸): a prediction.json holds finite "
+                                 "µm values and classes",
+                                 text::excerpt(token)));
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(source, 0, 0, "", "not a JSON file geartopo can read: a prediction.json of geartopo compensate");
+  }
+}
+
+} // namespace
+
 pipeline::MonteCarloSummary read_prediction_json(const std::filesystem::path& file) {
   const std::string source = file.string();
   const auto fail = [&](const std::string& field, const std::string& message) -> void {
     throw InputError(source, 0, 0, field, message);
   };
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(input::read_input_file(file, input::kMaxSceneBytes, "prediction file"));
-  } catch (const nlohmann::json::parse_error& e) {
-    fail("", fmt::format("not JSON ({}): a prediction.json of geartopo compensate", e.what()));
-  }
+  const nlohmann::json j = parse_prediction_text(input::read_input_file(file, input::kMaxSceneBytes, "prediction file"), source);
+  if (!j.is_object()) fail("", "not a JSON object: a prediction.json of geartopo compensate");
   const auto number = [&](const nlohmann::json& parent, const std::string& key, const std::string& field) {
     if (!parent.is_object() || !parent.contains(key) || !parent[key].is_number())
       fail(field, "missing or not a number");
@@ -158,7 +226,20 @@ pipeline::MonteCarloSummary read_prediction_json(const std::filesystem::path& fi
   if (samples < 1 || samples > 1e6 || samples != std::floor(samples))
     fail("samples", fmt::format("{} is not a count of samples in [1, 10⁶]", samples));
   s.samples = static_cast<long long>(samples);
-  if (j.contains("seed") && j["seed"].is_number_unsigned()) s.seed = j["seed"].get<std::uint64_t>();
+  if (j.contains("seed")) {
+    if (!j["seed"].is_number_unsigned()) fail("seed", "not a seed: a whole number of 0 … 2⁶⁴ − 1");
+    s.seed = j["seed"].get<std::uint64_t>();
+  }
+  if (j.contains("coverage_probability")) {
+    const double p = number(j, "coverage_probability", "coverage_probability");
+    if (!(p > 0.0 && p < 1.0)) fail("coverage_probability", fmt::format("{} is not a probability in (0, 1)", p));
+  }
+  // The gear the prediction is of (pipeline::gear_record): evaluate refuses another gear's prediction.
+  if (j.contains("gear")) {
+    if (!j["gear"].is_string() || !j["gear"].get<std::string>().starts_with("teeth="))
+      fail("gear", "not a gear record geartopo writes ('teeth=… normal_module_mm=…')");
+    s.gear = j["gear"].get<std::string>();
+  }
   // Written since the ISO options and the probe noise were recorded; older files: not recorded (nullopt), noise 0.
   if (j.contains("iso_options")) {
     const auto& o = j["iso_options"];
@@ -174,7 +255,8 @@ pipeline::MonteCarloSummary read_prediction_json(const std::filesystem::path& fi
   }
   if (j.contains("probe_noise_um")) {
     s.probe_noise_um = number(j, "probe_noise_um", "probe_noise_um");
-    if (s.probe_noise_um < 0.0) fail("probe_noise_um", fmt::format("{} is not a σ ≥ 0", s.probe_noise_um));
+    if (s.probe_noise_um < 0.0 || s.probe_noise_um > 1000.0)
+      fail("probe_noise_um", fmt::format("{} is not a σ of 0 … 1000 µm", s.probe_noise_um));
   }
   if (!j.contains("quantities") || !j["quantities"].is_object() || j["quantities"].empty())
     fail("quantities", "missing: the predicted quantities (a prediction.json of geartopo compensate with --samples > 0)");
@@ -186,6 +268,10 @@ pipeline::MonteCarloSummary read_prediction_json(const std::filesystem::path& fi
       if (!q.is_object() || !q.contains(side_names[k])) fail(field, "missing");
       const auto& b = q[side_names[k]];
       sides[k] = {number(b, "median", field + ".median"), number(b, "low", field + ".low"), number(b, "high", field + ".high")};
+      // What a shard's value may be (merge's check): a known quantity, a class of ISO 1328-1, a magnitude ≥ 0, bounded.
+      for (const auto& [part, v] : {std::pair{"median", sides[k].median}, {"low", sides[k].low}, {"high", sides[k].high}})
+        if (const auto why = pipeline::quantity_value_refusal(name, v))
+          fail(why->starts_with("'") ? fmt::format("quantities.{}", name) : field + "." + part, *why);
       if (!(sides[k].low <= sides[k].median && sides[k].median <= sides[k].high))
         fail(field, fmt::format("low {} ≤ median {} ≤ high {} does not hold", sides[k].low, sides[k].median, sides[k].high));
     }

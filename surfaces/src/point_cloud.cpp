@@ -46,9 +46,14 @@ std::string quoted(std::string_view s) {
   return cat("'", text::utf8_prefix(s, 40), "…' (", std::to_string(s.size()), " characters)");
 }
 
+// A coordinate as a message shows it: fixed decimals, or 6 significant digits when absurd (1e300 mm was printed as
+// 63 of its 301 digits).
+constexpr double kMaxCoordinateMm = 1e5;
+
 std::string fixed(double v, int decimals) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  if (std::abs(v) >= 1e9) std::snprintf(buf, sizeof buf, "%.6g", v);
+  else std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
   return buf;
 }
 
@@ -59,6 +64,10 @@ double number(const Field& f, const std::string& src, std::int64_t line, std::st
   if (ec == std::errc::result_out_of_range) fail(src, line, f.column, name, quoted(f.text) + " is out of range");
   if (ec != std::errc()) fail(src, line, f.column, name, quoted(f.text) + " is not a number");
   if (!std::isfinite(v)) fail(src, line, f.column, name, quoted(f.text) + " is not finite");
+  // A coordinate beyond 100 m is no gear's (a wrong unit, or a corrupt file): refused here, naming the file, rather
+  // than reaching a fit as an infinite residual.
+  if (std::abs(v) > kMaxCoordinateMm)
+    fail(src, line, f.column, name, quoted(f.text) + " mm is beyond ±100000 mm, further than any gear reaches (a wrong unit?)");
   return v;
 }
 

@@ -200,8 +200,9 @@ TEST(Klingelnberg, AValueThatIsNotANumberIsNamedAtItsPlace) {
   const std::string values = "  .000  1.000  2.000  3.000  4.000";
   const auto nan = replaced(example_text(), values, "  .000  1.000  nan  3.000  4.000");
   EXPECT_EQ(points_error(nan, example_gear()),
-            "x.mka:23:16: Werte: 'nan' is not a number: value 3 of the profile trace of tooth 1 (head at line 22); a point "
-            "the machine could not measure is written -2147483.648");
+            "x.mka:23:16: Werte: 'nan' is not a number: value 3 of the profile trace of tooth 1 (head at line 22); numbers "
+            "are written 1.5, -.046 or 1e-3 (1,5 and -,046 throughout a file with decimal commas); a point the machine "
+            "could not measure is written -2147483.648");
   EXPECT_NE(points_error(replaced(example_text(), values, "  inf  1.000  2.000  3.000  4.000"), example_gear())
                 .find("x.mka:23:3: Werte: 'inf' is not a number: value 1 of"),
             std::string::npos);
@@ -275,4 +276,181 @@ TEST(Klingelnberg, DifferentAnglesAreAWarning) {
   EXPECT_EQ(res.warnings[0], "x.mka:8: 23 Schrägungswinkel beta [Grad]: -20° in the file, 15° in the scene (|β| and α_n "
                              "are compared)");
   // The example's own angles agree: only the undefined point is reported (ExampleFileGivesTheKnownPattern).
+}
+
+// Issue 28 item 7: the field's variations. A German export with decimal commas, ';' between the fields, latin-1 and
+// CRLF (tests/measurement/data/klingelnberg_decimal_comma.mka, written by hand as the example with ',' for '.') reads
+// to the example's values: the first profile's raw 0 1 2 3 4 µm, the pitch table's −0.4 / 0.262 / 1.1 µm.
+TEST(KlingelnbergVariations, DecimalCommaFileReadsAsTheExample) {
+  const auto comma = measurement::read_klingelnberg(std::string(GEARTOPO_SOURCE_DIR) +
+                                                    "/tests/measurement/data/klingelnberg_decimal_comma.mka");
+  EXPECT_EQ(comma.codes.at(22).label, "Zähnezahl z");
+  EXPECT_DOUBLE_EQ(comma.codes.at(21).values.at(0), 2.0);
+  EXPECT_DOUBLE_EQ(comma.ranges.at("de").values.at(1), 53.2);
+  ASSERT_EQ(comma.traces.size(), 5u);
+  EXPECT_EQ(comma.traces[0].values_um, (std::vector<double>{0.0, 1.0, 2.0, 3.0, 4.0}));
+  EXPECT_DOUBLE_EQ(comma.traces[1].values_um[1], -0.5);
+  EXPECT_DOUBLE_EQ(comma.traces[3].position_mm, 10.0);
+  EXPECT_EQ(comma.undefined_points, 1);
+  ASSERT_EQ(comma.pitch.size(), 4u);
+  EXPECT_DOUBLE_EQ(comma.pitch[1].fp_um, -0.4);
+  EXPECT_DOUBLE_EQ(comma.pitch[1].Fp_um, 0.262);
+  EXPECT_DOUBLE_EQ(comma.pitch[1].Fr_um, 1.1);
+  const auto g = example_gear();
+  const auto a = measurement::klingelnberg_points(comma, g);
+  const auto b = measurement::klingelnberg_points(measurement::read_klingelnberg(kExample), g);
+  ASSERT_EQ(a.points.size(), 20u);
+  ASSERT_EQ(a.points.size(), b.points.size());
+  for (size_t i = 0; i < a.points.size(); ++i) {
+    EXPECT_EQ(a.points[i].deviation_um, b.points[i].deviation_um);
+    EXPECT_EQ(a.points[i].z_mm, b.points[i].z_mm);
+    EXPECT_EQ(a.points[i].line, b.points[i].line);
+  }
+}
+
+// One decimal separator per file: a decimal comma among decimal points (or the reverse) is refused at its place,
+// naming the number that decided the file's separator.
+TEST(KlingelnbergVariations, MixedDecimalSeparatorsAreRefusedAtTheirPlace) {
+  const auto mixed = replaced(example_text(), "  .000  1.000  2.000  3.000  4.000", "  .000  1.000  2,838  3.000  4.000");
+  EXPECT_EQ(points_error(mixed, example_gear()),
+            "x.mka:23:16: Werte: '2,838' has a decimal comma, but this file's numbers have a decimal point (the first, "
+            "'2.0000', at line 6): one decimal separator for the whole file: value 3 of the profile trace of tooth 1 "
+            "(head at line 22); numbers are written 1.5, -.046 or 1e-3 (1,5 and -,046 throughout a file with decimal "
+            "commas); a point the machine could not measure is written -2147483.648");
+  std::ifstream in(std::string(GEARTOPO_SOURCE_DIR) + "/tests/measurement/data/klingelnberg_decimal_comma.mka", std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  const auto point = replaced(s.str(), "-1,000; -2,000; -3,000; -4,000", "-1,000; -2.000; -3,000; -4,000");
+  EXPECT_NE(points_error(point, example_gear()).find("x.mka:31:11: Werte: '-2.000' has a decimal point, but this file's "
+                                                     "numbers have a decimal comma (the first, '2,0000', at line 6)"),
+            std::string::npos)
+      << points_error(point, example_gear());
+}
+
+// A value that is not a number in any file ("--", "2,838" where commas are not decimal, "inf") is named with its line,
+// column and what is allowed, not reported as a trace with too few values.
+TEST(KlingelnbergVariations, ABadNumberIsNamedWithWhatIsAllowed) {
+  const auto dashes = replaced(example_text(), "  .000  1.000  2.000  3.000  4.000", "  --  --  --  --  --");
+  EXPECT_NE(points_error(dashes, example_gear())
+                .find("x.mka:23:3: Werte: '--' is not a number: value 1 of the profile trace of tooth 1 (head at line 22); "
+                      "numbers are written 1.5"),
+            std::string::npos)
+      << points_error(dashes, example_gear());
+}
+
+// Lines without the preamble (no "HEADER KS.MK.FILE", "TYPE", …) read the same; trace blocks without the numbered
+// header lines have no measuring range: an error at the first trace naming what is missing.
+TEST(KlingelnbergVariations, WithoutPreambleOrHeader) {
+  const std::string text = example_text();
+  const auto no_preamble = text.substr(text.find("   2 :Datum"));
+  const auto res = measurement::klingelnberg_points(measurement::parse_klingelnberg(no_preamble, "x.mka"), example_gear());
+  EXPECT_EQ(res.points.size(), 20u);
+  EXPECT_NEAR(res.points[1].deviation_um, -1.0 * kCosBetaB, 1e-12);
+  const auto no_header = text.substr(text.find("Profil:"));
+  const auto file = measurement::parse_klingelnberg(no_header, "x.mka");
+  EXPECT_EQ(file.traces.size(), 5u);
+  EXPECT_EQ(points_error(no_header, example_gear()),
+            "x.mka:1: da: a profile trace needs the measuring range 'da' in the header, which is missing");
+}
+
+// Issue 31: the reader is as strict as the writers. Each case is refused at its line, naming what is allowed.
+TEST(KlingelnbergStrict, RangesMustRunForwards) {
+  const auto reversed = replaced(example_text(), "de [mm].....: 53.2000     53.2000", "de [mm].....: 53.2000     47.0000");
+  EXPECT_EQ(points_error(reversed, example_gear()),
+            "x.mka:17: de Ende der Messstrecke de [mm]: the range da … de = 47.5 … 47 mm (right flank) is reversed: it "
+            "must run forwards (da < de; da at line 14)");
+  const auto empty = replaced(example_text(), "be [mm].....: 18.0000     18.0000", "be [mm].....: 2.0000");
+  EXPECT_NE(points_error(empty, example_gear()).find("x.mka:21: be Messende be [mm]: the range ba … be = 2 … 2 mm (left flank) is empty"),
+            std::string::npos)
+      << points_error(empty, example_gear());
+}
+
+TEST(KlingelnbergStrict, ModuleAndTeethMustBeReadable) {
+  EXPECT_EQ(points_error(replaced(example_text(), "z.......................: 24", "z.......................: vierundzwanzig"),
+                         example_gear()),
+            "x.mka:7:43: 22 Zähnezahl z: 'vierundzwanzig' is not a number; this line's values are numbers (numbers are "
+            "written 1.5, -.046 or 1e-3 (1,5 and -,046 throughout a file with decimal commas))");
+  EXPECT_NE(points_error(replaced(example_text(), "z.......................: 24", "z.......................: 24.5"), example_gear())
+                .find("x.mka:7: 22 Zähnezahl z: 24.5 is not a number of teeth"),
+            std::string::npos);
+  EXPECT_NE(points_error(replaced(example_text(), "mn [mm]...............: 2.0000", "mn [mm]...............: nan"), example_gear())
+                .find("x.mka:6:43: 21 Normalmodul mn [mm]: 'nan' is not a number"),
+            std::string::npos);
+  EXPECT_NE(points_error(replaced(example_text(), "mn [mm]...............: 2.0000", "mn [mm]...............:"), example_gear())
+                .find("x.mka:6: 21 Normalmodul mn [mm]: no value after the label"),
+            std::string::npos);
+}
+
+TEST(KlingelnbergStrict, ToothNumbersAreOneToZ) {
+  EXPECT_EQ(points_error(replaced(example_text(), "Zahn-Nr.: 1 links", "Zahn-Nr.: 25 links"), example_gear()),
+            "x.mka:22: Zahn-Nr.: tooth 25 of a gear with 24 teeth: a whole number 1 … 24 (z, header line 22)");
+  EXPECT_EQ(points_error(replaced(example_text(), "Zahn-Nr.: 1 links", "Zahn-Nr.: 1e9 links"), example_gear()),
+            "x.mka:22: Zahn-Nr.: '1e9' is not a tooth number: a whole number 1 … 24 (z, header line 22)");
+  EXPECT_EQ(points_error(replaced(example_text(), "Zahn-Nr.: 1 links", "Zahn-Nr.: 1000000000 links"), example_gear()),
+            "x.mka:22: Zahn-Nr.: tooth 1000000000 of a gear with 24 teeth: a whole number 1 … 24 (z, header line 22)");
+}
+
+TEST(KlingelnbergStrict, PitchTableValuesAreNumbersOfRealTeeth) {
+  EXPECT_EQ(points_error(replaced(example_text(), "  2      -.400   .262  1.100", "  2      nan   .262  1.100"), example_gear()),
+            "x.mka:37:10: fp: 'nan' is not a number: the pitch table's fp of tooth 2 (left flank), in µm; numbers are "
+            "written 1.5, -.046 or 1e-3 (1,5 and -,046 throughout a file with decimal commas)");
+  EXPECT_NE(points_error(replaced(example_text(), "  2      -.400   .262  1.100", "  2      -.400   .262  1e300"), example_gear())
+                .find("x.mka:37:24: Fr: 1e300 µm is beyond ±1000 µm"),
+            std::string::npos);
+  EXPECT_EQ(points_error(replaced(example_text(), "  2      -.400   .262  1.100", "  1      -.400   .262  1.100"), example_gear()),
+            "x.mka:37: Zahn-Nr.: tooth 1 is in the left pitch table twice (first at line 36)");
+  EXPECT_EQ(points_error(replaced(example_text(), "  2      -.400   .262  1.100", "  36      -.400   .262  1.100"), example_gear()),
+            "x.mka:37:3: Zahn-Nr.: tooth 36 in the pitch table: a tooth number is 1 … 24 (z, header line 22)");
+}
+
+// A UTF-16 export (Windows "Unicode") is named as such, with what to do, by the export reader and the measurement
+// front end alike (not reported as a topology CSV with a bad header).
+TEST(KlingelnbergStrict, Utf16IsNamed) {
+  const std::string text = example_text().substr(3);
+  std::string le = "\xFF\xFE", be = "\xFE\xFF", bare;
+  for (const char c : text) {
+    le += c;
+    le += '\0';
+    be += '\0';
+    be += c;
+    bare += c;
+    bare += '\0';
+  }
+  EXPECT_NE(points_error(le, example_gear()).find("x.mka: the file is UTF-16 (little-endian, byte-order mark FF FE), which "
+                                                  "geartopo does not read: save it as UTF-8 or latin-1"),
+            std::string::npos);
+  EXPECT_NE(points_error(be, example_gear()).find("byte-order mark FE FF"), std::string::npos);
+  EXPECT_NE(points_error(bare, example_gear()).find("x.mka: the file is UTF-16 without a byte-order mark"), std::string::npos);
+}
+
+// English labels (Profile, Lead, TOPOGRAPHY, Tooth-No., left/right, Values, "left flank", measuring/evaluation range
+// lines): tests/measurement/data/klingelnberg_english.mka, the example in English words, UTF-8 without BOM, LF.
+TEST(KlingelnbergVariations, EnglishLabelsReadAsTheExample) {
+  const auto en = measurement::read_klingelnberg(std::string(GEARTOPO_SOURCE_DIR) + "/tests/measurement/data/klingelnberg_english.mka");
+  ASSERT_EQ(en.traces.size(), 5u);
+  EXPECT_EQ(en.traces[0].kind, measurement::TraceKind::Profile);
+  EXPECT_EQ(en.traces[0].flank, Flank::Left);
+  EXPECT_EQ(en.traces[2].kind, measurement::TraceKind::Helix);
+  EXPECT_EQ(en.traces[3].position_symbol, 'x');
+  EXPECT_TRUE(en.traces[4].topography);
+  EXPECT_DOUBLE_EQ(en.ranges.at("da").values.at(0), 47.5); // "measuring range", not line 27's "Tip diameter da"
+  EXPECT_DOUBLE_EQ(en.ranges.at("be").values.at(1), 18.0);
+  ASSERT_EQ(en.pitch.size(), 4u);
+  EXPECT_EQ(en.pitch[2].flank, Flank::Right);
+  EXPECT_DOUBLE_EQ(en.pitch[3].fp_um, -0.3);
+  EXPECT_TRUE(en.skipped_blocks.empty());
+  const auto g = example_gear();
+  const auto a = measurement::klingelnberg_points(en, g);
+  const auto b = measurement::klingelnberg_points(measurement::read_klingelnberg(kExample), g);
+  ASSERT_EQ(a.points.size(), 20u);
+  for (size_t i = 0; i < a.points.size(); ++i) {
+    EXPECT_EQ(a.points[i].deviation_um, b.points[i].deviation_um);
+    EXPECT_EQ(a.points[i].roll_length_mm, b.points[i].roll_length_mm);
+  }
+  // A bad value in an English head is located in the file's own columns.
+  std::ifstream in(std::string(GEARTOPO_SOURCE_DIR) + "/tests/measurement/data/klingelnberg_english.mka");
+  std::stringstream s;
+  s << in.rdbuf();
+  const auto bad = points_error(replaced(s.str(), "Tooth-No.: 1 left / 5 Values / z= 10.0", "Tooth-No.: 1 left / 5 Values / z= 1,0"), g);
+  EXPECT_EQ(bad.rfind("x.mka:22:45: z=: '1,0' has a decimal comma", 0), 0u) << bad;
 }

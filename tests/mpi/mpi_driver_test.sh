@@ -109,6 +109,7 @@ bad-input)
   refused shard-flag "--shard" mpirun_local -n 2 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/shard-flag" "${common[@]}" --shard 1/2
   refused unknown-flag "--no-such-flag" mpirun_local -n 2 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/unknown-flag" --no-such-flag
   refused too-few-samples "every rank needs a sample" mpirun_local -n 3 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/too-few-samples" --samples 2
+  refused zero-samples "0 samples over 2 MPI ranks" mpirun_local -n 2 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/zero-samples" --samples 0
   # Refused while the samples run (the work estimate, inside the scatter): every rank leaves through the agreement.
   refused time-limit "--max-time-s" mpirun_local -n 2 "$geartopo_mpi" compensate "$dir/scene.yaml" --out "$dir/time-limit" "${common[@]}" --max-time-s 0.001
   # One rank alone fails (MPMD: each rank its own words): that rank says it, the others wait for nobody.

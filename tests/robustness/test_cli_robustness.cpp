@@ -378,3 +378,81 @@ TEST(Cli, MergeRefusesAShardThatCompensateCouldNotHaveWritten) {
     fs::remove_all(out);
   }
 }
+
+// Issue 31, flags: a numeric flag is finite and in range, a flag that cannot act in the combination given is bad usage
+// naming it (it was ignored), and a word flag names the words allowed (CLI11 printed its internal map).
+TEST(Cli, FlagsThatWouldDoNothingOrOverflowAreBadUsage) {
+  const std::string scene = kDefaultScene.string();
+  const auto out = temp_path("cli_flags31");
+  const std::string mka = corpus("exports/reference/good.mka");
+  const std::vector<std::pair<std::string, std::vector<std::string>>> cases{
+      {"compensate " + scene + " --out " + out.string() + " --adaptive-tolerance-um nan",
+       {"--adaptive-tolerance-um", "'nan' is not a finite number"}},
+      {"compensate " + scene + " --out " + out.string() + " --samples 0 --probe-noise-um 0.3",
+       {"--probe-noise-um", "has no effect with --samples 0"}},
+      {"compensate " + scene + " --out " + out.string() + " --samples 0 --adaptive-tolerance-um 0.5",
+       {"--adaptive-tolerance-um", "has no effect with --samples 0"}},
+      {"compensate " + scene + " --out " + out.string() + " --max-samples 500",
+       {"--max-samples", "has no effect without --adaptive-tolerance-um"}},
+      {"compensate " + scene + " --out " + out.string() + " --samples 200 --adaptive-tolerance-um 0.5",
+       {"--samples", "200 has no effect with --adaptive-tolerance-um"}},
+      {"run " + scene + " --out " + out.string() + " --samples 0 --probe-noise-um 0.3", {"--probe-noise-um"}},
+      {"diagnose " + scene + " --measured " + mka + " --out " + out.string() + " --noise-um 1e-320",
+       {"--noise-um", "1e-320 µm is not a probe noise σ: 1e-06 … 1000 µm"}},
+      {"plan " + scene + " --measured " + mka + " --noise-um 1e-320", {"--noise-um", "is not a probe noise σ"}},
+      {"compare " + scene + " --measured " + mka + " --out " + out.string() + " --noise-um 0", {"--noise-um"}},
+      {"compare " + scene + " --measured " + mka + " --out " + out.string() + " --mka-spacing radius",
+       {"--mka-spacing: 'radius' is not one of roll-length, diameter"}},
+      {"compare " + scene + " --measured " + mka + " --out " + out.string() + " --mka-signs +", {"'+' is not one of raw, din"}},
+      // An --mka-… option for a file that is not an export would do nothing (refused before the file is read).
+      {"compare " + scene + " --measured " + corpus("topology/huge_deviation.csv") + " --out " + out.string() + " --mka-signs din",
+       {"--mka-signs: has no effect: ", "huge_deviation.csv is not a Klingelnberg export"}},
+      {"evaluate " + scene + " --traces " + corpus("topology/traces_huge_deviation.csv") + " --out " + out.string() +
+           " --mka-direction normal",
+       {"--mka-direction"}},
+  };
+  for (const auto& [args, fragments] : cases) {
+    const auto r = run(args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    for (const auto& f : fragments) EXPECT_NE(r.err.find(f), std::string::npos) << args << ": " << r.err;
+    EXPECT_EQ(r.err.find("->"), std::string::npos) << "CLI11's map in: " << r.err;
+    EXPECT_EQ(r.out.find("inf"), std::string::npos) << args << ": " << r.out;
+  }
+  EXPECT_FALSE(fs::exists(out / "diagnosis.json"));
+  fs::remove_all(out);
+}
+
+// Issue 31: a UTF-16 export was reported as a topology CSV with a bad header.
+TEST(Cli, AUtf16MeasurementIsNamedAsSuch) {
+  const auto out = temp_path("cli_utf16");
+  for (const std::string file : {"utf16_le_bom.mka", "utf16_no_bom.mka"}) {
+    const auto r = run("compare " + kDefaultScene.string() + " --measured " + corpus("exports/" + file) + " --out " + out.string());
+    expect_bad_input(r, file);
+    EXPECT_NE(r.err.find("UTF-16"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("save it as UTF-8 or latin-1"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("header"), std::string::npos) << r.err;
+  }
+  fs::remove_all(out);
+}
+
+// Issue 31: evaluate --prediction accepted another gear's prediction and hostile values without a word, and said
+// "[json.exception.out_of_range.406]" of a 1e400. The prediction is read (and its gear compared) before the traces.
+TEST(Cli, EvaluateRefusesAPredictionOfAnotherGearOrWithBadValues) {
+  const auto out = temp_path("cli_prediction");
+  const std::string evaluate = "evaluate " + kDefaultScene.string() + " --traces " + (out / "none.csv").string() + " --out " +
+                               out.string() + " --prediction ";
+  const auto other = run(evaluate + corpus("predictions/reference/other_gear.json"));
+  expect_bad_input(other, "other_gear.json");
+  EXPECT_NE(other.err.find("a prediction of another gear (teeth=36 "), std::string::npos) << other.err;
+  EXPECT_NE(other.err.find("is teeth=35 "), std::string::npos) << other.err;
+  const auto good = run(evaluate + corpus("predictions/reference/good.json")); // passes the gear, fails at the traces
+  EXPECT_EQ(good.code, 1) << good.err;
+  EXPECT_NE(good.err.find("none.csv"), std::string::npos) << good.err;
+  for (const std::string file : {"value_1e400.json", "duplicate_quantity.json", "class_1_5.json", "coverage_2.json"}) {
+    const auto r = run(evaluate + corpus("predictions/" + file));
+    expect_bad_input(r, file);
+    EXPECT_EQ(r.err.find("json.exception"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(out / "iso1328.json"));
+  fs::remove_all(out);
+}

@@ -7,7 +7,8 @@
 // (traces_* → grinding::read_traces_csv) and measurement::read_measurement; point_clouds → surfaces::read_point_cloud;
 // topology and point clouds also through measurement::read_any_measurement (tells the two apart by the header);
 // shards → pipeline::read_run_csv, then pipeline::merge_runs with shards/reference/part_1_of_2.csv (what `geartopo
-// merge` does); exports → measurement::read_klingelnberg.
+// merge` does); exports → measurement::read_klingelnberg; predictions → report::read_prediction_json (what `evaluate
+// --prediction` reads).
 #include "robustness_support.hpp"
 
 #include "geartopo/measurement/any_measurement.hpp"
@@ -16,6 +17,7 @@
 #include "geartopo/machine/error_table.hpp"
 #include "geartopo/measurement/klingelnberg.hpp"
 #include "geartopo/pipeline/monte_carlo.hpp"
+#include "geartopo/report/prediction_report.hpp"
 #include "geartopo/scene/scene.hpp"
 #include "geartopo/workbench/workbench.hpp"
 #include "geartopo/surfaces/point_cloud.hpp"
@@ -35,7 +37,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kFolders[] = {"scenes", "error_tables", "topology", "point_clouds", "shards", "exports"};
+constexpr const char* kFolders[] = {"scenes", "error_tables", "topology", "point_clouds", "shards", "exports", "predictions"};
 
 struct CorpusCase {
   std::string folder, file;
@@ -175,6 +177,8 @@ TEST_P(Corpus, IsRefusedWithAClearMessage) {
                   "pipeline::read_run_csv + merge_runs");
   } else if (c.folder == "exports") {
     check_message(c, catch_from([&] { (void)measurement::read_klingelnberg(path.string()); }), "measurement::read_klingelnberg");
+  } else if (c.folder == "predictions") {
+    check_message(c, catch_from([&] { (void)report::read_prediction_json(path); }), "report::read_prediction_json");
   } else {
     FAIL() << "unknown corpus folder " << c.folder;
   }
@@ -203,6 +207,12 @@ TEST(CorpusReferences, AreAccepted) {
   fs::remove(file);
   const auto k = measurement::read_klingelnberg((kCorpus / "exports/reference/good.mka").string());
   EXPECT_EQ(k.traces.size(), 3u);
+  const auto p = report::read_prediction_json(kCorpus / "predictions/reference/good.json");
+  ASSERT_EQ(p.names.size(), 2u);
+  ASSERT_GE(p.find("F_alpha_um"), 0);
+  EXPECT_EQ(p.after[static_cast<size_t>(p.find("F_alpha_um"))].median, 3.25);
+  EXPECT_EQ(p.gear, pipeline::gear_record(default_scene().setup.geometry().spec())); // the default scene's gear
+  EXPECT_NO_THROW((void)report::read_prediction_json(kCorpus / "predictions/reference/other_gear.json"));
 }
 
 // Every corpus file has a row in expected.tsv (and every row a file): a new file cannot slip in untested.

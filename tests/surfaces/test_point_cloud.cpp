@@ -94,8 +94,11 @@ TEST(PointCloudReader, ReadsPointsWithCommentsBlankLinesCrLfBomAndIds) {
   EXPECT_EQ(with_ids[1].id, 3);
   // Points 1e-6 mm apart are distinct (the duplicate tolerance is 1e-9 mm).
   EXPECT_EQ(read_text("x_mm,y_mm,z_mm\n1,2,3\n1.000001,2,3\n1,2,3.000001\n").size(), 3u);
-  // Far-out but finite coordinates are numbers like any other.
-  EXPECT_EQ(read_text("x_mm,y_mm,z_mm\n1e300,0,0\n-1e300,0,0\n0,1e300,-1e300\n").size(), 3u);
+  // Far-out coordinates up to 100 m are numbers like any other; beyond, no gear's (issue 31: a 1e300 reached a fit
+  // as "noise level σ = inf µm", no file named): refused at its place.
+  EXPECT_EQ(read_text("x_mm,y_mm,z_mm\n1e5,0,0\n-1e5,0,0\n0,1e5,-1e5\n").size(), 3u);
+  EXPECT_ERROR(read_text("x_mm,y_mm,z_mm\n1,2,3\n0,1e300,0\n"),
+               "cloud.csv:3:3: y_mm: '1e300' mm is beyond ±100000 mm, further than any gear reaches (a wrong unit?)");
 }
 
 TEST(PointCloudReader, ErrorsNameFileLineColumnAndField) {

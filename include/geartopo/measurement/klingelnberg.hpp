@@ -77,12 +77,19 @@ struct KlingelnbergFile {
 /// The undefined value of the export; any value at or below it + 1 is undefined (gearcore does the same).
 inline constexpr double kKlingelnbergUndefined = -2147483.648;
 
-/// Parses the text of an export (UTF-8 with or without BOM, or latin-1; CRLF or LF). Throws InputError
+/// Parses the text of an export (UTF-8 with or without BOM, or latin-1; CRLF or LF; decimal points or, throughout,
+/// decimal commas; German or English labels: docs/measurement-formats.md). Throws InputError
 /// (file:line: field: message) on a malformed head, a value that is not a number, or a count that does not match.
 KlingelnbergFile parse_klingelnberg(std::string_view text, const std::string& source);
 KlingelnbergFile read_klingelnberg(const std::string& file);
 
-/// True when the stream's first 64 KiB hold a "HEADER KS." line or a "Zahn-Nr." trace head. Rewinds the stream.
+/// Throws InputError naming `source` when `head` (a file's first bytes) is UTF-16 (byte-order mark FF FE or FE FF,
+/// or a NUL byte between the characters): every measurement reader takes UTF-8 or latin-1 only,
+/// and says so rather than failing on the first header it cannot match.
+void refuse_utf16(std::string_view head, const std::string& source);
+
+/// True when the stream's first 64 KiB hold a "HEADER KS." line or a "Zahn-Nr." ("Tooth-No.") trace head. Rewinds
+/// the stream.
 bool looks_like_klingelnberg(std::istream& in);
 
 struct KlingelnbergPoints {

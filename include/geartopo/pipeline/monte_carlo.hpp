@@ -135,8 +135,19 @@ struct MonteCarloRun {
   /// What the samples were computed from (scene_fingerprint); "" when not recorded (computed in memory, or a file
   /// written before it was). Shards merge only with the same fingerprint.
   std::string scene_fingerprint;
+  std::string gear;   ///< gear_record of the gear the samples are of; "" when not recorded (a file written before)
   std::string source; ///< the file it was read from (read_run_csv), for messages; "" when computed
 };
+
+/// Why `value` cannot be quantity `name` of a run (an unknown name; not finite; a class not a whole number of ISO
+/// 1328-1's range; a negative magnitude; beyond ±kMaxQuantityUm), or nullopt when it can: the check read_run_csv
+/// makes of every shard value, for other readers of predictions (report::read_prediction_json).
+std::optional<std::string> quantity_value_refusal(const std::string& name, double value);
+
+/// The gear a prediction is of, as prediction.json and a shard record it and `evaluate --prediction` compares it:
+/// "teeth=35 normal_module_mm=14 normal_pressure_angle_deg=20 helix_angle_deg=30 profile_shift=0.274
+/// face_width_mm=150" (scene keys, 9 significant digits).
+std::string gear_record(const gears::GearSpec& spec);
 
 /// The scene a Monte Carlo run samples, as a fingerprint: FNV-1a (64 bit, 16 hex digits) of the scene file's bytes,
 /// of each error table it names (in scene order) and of `options` (the command's settings that change the samples,
@@ -225,6 +236,7 @@ struct MonteCarloSummary {
   /// they were, read by report::read_prediction_json).
   std::optional<workbench::IsoOptions> iso;
   double probe_noise_um = 0.0; ///< σ of the probe noise the samples were "measured" with (µm; 0: the true gears)
+  std::string gear;            ///< MonteCarloRun::gear
   std::vector<std::string> names;
   std::vector<Band> before, after; ///< per name
   SamplingReport sampling;

@@ -257,6 +257,8 @@ write(P, "extra_field.csv", PH + prows(2) + "290,3,4,5\n", ("InputError", 4, "")
 write(P, "nan.csv", PH + prows(2) + "290,nan,4\n", ("InputError", 4, "y_mm"))
 write(P, "inf.csv", PH + prows(2) + "290,3,-inf\n", ("InputError", 4, "z_mm"))
 write(P, "huge_overflow.csv", PH + prows(2) + "1e400,3,4\n", ("InputError", 4, "x_mm"))
+# Issue 31: a 1e300 coordinate reached diagnose as "noise level σ = inf µm", no file named; refused at reading.
+write(P, "coordinate_1e300.csv", PH + prows(2) + "290,1e300,4\n", ("InputError", 4, "'1e300' mm is beyond ±100000 mm"))
 write(P, "duplicate_point.csv", PH + prows(3) + "280.000,0.000,10.000\n", ("InputError", 5, "line 2"))
 write(P, "duplicate_id.csv", "x_mm,y_mm,z_mm,id\n1,2,3,7\n4,5,6,7\n", ("InputError", 3, "id"))
 write(P, "negative_id.csv", "x_mm,y_mm,z_mm,id\n1,2,3,-1\n", ("InputError", 2, "id"))
@@ -299,6 +301,7 @@ write(M, "negative_total_deviation.csv", shard([row(2), row(3, after="-3.25,4,5,
 write(M, "class_99.csv", shard([row(2, after="3.25,99,5,6.5,0.25"), row(3)]),
       ("InputError", 14, "after.F_alpha_class: 99 is not a class of ISO 1328-1: a whole number of 1 … 11"))
 write(M, "class_0.csv", shard([row(2, before="12.5,7,0,20.1,-1.5"), row(3)]), ("InputError", 14, "before.overall_class: 0 is not a class"))
+write(M, "class_1_5.csv", shard([row(2, after="3.25,1.5,5,6.5,0.25"), row(3)]), ("InputError", 14, "after.F_alpha_class: 1.5 is not a class"))
 write(M, "class_fraction.csv", shard([row(2, before="12.5,6.5,7,20.1,-1.5"), row(3)]), ("InputError", 14, "6.5 is not a class"))
 write(M, "largest_abs_negative.csv", shard([row(2, before="12.5,7,7,-20.1,-1.5"), row(3)]), ("InputError", 14, "before.largest_abs_um"))
 write(M, "signed_value_huge.csv", shard([row(2), row(3, after="3.25,4,5,6.5,-2e4")]), ("InputError", 15, "after.thickness_um: -2e4 µm is beyond ±10000 µm"))
@@ -321,7 +324,12 @@ write(M, "fingerprint_differs.csv", shard([row(2), row(3)], fingerprint="fedcba9
 write(M, "fingerprint_missing.csv", shard([row(2), row(3)], fingerprint=None), ("invalid_argument", 0, "scene fingerprint not recorded"))
 write(M, "names_differ.csv", shard([row(2, before="12.5,7,7,20.1", after="3.25,4,5,6.5"), row(3, before="12.5,7,7,20.1", after="3.25,4,5,6.5")],
                                    names=NAMES[:4]), ("invalid_argument", 0, "other quantities"))
-write(M, "sample_in_both.csv", shard([row(1), row(2), row(3)]), ("invalid_argument", 0, "sample 1 is in two parts"))
+write(M, "sample_in_both.csv", shard([row(1), row(2), row(3)]), ("invalid_argument", 0, "sample 1 is in two parts: part 1 ("))
+# Issue 31: a shard of another gear (the reference records none, as shards written before the gear was recorded).
+write(M, "gear_differs.csv", shard([row(2), row(3)], extra="# gear: teeth=36 normal_module_mm=14 normal_pressure_angle_deg=20 "
+                                   "helix_angle_deg=30 profile_shift=0.274 face_width_mm=150\n"),
+      ("invalid_argument", 0, "gear teeth=36 normal_module_mm=14"))
+write(M, "gear_malformed.csv", shard([row(2), row(3)], extra="# gear: 36\n"), ("InputError", 13, "'36' is not a gear record geartopo writes"))
 
 # ---------------------------------------------------------------------------------------------------- Klingelnberg exports
 # Read by measurement::read_klingelnberg (docs/measurement-formats.md). The head of tests/measurement/data's example.
@@ -367,6 +375,95 @@ write(K, "no_flank.mka", KHEAD + profile(flank="mitte") + GOOD_REST, ("InputErro
 write(K, "zero_values.mka", KHEAD + profile(count=0, values="") + GOOD_REST, ("InputError", 14, "'0' is not a number of values"))
 write(K, "position_nan.mka", KHEAD + profile(z="nan") + GOOD_REST, ("InputError", 14, "expected a position in mm"))
 write(K, "truncated_in_values.mka", KHEAD + GOOD_REST + "Profil:  Zahn-Nr.: 3 links / 5 Werte / z= 10.0\n  .000  1.0", ("InputError", 18, "announces 5 values, 2 follow"))
+# Issue 31: as strict as the writers. Ranges must run forwards, each flank (line 11 is de, line 13 be).
+write(K, "range_reversed.mka", KHEAD.replace("53.2000     53.2000", "53.2000     47.0000") + profile() + GOOD_REST,
+      ("InputError", 11, "the range da … de = 47.5 … 47 mm (right flank) is reversed"))
+write(K, "range_empty.mka", KHEAD.replace("18.0000     18.0000", "2.0000      2.0000") + profile() + GOOD_REST,
+      ("InputError", 13, "the range ba … be = 2 … 2 mm (left flank) is empty"))
+# Header numbers the reader uses: an error, not a warning and an unchecked file.
+write(K, "module_unreadable.mka", KHEAD.replace("mn [mm]...............: 2.0000", "mn [mm]...............: zwei") + profile() + GOOD_REST,
+      ("InputError", 5, "'zwei' is not a number"))
+write(K, "teeth_fraction.mka", KHEAD.replace("z.......................: 24", "z.......................: 24.5") + profile() + GOOD_REST,
+      ("InputError", 6, "24.5 is not a number of teeth"))
+write(K, "teeth_missing_value.mka", KHEAD.replace("z.......................: 24", "z.......................:") + profile() + GOOD_REST,
+      ("InputError", 6, "no value after the label"))
+write(K, "range_1e300.mka", KHEAD.replace("47.5000     47.5000", "1e300       47.5000") + profile() + GOOD_REST,
+      ("InputError", 10, "1e300 is beyond ±100000"))
+write(K, "position_1e300.mka", KHEAD + profile(z="1e300") + GOOD_REST, ("InputError", 14, "1e300 mm is beyond ±100000 mm"))
+# Tooth numbers 1 … z (z = 24 from line 6): tooth 10⁹ is an error like tooth 25, "1e9" too (not a tagged block).
+write(K, "tooth_beyond_z.mka", KHEAD + profile(tooth=25) + GOOD_REST, ("InputError", 14, "tooth 25 of a gear with 24 teeth"))
+write(K, "tooth_1e9_digits.mka", KHEAD + profile(tooth=1000000000) + GOOD_REST, ("InputError", 14, "tooth 1000000000 of a gear with 24 teeth"))
+write(K, "tooth_1e9.mka", KHEAD + profile(tooth="1e9") + GOOD_REST, ("InputError", 14, "'1e9' is not a tooth number: a whole number 1 … 24"))
+# A bad number named with its column and what is allowed, not "the head announces 5 values, 0 follow".
+write(K, "value_dashes.mka", KHEAD + profile(values="--  --  --  --  --") + GOOD_REST,
+      ("InputError", 15, "'--' is not a number: value 1 of the profile trace of tooth 1 (head at line 14); numbers are written 1.5"))
+write(K, "value_decimal_comma_among_points.mka", KHEAD + profile(values=".000  1.000  2,838  3.000  4.000") + GOOD_REST,
+      ("InputError", 15, "'2,838' has a decimal comma, but this file's numbers have a decimal point (the first, '2.0000', at line 5)"))
+write(K, "value_inf_word.mka", KHEAD + profile(values="inf  1.000  2.000  3.000  4.000") + GOOD_REST,
+      ("InputError", 15, "'inf' is not a number: value 1"))
+# Pitch tables (title at line 20, rows from line 22): nan, inf, a value beyond ±1000 µm, a tooth twice or beyond z, each at its place.
+def pitch(rows):
+    return "linke Zahnflanke\nZahn-Nr.   fp     Fp     Fr\n" + "".join(f"  {r}\n" for r in rows)
+write(K, "pitch_nan.mka", KHEAD + profile() + GOOD_REST + pitch(["1      0.662  0.662  0.778", "2      nan   .262  1.100"]),
+      ("InputError", 23, "'nan' is not a number: the pitch table's fp of tooth 2 (left flank)"))
+write(K, "pitch_inf.mka", KHEAD + profile() + GOOD_REST + pitch(["1      0.662  inf  0.778"]),
+      ("InputError", 22, "'inf' is not a number: the pitch table's Fp of tooth 1"))
+write(K, "pitch_1e6.mka", KHEAD + profile() + GOOD_REST + pitch(["1      0.662  0.662  1e6"]),
+      ("InputError", 22, "1e6 µm is beyond ±1000 µm"))
+write(K, "pitch_tooth_twice.mka", KHEAD + profile() + GOOD_REST + pitch(["1      0.662  0.662  0.778", "1      -.400   .262  1.100"]),
+      ("InputError", 23, "tooth 1 is in the left pitch table twice (first at line 22)"))
+write(K, "pitch_tooth_beyond_z.mka", KHEAD + profile() + GOOD_REST + pitch(["36      0.662  0.662  0.778"]),
+      ("InputError", 22, "tooth 36 in the pitch table: a tooth number is 1 … 24"))
+# UTF-16 (Windows "Unicode"): named as such, not as a bad header.
+GOOD = KHEAD + profile() + GOOD_REST
+write(K, "utf16_le_bom.mka", GOOD.encode("utf-16-le").join([b"\xff\xfe", b""]), ("InputError", 0, "the file is UTF-16 (little-endian, byte-order mark FF FE)"))
+write(K, "utf16_be_bom.mka", b"\xfe\xff" + GOOD.encode("utf-16-be"), ("InputError", 0, "byte-order mark FE FF), which geartopo does not read: save it as UTF-8 or latin-1"))
+write(K, "utf16_no_bom.mka", GOOD.encode("utf-16-le"), ("InputError", 0, "the file is UTF-16 without a byte-order mark"))
+
+# ---------------------------------------------------------------------------------------------------- predictions
+# prediction.json as `evaluate --prediction` reads it (report::read_prediction_json; the keys of report::prediction_json,
+# written here by hand). Issue 31: every value checked as merge checks a shard's, keys once, numbers a double holds.
+R = "predictions"
+GEAR_RECORD = "teeth=35 normal_module_mm=14 normal_pressure_angle_deg=20 helix_angle_deg=30 profile_shift=0.274 face_width_mm=150"
+def prediction(quantities=None, top=None, raw_quantities=None):
+    q = quantities or {"F_alpha_um": ("12.5, 11.0, 14.0", "3.25, 2.5, 4.0"), "F_alpha_class": ("7, 6, 8", "4, 3, 5")}
+    fields = {"samples": "40", "seed": "1", "coverage_probability": "0.95", "gear": f'"{GEAR_RECORD}"',
+              "probe_noise_um": "0"}
+    fields.update(top or {})
+    def band(t):
+        m, lo, hi = (x.strip() for x in t.split(","))
+        return f'{{"median": {m}, "low": {lo}, "high": {hi}}}'
+    body = raw_quantities or ",\n".join(f'    "{n}": {{"before": {band(b)}, "after": {band(a)}}}' for n, (b, a) in q.items())
+    return "{\n" + "".join(f'  "{k}": {v},\n' for k, v in fields.items()) + '  "quantities": {\n' + body + "\n  }\n}\n"
+os.makedirs(os.path.join(HERE, R, "reference"), exist_ok=True)
+with open(os.path.join(HERE, R, "reference", "good.json"), "w", newline="") as f:
+    f.write(prediction())
+with open(os.path.join(HERE, R, "reference", "other_gear.json"), "w", newline="") as f:  # refused by evaluate, not the reader
+    f.write(prediction(top={"gear": '"' + GEAR_RECORD.replace("teeth=35", "teeth=36") + '"'}))
+write(R, "negative_um.json", prediction({"F_alpha_um": ("12.5, 11.0, 14.0", "-3.25, -4.0, -2.5")}), ("InputError", 0, "µm is negative"))
+write(R, "class_99.json", prediction({"F_alpha_class": ("99, 99, 99", "4, 3, 5")}), ("InputError", 0, "99 is not a class of ISO 1328-1"))
+write(R, "class_1_5.json", prediction({"F_alpha_class": ("1.5, 1, 2", "4, 3, 5")}), ("InputError", 0, "1.5 is not a class of ISO 1328-1"))
+write(R, "unknown_quantity.json", prediction({"F_gamma_um": ("1, 1, 1", "1, 1, 1")}), ("InputError", 0, "'F_gamma_um' is not a quantity geartopo writes"))
+write(R, "coverage_2.json", prediction(top={"coverage_probability": "2"}), ("InputError", 0, "2 is not a probability in (0, 1)"))
+write(R, "coverage_0.json", prediction(top={"coverage_probability": "0"}), ("InputError", 0, "0 is not a probability in (0, 1)"))
+write(R, "value_1e400.json", prediction({"F_alpha_um": ("1e400, 11.0, 14.0", "3.25, 2.5, 4.0")}),
+      ("InputError", 8, "'1e400' is beyond the range of a number"))
+write(R, "value_beyond_bound.json", prediction({"F_alpha_um": ("1e300, 1e300, 1e300", "3.25, 2.5, 4.0")}), ("InputError", 0, "beyond ±10000 µm"))
+write(R, "duplicate_top_key.json", prediction(top={"samples": "40", "seed": "1"}).replace('"seed": 1,', '"seed": 1,\n  "seed": 2,'),
+      ("InputError", 0, "the key 'seed' is given twice"))
+write(R, "duplicate_quantity.json", prediction(raw_quantities='    "F_alpha_um": {"before": {"median": 1, "low": 1, "high": 1}, "after": {"median": 1, "low": 1, "high": 1}},\n'
+                                                             '    "F_alpha_um": {"before": {"median": 9, "low": 9, "high": 9}, "after": {"median": 9, "low": 9, "high": 9}}'),
+      ("InputError", 0, "the key 'F_alpha_um' is given twice in quantities"))
+write(R, "duplicate_band_key.json", prediction(raw_quantities='    "F_alpha_um": {"before": {"median": 1, "low": 1, "high": 1, "high": 7}, "after": {"median": 1, "low": 1, "high": 1}}'),
+      ("InputError", 0, "the key 'high' is given twice in quantities.F_alpha_um.before"))
+write(R, "syntax_error.json", prediction().replace('"samples": 40,', '"samples": 40,,'), ("InputError", 2, "not JSON"))
+write(R, "nan_literal.json", prediction({"F_alpha_um": ("NaN, 11.0, 14.0", "3.25, 2.5, 4.0")}), ("InputError", 8, "not JSON"))
+write(R, "low_above_high.json", prediction({"F_alpha_um": ("12.5, 15.0, 14.0", "3.25, 2.5, 4.0")}), ("InputError", 0, "does not hold"))
+write(R, "seed_negative.json", prediction(top={"seed": "-1"}), ("InputError", 0, "not a seed"))
+write(R, "probe_noise_negative.json", prediction(top={"probe_noise_um": "-0.5"}), ("InputError", 0, "is not a σ of 0 … 1000 µm"))
+write(R, "gear_malformed.json", prediction(top={"gear": "35"}), ("InputError", 0, "not a gear record geartopo writes"))
+write(R, "samples_0.json", prediction(top={"samples": "0"}), ("InputError", 0, "is not a count of samples"))
+write(R, "not_an_object.json", "[1, 2, 3]\n", ("InputError", 0, "not a JSON object"))
 
 for folder, rows in ROWS.items():
     with open(os.path.join(HERE, folder, "expected.tsv"), "w") as f:
