@@ -47,6 +47,8 @@ void register_evaluate_command(CLI::App& app, Action& action) {
   cmd->callback([&action, opt, direction_flag, sign_flag] {
     const bool direction_given = direction_flag->count() > 0, sign_given = sign_flag->count() > 0;
     action = [opt, direction_given, sign_given] {
+      const output::RunFiles files{{opt->scene, opt->traces, opt->prediction}, {"iso1328.json"}};
+      output::check_run_files(opt->out, files); // before any work: no input and no user's file is replaced
       const Workbench wb(opt->scene);
       // Read before anything is written: a wrong prediction file leaves the output folder as it was.
       std::optional<pipeline::MonteCarloSummary> prediction;
@@ -118,7 +120,7 @@ void register_evaluate_command(CLI::App& app, Action& action) {
         j["against_prediction"]["file"] = opt->prediction;
       }
       const std::filesystem::path out(opt->out);
-      output::OutputFolder folder(out);
+      output::OutputFolder folder(out, files);
       output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
       std::cout << "Source: " << source << "\n" << report::iso_table(iso);
       if (beside) {

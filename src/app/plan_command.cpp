@@ -35,6 +35,8 @@ void register_plan_command(CLI::App& app, Action& action) {
       ->check(finite_in(0.0, 1000.0));
   cmd->callback([&action, opt] {
     action = [opt] {
+      const output::RunFiles files{{opt->scene, opt->measured}, {"plan.json"}};
+      if (!opt->out.empty()) output::check_run_files(opt->out, files); // before any work
       const workbench::Workbench wb(opt->scene);
       const auto pts = read_measured_points(wb, opt->measured, opt->mka);
       diagnosis::DiagnoseOptions o;
@@ -66,7 +68,7 @@ void register_plan_command(CLI::App& app, Action& action) {
       }
       if (!opt->out.empty()) {
         const std::filesystem::path out(opt->out);
-        output::OutputFolder folder(out);
+        output::OutputFolder folder(out, files);
         output::write_text_atomically(out / "plan.json", j.dump(2) + "\n");
         std::cout << "wrote " << (out / "plan.json").string() << "\n";
         finish_output_folder(folder);
