@@ -450,6 +450,8 @@ void begin(const fs::path& dir, const fs::path& stage, std::set<fs::path> replac
   {
     const std::lock_guard lock(staging_mutex);
     Staging& s = staging_state();
+    // One folder per command: a second would take the first one's writes.
+    if (s.active) throw OutputError(dir, "another output folder (" + s.dir.string() + ") is open in this process");
     s.active = true;
     s.dir = dir;
     s.stage = stage;

@@ -162,6 +162,8 @@ bool is_geartopo_temporary(const std::string& name, long& pid) {
 
 void check_run_files(const fs::path& dir, const RunFiles& files) {
   check_name_lengths(dir);
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(dir, ec)) && !fs::is_directory(dir, ec)) throw OutputError(dir, "it is a file, not a folder");
   for (const auto& in : files.inputs) note_input(in);
   const auto listed = read_manifest(dir / kManifestName);
   for (const auto& out : files.outputs) {

@@ -351,3 +351,16 @@ TEST(OutputFolder, ASigtermWhileWritingLeavesNoTemporary) {
   EXPECT_TRUE(fs::is_empty(dir));
   fs::remove_all(dir);
 }
+
+// One output folder per command: a second one open in the same process would take the first one's writes.
+TEST(OutputFolder, ASecondFolderInTheSameProcessIsRefused) {
+  const auto a = fresh_output_dir("first"), b = fresh_output_dir("second");
+  output::OutputFolder first(a);
+  EXPECT_THROW(output::OutputFolder(b, {}), output::OutputError);
+  EXPECT_FALSE(fs::exists(b / output::kLockName)); // released by the refused one
+  output::write_text_atomically(a / "x.csv", "x\n");
+  first.finish();
+  EXPECT_EQ(read_text(a / "x.csv"), "x\n");
+  fs::remove_all(a);
+  fs::remove_all(b);
+}

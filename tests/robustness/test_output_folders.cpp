@@ -85,40 +85,50 @@ const std::string kScene = kDefaultScene.string();
 const std::string kOldRun = "simulate " + kScene + " --teeth 1,2 --dense 4x4 --method linear --out ";
 const std::string kNewRun = "simulate " + kScene + " --teeth 1,3 --out ";
 
+// compensate as the issue found it mixing: the earlier result by the paper method, the new one by the flank method
+// (no Monte Carlo: the write phase is the same, the run shorter).
+const std::string kOldCompensation = "compensate " + kScene + " --samples 0 --method paper --out ";
+const std::string kNewCompensation = "compensate " + kScene + " --samples 0 --method flank --out ";
+
 struct Runs {
   fs::path old_dir;
   Snapshot old_files, new_files;
 };
 
-const Runs& reference_runs() {
-  static const Runs runs = [] {
-    Runs r;
-    r.old_dir = temp_path("folders_old");
-    fs::remove_all(r.old_dir);
-    EXPECT_EQ(run_geartopo(kOldRun + r.old_dir.string()).code, 0);
-    r.old_files = snapshot(r.old_dir);
-    const auto new_dir = temp_path("folders_new");
-    copy_folder(r.old_dir, new_dir);
-    EXPECT_EQ(run_geartopo(kNewRun + new_dir.string()).code, 0);
-    r.new_files = snapshot(new_dir);
-    fs::remove_all(new_dir);
-    return r;
-  }();
-  return runs;
+// The two runs' own results, each run once per test program: `old_run` into a fresh folder, then `new_run` into a
+// copy of it.
+const Runs& reference_runs(const std::string& old_run = kOldRun, const std::string& new_run = kNewRun) {
+  static std::map<std::string, Runs> cache;
+  const auto found = cache.find(old_run + new_run);
+  if (found != cache.end()) return found->second;
+  Runs r;
+  r.old_dir = temp_path("folders_old_" + std::to_string(cache.size()));
+  fs::remove_all(r.old_dir);
+  EXPECT_EQ(run_geartopo(old_run + r.old_dir.string()).code, 0);
+  r.old_files = snapshot(r.old_dir);
+  const auto new_dir = temp_path("folders_new");
+  copy_folder(r.old_dir, new_dir);
+  EXPECT_EQ(run_geartopo(new_run + new_dir.string()).code, 0);
+  r.new_files = snapshot(new_dir);
+  fs::remove_all(new_dir);
+  EXPECT_NE(r.old_files, r.new_files);
+  return cache.emplace(old_run + new_run, std::move(r)).first->second;
 }
 
-// Interrupts the new run with `sig` at every step k of its write phase (and once beyond the last step); the folder
-// must then hold exactly one of the two runs. Returns how often each was found (old, new).
-std::pair<int, int> interrupt_at_every_step(int sig, int step_stride) {
-  const Runs& r = reference_runs();
+// Interrupts `new_run` (into a copy of `old_run`'s folder) with `sig` at every `step_stride`-th step of its write
+// phase, and once beyond the last step; the folder must then hold exactly one of the two runs. Returns how often
+// each was found (old, new).
+std::pair<int, int> interrupt_at_every_step(int sig, int step_stride, const std::string& old_run = kOldRun,
+                                            const std::string& new_run = kNewRun) {
+  const Runs& r = reference_runs(old_run, new_run);
   // Staged files (the new run's files and its manifest), then as many renames.
   const int steps = 2 * static_cast<int>(r.new_files.size()) + 1;
   int olds = 0, news = 0;
   const auto dir = temp_path("folders_signal_" + std::to_string(sig));
-  for (int k = 1; k <= steps; k += step_stride) {
+  for (int k = 1; k <= steps; k = k + step_stride > steps && k < steps ? steps : k + step_stride) {
     copy_folder(r.old_dir, dir);
-    const auto result = run_geartopo(kNewRun + dir.string(), "GEARTOPO_TEST_SIGNAL_AT=" + std::to_string(sig) + ":" +
-                                                             std::to_string(k) + " ");
+    const auto result = run_geartopo(new_run + dir.string(), "GEARTOPO_TEST_SIGNAL_AT=" + std::to_string(sig) + ":" +
+                                                                 std::to_string(k) + " ");
     const Snapshot now = snapshot(dir);
     const std::string where = "signal " + std::to_string(sig) + " at step " + std::to_string(k) + ", exit " +
                               std::to_string(result.code) + ": " + result.err;
@@ -165,6 +175,14 @@ TEST(OutputFolders, ASigtermOrSigintAtAnyStepLeavesTheOldOrTheNewRunAndNoLeftove
     EXPECT_GT(olds, 0) << sig;
     EXPECT_GT(news, 0) << sig; // within the commit: the signal waits for its end
   }
+}
+
+// The case the issue measured: compensate into a folder that holds an earlier result, killed at every fourth step
+// (two in the staging, two in the commit; SIGTERM and SIGINT are covered step by step with simulate above).
+TEST(OutputFolders, CompensateKilledLeavesTheOldOrTheNewResult) {
+  const auto [olds, news] = interrupt_at_every_step(SIGKILL, 4, kOldCompensation, kNewCompensation);
+  EXPECT_GT(olds, 0);
+  EXPECT_GT(news, 0);
 }
 
 TEST(OutputFolders, ASecondWriterIsRefusedWhileTheFirstRuns) {

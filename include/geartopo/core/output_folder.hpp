@@ -49,7 +49,8 @@ class OutputFolder {
 public:
   /// Creates `dir` (and its parents) if needed, takes its lock, completes or removes what killed runs left (see
   /// above), checks `files` (check_run_files) and starts staging. Throws OutputError when `dir` cannot be created or
-  /// is not a folder, when another run holds the lock, or when a declared output is refused.
+  /// is not a folder, when another run holds the lock, when a declared output is refused, or when another
+  /// OutputFolder is open in this process (one per command).
   explicit OutputFolder(const std::filesystem::path& dir, const RunFiles& files = {});
   /// Without finish() (the run failed): the staged files are removed and the folder is as it was. Never throws.
   ~OutputFolder();
