@@ -148,7 +148,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
     action = [opt] {
       JsonSummary json(opt->json);
       const output::RunFiles files{{opt->scene, opt->measured}, {"diagnosis.json", "scene_with_effect.yaml"}};
-      output::check_run_files(opt->out, files); // before any work: no input and no user's file is replaced
+      output::OutputFolder folder(opt->out, files); // locked and staged before any work: a second run is refused now
       const Workbench wb(opt->scene);
       for (const auto& c : opt->candidates)
         if (!effects::make_effect(c))
@@ -170,7 +170,6 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       const nlohmann::json j = report::diagnosis_json(opt->scene, opt->measured, d, diagnosis::mean_allowance_offset_um(wb.setup.geometry()));
 
       const std::filesystem::path out(opt->out);
-      output::OutputFolder folder(out, files);
       output::write_text_atomically(out / "diagnosis.json", j.dump(2) + "\n");
       std::cout << fmt::format("{} measured points; residual {:.2f} µm RMS; noise {:.2f} µm{}\n", d.points, d.rms_before_um,
                                d.noise_um, d.noise_estimated ? " (estimated)" : "");

@@ -48,7 +48,7 @@ void register_evaluate_command(CLI::App& app, Action& action) {
     const bool direction_given = direction_flag->count() > 0, sign_given = sign_flag->count() > 0;
     action = [opt, direction_given, sign_given] {
       const output::RunFiles files{{opt->scene, opt->traces, opt->prediction}, {"iso1328.json"}};
-      output::check_run_files(opt->out, files); // before any work: no input and no user's file is replaced
+      output::OutputFolder folder(opt->out, files); // locked and staged before any work: a second run is refused now
       const Workbench wb(opt->scene);
       // Read before anything is written: a wrong prediction file leaves the output folder as it was.
       std::optional<pipeline::MonteCarloSummary> prediction;
@@ -120,7 +120,6 @@ void register_evaluate_command(CLI::App& app, Action& action) {
         j["against_prediction"]["file"] = opt->prediction;
       }
       const std::filesystem::path out(opt->out);
-      output::OutputFolder folder(out, files);
       output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
       std::cout << "Source: " << source << "\n" << report::iso_table(iso);
       if (beside) {

@@ -180,6 +180,7 @@ OutputFolder::OutputFolder(const fs::path& dir, const RunFiles& files) : dir_(di
   if (fs::exists(fs::symlink_status(dir_, ec)) && !fs::is_directory(dir_, ec))
     throw OutputError(dir_, "it is a file, not a folder");
   check_name_lengths(dir_);
+  created_ = !fs::exists(fs::symlink_status(dir_, ec));
   fs::create_directories(dir_, ec);
   if (!fs::is_directory(dir_)) throw OutputError(dir_, ec ? "cannot create the folder: " + ec.message() : "it is not a folder");
   dir_ = fs::absolute(dir_).lexically_normal();
@@ -220,6 +221,7 @@ OutputFolder::OutputFolder(const fs::path& dir, const RunFiles& files) : dir_(di
     staging_ = true;
   } catch (...) {
     release();
+    if (created_) ::rmdir(dir_.c_str());
     throw;
   }
 }
@@ -278,6 +280,8 @@ OutputFolder::~OutputFolder() {
     std::error_code ec;
     fs::remove_all(stage_, ec);
     staging::forget_stage();
+    release();
+    if (created_) ::rmdir(dir_.c_str()); // a folder this failed run created goes again (rmdir: only if empty)
   }
   release();
 }

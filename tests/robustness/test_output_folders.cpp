@@ -312,3 +312,12 @@ TEST(OutputFolders, LongNamesAndAFileNamedAsAFolderGetAClearMessage) {
     EXPECT_EQ(r->err.find("filesystem error"), std::string::npos) << r->err;
   fs::remove_all(dir);
 }
+
+// The folder is opened (created, locked) before the computation; a run that then fails removes the folder it created.
+TEST(OutputFolders, AFailedRunLeavesNoFolderItCreated) {
+  const auto dir = temp_path("folders_failed_new");
+  fs::remove_all(dir);
+  const auto r = run_geartopo("simulate " + (kCorpus / "scenes" / "module_0.yaml").string() + " --out " + dir.string());
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_FALSE(fs::exists(dir));
+}

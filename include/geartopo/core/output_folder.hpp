@@ -13,7 +13,8 @@
 //    the next command that opens the folder completes that commit, so the folder then holds the new run's files.
 //  * One writer. The folder is locked (flock(2) on ".geartopo-lock", which holds the writer's pid) from opening to
 //    the end of finish() or of the failed run; a second geartopo run is refused, naming the folder and the pid. The
-//    lock of a dead process is free by itself.
+//    lock of a dead process is free by itself. Commands open their folder before their computation (compensate
+//    after it: under MPI every rank computes, rank 0 alone writes), so a second run is refused at once.
 //  * Manifest. What geartopo wrote is recorded in kManifestName (one path per line, relative to the folder). A run
 //    never replaces a file that is not listed there (the user's own), nor a file it reads as an input (both refused
 //    with OutputError naming the two paths); the files the manifest lists that this run did not write are removed
@@ -52,7 +53,8 @@ public:
   /// is not a folder, when another run holds the lock, when a declared output is refused, or when another
   /// OutputFolder is open in this process (one per command).
   explicit OutputFolder(const std::filesystem::path& dir, const RunFiles& files = {});
-  /// Without finish() (the run failed): the staged files are removed and the folder is as it was. Never throws.
+  /// Without finish() (the run failed): the staged files are removed and the folder is as it was (a folder this run
+  /// created is removed if empty). Never throws.
   ~OutputFolder();
   OutputFolder(const OutputFolder&) = delete;
   OutputFolder& operator=(const OutputFolder&) = delete;
@@ -74,6 +76,7 @@ private:
   std::vector<std::filesystem::path> removed_temporaries_;
   int lock_fd_ = -1;
   bool staging_ = false;
+  bool created_ = false; ///< the folder did not exist before this run
 };
 
 /// True for a name made by atomic_file's temporary_for (".gt-PID-N.ext", or ".stem.tmp-PID-N.ext" of earlier
