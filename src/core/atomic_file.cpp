@@ -40,21 +40,6 @@ std::string with_errno(std::string text, int err) {
   return text;
 }
 
-// The final files written so far (files_written).
-std::mutex written_mutex;
-std::vector<fs::path>& written_list() {
-  static std::vector<fs::path> list;
-  return list;
-}
-
-void record_written(const fs::path& file) {
-  std::error_code ec;
-  fs::path p = fs::absolute(file, ec);
-  if (ec) p = file;
-  const std::lock_guard lock(written_mutex);
-  written_list().push_back(p.lexically_normal());
-}
-
 // The temporaries being written, for the signal handler: a fixed table (no allocation, no lock in the handler). A
 // slot is claimed by compare-exchange, filled, then published; the handler unlinks the published ones. When every
 // slot is taken the temporary goes unregistered (OutputFolder's clean-up of dead processes' leftovers still
@@ -300,7 +285,6 @@ void sync_and_rename(const fs::path& tmp, const fs::path& destination, const fs:
     throw OutputError(file, errno_text(err));
   }
   record_staged(file, destination);
-  record_written(file);
   staging::step();
 }
 
@@ -366,11 +350,6 @@ void write_atomically_via_path(const fs::path& file, const std::function<void(co
 
 void write_text_atomically(const fs::path& file, std::string_view text) {
   write_atomically(file, [&](std::ostream& out) { out.write(text.data(), static_cast<std::streamsize>(text.size())); });
-}
-
-std::vector<fs::path> files_written() {
-  const std::lock_guard lock(written_mutex);
-  return written_list();
 }
 
 fs::path current_location(const fs::path& file) {

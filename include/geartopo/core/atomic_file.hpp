@@ -50,10 +50,6 @@ void write_atomically_via_path(const std::filesystem::path& file,
 /// write_atomically of a text.
 void write_text_atomically(const std::filesystem::path& file, std::string_view text);
 
-/// Every final file this process has written through write_atomically*, in order (absolute, lexically normal
-/// paths). OutputFolder uses it to know what a command produced. Thread-safe.
-std::vector<std::filesystem::path> files_written();
-
 /// Where `file`, written by this run, can be read now: its staged copy while its output folder is still open, else
 /// `file` itself. For writers that read back what they wrote (a figure's panels).
 std::filesystem::path current_location(const std::filesystem::path& file);
