@@ -37,13 +37,14 @@ void register_compare_command(CLI::App& app, Action& action) {
   cmd->callback([&action, opt] {
     action = [opt] {
       JsonSummary json(opt->json);
+      const output::RunFiles files{{opt->scene, opt->measured}, {"residuals.csv", "compare.json"}};
+      output::OutputFolder folder(opt->out, files); // locked and staged before any work: a second run is refused now
       const Workbench wb(opt->scene);
       measurement::ReadCounts read;
       const auto pts = read_measured_points(wb, opt->measured, opt->mka, &read);
       const auto c = diagnosis::compare(wb.setup, wb.process(), pts, opt->noise, read);
 
       const std::filesystem::path out(opt->out);
-      output::OutputFolder folder(out);
       report::write_residuals_csv(out / "residuals.csv", pts, c);
       const nlohmann::json summary = report::compare_json(opt->scene, opt->measured, pts, c);
       output::write_text_atomically(out / "compare.json", summary.dump(2) + "\n");

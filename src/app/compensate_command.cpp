@@ -75,6 +75,14 @@ void register_compensate_command(CLI::App& app, Action& action) {
       JsonSummary json(opt->json);
       pipeline::MonteCarloOptions mc = monte_carlo_options(opt->mc); // bad --shard: usage error before any work
       mc.iso = opt->iso; // the samples evaluated as the nominal gears are (and prediction.json records it)
+      // What the run writes, checked before any work: no input and no file geartopo did not write is replaced.
+      output::RunFiles files{{opt->scene},
+                             {"corrections.csv", "cycle_corrections.csv", "topology_before.csv", "topology_after.csv",
+                              "traces_before.csv", "traces_after.csv", "iso1328.json"}};
+      if (opt->isg_table) files.outputs.emplace_back("isg_compensation.csv");
+      if (mc.samples > 0) files.outputs.emplace_back("prediction_samples.csv");
+      if (mc.samples > 0 && mc.shards == 1) files.outputs.insert(files.outputs.end(), {"prediction.json", "prediction.txt"});
+      output::check_run_files(opt->out, files);
       const Workbench wb(opt->scene);
       refuse_paper_on_a_designed_helix(opt->method, wb);
       const auto& g = wb.setup.geometry();
@@ -131,7 +139,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
       }
 
       const std::filesystem::path out(opt->out);
-      output::OutputFolder folder(out);
+      output::OutputFolder folder(out, files);
       table.write_csv(out / "corrections.csv");
       cycle.write_csv(out / "cycle_corrections.csv");
       grinding::write_topology_csv(out / "topology_before.csv", before);

@@ -82,9 +82,20 @@ void register_synth_command(CLI::App& app, Action& action) {
           corrected ? static_cast<const grinding::GrindingProcess&>(*corrected) : wb.process();
       // Every other command's --out is a folder: a folder here gets the measurement under a fixed name.
       std::filesystem::path file(opt->out);
-      if (std::filesystem::is_directory(file) || opt->out.back() == '/')
+      std::error_code ec;
+      if (std::filesystem::is_directory(file, ec) || opt->out.back() == '/')
         file /= opt->format == "klingelnberg" ? "measured.mka" : opt->format == "traces" ? "traces.csv" : "measured.csv";
-      if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
+      // Before any work: the scene or the corrections read above are never replaced, and a name too long for the
+      // file system or a file where a folder must be is refused in words, not as a std::filesystem error.
+      output::check_name_lengths(file);
+      output::check_not_an_input(file);
+      if (file.has_parent_path()) {
+        const auto folder = file.parent_path();
+        if (std::filesystem::exists(folder, ec) && !std::filesystem::is_directory(folder, ec))
+          throw output::OutputError(file, folder.string() + " is a file, not a folder (a --out ending in '/' names a folder)");
+        std::filesystem::create_directories(folder, ec);
+        if (ec) throw output::OutputError(file, "cannot create its folder " + folder.string() + ": " + ec.message());
+      }
       std::size_t points = 0;
       if (opt->format == "traces") {
         const auto topo = diagnosis::synthesize_traces(wb.setup, process, so, wb.scene.grid.profile_points,
@@ -136,6 +147,8 @@ void register_diagnose_command(CLI::App& app, Action& action) {
   cmd->callback([&action, opt] {
     action = [opt] {
       JsonSummary json(opt->json);
+      const output::RunFiles files{{opt->scene, opt->measured}, {"diagnosis.json", "scene_with_effect.yaml"}};
+      output::OutputFolder folder(opt->out, files); // locked and staged before any work: a second run is refused now
       const Workbench wb(opt->scene);
       for (const auto& c : opt->candidates)
         if (!effects::make_effect(c))
@@ -157,7 +170,6 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       const nlohmann::json j = report::diagnosis_json(opt->scene, opt->measured, d, diagnosis::mean_allowance_offset_um(wb.setup.geometry()));
 
       const std::filesystem::path out(opt->out);
-      output::OutputFolder folder(out);
       output::write_text_atomically(out / "diagnosis.json", j.dump(2) + "\n");
       std::cout << fmt::format("{} measured points; residual {:.2f} µm RMS; noise {:.2f} µm{}\n", d.points, d.rms_before_um,
                                d.noise_um, d.noise_estimated ? " (estimated)" : "");

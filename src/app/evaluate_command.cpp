@@ -48,6 +48,8 @@ void register_evaluate_command(CLI::App& app, Action& action) {
   cmd->callback([&action, opt, direction_flag, sign_flag] {
     const bool direction_given = direction_flag->count() > 0, sign_given = sign_flag->count() > 0;
     action = [opt, direction_given, sign_given] {
+      const output::RunFiles files{{opt->scene, opt->traces, opt->prediction}, {"iso1328.json"}};
+      output::OutputFolder folder(opt->out, files); // locked and staged before any work: a second run is refused now
       const Workbench wb(opt->scene);
       // Read before anything is written: a wrong prediction file leaves the output folder as it was.
       std::optional<pipeline::MonteCarloSummary> prediction;
@@ -131,7 +133,6 @@ void register_evaluate_command(CLI::App& app, Action& action) {
         j["against_prediction"]["file"] = opt->prediction;
       }
       const std::filesystem::path out(opt->out);
-      output::OutputFolder folder(out);
       output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
       std::cout << "Source: " << source << "\n" << report::iso_table(iso);
       if (beside) {

@@ -1,5 +1,6 @@
 #include "app/commands.hpp"
 #include "app/options.hpp"
+#include "geartopo/core/atomic_file.hpp"
 #include "geartopo/report/gear_report.hpp"
 
 #include "geartopo/scene/scene.hpp"
@@ -30,6 +31,7 @@ void register_gear_command(CLI::App& app, Action& action) {
       if (!opt->mesh.empty() && !surfaces::is_mesh_extension(opt->mesh))
         throw CLI::ValidationError("--mesh", opt->mesh + ": use a .ply, .obj, .stl or .off file name");
       const scene::Scene sc = scene::load_scene(opt->scene);
+      if (!opt->mesh.empty()) output::check_not_an_input(opt->mesh); // the scene (or a table it names) is never replaced
       const gears::GearGeometry g(sc.gear);
       if (opt->json)
         std::cout << report::gear_json(sc, g).dump(2) << "\n";

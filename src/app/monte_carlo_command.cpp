@@ -212,12 +212,14 @@ void register_merge_command(CLI::App& app, Action& action) {
   cmd->add_option("--out", opt->out, "Output directory (created)")->required()->check(non_empty_path());
   cmd->callback([&action, opt] {
     action = [opt] {
+      const output::RunFiles files{{opt->parts.begin(), opt->parts.end()},
+                                   {"prediction_samples.csv", "prediction.json", "prediction.txt"}};
+      output::OutputFolder folder(opt->out, files); // locked and staged before any work: a second run is refused now
       std::vector<pipeline::MonteCarloRun> runs;
       for (const auto& p : opt->parts) runs.push_back(pipeline::read_run_csv(p));
       const auto merged = pipeline::merge_runs(std::move(runs));
       const auto summary = pipeline::summarise(merged);
       const std::filesystem::path out(opt->out);
-      output::OutputFolder folder(out);
       pipeline::write_run_csv(out / "prediction_samples.csv", merged);
       write_prediction(out, summary);
       for (const auto& l : report::prediction_lines(summary)) std::cout << l << "\n";

@@ -10,6 +10,7 @@
 #include "geartopo/workbench/workbench.hpp"
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -41,6 +42,9 @@ void register_plan_command(CLI::App& app, Action& action) {
       ->check(CLI::IsMember({"grid", "traces"}));
   cmd->callback([&action, opt] {
     action = [opt] {
+      const output::RunFiles files{{opt->scene, opt->measured}, {"plan.json"}};
+      std::optional<output::OutputFolder> folder; // locked and staged before any work: a second run is refused now
+      if (!opt->out.empty()) folder.emplace(opt->out, files);
       const workbench::Workbench wb(opt->scene);
       const auto pts = read_measured_points(wb, opt->measured, opt->mka);
       diagnosis::DiagnoseOptions o;
@@ -73,10 +77,9 @@ void register_plan_command(CLI::App& app, Action& action) {
       }
       if (!opt->out.empty()) {
         const std::filesystem::path out(opt->out);
-        output::OutputFolder folder(out);
         output::write_text_atomically(out / "plan.json", j.dump(2) + "\n");
         std::cout << "wrote " << (out / "plan.json").string() << "\n";
-        finish_output_folder(folder);
+        finish_output_folder(*folder);
       }
       return 0;
     };

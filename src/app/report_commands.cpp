@@ -37,6 +37,14 @@ std::string measured_of(const Workbench& wb, const std::string& option) {
 }
 
 /// Returns iso1328.json's content (run --json prints it with the measurement's verdict).
+// What `report` and `run` read and always write (the figures and the files of a measurement are checked as they are
+// written).
+output::RunFiles report_files(const std::string& scene, const std::string& measured) {
+  return {{scene, measured},
+          {"index.html", "iso1328.json", "corrections.csv", "topology_before.csv", "topology_after.csv",
+           "traces_before.csv", "traces_after.csv"}};
+}
+
 nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_file, const Workbench& wb, const pipeline::PipelineResult& r) {
   grinding::write_topology_csv(dir / "topology_before.csv", r.before);
   grinding::write_topology_csv(dir / "topology_after.csv", r.after);
@@ -238,9 +246,11 @@ void register_report_command(CLI::App& app, Action& action) {
   add_monte_carlo_options(cmd, opt->mc, false);
   cmd->callback([&action, opt] {
     action = [opt] {
+      const output::RunFiles files = report_files(opt->scene, opt->measured);
+      output::check_run_files(opt->out, files); // before any work: no input and no user's file is replaced
       const Workbench wb(opt->scene);
       const fs::path dir(opt->out);
-      output::OutputFolder folder(dir);
+      output::OutputFolder folder(dir, files);
       pipeline::PipelineOptions po;
       po.measured_file = measured_of(wb, opt->measured);
       po.measurement_format = opt->mka;
@@ -297,6 +307,8 @@ void register_run_command(CLI::App& app, Action& action) {
     const bool teeth_given = teeth->count() > 0;
     action = [opt, teeth_given] {
       JsonSummary json(opt->json);
+      const output::RunFiles files = report_files(opt->scene, opt->measured);
+      output::check_run_files(opt->out, files); // before any work: no input and no user's file is replaced
       // --teeth stands in for the scene's measurement.teeth: simulated, shown in the figures and the page.
       scene::Scene sc = scene::load_scene(opt->scene);
       if (teeth_given) sc.grid.teeth = parse_teeth(opt->teeth, sc.gear.teeth);
@@ -314,7 +326,7 @@ void register_run_command(CLI::App& app, Action& action) {
       po.iso = opt->iso;
       po.prediction = prediction_options(opt->mc);
       const fs::path dir(opt->out);
-      output::OutputFolder folder(dir);
+      output::OutputFolder folder(dir, files);
       if (!quiet()) say("geartopo run: " + (wb.scene.name.empty() ? opt->scene : wb.scene.name));
       print_notes(wb);
       print_pipeline_estimate(wb, po);

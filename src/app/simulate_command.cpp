@@ -40,6 +40,9 @@ void register_simulate_command(CLI::App& app, Action& action) {
     const bool teeth_given = teeth->count() > 0;
     action = [opt, teeth_given] {
       const auto job_start = std::chrono::steady_clock::now();
+      output::RunFiles files{{opt->scene}, {"topology.csv", "traces.csv"}};
+      if (!opt->dense.empty()) files.outputs.emplace_back("dense.csv");
+      output::OutputFolder folder(opt->out, files); // locked and staged before any work: a second run is refused now
       const Workbench wb(opt->scene);
       print_notes(wb);
       grinding::SimulationOptions so = workbench::scene_simulation(wb.scene.grid);
@@ -64,7 +67,6 @@ void register_simulate_command(CLI::App& app, Action& action) {
       const auto topo = grinding::simulate_topology(wb.setup, wb.process(), so);
       progress.finish();
       const std::filesystem::path out(opt->out);
-      output::OutputFolder folder(out);
       std::filesystem::create_directories(out / "meshes");
       grinding::write_topology_csv(out / "topology.csv", topo);
       grinding::write_traces_csv(out / "traces.csv", topo);

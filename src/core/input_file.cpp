@@ -1,5 +1,6 @@
 #include "geartopo/core/input_file.hpp"
 
+#include "geartopo/core/atomic_file.hpp"
 #include "geartopo/core/input_error.hpp"
 
 #include <fmt/format.h>
@@ -36,6 +37,7 @@ std::uintmax_t check_regular_file(const std::filesystem::path& file, std::uintma
   const auto size = static_cast<std::uintmax_t>(st.st_size);
   if (size > max_bytes)
     fail(file, fmt::format("is {} bytes, more than the {} bytes a {} may have", size, max_bytes, what));
+  output::note_input(file); // no output of this run may replace it (atomic_file.hpp)
   return size;
 }
 

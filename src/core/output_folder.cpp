@@ -5,8 +5,12 @@
 #include <cctype>
 #include <cerrno>
 #include <csignal>
+#include <cstring>
+#include <fcntl.h>
 #include <fstream>
 #include <sstream>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <sys/types.h>
 #include <unistd.h>
 
@@ -15,6 +19,9 @@ namespace geartopo::output {
 namespace fs = std::filesystem;
 
 namespace {
+
+constexpr const char* kStagePrefix = ".gt-stage-";
+constexpr const char* kCommitPrefix = ".gt-commit-";
 
 // A process that cannot be signalled because it does not exist (ESRCH) is dead; EPERM means it exists.
 bool process_alive(long pid) {
@@ -37,14 +44,109 @@ std::set<fs::path> read_manifest(const fs::path& file) {
   return out;
 }
 
+std::string manifest_text(const std::set<fs::path>& files) {
+  std::ostringstream text;
+  text << "# geartopo: the files its last run wrote into this folder (relative paths). Files listed here that a later\n"
+          "# run does not write are removed by that run; nothing else in the folder is ever touched.\n";
+  for (const auto& f : files) text << f.generic_string() << "\n";
+  return text.str();
+}
+
+bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
+
+void sync_folder(const fs::path& dir) noexcept {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
+}
+
+// Completes a commit (output_folder.hpp): moves every file of `commit` into `dir`, removes the files the folder's
+// manifest lists and the commit's does not, moves the manifest last, removes `commit`. Each step can be repeated, so
+// a commit interrupted anywhere is completed by running this again. Returns the removed files.
+std::vector<fs::path> complete_commit(const fs::path& dir, const fs::path& commit) {
+  std::error_code ec;
+  if (!fs::exists(commit / kManifestName, ec)) { // moved last: every other step is done
+    fs::remove_all(commit, ec);
+    return {};
+  }
+  const auto before = read_manifest(dir / kManifestName);
+  const auto after = read_manifest(commit / kManifestName);
+  std::vector<fs::path> files;
+  for (auto it = fs::recursive_directory_iterator(commit, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    const fs::path rel = it->path().lexically_relative(commit);
+    if (it->is_regular_file(ec) && rel != kManifestName) files.push_back(rel);
+  }
+  if (ec) throw OutputError(commit, "cannot read the files to move in: " + ec.message());
+  for (const auto& rel : files) {
+    const fs::path target = dir / rel;
+    std::error_code mk;
+    fs::create_directories(target.parent_path(), mk);
+    if (::rename((commit / rel).c_str(), target.c_str()) != 0) throw OutputError(target, std::strerror(errno));
+    staging::step();
+  }
+  std::vector<fs::path> removed;
+  for (const auto& old : before) {
+    if (after.count(old) != 0) continue;
+    std::error_code rm;
+    const fs::path p = dir / old;
+    if (fs::is_regular_file(fs::symlink_status(p, rm)) && fs::remove(p, rm)) removed.push_back(old);
+  }
+  if (::rename((commit / kManifestName).c_str(), (dir / kManifestName).c_str()) != 0)
+    throw OutputError(dir / kManifestName, std::strerror(errno));
+  staging::step();
+  fs::remove_all(commit, ec);
+  sync_folder(dir);
+  return removed;
+}
+
+// flock(2) on the folder's lock file, which then holds our pid. The lock file is removed by its holder when it is
+// done; a lock taken on a file that was removed meanwhile is taken again on the file that is there.
+int take_lock(const fs::path& dir) {
+  const fs::path lock = dir / kLockName;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0) throw OutputError(dir, std::string("cannot create its lock file ") + kLockName + ": " + std::strerror(errno));
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      const int err = errno;
+      char text[32] = {};
+      const ssize_t n = ::pread(fd, text, sizeof text - 1, 0);
+      ::close(fd);
+      std::string pid = n > 0 ? std::string(text, static_cast<std::size_t>(n)) : std::string();
+      while (!pid.empty() && std::isspace(static_cast<unsigned char>(pid.back()))) pid.pop_back();
+      if (err == EWOULDBLOCK)
+        throw OutputError(dir, "another geartopo run (pid " + (pid.empty() ? std::string("unknown") : pid) +
+                                   ") is writing into this folder: wait for it to end, or choose another --out");
+      throw OutputError(dir, std::string("cannot lock it: ") + std::strerror(err));
+    }
+    struct stat held {}, there {};
+    if (::fstat(fd, &held) == 0 && ::stat(lock.c_str(), &there) == 0 && held.st_dev == there.st_dev &&
+        held.st_ino == there.st_ino) {
+      const std::string pid = std::to_string(::getpid()) + "\n";
+      if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, pid.data(), pid.size(), 0) < 0) {
+        // The pid is only for the message of a refused second run; the lock holds without it.
+      }
+      return fd;
+    }
+    ::close(fd);
+  }
+  throw OutputError(dir, "cannot lock it: its lock file keeps changing");
+}
+
 } // namespace
 
 bool is_geartopo_temporary(const std::string& name, long& pid) {
-  // ".<stem>.tmp-<pid>-<n><ext>"
-  if (name.size() < 8 || name.front() != '.') return false;
-  const auto at = name.rfind(".tmp-");
-  if (at == std::string::npos || at == 0) return false;
-  std::size_t i = at + 5, digits = 0;
+  // ".gt-<pid>-<n><ext>" (now) or ".<stem>.tmp-<pid>-<n><ext>" (earlier versions)
+  if (name.size() < 6 || name.front() != '.') return false;
+  std::size_t at = 0;
+  if (starts_with(name, ".gt-")) {
+    at = 4;
+  } else {
+    const auto tmp = name.rfind(".tmp-");
+    if (tmp == std::string::npos || tmp == 0) return false;
+    at = tmp + 5;
+  }
+  std::size_t i = at, digits = 0;
   long value = 0;
   while (i < name.size() && std::isdigit(static_cast<unsigned char>(name[i])) && digits < 10)
     value = value * 10 + (name[i++] - '0'), ++digits;
@@ -58,67 +160,130 @@ bool is_geartopo_temporary(const std::string& name, long& pid) {
   return true;
 }
 
-OutputFolder::OutputFolder(const fs::path& dir) : dir_(dir) {
+void check_run_files(const fs::path& dir, const RunFiles& files) {
+  check_name_lengths(dir);
   std::error_code ec;
+  if (fs::exists(fs::symlink_status(dir, ec)) && !fs::is_directory(dir, ec)) throw OutputError(dir, "it is a file, not a folder");
+  for (const auto& in : files.inputs) note_input(in);
+  const auto listed = read_manifest(dir / kManifestName);
+  for (const auto& out : files.outputs) {
+    const fs::path file = dir / out;
+    check_not_an_input(file);
+    struct stat st {};
+    if (::lstat(file.c_str(), &st) == 0 && listed.count(out.lexically_normal()) == 0)
+      throw OutputError(file, staging::foreign_file_reason(dir));
+  }
+}
+
+OutputFolder::OutputFolder(const fs::path& dir, const RunFiles& files) : dir_(dir) {
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(dir_, ec)) && !fs::is_directory(dir_, ec))
+    throw OutputError(dir_, "it is a file, not a folder");
+  check_name_lengths(dir_);
+  created_ = !fs::exists(fs::symlink_status(dir_, ec));
   fs::create_directories(dir_, ec);
   if (!fs::is_directory(dir_)) throw OutputError(dir_, ec ? "cannot create the folder: " + ec.message() : "it is not a folder");
   dir_ = fs::absolute(dir_).lexically_normal();
-  written_before_ = files_written().size();
-  previous_ = read_manifest(dir_ / kManifestName);
-  // Leftovers of killed runs: in the folder and one level below (meshes/), never following links.
-  for (auto it = fs::recursive_directory_iterator(dir_, fs::directory_options::skip_permission_denied, ec);
-       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
-    if (it.depth() > 1) it.disable_recursion_pending();
-    long pid = 0;
-    if (!it->is_regular_file(ec) || !is_geartopo_temporary(it->path().filename().string(), pid)) continue;
-    if (process_alive(pid)) continue;
-    std::error_code rm;
-    if (fs::remove(it->path(), rm)) removed_temporaries_.push_back(it->path().lexically_relative(dir_));
+  if (!dir_.has_filename()) dir_ = dir_.parent_path(); // "D/" → "D"
+  lock_fd_ = take_lock(dir_);
+  try {
+    // What killed runs left: a commit is completed, a staging folder removed (we hold the lock: their writers are
+    // gone), and the temporaries of dead processes, in the folder and one level below (meshes/), are removed.
+    for (auto it = fs::directory_iterator(dir_, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
+      const auto& e = *it;
+      const std::string name = e.path().filename().string();
+      std::error_code type;
+      if (!e.is_directory(type) || e.is_symlink(type)) continue;
+      if (starts_with(name, kCommitPrefix)) {
+        complete_commit(dir_, e.path());
+        removed_temporaries_.push_back(name);
+      } else if (starts_with(name, kStagePrefix)) {
+        fs::remove_all(e.path(), ec);
+        removed_temporaries_.push_back(name);
+      }
+    }
+    for (auto it = fs::recursive_directory_iterator(dir_, fs::directory_options::skip_permission_denied, ec);
+         !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+      if (it.depth() > 1) it.disable_recursion_pending();
+      long pid = 0;
+      if (!it->is_regular_file(ec) || !is_geartopo_temporary(it->path().filename().string(), pid)) continue;
+      if (process_alive(pid)) continue;
+      std::error_code rm;
+      if (fs::remove(it->path(), rm)) removed_temporaries_.push_back(it->path().lexically_relative(dir_));
+    }
+    previous_ = read_manifest(dir_ / kManifestName);
+    check_run_files(dir_, files);
+    stage_ = dir_ / (kStagePrefix + std::to_string(::getpid()));
+    fs::remove_all(stage_, ec);
+    if (!fs::create_directory(stage_, ec) || ec)
+      throw OutputError(dir_, "cannot create its staging folder " + stage_.filename().string() + ": " + ec.message());
+    staging::begin(dir_, stage_, previous_, dir_ / kLockName);
+    staging_ = true;
+  } catch (...) {
+    release();
+    if (created_) ::rmdir(dir_.c_str());
+    throw;
   }
-}
-
-std::set<fs::path> OutputFolder::written_here() const {
-  std::set<fs::path> out;
-  const auto all = files_written();
-  for (std::size_t i = written_before_; i < all.size(); ++i) {
-    const fs::path rel = all[i].lexically_relative(dir_);
-    if (!rel.empty() && *rel.begin() != ".." && rel != kManifestName) out.insert(rel);
-  }
-  return out;
-}
-
-void OutputFolder::write_manifest(const std::set<fs::path>& files) const {
-  std::ostringstream text;
-  text << "# geartopo: the files its last run wrote into this folder (relative paths). Files listed here that a later\n"
-          "# run does not write are removed by that run; nothing else in the folder is ever touched.\n";
-  for (const auto& f : files) text << f.generic_string() << "\n";
-  write_text_atomically(dir_ / kManifestName, text.str());
 }
 
 std::vector<fs::path> OutputFolder::finish() {
-  finished_ = true;
-  const auto now = written_here();
+  if (!staging_) return {};
+  auto listed = staging::end();
+  staging_ = false;
+  // An earlier run's file that this run read (evaluate --traces D/traces.csv --out D) is not removed: it stays listed.
+  for (const auto& old : previous_)
+    if (listed.count(old) == 0 && is_an_input(dir_ / old)) listed.insert(old);
   std::vector<fs::path> removed;
-  for (const auto& old : previous_) {
-    if (now.count(old) != 0) continue;
+  try {
+    write_text_atomically(stage_ / kManifestName, manifest_text(listed)); // a full disk here: nothing has changed yet
+    sync_folder(stage_);
+    const fs::path commit = dir_ / (kCommitPrefix + std::to_string(::getpid()));
+    staging::enter_commit();
+    if (::rename(stage_.c_str(), commit.c_str()) != 0) {
+      const int err = errno;
+      staging::leave_commit();
+      throw OutputError(dir_, std::string("cannot commit its files: ") + std::strerror(err));
+    }
+    sync_folder(dir_); // the commit point is on the disk
+    try {
+      removed = complete_commit(dir_, commit);
+    } catch (...) {
+      staging::leave_commit(); // the commit folder stays: the next run into this folder completes it
+      throw;
+    }
+    staging::leave_commit();
+  } catch (...) {
     std::error_code ec;
-    const fs::path p = dir_ / old;
-    if (fs::is_regular_file(fs::symlink_status(p, ec)) && fs::remove(p, ec)) removed.push_back(old);
+    fs::remove_all(stage_, ec);
+    staging::forget_stage();
+    release();
+    throw;
   }
-  write_manifest(now);
+  release();
   return removed;
 }
 
+void OutputFolder::release() noexcept {
+  if (lock_fd_ < 0) return;
+  staging::forget_lock();
+  ::unlink((dir_ / kLockName).c_str()); // still held: a run that opened it meanwhile takes the lock again (take_lock)
+  ::close(lock_fd_);
+  lock_fd_ = -1;
+}
+
 OutputFolder::~OutputFolder() {
-  if (finished_) return;
-  try {
-    auto all = previous_;
-    const auto now = written_here();
-    all.insert(now.begin(), now.end());
-    if (!now.empty()) write_manifest(all);
-  } catch (...) {
-    // A failed run whose folder cannot even take the manifest: the files it wrote stay, unlisted.
+  if (staging_) {
+    try {
+      staging::end();
+    } catch (...) {
+    }
+    std::error_code ec;
+    fs::remove_all(stage_, ec);
+    staging::forget_stage();
+    release();
+    if (created_) ::rmdir(dir_.c_str()); // a folder this failed run created goes again (rmdir: only if empty)
   }
+  release();
 }
 
 } // namespace geartopo::output

@@ -154,8 +154,9 @@ void write_vtk_png(vtkImageData* image, const std::filesystem::path& png) {
 
 } // namespace detail
 
-Image read_png(const std::filesystem::path& png) {
-  if (detail::PngQueue* q = detail::current_queue()) q->wait_for(png); // a figure's panel still being written
+Image read_png(const std::filesystem::path& written) {
+  if (detail::PngQueue* q = detail::current_queue()) q->wait_for(written); // a figure's panel still being written
+  const std::filesystem::path png = output::current_location(written); // staged until its output folder commits
   std::error_code ec;
   if (!std::filesystem::is_regular_file(png, ec)) throw std::runtime_error("render: no PNG file at " + png.string());
   vtkNew<vtkPNGReader> reader;

@@ -234,7 +234,7 @@ TEST(Cli, AFullDiskFailsNamingTheFileAndLeavesNoPartialFile) {
   EXPECT_NE(r.err.find("topology.csv: cannot write"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out / "topology.csv"));
   for (const auto& e : fs::recursive_directory_iterator(out))
-    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << "temporary left: " << e.path();
+    EXPECT_NE(e.path().filename().string().rfind(".gt-", 0), 0u) << "temporary or staging folder left: " << e.path();
   fs::remove_all(out);
 
   const auto file = temp_path("cli_full_disk.csv");
