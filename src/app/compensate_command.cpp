@@ -83,6 +83,10 @@ void register_compensate_command(CLI::App& app, Action& action) {
       if (mc.samples > 0) files.outputs.emplace_back("prediction_samples.csv");
       if (mc.samples > 0 && mc.shards == 1) files.outputs.insert(files.outputs.end(), {"prediction.json", "prediction.txt"});
       output::check_run_files(opt->out, files);
+      // The writer opens its folder (and takes its lock) before the work; under MPI the other ranks write nothing.
+      const std::filesystem::path out(opt->out);
+      std::optional<output::OutputFolder> folder;
+      if (mc.samples == 0 || monte_carlo_driver().writes_outputs()) folder.emplace(out, files);
       const Workbench wb(opt->scene);
       refuse_paper_on_a_designed_helix(opt->method, wb);
       const auto& g = wb.setup.geometry();
@@ -138,8 +142,6 @@ void register_compensate_command(CLI::App& app, Action& action) {
         mc_run->gear = pipeline::gear_record(g.spec()); // also when rank 0 gathered the samples as numbers (MPI)
       }
 
-      const std::filesystem::path out(opt->out);
-      output::OutputFolder folder(out, files);
       table.write_csv(out / "corrections.csv");
       cycle.write_csv(out / "cycle_corrections.csv");
       grinding::write_topology_csv(out / "topology_before.csv", before);
@@ -260,7 +262,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
       std::cout << "wrote " << out.string() << "/corrections.csv, cycle_corrections.csv, topology_before.csv, topology_after.csv, "
                    "iso1328.json" << (isg ? ", isg_compensation.csv" : "") << (mc.samples > 0 ? ", prediction_samples.csv" : "")
                 << (prediction ? ", prediction.json, prediction.txt" : "") << "\n";
-      finish_output_folder(folder);
+      finish_output_folder(*folder);
       json.emit(j);
       return 0;
     };

@@ -56,6 +56,9 @@ public:
   virtual pipeline::MonteCarloOptions this_process(const pipeline::MonteCarloOptions& options) const;
   /// Alternatives to name when a run's work estimate is refused (MonteCarloWatch).
   virtual std::string split_hint() const;
+  /// Whether this process writes the command's files: the default yes; under MPI rank 0 only. The writer takes its
+  /// output folder's lock before any work, so a second run into the folder is refused at once.
+  virtual bool writes_outputs() const { return true; }
   /// This process's samples → the run the command writes: the default returns `local`; the MPI driver returns every
   /// rank's samples merged on rank 0 and std::nullopt on the other ranks (they write nothing and leave).
   virtual std::optional<pipeline::MonteCarloRun> complete(pipeline::MonteCarloRun local) const;

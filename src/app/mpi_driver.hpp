@@ -53,6 +53,7 @@ public:
   /// (sched_getaffinity; mpirun's --bind-to).
   pipeline::MonteCarloOptions this_process(const pipeline::MonteCarloOptions& options) const override;
   std::string split_hint() const override;
+  bool writes_outputs() const override { return rank_ == 0; }
   /// settle(0); OtherRankFailed when a rank failed; then the gather. Rank 0: every rank's samples merged; the other
   /// ranks: std::nullopt.
   std::optional<pipeline::MonteCarloRun> complete(pipeline::MonteCarloRun local) const override;
