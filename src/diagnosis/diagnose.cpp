@@ -99,6 +99,51 @@ std::string equivalence_sentence(const MeasurementPlan& plan) {
                      plan.second);
 }
 
+/// The columns of a library explanation's fitted parameters at its fitted values (n × P, µm per file unit, set-up
+/// terms removed): central differences of its first-order deviation, a step of 10⁻³ of the value or its typical size.
+Eigen::MatrixXd library_columns(const grinding::GrindingSetup& setup, const EffectContribution& at,
+                                const SetupTermModel& setup_terms, const Candidate& c, int threads) {
+  const auto field = [&](const std::vector<scene::EffectSpec>& specs) {
+    std::vector<std::unique_ptr<effects::Effect>> owned;
+    std::vector<const effects::Effect*> list;
+    for (const auto& e : specs) {
+      owned.push_back(effects::make_effect(e.type, e.values, setup));
+      list.push_back(owned.back().get());
+    }
+    return Eigen::VectorXd(at.deviation_um(list, threads));
+  };
+  std::vector<Eigen::VectorXd> cols;
+  for (size_t e = 0; e < c.effects.size(); ++e) {
+    const auto specs = effects::make_effect(c.effects[e].type)->parameters();
+    for (size_t k = 0; k < specs.size() && k < c.effects[e].values.size(); ++k) {
+      if (!specs[k].fitted) continue;
+      const double step = 1e-3 * std::max(std::abs(c.effects[e].values[k]), specs[k].typical);
+      auto plus = c.effects, minus = c.effects;
+      plus[e].values[k] += step, minus[e].values[k] -= step;
+      cols.push_back(setup_terms.remove(Eigen::VectorXd((field(plus) - field(minus)) / (2.0 * step))));
+    }
+  }
+  Eigen::MatrixXd J(static_cast<Eigen::Index>(at.size()), static_cast<Eigen::Index>(cols.size()));
+  for (size_t j = 0; j < cols.size(); ++j) J.col(static_cast<Eigen::Index>(j)) = cols[j];
+  return J;
+}
+
+/// How much of a field lies in the span of B's columns (0 … 1): ‖Q_Bᵀ f‖ / ‖f‖.
+double share_of_field_in_span(const Eigen::VectorXd& f, const Eigen::MatrixXd& B) {
+  if (B.cols() == 0 || f.norm() == 0.0) return 0.0;
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(B);
+  const Eigen::MatrixXd Q = Eigen::MatrixXd(qr.householderQ()).leftCols(qr.rank());
+  return (Q.transpose() * f).norm() / f.norm();
+}
+
+/// The first `shown` names joined by ", ", then how many more there are and where they are listed: a class of 49
+/// equivalent components is a line, not a page.
+std::string listed_briefly(const std::vector<std::string>& names, std::size_t shown) {
+  if (names.size() <= shown) return fmt::format("{}", fmt::join(names, ", "));
+  return fmt::format("{} and {} more (all in diagnosis.json, \"equivalent\")",
+                     fmt::join(names.begin(), names.begin() + static_cast<long>(shown), ", "), names.size() - shown);
+}
+
 } // namespace
 
 std::string Candidate::name() const {
@@ -551,6 +596,16 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
           d.rivals.clear();
         }
         h.significant = true;
+        // The library's explanations that can leave the same field on these flanks: ≥ 95 % of the hypothesis' field
+        // (set-up terms removed) lies in the span of the explanation's parameter columns at its fitted values.
+        {
+          const HypothesisField hf = hypothesis_field(setup, at_points, h, o.threads);
+          const Eigen::VectorXd mine = setup_terms.remove(Eigen::VectorXd(hf.X * hf.beta));
+          for (const auto& c : d.ranked)
+            if (!c.effects.empty() && mine.norm() > 0.0 &&
+                share_of_field_in_span(mine, library_columns(setup, at_points, setup_terms, c, o.threads)) >= 0.95)
+              h.library_equivalent.push_back(c.name());
+        }
         d.chosen = h;
         d.beyond_library = true;
         d.unexplained = false;
@@ -635,10 +690,16 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     const Candidate& h = *d.chosen;
     d.verdict = setup_text +
                 fmt::format("Not an effect of the library: {} (ΔBIC {:.1f}). ", h.description, h.delta_bic) +
+                (h.library_equivalent.empty()
+                     ? std::string()
+                     : fmt::format("On these flanks the library's {} can leave the same field (≥ 95 % of it lies "
+                                   "in what {} can do): the same deviation through another element. ",
+                                   fmt::join(h.library_equivalent, ", "),
+                                   h.library_equivalent.size() == 1 ? "that explanation" : "each of them")) +
                 (h.equivalent.empty() ? std::string()
                                       : fmt::format("Equivalent on these flanks (the data cannot tell them apart; one "
                                                     "class): {}. {} ",
-                                                    fmt::join(h.equivalent, ", "),
+                                                    listed_briefly(h.equivalent, 8),
                                                     d.equivalent_plan ? equivalence_sentence(*d.equivalent_plan) : "")) +
                 (hypothesis_rivals.empty()
                      ? std::string()

@@ -218,6 +218,7 @@ nlohmann::json candidate_json(const diagnosis::Candidate& c) {
   }
   if (!c.description.empty()) j["description"] = c.description;
   if (!c.equivalent.empty()) j["equivalent"] = c.equivalent;
+  if (!c.library_equivalent.empty()) j["library_equivalent"] = c.library_equivalent;
   j["explained_fraction"] = c.explained_fraction;
   j["rejected"] = c.rejected.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.rejected);
   j["rms_before_um"] = c.rms_before_um;

@@ -153,13 +153,19 @@ Score score(const Truth& t, const diagnosis::Diagnosis& d) {
   bool foreign = false; // a named explanation holds an effect that is not hidden
   for (const auto* c : named) {
     if (sorted_types(*c) == t.effects) truth_named = c;
-    // A machine element beyond the library (a component change, one wheel flank's profile: changes or a qualifier;
-    // the wheel profile's wear) is no library effect named falsely; it is scored as the machine elements are (right
-    // only outside the library).
+    // A machine element beyond the library (a component change, one wheel flank's profile, the wheel profile's
+    // wear) named for a library truth is a wrong explanation too, unless it says that the truth's effect leaves the
+    // same field on these flanks (its library_equivalent).
     const bool machine_element = !c->changes.empty() || !c->qualifier.empty() ||
                                  (c->effects.size() == 1 && c->effects.front().type == "wheel_profile_wear");
-    for (const auto& n : sorted_types(*c))
-      foreign |= !machine_element && std::find(t.effects.begin(), t.effects.end(), n) == t.effects.end();
+    if (machine_element) {
+      const bool says_truth = t.effects.size() == 1 && std::find(c->library_equivalent.begin(), c->library_equivalent.end(),
+                                                                  t.effects.front()) != c->library_equivalent.end();
+      foreign |= !t.effects.empty() && !says_truth;
+    } else {
+      for (const auto& n : sorted_types(*c))
+        foreign |= std::find(t.effects.begin(), t.effects.end(), n) == t.effects.end();
+    }
     why << (c == named.front() ? "chose " : " | rival ") << c->name();
   }
   if (named.empty()) why << "chose nothing";
@@ -181,10 +187,16 @@ Score score(const Truth& t, const diagnosis::Diagnosis& d) {
     s.false_culprit = d.chosen.has_value();
     s.right = !d.chosen;
   } else {
-    // With one measured flank, naming nothing (the data cannot say) is honest; naming a wrong one alone never is.
-    s.right = truth_named != nullptr || (t.on_one_flank && !d.chosen);
+    // With one measured flank, naming nothing (the data cannot say) is honest; naming a wrong one alone never is. A
+    // machine element named with the truth as its library equivalent (the same field on these flanks: an X drifting
+    // linearly ≡ a thermal X growth in its early phase) names the truth's physics.
+    bool truth_equivalent = false;
+    if (d.chosen && t.effects.size() == 1)
+      for (const auto& e : d.chosen->library_equivalent) truth_equivalent |= e == t.effects.front();
+    if (truth_equivalent) why << " [library equivalent: " << t.effects.front() << "]";
+    s.right = truth_named != nullptr || truth_equivalent || (t.on_one_flank && !d.chosen);
     // Ambiguous between the truth and something else is no false culprit; naming only wrong explanations is.
-    s.false_culprit = foreign && truth_named == nullptr;
+    s.false_culprit = foreign && truth_named == nullptr && !truth_equivalent;
   }
   if (d.chosen && on_a_bound(*d.chosen)) s.false_culprit = true, s.right = false; // a value on its box is no measurement
   // Parameters: every hidden parameter, on the named explanation that holds exactly the hidden effects, within 2σ.

@@ -65,6 +65,10 @@ struct Candidate {
   /// Other hypotheses beyond the library that these flanks cannot tell from this one (within the ΔBIC threshold and
   /// their fitted fields ≥ 95 % alike): named as one equivalence class, never as a choice between them.
   std::vector<std::string> equivalent;
+  /// Library explanations (an effect or a pair, by name) that can leave this hypothesis' field on these flanks: ≥ 95 %
+  /// of it lies in the span of their parameters' columns at their fitted values (an X drifting linearly in time is a
+  /// thermal X growth in its early phase), whatever their ΔBIC — theirs pays for parameters the flanks do not fix.
+  std::vector<std::string> library_equivalent;
   std::string qualifier; ///< appended to the name: which wheel flank ("left") for a wheel_flank_profile hypothesis
   std::vector<std::vector<FittedParameter>> parameters; ///< per effect
   std::vector<std::string> explanations;                ///< one line of physics per effect
