@@ -36,15 +36,15 @@ std::string measured_of(const Workbench& wb, const std::string& option) {
   return option.empty() ? wb.scene.grid.measured_file : option;
 }
 
-/// Returns iso1328.json's content (run --json prints it with the measurement's verdict).
-// What `report` and `run` read and always write (the figures and the files of a measurement are checked as they are
-// written).
+/// What `report` and `run` read and always write (the figures and the files of a measurement are checked as they are
+/// written).
 output::RunFiles report_files(const std::string& scene, const std::string& measured) {
   return {{scene, measured},
           {"index.html", "iso1328.json", "corrections.csv", "topology_before.csv", "topology_after.csv",
            "traces_before.csv", "traces_after.csv"}};
 }
 
+/// Writes the data files and returns iso1328.json's content (run --json prints it with the measurement's verdict).
 nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_file, const Workbench& wb, const pipeline::PipelineResult& r) {
   grinding::write_topology_csv(dir / "topology_before.csv", r.before);
   grinding::write_topology_csv(dir / "topology_after.csv", r.after);

@@ -479,8 +479,9 @@ KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& sou
     if (state == State::PitchRows) {
       const auto t = tokens(line);
       // A row starts with a whole number (the tooth); every other field must be a number of this file (nan, inf or
-      // "--" is an error at its place, not the end of the table).
-      if (whole(t[0])) {
+      // "--" is an error at its place, not the end of the table). A numbered header line ("  2 :Datum…") ends it.
+      std::string_view header_rest;
+      if (whole(t[0]) && !header_code(line, header_rest)) {
         if (t.size() != pitch_columns.size() + 1)
           fail(source, ln, "Zahn-Nr.",
                fmt::format("{} fields, the pitch table has {} columns", t.size(), pitch_columns.size() + 1));

@@ -70,10 +70,11 @@ TEST(CorrectedPose, OnTheCrownedDefaultSceneHoldingTheSlideErrorsIsSecondOrder) 
   EXPECT_LT(um, 0.005);
 }
 
-// Every component in error at up to 50 µm / 100 µrad (random_machine) and corrections of up to 65 µm / 91 µrad: what
-// holding leaves out is second order — errors of that size turned or scaled by the correction (the Y slide's errors
-// turned by ΔA, the squareness times ΔY, the A axis' location times ΔA: each ≈ 50 µm × 91 µrad ≈ 0.005 µm) — so a
-// few hundredths of a µm at most, the bound checked here, against 10–60 µm of correction.
+// Every component in error at up to 50 µm / 100 µrad (random_machine), design motions of up to 70 µm / 484 µrad and
+// compensating corrections of up to 93 µm / 184 µrad (both seeds printed): what holding leaves out is second order —
+// errors of that size turned or scaled by the correction (the Y slide's errors turned by ΔA, the squareness times ΔY,
+// the A axis' location times ΔA: each ≈ 50 µm × 184 µrad ≈ 0.01 µm) — so a few hundredths of a µm at most, the bound
+// checked here, against 10–90 µm of correction.
 TEST(CorrectedPose, OnAMachineWithEveryComponentInErrorHoldingTheSlideErrorsIsSecondOrder) {
   gears::GearSpec spec = test::paper_gear();
   gears::FlankModifications m;

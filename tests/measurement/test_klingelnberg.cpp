@@ -403,6 +403,15 @@ TEST(KlingelnbergStrict, PitchTableValuesAreNumbersOfRealTeeth) {
             "x.mka:37:3: Zahn-Nr.: tooth 36 in the pitch table: a tooth number is 1 … 24 (z, header line 22)");
 }
 
+// A numbered header line right after a pitch table ends the table and is read as a header line, not as a pitch row
+// of tooth 23 with the wrong number of fields.
+TEST(KlingelnbergStrict, AHeaderLineAfterAPitchTableEndsIt) {
+  const std::string text = replaced(example_text(), "  2     -.300   .000   .900", "  2     -.300   .000   .900\r\n 23 :Datum.............: 1");
+  const auto f = measurement::parse_klingelnberg(text, "x.mka");
+  EXPECT_EQ(f.pitch.size(), 4u);
+  EXPECT_TRUE(f.codes.count(23)) << "line 23 read as a header";
+}
+
 // A UTF-16 export (Windows "Unicode") is named as such, with what to do, by the export reader and the measurement
 // front end alike (not reported as a topology CSV with a bad header).
 TEST(KlingelnbergStrict, Utf16IsNamed) {
