@@ -514,6 +514,10 @@ void add_measurement_options(CLI::App* cmd, std::string& file, measurement::Klin
 
 void refuse_mka_flags_without_export(const std::string& file) {
   if (mka_flags_given().empty()) return;
+  if (file.empty())
+    throw CLI::ValidationError(mka_flags_given().front(),
+                               "has no effect: no measurement is read (give --measured, or measurement.measured in the "
+                               "scene)");
   std::ifstream in(file, std::ios::binary); // unreadable: the reader says why
   if (!in || measurement::looks_like_klingelnberg(in)) return;
   throw CLI::ValidationError(mka_flags_given().front(),

@@ -217,7 +217,7 @@ void add_measurement_options(CLI::App* cmd, std::string& file, measurement::Klin
                              bool required = true);
 /// Throws CLI::ValidationError naming the first --mka-… flag on the command line when `file` is not a Klingelnberg
 /// export (measurement::looks_like_klingelnberg): the flag would do nothing. Before the file is read.
-void refuse_mka_flags_without_export(const std::string& file);
+void refuse_mka_flags_without_export(const std::string& file); ///< also when `file` is empty (nothing is read)
 /// The measured points of `file` on the workbench's gear (measurement::read_any_measurement); the reader's warnings
 /// (blocks of an export it did not use, …) on stderr. Throws InputError; refuse_mka_flags_without_export first.
 std::vector<measurement::MeasuredPoint> read_measured_points(const workbench::Workbench& wb, const std::string& file,

@@ -253,6 +253,7 @@ void register_report_command(CLI::App& app, Action& action) {
       output::OutputFolder folder(dir, files);
       pipeline::PipelineOptions po;
       po.measured_file = measured_of(wb, opt->measured);
+      refuse_mka_flags_without_export(po.measured_file);
       po.measurement_format = opt->mka;
       po.iso = opt->iso;
       po.prediction = prediction_options(opt->mc);
@@ -322,6 +323,7 @@ void register_run_command(CLI::App& app, Action& action) {
       po.step_mm = opt->step;
       po.noise_um = opt->noise;
       po.measured_file = measured_of(wb, opt->measured);
+      refuse_mka_flags_without_export(po.measured_file);
       po.measurement_format = opt->mka;
       po.iso = opt->iso;
       po.prediction = prediction_options(opt->mc);

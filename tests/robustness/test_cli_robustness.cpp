@@ -410,6 +410,12 @@ TEST(Cli, FlagsThatWouldDoNothingOrOverflowAreBadUsage) {
       {"evaluate " + scene + " --traces " + corpus("topology/traces_huge_deviation.csv") + " --out " + out.string() +
            " --mka-direction normal",
        {"--mka-direction"}},
+      // run and report read the scene's measurement (a topology CSV here) or --measured's
+      {"run " + scene + " --out " + out.string() + " --samples 0 --mka-spacing diameter",
+       {"--mka-spacing: has no effect: ", "measured.csv is not a Klingelnberg export"}},
+      {"report " + scene + " --measured " + corpus("topology/huge_deviation.csv") + " --out " + out.string() +
+           " --samples 0 --mka-signs din",
+       {"--mka-signs: has no effect: "}},
   };
   for (const auto& [args, fragments] : cases) {
     const auto r = run(args);
