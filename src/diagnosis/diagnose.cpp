@@ -136,6 +136,27 @@ double share_of_field_in_span(const Eigen::VectorXd& f, const Eigen::MatrixXd& B
   return (Q.transpose() * f).norm() / f.norm();
 }
 
+/// Whether the effect `bigger` adds to `smaller` (nested in it) is confounded with smaller's effects on these points:
+/// one of its fitted parameters correlates with one of theirs by |ρ| ≥ √¾ ≈ 0.866 (linearised covariance): its
+/// variance is at least 4× what it would be alone (a variance inflation factor of 4, the usual sign of collinearity). Then its ΔBIC says nothing about its size — the smaller explanation takes its part (wheel wear
+/// on two teeth half a turn apart is a thickness difference eccentricity makes too) — and the pair is a rival, not a
+/// partner the data do not ask for.
+bool confounded_partner(const Candidate& bigger, const Candidate& smaller) {
+  std::vector<bool> added; // per fitted parameter of `bigger`, effect by effect: does it belong to the added effect
+  for (size_t e = 0; e < bigger.effects.size(); ++e) {
+    const bool extra = std::none_of(smaller.effects.begin(), smaller.effects.end(),
+                                    [&](const scene::EffectSpec& s) { return s.type == bigger.effects[e].type; });
+    for (const auto& p : bigger.parameters[e])
+      if (p.fitted) added.push_back(extra);
+  }
+  const auto& r = bigger.correlation;
+  if (r.rows() != static_cast<Eigen::Index>(added.size())) return false;
+  for (Eigen::Index i = 0; i < r.rows(); ++i)
+    for (Eigen::Index j = 0; j < r.cols(); ++j)
+      if (added[static_cast<size_t>(i)] && !added[static_cast<size_t>(j)] && std::abs(r(i, j)) >= std::sqrt(0.75)) return true;
+  return false;
+}
+
 /// The first `shown` names joined by ", ", then how many more there are and where they are listed: a class of 49
 /// equivalent components is a line, not a page.
 std::string listed_briefly(const std::vector<std::string>& names, std::size_t shown) {
@@ -495,7 +516,10 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
       // prefer the chosen one either (thermal drift at ΔBIC −9.2 beside wheel wear at −12.2, on the truth scene's
       // thermal drift at 1.5 µm noise).
       if (!c.rejected.empty() || c.name() == d.chosen->name()) return false;
-      if (nested(c)) return c.effects.size() > d.chosen->effects.size() && c.delta_bic < d.chosen->delta_bic;
+      if (nested(c))
+        return c.effects.size() > d.chosen->effects.size() &&
+               (c.delta_bic < d.chosen->delta_bic ||
+                (c.delta_bic < d.chosen->delta_bic + o.bic_threshold && confounded_partner(c, *d.chosen)));
       return c.delta_bic < d.chosen->delta_bic + o.bic_threshold;
     };
     for (const auto& c : d.ranked)
