@@ -136,21 +136,25 @@ double share_of_field_in_span(const Eigen::VectorXd& f, const Eigen::MatrixXd& B
   return (Q.transpose() * f).norm() / f.norm();
 }
 
-/// Whether the effect `bigger` adds to `smaller` (nested in it) is confounded with smaller's effects on these points:
-/// one of its fitted parameters correlates with one of theirs by |ρ| ≥ √¾ ≈ 0.866 (linearised covariance): its
-/// variance is at least 4× what it would be alone (a variance inflation factor of 4, the usual sign of collinearity). Then its ΔBIC says nothing about its size — the smaller explanation takes its part (wheel wear
-/// on two teeth half a turn apart is a thickness difference eccentricity makes too) — and the pair is a rival, not a
-/// partner the data do not ask for.
+/// Whether the effect `bigger` adds to `smaller` (nested in it) is indicated but confounded: one of its fitted
+/// parameters lies 2σ or more from zero, and one correlates with one of smaller's by |ρ| ≥ √¾ ≈ 0.866 (linearised
+/// covariance: its variance at least 4× what it would be alone, the usual sign of collinearity). Then the pair's ΔBIC
+/// cannot accept it — the smaller explanation takes its part (wheel wear on two teeth half a turn apart is a thickness
+/// difference eccentricity makes too) — yet the data point to it: the pair is a rival, not a partner nobody asked for.
 bool confounded_partner(const Candidate& bigger, const Candidate& smaller) {
   std::vector<bool> added; // per fitted parameter of `bigger`, effect by effect: does it belong to the added effect
+  bool indicated = false;  // a parameter of the added effect at least 2σ from zero: the data point to it
   for (size_t e = 0; e < bigger.effects.size(); ++e) {
     const bool extra = std::none_of(smaller.effects.begin(), smaller.effects.end(),
                                     [&](const scene::EffectSpec& s) { return s.type == bigger.effects[e].type; });
     for (const auto& p : bigger.parameters[e])
-      if (p.fitted) added.push_back(extra);
+      if (p.fitted) {
+        added.push_back(extra);
+        indicated = indicated || (extra && std::abs(p.value) >= 2.0 * p.uncertainty);
+      }
   }
   const auto& r = bigger.correlation;
-  if (r.rows() != static_cast<Eigen::Index>(added.size())) return false;
+  if (!indicated || r.rows() != static_cast<Eigen::Index>(added.size())) return false;
   for (Eigen::Index i = 0; i < r.rows(); ++i)
     for (Eigen::Index j = 0; j < r.cols(); ++j)
       if (added[static_cast<size_t>(i)] && !added[static_cast<size_t>(j)] && std::abs(r(i, j)) >= std::sqrt(0.75)) return true;
