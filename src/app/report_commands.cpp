@@ -112,18 +112,13 @@ public:
   }
   BeforeFigures(const BeforeFigures&) = delete; // the callback holds `this`
   BeforeFigures& operator=(const BeforeFigures&) = delete;
-  /// When the job failed after the figures started (e.g. refused by --max-time-s at a later stage): waits for them and
-  /// removes what they wrote, so that a refused job leaves no figure of its own.
+  /// When the job failed after the figures started (e.g. refused by --max-time-s at a later stage): waits for them.
+  /// What they wrote is staged (output_folder.hpp) and goes with the failed run's staging folder; the files of that
+  /// name in the folder are the earlier run's, which a failed run leaves as they were.
   ~BeforeFigures() {
     if (!figures_.valid()) return; // taken: the report has them
     try {
-      std::error_code ec;
-      for (const auto& f : figures_.get()) {
-        fs::remove(dir_ / f.file, ec);
-        for (const auto& c : f.charts)
-          if (!c.panel.empty()) fs::remove(dir_ / "panels" / c.panel, ec);
-      }
-      fs::remove(dir_ / "panels", ec); // only when empty: an earlier run's panels stay
+      figures_.get();
     } catch (...) { // drawing failed too: the job's own error is the one to report
     }
   }

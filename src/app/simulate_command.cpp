@@ -67,7 +67,6 @@ void register_simulate_command(CLI::App& app, Action& action) {
       const auto topo = grinding::simulate_topology(wb.setup, wb.process(), so);
       progress.finish();
       const std::filesystem::path out(opt->out);
-      std::filesystem::create_directories(out / "meshes");
       grinding::write_topology_csv(out / "topology.csv", topo);
       grinding::write_traces_csv(out / "traces.csv", topo);
       if (so.dense_rows > 0) grinding::write_topology_csv(out / "dense.csv", topo, grinding::GridKind::Dense);

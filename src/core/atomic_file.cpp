@@ -85,6 +85,10 @@ std::atomic<int> stage_published{0}; // 0 none, 1 being changed, 2 published
 char stage_path[PATH_MAX] = {};
 std::atomic<int> lock_published{0};
 char lock_path[PATH_MAX] = {};
+// The folders the open OutputFolder created: the deepest, and how many levels up from it (all were missing).
+std::atomic<int> created_published{0};
+char created_path[PATH_MAX] = {};
+std::atomic<std::size_t> created_levels{0};
 
 bool publish(std::atomic<int>& state, char* buffer, const std::string& text) {
   if (text.size() >= PATH_MAX) return false;
@@ -161,6 +165,19 @@ void remove_published_lock() noexcept {
   if (lock_published.load() == 2) ::unlink(lock_path);
 }
 
+// rmdir, deepest first, of the folders the run created; stops at the first that is not empty.
+void remove_published_created_folders() noexcept {
+  if (created_published.load() != 2) return;
+  char path[PATH_MAX];
+  std::memcpy(path, created_path, sizeof path);
+  for (std::size_t level = created_levels.load(); level > 0; --level) {
+    if (::rmdir(path) != 0) return;
+    char* slash = std::strrchr(path, '/');
+    if (slash == nullptr || slash == path) return;
+    *slash = '\0';
+  }
+}
+
 extern "C" void remove_temporaries_and_reraise(int sig) {
   int expected = 0;
   if (!signal_state.compare_exchange_strong(expected, 2) && expected == 1) {
@@ -235,15 +252,19 @@ void record_staged(const fs::path& file, const fs::path& staged) {
 }
 
 // Refuses what must never be replaced by a rename, and a folder that is not there (the temporary could not be made).
-void check_target(const fs::path& file) {
+// Returns where the file is written now (destination_for): the folder checked is that one's (a staged write makes
+// its folder in the staging folder).
+fs::path check_target(const fs::path& file) {
   if (file.empty()) throw OutputError(file, "an empty file name");
   if (!file.has_filename()) throw OutputError(file, "a folder name, not a file name");
   check_name_lengths(file);
   struct stat st {};
   if (::stat(file.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
     throw OutputError(file, S_ISDIR(st.st_mode) ? "it is a directory" : "it is not a regular file (a device, FIFO or socket is never replaced)");
-  const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  const fs::path destination = destination_for(file);
+  const fs::path dir = destination.has_parent_path() ? destination.parent_path() : fs::path(".");
   if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw OutputError(file, "its folder does not exist");
+  return destination;
 }
 
 // "<folder>/.gt-<pid>-<n><ext>": hidden, unique per process and call, same extension as the final name, and short
@@ -294,8 +315,7 @@ OutputError::OutputError(const fs::path& file, const std::string& reason)
     : std::runtime_error(message(file, reason)), file_(file) {}
 
 void write_atomically(const fs::path& file, const std::function<void(std::ostream&)>& write) {
-  check_target(file);
-  const fs::path destination = destination_for(file);
+  const fs::path destination = check_target(file);
   const fs::path tmp = temporary_for(destination);
   const RegisteredTemporary registered(tmp);
   std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -328,8 +348,7 @@ void write_atomically(const fs::path& file, const std::function<void(std::ostrea
 }
 
 void write_atomically_via_path(const fs::path& file, const std::function<void(const fs::path&)>& write) {
-  check_target(file);
-  const fs::path destination = destination_for(file);
+  const fs::path destination = check_target(file);
   const fs::path tmp = temporary_for(destination);
   const RegisteredTemporary registered(tmp);
   try {
@@ -409,11 +428,31 @@ void remove_temporaries_in_progress() noexcept {
     if (s.state.load() == 2) ::unlink(s.path);
   remove_published_stage();
   remove_published_lock();
+  remove_published_created_folders();
 }
 
 void remove_temporaries_on_termination_signals() {
-  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, remove_temporaries_and_reraise);
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    // A signal the parent set to be ignored stays ignored: `nohup` (SIGHUP), a shell's background job (SIGINT).
+    struct sigaction now {};
+    if (::sigaction(sig, nullptr, &now) == 0 && now.sa_handler == SIG_IGN) continue;
+    std::signal(sig, remove_temporaries_and_reraise);
+  }
   std::signal(SIGXFSZ, SIG_IGN);
+}
+
+void create_folders_for(const fs::path& dir) {
+  {
+    const std::lock_guard lock(staging_mutex);
+    const Staging& s = staging_state();
+    if (s.active) {
+      const fs::path rel = absolute_normal(dir).lexically_relative(s.dir);
+      if (!rel.empty() && *rel.begin() != "..") return; // staged writes make their folders in the staging folder
+    }
+  }
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw OutputError(dir, "cannot create the folder: " + ec.message());
 }
 
 namespace staging {
@@ -455,6 +494,14 @@ std::set<fs::path> end() {
 void forget_stage() noexcept { unpublish(stage_published, stage_path); }
 
 void forget_lock() noexcept { unpublish(lock_published, lock_path); }
+
+void publish_created_folders(const fs::path& deepest, std::size_t levels) noexcept {
+  unpublish(created_published, created_path);
+  created_levels.store(levels);
+  publish(created_published, created_path, deepest.native());
+}
+
+void forget_created_folders() noexcept { unpublish(created_published, created_path); }
 
 void enter_commit() noexcept {
   int expected = 0;

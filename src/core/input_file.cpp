@@ -2,6 +2,7 @@
 
 #include "geartopo/core/atomic_file.hpp"
 #include "geartopo/core/input_error.hpp"
+#include "geartopo/core/output_folder.hpp"
 
 #include <fmt/format.h>
 
@@ -22,6 +23,14 @@ namespace {
 
 std::uintmax_t check_regular_file(const std::filesystem::path& file, std::uintmax_t max_bytes, std::string_view what) {
   if (file.empty()) throw InputError(std::string("\"\""), 0, 0, "", fmt::format("an empty name is not a {}", what));
+  // A folder whose commit is unfinished holds files of two runs (output_folder.hpp); a reader must not write, so it
+  // refuses and says how the folder is completed.
+  const std::filesystem::path folder = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
+  if (const std::string commit = output::unfinished_commit(folder); !commit.empty())
+    fail(file, fmt::format("its folder {} holds an unfinished geartopo commit ({}), so its files are a mix of two "
+                           "runs: run any geartopo command with --out {} to complete the commit (that is done "
+                           "before the command's work), then read it again",
+                           folder.string(), commit, folder.string()));
   // stat(), not std::filesystem::status: the same call gives the type and the size, and its errno names the cause.
   struct stat st {};
   if (::stat(file.c_str(), &st) != 0) {

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cerrno>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
@@ -47,7 +48,8 @@ std::set<fs::path> read_manifest(const fs::path& file) {
 std::string manifest_text(const std::set<fs::path>& files) {
   std::ostringstream text;
   text << "# geartopo: the files its last run wrote into this folder (relative paths). Files listed here that a later\n"
-          "# run does not write are removed by that run; nothing else in the folder is ever touched.\n";
+          "# run does not write are removed by that run (and a subfolder that leaves empty); nothing else in the folder\n"
+          "# is touched.\n";
   for (const auto& f : files) text << f.generic_string() << "\n";
   return text.str();
 }
@@ -77,12 +79,23 @@ std::vector<fs::path> complete_commit(const fs::path& dir, const fs::path& commi
     const fs::path rel = it->path().lexically_relative(commit);
     if (it->is_regular_file(ec) && rel != kManifestName) files.push_back(rel);
   }
-  if (ec) throw OutputError(commit, "cannot read the files to move in: " + ec.message());
+  // A failure here (a full disk: a rename that must grow the folder fails with ENOSPC) leaves the folder a mix of
+  // the two runs; the commit folder stays, readers refuse the folder (input_file.hpp), the next run completes it.
+  const auto unfinished = [&](const std::string& what) {
+    std::string reason = what;
+    reason += "; the folder now holds files of two runs: the next geartopo run with --out ";
+    reason += dir.string();
+    reason += " completes this commit (";
+    reason += commit.filename().string();
+    reason += "), and until then geartopo refuses to read from the folder";
+    return reason;
+  };
+  if (ec) throw OutputError(commit, unfinished("cannot read the files to move in: " + ec.message()));
   for (const auto& rel : files) {
     const fs::path target = dir / rel;
     std::error_code mk;
     fs::create_directories(target.parent_path(), mk);
-    if (::rename((commit / rel).c_str(), target.c_str()) != 0) throw OutputError(target, std::strerror(errno));
+    if (::rename((commit / rel).c_str(), target.c_str()) != 0) throw OutputError(target, unfinished(std::strerror(errno)));
     staging::step();
   }
   std::vector<fs::path> removed;
@@ -90,10 +103,15 @@ std::vector<fs::path> complete_commit(const fs::path& dir, const fs::path& commi
     if (after.count(old) != 0) continue;
     std::error_code rm;
     const fs::path p = dir / old;
-    if (fs::is_regular_file(fs::symlink_status(p, rm)) && fs::remove(p, rm)) removed.push_back(old);
+    if (!fs::is_regular_file(fs::symlink_status(p, rm)) || !fs::remove(p, rm)) continue;
+    removed.push_back(old);
+    // A subfolder that held only geartopo's files goes with them (meshes/ of a run that wrote no meshes this time);
+    // rmdir removes only an empty folder, so one holding anything else, the user's files, stays.
+    for (fs::path sub = old.parent_path(); !sub.empty(); sub = sub.parent_path())
+      if (::rmdir((dir / sub).c_str()) != 0) break;
   }
   if (::rename((commit / kManifestName).c_str(), (dir / kManifestName).c_str()) != 0)
-    throw OutputError(dir / kManifestName, std::strerror(errno));
+    throw OutputError(dir / kManifestName, unfinished(std::strerror(errno)));
   staging::step();
   fs::remove_all(commit, ec);
   sync_folder(dir);
@@ -101,11 +119,19 @@ std::vector<fs::path> complete_commit(const fs::path& dir, const fs::path& commi
 }
 
 // flock(2) on the folder's lock file, which then holds our pid. The lock file is removed by its holder when it is
-// done; a lock taken on a file that was removed meanwhile is taken again on the file that is there.
+// done; a lock taken on a file that was removed meanwhile is taken again on the file that is there. A lock file left
+// by another user's killed run cannot be opened for writing (mode 0644): it is opened read-only (flock needs no write
+// access) and, once locked, replaced by one of our own; where that cannot be done (a sticky folder) the lock is held
+// on it as it is, without our pid.
 int take_lock(const fs::path& dir) {
   const fs::path lock = dir / kLockName;
   for (int attempt = 0; attempt < 100; ++attempt) {
-    const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    bool writable = true;
+    int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0 && errno == EACCES) {
+      writable = false;
+      fd = ::open(lock.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+    }
     if (fd < 0) throw OutputError(dir, std::string("cannot create its lock file ") + kLockName + ": " + std::strerror(errno));
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
       const int err = errno;
@@ -114,21 +140,38 @@ int take_lock(const fs::path& dir) {
       ::close(fd);
       std::string pid = n > 0 ? std::string(text, static_cast<std::size_t>(n)) : std::string();
       while (!pid.empty() && std::isspace(static_cast<unsigned char>(pid.back()))) pid.pop_back();
+      // The file names the holder only when the holder could write it: a pid that is not running is an earlier
+      // holder's, left in a lock file that the present holder could only open read-only.
+      char* end = nullptr;
+      const long value = std::strtol(pid.c_str(), &end, 10);
+      const bool named = !pid.empty() && end != nullptr && *end == '\0' && process_alive(value);
       if (err == EWOULDBLOCK)
-        throw OutputError(dir, "another geartopo run (pid " + (pid.empty() ? std::string("unknown") : pid) +
+        throw OutputError(dir, "another geartopo run (" +
+                                   (named ? "pid " + pid
+                                          : std::string("its pid is unknown: ") + kLockName +
+                                                " names no running process; another user's killed run may have left it") +
                                    ") is writing into this folder: wait for it to end, or choose another --out");
       throw OutputError(dir, std::string("cannot lock it: ") + std::strerror(err));
     }
     struct stat held {}, there {};
-    if (::fstat(fd, &held) == 0 && ::stat(lock.c_str(), &there) == 0 && held.st_dev == there.st_dev &&
-        held.st_ino == there.st_ino) {
-      const std::string pid = std::to_string(::getpid()) + "\n";
-      if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, pid.data(), pid.size(), 0) < 0) {
-        // The pid is only for the message of a refused second run; the lock holds without it.
+    if (::fstat(fd, &held) != 0 || ::stat(lock.c_str(), &there) != 0 || held.st_dev != there.st_dev ||
+        held.st_ino != there.st_ino) {
+      ::close(fd); // removed or replaced meanwhile: lock the file that is there now
+      continue;
+    }
+    if (!writable) {
+      // A dead run's lock file that is not ours: replaced by our own if the folder lets us remove it.
+      if (::unlink(lock.c_str()) == 0) {
+        ::close(fd);
+        continue;
       }
       return fd;
     }
-    ::close(fd);
+    const std::string pid = std::to_string(::getpid()) + "\n";
+    if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, pid.data(), pid.size(), 0) < 0) {
+      // The pid is only for the message of a refused second run; the lock holds without it.
+    }
+    return fd;
   }
   throw OutputError(dir, "cannot lock it: its lock file keeps changing");
 }
@@ -136,17 +179,10 @@ int take_lock(const fs::path& dir) {
 } // namespace
 
 bool is_geartopo_temporary(const std::string& name, long& pid) {
-  // ".gt-<pid>-<n><ext>" (now) or ".<stem>.tmp-<pid>-<n><ext>" (earlier versions)
-  if (name.size() < 6 || name.front() != '.') return false;
-  std::size_t at = 0;
-  if (starts_with(name, ".gt-")) {
-    at = 4;
-  } else {
-    const auto tmp = name.rfind(".tmp-");
-    if (tmp == std::string::npos || tmp == 0) return false;
-    at = tmp + 5;
-  }
-  std::size_t i = at, digits = 0;
+  // ".gt-<pid>-<n><ext>" only: the ".<stem>.tmp-<pid>-<n><ext>" names of earlier versions also match users' files
+  // (".notes.tmp-2024-11.md"), and a clean-up must never take one of those.
+  if (!starts_with(name, ".gt-")) return false;
+  std::size_t i = 4, digits = 0;
   long value = 0;
   while (i < name.size() && std::isdigit(static_cast<unsigned char>(name[i])) && digits < 10)
     value = value * 10 + (name[i++] - '0'), ++digits;
@@ -158,6 +194,15 @@ bool is_geartopo_temporary(const std::string& name, long& pid) {
   if (i < name.size() && name[i] != '.') return false;
   pid = value;
   return true;
+}
+
+std::string unfinished_commit(const fs::path& folder) {
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(folder, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (starts_with(name, kCommitPrefix)) return name;
+  }
+  return {};
 }
 
 void check_run_files(const fs::path& dir, const RunFiles& files) {
@@ -180,15 +225,22 @@ OutputFolder::OutputFolder(const fs::path& dir, const RunFiles& files) : dir_(di
   if (fs::exists(fs::symlink_status(dir_, ec)) && !fs::is_directory(dir_, ec))
     throw OutputError(dir_, "it is a file, not a folder");
   check_name_lengths(dir_);
-  created_ = !fs::exists(fs::symlink_status(dir_, ec));
-  fs::create_directories(dir_, ec);
-  if (!fs::is_directory(dir_)) throw OutputError(dir_, ec ? "cannot create the folder: " + ec.message() : "it is not a folder");
-  dir_ = fs::absolute(dir_).lexically_normal();
+  dir_ = fs::absolute(dir_, ec).lexically_normal();
   if (!dir_.has_filename()) dir_ = dir_.parent_path(); // "D/" → "D"
-  lock_fd_ = take_lock(dir_);
+  // The folders this run creates (D and any missing parents), deepest first: a failed run removes them again.
+  for (fs::path p = dir_; p.has_relative_path() && !fs::exists(fs::symlink_status(p, ec)); p = p.parent_path())
+    created_folders_.push_back(p);
+  fs::create_directories(dir_, ec);
+  if (!created_folders_.empty()) staging::publish_created_folders(created_folders_.front(), created_folders_.size());
+  if (!fs::is_directory(dir_)) {
+    const std::string reason = ec ? "cannot create the folder: " + ec.message() : "it is not a folder";
+    remove_created_folders();
+    throw OutputError(dir, reason);
+  }
   try {
+    lock_fd_ = take_lock(dir_);
     // What killed runs left: a commit is completed, a staging folder removed (we hold the lock: their writers are
-    // gone), and the temporaries of dead processes, in the folder and one level below (meshes/), are removed.
+    // gone).
     for (auto it = fs::directory_iterator(dir_, ec); !ec && it != fs::directory_iterator(); it.increment(ec)) {
       const auto& e = *it;
       const std::string name = e.path().filename().string();
@@ -202,16 +254,25 @@ OutputFolder::OutputFolder(const fs::path& dir, const RunFiles& files) : dir_(di
         removed_temporaries_.push_back(name);
       }
     }
-    for (auto it = fs::recursive_directory_iterator(dir_, fs::directory_options::skip_permission_denied, ec);
-         !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
-      if (it.depth() > 1) it.disable_recursion_pending();
-      long pid = 0;
-      if (!it->is_regular_file(ec) || !is_geartopo_temporary(it->path().filename().string(), pid)) continue;
-      if (process_alive(pid)) continue;
-      std::error_code rm;
-      if (fs::remove(it->path(), rm)) removed_temporaries_.push_back(it->path().lexically_relative(dir_));
-    }
+    // Temporaries of dead processes: in the folder itself and in the subfolders its manifest names files in
+    // (meshes/, panels/), not below; nothing but ".gt-PID-N" names.
     previous_ = read_manifest(dir_ / kManifestName);
+    std::set<fs::path> folders{fs::path()};
+    for (const auto& f : previous_) folders.insert(f.parent_path());
+    for (const auto& rel : folders) {
+      const fs::path folder = rel.empty() ? dir_ : dir_ / rel;
+      std::error_code it_ec;
+      if (!rel.empty() && (fs::is_symlink(folder, it_ec) || !fs::is_directory(folder, it_ec))) continue;
+      for (auto it = fs::directory_iterator(folder, it_ec); !it_ec && it != fs::directory_iterator(); it.increment(it_ec)) {
+        long pid = 0;
+        std::error_code type;
+        if (!it->is_regular_file(type) || it->is_symlink(type) || !is_geartopo_temporary(it->path().filename().string(), pid))
+          continue;
+        if (process_alive(pid)) continue;
+        std::error_code rm;
+        if (fs::remove(it->path(), rm)) removed_temporaries_.push_back(it->path().lexically_relative(dir_));
+      }
+    }
     check_run_files(dir_, files);
     stage_ = dir_ / (kStagePrefix + std::to_string(::getpid()));
     fs::remove_all(stage_, ec);
@@ -221,7 +282,7 @@ OutputFolder::OutputFolder(const fs::path& dir, const RunFiles& files) : dir_(di
     staging_ = true;
   } catch (...) {
     release();
-    if (created_) ::rmdir(dir_.c_str());
+    remove_created_folders();
     throw;
   }
 }
@@ -257,9 +318,12 @@ std::vector<fs::path> OutputFolder::finish() {
     fs::remove_all(stage_, ec);
     staging::forget_stage();
     release();
+    remove_created_folders(); // only those still empty: after a commit failed midway the folder holds files
     throw;
   }
   release();
+  created_folders_.clear(); // the run succeeded: its folders stay
+  staging::forget_created_folders();
   return removed;
 }
 
@@ -281,9 +345,17 @@ OutputFolder::~OutputFolder() {
     fs::remove_all(stage_, ec);
     staging::forget_stage();
     release();
-    if (created_) ::rmdir(dir_.c_str()); // a folder this failed run created goes again (rmdir: only if empty)
+    remove_created_folders();
   }
   release();
+}
+
+void OutputFolder::remove_created_folders() noexcept {
+  // Deepest first; rmdir removes only an empty folder, so one that holds anything (someone else's files) stays.
+  for (const auto& f : created_folders_)
+    if (::rmdir(f.c_str()) != 0) break;
+  created_folders_.clear();
+  staging::forget_created_folders();
 }
 
 } // namespace geartopo::output

@@ -1,5 +1,6 @@
 #include "geartopo/report/figures.hpp"
 #include "geartopo/report/prediction_report.hpp"
+#include "geartopo/core/atomic_file.hpp"
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/evaluation/tolerances.hpp"
@@ -728,7 +729,7 @@ std::pair<double, double> topology_scale(const workbench::Workbench& wb, const p
 } // namespace
 
 std::vector<Figure> render_before_figures(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir) {
-  fs::create_directories(dir / "panels");
+  output::create_folders_for(dir / "panels"); // in the staging folder while an output folder is open
   // Each PNG is encoded on another thread while the next figure renders (render/image.hpp); all written on return.
   render::BackgroundPngWrites png_writes;
   std::vector<Figure> figs;
@@ -749,7 +750,7 @@ std::vector<Figure> render_before_figures(const workbench::Workbench& wb, const 
 std::vector<Figure> render_figures(const workbench::Workbench& wb, const pipeline::PipelineResult& r, const fs::path& dir,
                                    std::vector<Figure> before) {
   if (before.empty()) before = render_before_figures(wb, r, dir);
-  fs::create_directories(dir / "panels");
+  output::create_folders_for(dir / "panels"); // in the staging folder while an output folder is open
   render::BackgroundPngWrites png_writes;
   // The page's order: the figures before compensation, then these, and the 3D gear (the last before) last.
   std::vector<Figure> figs(before.begin(), before.end() - 1);

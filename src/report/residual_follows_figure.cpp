@@ -1,6 +1,7 @@
 // geartopo — residual against the process variables, as a figure (residual_follows_figure.hpp). Units: µm.
 #include "geartopo/report/residual_follows_figure.hpp"
 
+#include "geartopo/core/atomic_file.hpp"
 #include "geartopo/render/charts.hpp"
 #include "geartopo/render/composite.hpp"
 
@@ -17,7 +18,7 @@ void render_residual_follows(const diagnosis::ResidualFollows& follows,
                              const std::vector<measurement::MeasuredPoint>& pts, const std::filesystem::path& png,
                              const std::filesystem::path& panel_dir) {
   if (follows.variables.empty()) throw std::invalid_argument("residual figure: no process variable varies over the points");
-  std::filesystem::create_directories(panel_dir);
+  output::create_folders_for(panel_dir); // in the staging folder while an output folder is open
   render::Composite comp;
   comp.title = "What the residual follows (set-up terms removed)";
   comp.columns = 2;

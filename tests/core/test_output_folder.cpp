@@ -4,11 +4,17 @@
 // folder's manifest and the clean-up of dead processes' temporaries, and the signal-time removal of temporaries in
 // progress. Expected states are written out by hand: which names must exist after each step.
 #include "geartopo/core/atomic_file.hpp"
+#include "geartopo/core/input_error.hpp"
+#include "geartopo/core/input_file.hpp"
 #include "geartopo/core/output_folder.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <functional>
+#include <grp.h>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -59,7 +65,8 @@ TEST(OutputFolder, ASecondRunRemovesWhatOnlyTheFirstWroteAndNothingElse) {
   const auto dir = fresh_output_dir("stale");
   {
     output::OutputFolder folder(dir);
-    fs::create_directories(dir / "meshes");
+    output::create_folders_for(dir / "meshes");
+    EXPECT_FALSE(fs::exists(dir / "meshes")); // made in the staging folder, moved in by the commit
     output::write_text_atomically(dir / "topology.csv", "a\n");
     output::write_text_atomically(dir / "dense.csv", "b\n");
     output::write_text_atomically(dir / "meshes" / "tooth01_left.ply", "c\n");
@@ -75,7 +82,60 @@ TEST(OutputFolder, ASecondRunRemovesWhatOnlyTheFirstWroteAndNothingElse) {
     EXPECT_EQ(names, (std::set<std::string>{"dense.csv", "meshes/tooth01_left.ply"}));
   }
   EXPECT_EQ(files_below(dir), (std::set<std::string>{".geartopo-outputs", "notes.txt", "topology.csv"}));
+  EXPECT_FALSE(fs::exists(dir / "meshes")); // it held only geartopo's files: removed with them
   fs::remove_all(dir);
+}
+
+// Review of issue 31, item 3: a subfolder that held the earlier run's files and something of the user's stays.
+TEST(OutputFolder, ASubfolderHoldingAUsersFileStays) {
+  const auto dir = fresh_output_dir("subfolder");
+  {
+    output::OutputFolder folder(dir);
+    output::write_text_atomically(dir / "meshes" / "t.ply", "t\n");
+    folder.finish();
+  }
+  std::ofstream(dir / "meshes" / "mine.txt") << "user\n";
+  {
+    output::OutputFolder folder(dir);
+    folder.finish();
+  }
+  EXPECT_EQ(files_below(dir), (std::set<std::string>{".geartopo-outputs", "meshes/mine.txt"}));
+  fs::remove_all(dir);
+}
+
+// Review of issue 31, item 4: a failed run removes the folder and the parent folders it created (deepest first),
+// after an error (the destructor) and after a signal (the handler); a parent that holds something stays.
+TEST(OutputFolder, AFailedRunRemovesTheFoldersItCreated) {
+  const auto top = fresh_output_dir("created");
+  {
+    output::OutputFolder folder(top / "new" / "D");
+    output::write_text_atomically(top / "new" / "D" / "x.csv", "x\n");
+    EXPECT_TRUE(fs::is_directory(top / "new" / "D"));
+  } // no finish(): failed
+  EXPECT_FALSE(fs::exists(top)) << "the failed run left the folders it created";
+  const pid_t child = ::fork();
+  if (child == 0) {
+    output::remove_temporaries_on_termination_signals();
+    output::OutputFolder folder(top / "new" / "D");
+    output::write_text_atomically(top / "new" / "D" / "meshes" / "t.ply", "t\n");
+    ::raise(SIGTERM);
+    ::_exit(0);
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);
+  EXPECT_FALSE(fs::exists(top)) << "the interrupted run left the folders it created";
+  fs::create_directories(top);
+  std::ofstream(top / "other.txt") << "x";
+  { output::OutputFolder folder(top / "new" / "D"); }
+  EXPECT_EQ(files_below(top), (std::set<std::string>{"other.txt"}));
+  EXPECT_FALSE(fs::exists(top / "new"));
+  {
+    output::OutputFolder folder(top / "new" / "D"); // a run that succeeds keeps its folders
+    folder.finish();
+  }
+  EXPECT_TRUE(fs::exists(top / "new" / "D" / output::kManifestName));
+  fs::remove_all(top);
 }
 
 TEST(OutputFolder, AFailedRunLeavesTheFolderAsItWas) {
@@ -279,38 +339,44 @@ TEST(OutputFolder, AManifestNamingFilesOutsideTheFolderIsIgnored) {
   fs::remove_all(dir);
 }
 
-TEST(OutputFolder, TemporariesOfDeadProcessesAreRemovedThoseOfLiveOnesKept) {
+// Only ".gt-PID-N" temporaries, in the folder and in the subfolders its manifest names files in. Review of issue 31,
+// item 1: users' files named like the ".name.tmp-PID-N" temporaries of earlier versions (".notes.tmp-2024-11.md")
+// were removed, and so was such a file two levels down.
+TEST(OutputFolder, TemporariesOfDeadProcessesAreRemovedThoseOfLiveOnesAndUsersFilesKept) {
   const auto dir = fresh_output_dir("temps");
   fs::create_directories(dir / "meshes");
-  const std::string dead = ".topology.tmp-" + std::to_string(dead_pid()) + "-0.csv";
-  const std::string dead_mesh = ".tooth01_left.tmp-" + std::to_string(dead_pid()) + "-3.ply";
-  const std::string live = ".traces.tmp-" + std::to_string(::getppid()) + "-1.csv"; // our parent runs
-  const std::string lookalike = ".tmp-notes.txt";
-  for (const auto& name : {dead, live, lookalike}) std::ofstream(dir / name) << "x";
+  fs::create_directories(dir / "a" / "b");
+  std::ofstream(dir / "meshes" / "tooth01_left.ply") << "x";
+  std::ofstream(dir / output::kManifestName) << "meshes/tooth01_left.ply\n";
+  const std::string dead = ".gt-" + std::to_string(dead_pid()) + "-0.csv";
+  const std::string dead_mesh = ".gt-" + std::to_string(dead_pid()) + "-3.ply";
+  const std::string live = ".gt-" + std::to_string(::getppid()) + "-1.csv"; // our parent runs
+  const std::vector<std::string> users = {".notes.tmp-2024-11.md", ".tmp-notes.txt", "a/b/.draft.tmp-1999-12",
+                                          "a/" + dead, // not a folder geartopo writes into
+                                          ".topology.tmp-" + std::to_string(dead_pid()) + "-0.csv"};
+  for (const auto& name : {dead, live}) std::ofstream(dir / name) << "x";
+  for (const auto& name : users) std::ofstream(dir / name) << "x";
   std::ofstream(dir / "meshes" / dead_mesh) << "x";
-  const std::string dead_now = ".gt-" + std::to_string(dead_pid()) + "-4.csv"; // the name of today's temporaries
-  std::ofstream(dir / dead_now) << "x";
   output::OutputFolder folder(dir);
-  EXPECT_EQ(folder.removed_temporaries().size(), 3u);
-  EXPECT_EQ(files_below(dir), (std::set<std::string>{live, lookalike, output::kLockName}));
+  EXPECT_EQ(folder.removed_temporaries().size(), 2u);
+  std::set<std::string> kept{live, output::kLockName, output::kManifestName, "meshes/tooth01_left.ply"};
+  kept.insert(users.begin(), users.end());
+  EXPECT_EQ(files_below(dir), kept);
   fs::remove_all(dir);
 }
 
 TEST(OutputFolder, TemporaryNamesAreRecognisedExactly) {
   long pid = 0;
-  EXPECT_TRUE(output::is_geartopo_temporary(".topology.tmp-1234-0.csv", pid));
-  EXPECT_EQ(pid, 1234);
-  EXPECT_TRUE(output::is_geartopo_temporary(".iso1328.tmp-7-12.json", pid));
-  EXPECT_TRUE(output::is_geartopo_temporary(".README.tmp-99-0", pid)); // no extension
-  EXPECT_FALSE(output::is_geartopo_temporary("topology.tmp-1234-0.csv", pid)); // not hidden
-  EXPECT_FALSE(output::is_geartopo_temporary(".topology.tmp-12a4-0.csv", pid));
-  EXPECT_FALSE(output::is_geartopo_temporary(".topology.tmp-1234.csv", pid));
-  EXPECT_FALSE(output::is_geartopo_temporary(".topology.tmp-1234-x.csv", pid));
   EXPECT_TRUE(output::is_geartopo_temporary(".gt-4321-0.csv", pid));
   EXPECT_EQ(pid, 4321);
   EXPECT_TRUE(output::is_geartopo_temporary(".gt-5-17", pid));
   EXPECT_FALSE(output::is_geartopo_temporary(".gt-stage-5", pid));
   EXPECT_FALSE(output::is_geartopo_temporary(".gt-5.csv", pid));
+  EXPECT_FALSE(output::is_geartopo_temporary(".gt-5-x.csv", pid));
+  EXPECT_FALSE(output::is_geartopo_temporary("gt-5-1.csv", pid)); // not hidden
+  // The names of earlier versions match users' files too: never taken for temporaries.
+  EXPECT_FALSE(output::is_geartopo_temporary(".topology.tmp-1234-0.csv", pid));
+  EXPECT_FALSE(output::is_geartopo_temporary(".notes.tmp-2024-11.md", pid));
 }
 
 // What the SIGINT/SIGTERM handler calls: the temporary being written at that moment disappears, and the write then
@@ -363,4 +429,149 @@ TEST(OutputFolder, ASecondFolderInTheSameProcessIsRefused) {
   EXPECT_EQ(read_text(a / "x.csv"), "x\n");
   fs::remove_all(a);
   fs::remove_all(b);
+}
+
+// Review of issue 31, items 5 and 7: a commit that fails midway (here a rename onto a folder; on a full disk a rename
+// that must grow the folder fails with ENOSPC) says that the next run completes it; until then readers refuse the
+// folder, whose files are a mix of two runs; the next run completes it and the files read again.
+TEST(OutputFolder, AnUnfinishedCommitIsNamedAndReadersRefuseTheFolderUntilItIsCompleted) {
+  const auto dir = fresh_output_dir("unfinished");
+  {
+    output::OutputFolder folder(dir);
+    output::write_text_atomically(dir / "a.csv", "old a\n");
+    output::write_text_atomically(dir / "b.csv", "old b\n");
+    folder.finish();
+  }
+  const auto commit = dir / (".gt-commit-" + std::to_string(dead_pid()));
+  fs::create_directories(commit);
+  std::ofstream(commit / "a.csv") << "new a\n";
+  std::ofstream(commit / "b.csv") << "new b\n";
+  std::ofstream(commit / output::kManifestName) << "a.csv\nb.csv\n";
+  fs::remove(dir / "b.csv");
+  fs::create_directories(dir / "b.csv" / "blocker"); // b.csv cannot be moved in
+  try {
+    output::OutputFolder folder(dir);
+    ADD_FAILURE() << "a commit that cannot be completed was not reported";
+  } catch (const output::OutputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("b.csv"), std::string::npos) << m;
+    EXPECT_NE(m.find("the next geartopo run with --out " + dir.string() + " completes this commit"), std::string::npos) << m;
+  }
+  EXPECT_EQ(read_text(dir / "a.csv"), "new a\n"); // moved in: the folder is a mix now
+  EXPECT_EQ(output::unfinished_commit(dir), commit.filename().string());
+  try {
+    input::read_input_file(dir / "a.csv", input::kMaxSceneBytes, "traces CSV");
+    ADD_FAILURE() << "a mixed folder was read";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("unfinished geartopo commit"), std::string::npos) << m;
+    EXPECT_NE(m.find("--out " + dir.string()), std::string::npos) << m;
+  }
+  fs::remove_all(dir / "b.csv");
+  { output::OutputFolder folder(dir); } // completes the commit, even though this run fails
+  EXPECT_EQ(output::unfinished_commit(dir), "");
+  EXPECT_EQ(input::read_input_file(dir / "b.csv", input::kMaxSceneBytes, "traces CSV"), "new b\n");
+  fs::remove_all(dir);
+}
+
+// Review of issue 31, item 6: a signal the parent set to be ignored stays ignored (`nohup`: SIGHUP; a shell's
+// background job: SIGINT); one that is not is handled (the process ends by it).
+TEST(OutputFolder, AnIgnoredSighupOrSigintStaysIgnored) {
+  const auto run_child = [](bool ignore) {
+    const pid_t child = ::fork();
+    if (child == 0) {
+      if (ignore) std::signal(SIGHUP, SIG_IGN), std::signal(SIGINT, SIG_IGN);
+      output::remove_temporaries_on_termination_signals();
+      ::raise(SIGHUP);
+      ::raise(SIGINT);
+      ::_exit(0);
+    }
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    return status;
+  };
+  const int ignored = run_child(true);
+  EXPECT_TRUE(WIFEXITED(ignored) && WEXITSTATUS(ignored) == 0) << ignored;
+  const int handled = run_child(false);
+  EXPECT_TRUE(WIFSIGNALED(handled) && WTERMSIG(handled) == SIGHUP) << handled;
+}
+
+namespace {
+
+// Runs `body` in a child process as the user nobody (uid and gid 65534); its return value is the child's exit code.
+int as_nobody(const std::function<int()>& body) {
+  const pid_t child = ::fork();
+  if (child == 0) {
+    if (::setgroups(0, nullptr) != 0 || ::setresgid(65534, 65534, 65534) != 0 || ::setresuid(65534, 65534, 65534) != 0)
+      ::_exit(99);
+    int code = 98;
+    try {
+      code = body();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "as nobody: %s\n", e.what());
+    }
+    ::_exit(code);
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+} // namespace
+
+// Review of issue 31, item 2: the lock file left by another user's killed run (mode 0644) does not block a later run
+// of anyone: it is locked read-only and replaced; in a sticky folder, where it cannot be replaced, it is locked as it
+// is, and a second writer's refusal does not name the dead run's pid written in it.
+TEST(OutputFolder, ADeadRunsLockFileOfAnotherUserBlocksNobody) {
+  if (::geteuid() != 0) GTEST_SKIP() << "needs a second user: run as root (id -u = 0), which switches to nobody in a child";
+  const auto dir = fresh_output_dir("lock_user");
+  fs::create_directories(dir);
+  fs::permissions(dir, fs::perms::all);
+  const long dead = dead_pid();
+  std::ofstream(dir / output::kLockName) << dead << "\n"; // root's, 0644
+  fs::permissions(dir / output::kLockName, fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read |
+                                               fs::perms::others_read);
+  ASSERT_EQ(as_nobody([&] {
+              output::OutputFolder folder(dir);
+              output::write_text_atomically(dir / "x.csv", "x\n");
+              folder.finish();
+              return 0;
+            }),
+            0);
+  EXPECT_EQ(read_text(dir / "x.csv"), "x\n");
+  EXPECT_FALSE(fs::exists(dir / output::kLockName));
+
+  fs::permissions(dir, fs::perms::all | fs::perms::sticky_bit);
+  std::ofstream(dir / output::kLockName) << dead << "\n";
+  int held[2], go[2];
+  ASSERT_EQ(::pipe(held), 0);
+  ASSERT_EQ(::pipe(go), 0);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::_exit(as_nobody([&] {
+      output::OutputFolder folder(dir);
+      char c = 'h';
+      if (::write(held[1], &c, 1) != 1 || ::read(go[0], &c, 1) != 1) return 2;
+      output::write_text_atomically(dir / "y.csv", "y\n");
+      folder.finish();
+      return 0;
+    }));
+  }
+  char c = 0;
+  ASSERT_EQ(::read(held[0], &c, 1), 1);
+  try {
+    output::OutputFolder second(dir);
+    ADD_FAILURE() << "two writers on one folder";
+  } catch (const output::OutputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("another geartopo run (its pid is unknown"), std::string::npos) << m;
+    EXPECT_EQ(m.find(std::to_string(dead)), std::string::npos) << m;
+  }
+  ASSERT_EQ(::write(go[1], &c, 1), 1);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+  EXPECT_EQ(read_text(dir / "y.csv"), "y\n");
+  for (const int fd : {held[0], held[1], go[0], go[1]}) ::close(fd);
+  fs::remove_all(dir);
 }

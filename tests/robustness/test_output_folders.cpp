@@ -313,11 +313,83 @@ TEST(OutputFolders, LongNamesAndAFileNamedAsAFolderGetAClearMessage) {
   fs::remove_all(dir);
 }
 
-// The folder is opened (created, locked) before the computation; a run that then fails removes the folder it created.
+// The folder is opened (created, locked) before the computation; a run that then fails removes the folder it created,
+// and the parent folders it created with it. Review of issue 31, item 4: after a bad scene the parent "new/" stayed;
+// after a SIGTERM "new/D" stayed, with "meshes/" in it (item 3: made outside the staging folder).
 TEST(OutputFolders, AFailedRunLeavesNoFolderItCreated) {
   const auto dir = temp_path("folders_failed_new");
   fs::remove_all(dir);
   const auto r = run_geartopo("simulate " + (kCorpus / "scenes" / "module_0.yaml").string() + " --out " + dir.string());
   EXPECT_EQ(r.code, 1) << r.err;
   EXPECT_FALSE(fs::exists(dir));
+  const auto nested = run_geartopo("simulate " + (kCorpus / "scenes" / "module_0.yaml").string() + " --out " +
+                                   (dir / "new" / "D").string());
+  EXPECT_EQ(nested.code, 1) << nested.err;
+  EXPECT_FALSE(fs::exists(dir)) << "a failed run left the parent folders it created";
+  const auto term = run_geartopo("simulate " + kScene + " --teeth 1 --method linear --out " + (dir / "new" / "D").string(),
+                                 "GEARTOPO_TEST_SIGNAL_AT=" + std::to_string(SIGTERM) + ":3 ");
+  EXPECT_EQ(term.code, 128 + SIGTERM) << term.err;
+  EXPECT_FALSE(fs::exists(dir)) << "an interrupted run left the folders it created";
+}
+
+// Review of issue 31, item 3: a folder a commit leaves empty goes (meshes/ after a run into the folder that writes no
+// meshes); the run's files appear only with its commit.
+TEST(OutputFolders, ARunThatWritesNoMeshesLeavesNoEmptyMeshesFolder) {
+  const auto dir = temp_path("folders_no_meshes");
+  fs::remove_all(dir);
+  ASSERT_EQ(run_geartopo("simulate " + kScene + " --teeth 1 --method linear --out " + dir.string()).code, 0);
+  ASSERT_TRUE(fs::is_directory(dir / "meshes"));
+  const auto r = run_geartopo("evaluate " + kScene + " --traces " + (dir / "traces.csv").string() + " --out " + dir.string());
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "meshes"));
+  EXPECT_TRUE(fs::exists(dir / "traces.csv")); // read by the run: kept
+  EXPECT_TRUE(fs::exists(dir / "iso1328.json"));
+  fs::remove_all(dir);
+}
+
+// Review of issue 31, item 5: a writer killed within its commit leaves a mix; a reader then refuses the folder and
+// says how to complete it, and that advice works.
+TEST(OutputFolders, AReaderRefusesAFolderWhoseCommitWasInterrupted) {
+  const auto dir = temp_path("folders_reader"), other = temp_path("folders_reader_out");
+  fs::remove_all(dir);
+  fs::remove_all(other);
+  // simulate --teeth 1 stages 5 files (4 and the manifest); its 7th step is the 2nd rename of the commit.
+  const auto killed = run_geartopo("simulate " + kScene + " --teeth 1 --method linear --out " + dir.string(),
+                                   "GEARTOPO_TEST_SIGNAL_AT=" + std::to_string(SIGKILL) + ":7 ");
+  ASSERT_EQ(killed.code, 128 + SIGKILL) << killed.err;
+  ASSERT_TRUE(has_commit_folder(dir));
+  const std::string evaluate = "evaluate " + kScene + " --traces " + (dir / "traces.csv").string() + " --out ";
+  const auto refused = run_geartopo(evaluate + other.string());
+  EXPECT_EQ(refused.code, 1) << refused.err;
+  EXPECT_NE(refused.err.find("unfinished geartopo commit"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("--out " + dir.string()), std::string::npos) << refused.err;
+  EXPECT_FALSE(fs::exists(other));
+  const auto completed = run_geartopo(evaluate + dir.string()); // the advice: a run into the folder completes it
+  EXPECT_EQ(completed.code, 0) << completed.err;
+  EXPECT_FALSE(has_commit_folder(dir));
+  EXPECT_EQ(run_geartopo(evaluate + other.string()).code, 0);
+  fs::remove_all(dir);
+  fs::remove_all(other);
+}
+
+// Review of issue 31, item 6: a run started with SIGHUP ignored (nohup, `trap '' HUP`) is not ended by a SIGHUP.
+TEST(OutputFolders, AnIgnoredSighupDoesNotEndTheRun) {
+  const auto dir = temp_path("folders_nohup");
+  fs::remove_all(dir);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    std::signal(SIGHUP, SIG_IGN);
+    ::setenv("GEARTOPO_TEST_SIGNAL_AT", (std::to_string(SIGHUP) + ":1").c_str(), 1);
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, 1);
+    ::dup2(null, 2);
+    ::execl(GEARTOPO_BINARY, GEARTOPO_BINARY, "simulate", kScene.c_str(), "--teeth", "1", "--method", "linear", "--out",
+            dir.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+  EXPECT_TRUE(fs::exists(dir / "meshes" / "tooth01_left.ply"));
+  fs::remove_all(dir);
 }

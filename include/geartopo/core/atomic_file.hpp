@@ -13,6 +13,7 @@
 // Temporary names are short (".gt-PID-N.ext"), so that any legal final name (NAME_MAX = 255 bytes) can be written.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <functional>
 #include <iosfwd>
@@ -68,7 +69,8 @@ bool is_an_input(const std::filesystem::path& file);
 /// for commands to check their outputs before any computation.
 void check_not_an_input(const std::filesystem::path& output);
 
-/// Removes the temporaries being written right now, and the staging folder of an open OutputFolder. Async-signal-safe
+/// Removes the temporaries being written right now, and the staging folder, the lock file and the (then empty) folders
+/// created by an open OutputFolder. Async-signal-safe
 /// (getdents64, unlinkat): for the SIGINT/SIGTERM/SIGHUP handler of the program, so that an interrupted run leaves no
 /// temporary and no staged file behind. A SIGKILL cannot be handled: OutputFolder removes such leftovers of dead
 /// processes the next time a command writes into the folder.
@@ -77,8 +79,15 @@ void remove_temporaries_in_progress() noexcept;
 /// Installs the program's handling of signals for its outputs: SIGINT, SIGTERM and SIGHUP run
 /// remove_temporaries_in_progress (deferred while an OutputFolder commits, so that its commit completes), then restore
 /// the default action and re-raise the signal, so the exit status still says what killed the process; SIGXFSZ (a
-/// file-size limit, `ulimit -f`) is ignored, so that the write fails with EFBIG and is reported like a full disk.
+/// file-size limit, `ulimit -f`) is ignored, so that the write fails with EFBIG and is reported like a full disk. A
+/// signal that is ignored when this is called (`nohup`: SIGHUP; a shell's background job: SIGINT) stays ignored.
 void remove_temporaries_on_termination_signals();
+
+/// Makes the folder `dir` for files to be written into it (a figure's panels/). Inside the open OutputFolder's folder
+/// nothing is made: the staged writes make their folders in the staging folder, and the folder appears with the
+/// commit, only if a file was written into it. Elsewhere `dir` and its parents are created; throws OutputError when
+/// that fails.
+void create_folders_for(const std::filesystem::path& dir);
 
 namespace staging {
 // The interface of OutputFolder (output_folder.cpp) to the writers; not for commands.
@@ -96,6 +105,10 @@ std::set<std::filesystem::path> end();
 void forget_stage() noexcept;
 /// Stops the signal handler's removal of the lock file (the folder is about to release it).
 void forget_lock() noexcept;
+/// The signal handler removes (rmdir: only if empty) `deepest` and the `levels` - 1 folders above it, which this run
+/// created; until forget_created_folders().
+void publish_created_folders(const std::filesystem::path& deepest, std::size_t levels) noexcept;
+void forget_created_folders() noexcept;
 /// While an OutputFolder commits, a SIGINT/SIGTERM/SIGHUP is held and delivered by leave_commit().
 void enter_commit() noexcept;
 void leave_commit();

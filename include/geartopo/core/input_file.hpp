@@ -20,7 +20,8 @@ inline constexpr std::uintmax_t kMaxMeasurementBytes = 2048 * kMiB; ///< 2 GiB, 
 
 /// Checks that `file` is a regular file (symbolic links followed) of at most `max_bytes` and returns its size. Throws
 /// geartopo::InputError naming the file otherwise: "cannot open the <what>: it does not exist", "is a directory, not a <what>", "is a FIFO / a
-/// device / a socket, not a regular <what>", "is N bytes, more than the M bytes a <what> may have".
+/// device / a socket, not a regular <what>", "is N bytes, more than the M bytes a <what> may have", and when its folder
+/// holds an unfinished geartopo commit (output::unfinished_commit: the folder's files are a mix of two runs).
 std::uintmax_t check_regular_file(const std::filesystem::path& file, std::uintmax_t max_bytes, std::string_view what);
 
 /// check_regular_file, then opens it (binary). Throws InputError when it cannot be opened (permissions).
