@@ -317,6 +317,24 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
         keep[a] = false;
     }
   }
+  // A kept steady state's τ with its 1σ range on the grid: the τ of the same component whose fit is within
+  // Δ(−2 ln L) = n ln(RSS_τ/RSS_best) ≤ 1 of the best (the same parameter count, so that is their ΔBIC difference).
+  for (size_t a = 0; a < out.size(); ++a) {
+    if (!keep[a] || out[a].changes.empty() || out[a].changes.front().law != ChangeLaw::SteadyState) continue;
+    const double tau = out[a].changes.front().time_constant_s;
+    double lo = tau, hi = tau;
+    for (size_t b = 0; b < out.size(); ++b) {
+      if (out[b].changes.empty() || out[b].changes.front().law != ChangeLaw::SteadyState ||
+          out[b].changes.front().component != out[a].changes.front().component || out[b].delta_bic - out[a].delta_bic > 1.0)
+        continue;
+      lo = std::min(lo, out[b].changes.front().time_constant_s);
+      hi = std::max(hi, out[b].changes.front().time_constant_s);
+    }
+    for (auto& p : out[a].parameters.front())
+      if (p.key == "time_constant_s") p.uncertainty = 0.5 * (hi - lo);
+    out[a].description += lo < hi ? fmt::format(" (1σ: {:.0f} … {:.0f} s, on a grid of 1/8 … 2 jobs)", lo, hi)
+                                  : std::string(" (1σ: within the grid's factor 2 around it)");
+  }
   std::vector<size_t> order;
   for (size_t a = 0; a < out.size(); ++a)
     if (keep[a]) order.push_back(a);

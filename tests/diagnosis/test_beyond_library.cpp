@@ -107,6 +107,28 @@ TEST(BeyondLibrary, ASwivelAxisDriftIsNamedAsTheAAxisWithItsRate) {
   }
 }
 
+TEST(BeyondLibrary, ASteadyStateIsNamedWithItsTimeConstantsRange) {
+  // E_AOA approaching +300 µrad with τ = a quarter of the job (a swivel head warming up), measured on four teeth a
+  // quarter turn apart (four grinding times): the steady state beats the constant and linear laws, and the truth's τ
+  // lies in the τ range the verdict gives (its 1σ on the grid).
+  const double tau = 0.25 * job_s();
+  const auto hidden = [&](const Contact& c) {
+    return component_change_um(c, machine::ComponentId::E_AOA, 300e-6 * -std::expm1(-c.pp.time_s / tau));
+  };
+  const auto d = diagnose_points(measure_with(four_teeth(), hidden, 0.5, 31), 0.5);
+  SCOPED_TRACE(d.verdict);
+  ASSERT_TRUE(d.chosen && d.beyond_library);
+  const auto& ch = d.chosen->changes.front();
+  ASSERT_EQ(ch.law, machine::ChangeLaw::SteadyState);
+  const auto& params = d.chosen->parameters.front();
+  const auto t = std::find_if(params.begin(), params.end(), [](const auto& p) { return p.key == "time_constant_s"; });
+  ASSERT_NE(t, params.end());
+  // the grid's τ nearest the truth is within the stated range (half-width = uncertainty) or one grid step of it
+  EXPECT_LE(std::abs(std::log(t->value / tau)), std::log(2.0) + (t->uncertainty > 0 ? std::log(1.0 + 2.0 * t->uncertainty / t->value) : 0.0));
+  EXPECT_NE(d.chosen->description.find("1σ"), std::string::npos);
+  if (std::getenv("GEARTOPO_TEST_VERBOSE")) std::cout << d.verdict << "\n";
+}
+
 TEST(BeyondLibrary, ASpindleAxialGrowthIsOneClassWithZGrowthUntilTheDataTellThemApart) {
   // The wheel spindle growing along its axis (Y, δ_yy) over the job. The wheel axis lies in the flank's tangent plane
   // across the helix, so a shift along it moves the flanks along their normals nearly as a shift along the gear axis
