@@ -58,7 +58,7 @@ void check_options(const DiagnoseOptions& o) {
 
 /// The recommendation in words: the teeth and grid to measure, the ΔBIC gap expected after both explanations are
 /// refitted (each way), the best few teeth with where on them the difference is largest.
-std::string plan_sentence(const MeasurementPlan& plan, std::size_t named, double target) {
+std::string plan_sentence(const MeasurementPlan& plan, std::size_t named, double target, bool nested = false) {
   if (plan.teeth.empty()) return "Every tooth is measured already; more rows or columns per flank would be needed.";
   std::string teeth;
   for (size_t k = 0; k < std::min(named, plan.teeth.size()); ++k) {
@@ -71,13 +71,19 @@ std::string plan_sentence(const MeasurementPlan& plan, std::size_t named, double
     return static_cast<int>(std::max_element(v.begin(), v.end()) - v.begin()) + 1;
   };
   const auto& r = plan.recommended;
+  // One explanation inside the other: if the smaller is right the larger refits its data and trails by its extra
+  // parameters' penalty only — and is then no rival, its partner no longer pointed to (diagnose, "Ambiguity").
+  const std::string nested_note =
+      nested ? " — a few, the penalty of the larger one's extra parameters, if the smaller one is right: then the "
+               "partner is no longer pointed to"
+             : "";
   return fmt::format("{} teeth {} with {}, both flanks ({} points): after both explanations are "
-                     "refitted, the expected ΔBIC gap is {:.0f} if {} is right and {:.0f} if {} is ({}{:g} needed; "
+                     "refitted, the expected ΔBIC gap is {:.0f} if {} is right and {:.0f} if {} is ({}{:g} needed{}; "
                      "{:.1f}σ apart before the refit, in units of the {:.2f} µm noise). Largest differences: {}; the "
                      "profile row {} and face-width column {} of the {} × {} grid carry most of it.",
                      r.resolves ? "To decide, measure" : "No option tried is expected to decide; the closest: measure",
                      fmt::join(r.teeth, ","), what_to_measure(r), r.points, r.delta_bic_if_first, plan.first,
-                     r.delta_bic_if_second, plan.second, r.resolves ? "≥ " : "< ", target,
+                     r.delta_bic_if_second, plan.second, r.resolves ? "≥ " : "< ", target, nested_note,
                      r.separation_before_refit_sigma, plan.noise_um, teeth, best(plan.row_separation_sigma),
                      best(plan.col_separation_sigma), plan.rows, plan.cols);
 }
@@ -759,7 +765,10 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
                   fmt::format("Ambiguous between {} (ΔBIC {:.1f} vs {:.1f}, within {:g}): these data cannot tell them "
                               "apart. {} ",
                               names, d.chosen->delta_bic, d.rivals.front().delta_bic, o.bic_threshold,
-                              d.plan ? plan_sentence(*d.plan, o.plan_teeth_named, o.plan_target_delta_bic) : "");
+                              d.plan ? plan_sentence(*d.plan, o.plan_teeth_named, o.plan_target_delta_bic,
+                                                     d.chosen->nested_in(d.rivals.front()) ||
+                                                         d.rivals.front().nested_in(*d.chosen))
+                                     : "");
     d.verdict += (d.rivals.empty() ? setup_text : std::string()) +
                  fmt::format("{}: {}. Adding it takes the residual (set-up removed) from {:.2f} to {:.2f} µm RMS "
                              "(noise {:.2f} µm{}).",
