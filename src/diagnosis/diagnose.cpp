@@ -453,7 +453,8 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     // wheel_profile's two for every symmetric dressing error.
     // So is the wheel's profile wearing with the strokes (wheel_profile_wear), which a wheel_wear + wheel_profile
     // pair would otherwise meet in every ranked table.
-    if (!asked && (t == "wheel_flank_profile" || t == "wheel_profile_wear")) continue;
+    // And one wheel flank's waviness (wheel_flank_waviness), tried over a grid of wave counts.
+    if (!asked && (t == "wheel_flank_profile" || t == "wheel_profile_wear" || t == "wheel_flank_waviness")) continue;
     const bool modelled = std::find(in_scene.begin(), in_scene.end(), t) != in_scene.end();
     if (modelled && asked)
       throw std::invalid_argument(fmt::format("diagnose: candidate '{}' is already in the scene's effects", t));

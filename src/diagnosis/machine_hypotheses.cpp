@@ -103,6 +103,7 @@ Eigen::MatrixXd effect_columns(const grinding::GrindingSetup& setup, const Effec
 /// wheel profile's wear rates.
 std::vector<int> fitted_parameters_of(const Candidate& c) {
   if (c.effects.front().type == "wheel_profile_wear") return {0, 1};
+  // wheel_flank_profile (slope, crowning) and wheel_flank_waviness (cos, sin): the two of the qualified side
   const int side = c.qualifier == "(left)" ? 0 : 1;
   return {2 * side, 2 * side + 1};
 }
@@ -169,6 +170,16 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
     h.fitted = fitted_parameters_of(h.c);
     hyps.push_back(std::move(h));
   }
+  // One wheel flank's profile waviness: cos and sin parts at each wave count of a grid over the active profile (the
+  // count is charged ln n like τ, and only the best count of a side is kept, below).
+  for (const int side : {0, 1})
+    for (const double cycles : {1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0}) {
+      Hypothesis h;
+      h.c.effects.push_back({"wheel_flank_waviness", {0.0, 0.0, 0.0, 0.0, cycles}});
+      h.c.qualifier = side == 0 ? "(left)" : "(right)";
+      h.fitted = fitted_parameters_of(h.c);
+      hyps.push_back(std::move(h));
+    }
   // The wheel's profile wearing with every stroke (its edge faster than its flanks): the profile slope and crowning
   // growing along the grinding order, not dressed during the gear.
   {
@@ -258,6 +269,29 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
                                  machine::info(ch.component).name, reach * (q == machine::Quantity::Length ? 1e3 : 1e6),
                                  unit_of(q), q == machine::Quantity::Length ? o.plausible_change_um : o.plausible_change_urad,
                                  unit_of(q));
+    } else if (c.effects.front().type == "wheel_flank_waviness") {
+      const bool left = c.qualifier == "(left)";
+      auto& values = c.effects.front().values;
+      values[left ? 0 : 2] = f.beta(0), values[left ? 1 : 3] = f.beta(1);
+      const std::string side = left ? "left" : "right";
+      // amplitude a = |β| and its σ to first order along β (as once per revolution)
+      const double a = f.beta.norm();
+      const Eigen::Vector2d g = a > 0.0 ? Eigen::Vector2d(f.beta / a) : Eigen::Vector2d(1.0, 0.0);
+      const double a_sd = std::sqrt(g.dot(f.cov * g));
+      // a·cos(2π n t − φ): φ = atan2(b, a_cos), its σ to first order across β (h ⟂ g), in degrees
+      const Eigen::Vector2d h(-g(1), g(0));
+      const double phase_deg = std::atan2(f.beta(1), f.beta(0)) * 180.0 / std::numbers::pi;
+      const double phase_sd_deg = a > 0.0 ? std::sqrt(h.dot(f.cov * h)) / a * 180.0 / std::numbers::pi : 180.0;
+      c.parameters.push_back({{side + "_cos_um", f.beta(0), std::sqrt(f.cov(0, 0)), true},
+                              {side + "_sin_um", f.beta(1), std::sqrt(f.cov(1, 1)), true},
+                              {"cycles", values[4], 0.0, true}});
+      c.delta_bic += ln_n; // the wave count, chosen from the grid
+      c.description = fmt::format("the wheel flank that grinds the {} flanks is wavy: amplitude {} µm, {:g} waves over "
+                                  "the active profile, phase {}° at its root (the other wheel flank smooth)",
+                                  side, text::with_uncertainty(a, a_sd), values[4],
+                                  text::with_uncertainty(phase_deg, phase_sd_deg));
+      if (a - 2.0 * a_sd > 20.0)
+        c.rejected = fmt::format("a wave of {:.3g} µm is beyond the 20 µm a dressed wheel plausibly carries", a);
     } else if (c.effects.front().type == "wheel_profile_wear") {
       auto& values = c.effects.front().values;
       values[0] = f.beta(0), values[1] = f.beta(1);
@@ -317,6 +351,14 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
         keep[a] = false;
     }
   }
+  // One wheel flank's waviness: only the best wave count of each side.
+  for (size_t a = 0; a < out.size(); ++a) {
+    if (out[a].effects.empty() || out[a].effects.front().type != "wheel_flank_waviness") continue;
+    for (size_t b = 0; b < out.size() && keep[a]; ++b)
+      if (b != a && !out[b].effects.empty() && out[b].effects.front().type == "wheel_flank_waviness" &&
+          out[b].qualifier == out[a].qualifier && (out[b].delta_bic < out[a].delta_bic || (out[b].delta_bic == out[a].delta_bic && b < a)))
+        keep[a] = false;
+  }
   // A kept steady state's τ with its 1σ range on the grid: the τ of the same component whose fit is within
   // Δ(−2 ln L) = n ln(RSS_τ/RSS_best) ≤ 1 of the best (the same parameter count, so that is their ΔBIC difference).
   for (size_t a = 0; a < out.size(); ++a) {
@@ -361,7 +403,8 @@ bool is_machine_hypothesis(const Candidate& c) {
   if (c.changes.size() == 1 && c.effects.empty()) return true;
   if (!c.changes.empty() || c.effects.size() != 1) return false;
   const std::string& type = c.effects.front().type;
-  return (type == "wheel_flank_profile" && (c.qualifier == "(left)" || c.qualifier == "(right)")) ||
+  return ((type == "wheel_flank_profile" || type == "wheel_flank_waviness") &&
+          (c.qualifier == "(left)" || c.qualifier == "(right)")) ||
          (type == "wheel_profile_wear" && c.qualifier.empty());
 }
 

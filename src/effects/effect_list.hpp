@@ -11,4 +11,5 @@
   X(servo_lag)                  \
   X(wheel_runout)               \
   X(wheel_flank_profile)        \
-  X(wheel_profile_wear)
+  X(wheel_profile_wear)          \
+  X(wheel_flank_waviness)

@@ -26,6 +26,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <numbers>
 #include <random>
 
 namespace independent_truth {
@@ -315,6 +316,47 @@ TEST(BeyondLibrary, TheWheelsProfileWearsWithTheStrokes) {
     largest = std::max(largest, a[i] - b[i]);
   }
   EXPECT_GT(largest, 1.5); // tooth 18 is ground in the 18th stroke or later: 0.1 µm × ≥ 17 strokes
+}
+
+TEST(BeyondLibrary, AWavyWheelFlankActsOnTheFlanksItGrinds) {
+  // wheel_flank_waviness with a 1 µm cosine wave of 4 cycles on the right flanks only: every left flank unchanged, the
+  // right flanks 1 µm·cos(2π·4·t) with t the roll-length fraction of the active profile — the definition, written here.
+  const auto& wb = bench();
+  const auto& pts = two_teeth().points;
+  const auto effs = workbench::make_effects({{"wheel_flank_waviness", {0.0, 0.0, 1.0, 0.0, 4.0}}}, wb.setup);
+  const effects::EffectsProcess with(wb.machine_process, effs);
+  const auto a = diagnosis::predict(wb.setup, with, pts, grinding::Method::Exact);
+  const auto b = diagnosis::predict(wb.setup, wb.machine_process, pts, grinding::Method::Exact);
+  const auto& r = wb.setup.ranges();
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const double t = (pts[i].roll_length_mm - r.xi_active_start_mm) / (r.xi_active_end_mm - r.xi_active_start_mm);
+    const double expected = pts[i].flank == Flank::Left ? 0.0 : std::cos(2.0 * std::numbers::pi * 4.0 * t);
+    EXPECT_NEAR(a[i] - b[i], expected, 0.01) << "point " << i; // first order in the wheel: 1 %
+  }
+}
+
+TEST(BeyondLibrary, AWavyWheelFlankIsNamedWithItsSideAndWaveCount) {
+  // Hidden: 0.8 µm of waviness, 5 waves over the active profile, phase 40°, on the left flanks only — written from the
+  // points' roll length (no effect, no hypothesis code) — on 4 teeth with a 14 × 18 grid (the wave needs rows).
+  const auto& wb = bench();
+  const auto& r = wb.setup.ranges();
+  const auto l = make_layout({1, 10, 18, 27}, 14, 18);
+  std::mt19937_64 rng(41);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  auto pts = l.points;
+  for (auto& p : pts) {
+    const double t = (p.roll_length_mm - r.xi_active_start_mm) / (r.xi_active_end_mm - r.xi_active_start_mm);
+    if (p.flank == Flank::Left) p.deviation_um += 0.8 * std::cos(2.0 * std::numbers::pi * 5.0 * t - 40.0 * std::numbers::pi / 180.0);
+    p.deviation_um += noise(rng);
+  }
+  const auto d = diagnose_points(pts, 0.3);
+  ASSERT_TRUE(d.chosen) << d.verdict;
+  EXPECT_EQ(d.chosen->name(), "wheel_flank_waviness (left)") << d.verdict;
+  const auto& p = d.chosen->parameters.front();
+  EXPECT_EQ(p[2].value, 5.0) << d.verdict;
+  EXPECT_NEAR(p[0].value, 0.8 * std::cos(40.0 * std::numbers::pi / 180.0), 2.0 * p[0].uncertainty + 0.01) << d.verdict;
+  EXPECT_NEAR(p[1].value, 0.8 * std::sin(40.0 * std::numbers::pi / 180.0), 2.0 * p[1].uncertainty + 0.01) << d.verdict;
+  if (std::getenv("GEARTOPO_TEST_VERBOSE")) std::cout << d.verdict << "\n";
 }
 
 TEST(BeyondLibrary, AWheelProfileWearingWithTheStrokesIsNamed) {

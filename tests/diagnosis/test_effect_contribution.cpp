@@ -202,8 +202,8 @@ TEST(EffectContribution, LinearParametersAreTheClaimedColumnsOfTheUncachedModel)
     }
   }
   // The library's linear parameters: thermal 2, wear 1, deflection 1, profile 2, lag 1, runout 2, flank profile 4,
-  // profile wear 2.
-  EXPECT_EQ(columns_checked, 3 * 15);
+  // profile wear 2, flank waviness 4.
+  EXPECT_EQ(columns_checked, 3 * 19);
 }
 
 // The whole diagnosis (every fit runs on EffectContribution) on the truth scene's thermal drift, teeth 1 and 18: the
