@@ -22,16 +22,35 @@ WordColumn::WordColumn(std::size_t n, std::size_t width)
 namespace {
 
 
-/// The columns of n rows, filled by index; `grid`: with row and col, `traces`: with the trace names.
+/// The columns of n rows, filled by index; `grid`: with row and col, `traces`: with the trace names, `roll`: with
+/// the roll length.
 struct Columns {
-  Columns(std::size_t n, bool grid, bool traces)
+  Columns(std::size_t n, bool grid, bool traces, bool roll_length = true)
       : tooth(new_column<int>(n)), row(new_column<int>(grid ? n : 0)), col(new_column<int>(grid ? n : 0)),
-        roll(new_column<double>(n)), diameter(new_column<double>(n)), z(new_column<double>(n)),
+        roll(new_column<double>(roll_length ? n : 0)), diameter(new_column<double>(n)), z(new_column<double>(n)),
         deviation(new_column<double>(n)), design(new_column<double>(n)), flank(n, kFlankWidth),
-        trace(traces ? n : 0, kTraceWidth) {}
+        trace(traces ? n : 0, kTraceWidth), grid_(grid), traces_(traces), roll_length_(roll_length) {}
   py::array_t<int> tooth, row, col;
   py::array_t<double> roll, diameter, z, deviation, design;
   WordColumn flank, trace;
+
+  /// The dict of the CSV file's columns, in its order (docs/python.md).
+  py::dict to_dict() const {
+    py::dict out;
+    out["tooth"] = tooth;
+    out["flank"] = flank.array();
+    if (traces_) out["trace"] = trace.array();
+    if (grid_) out["row"] = row, out["col"] = col;
+    if (roll_length_) out["roll_length_mm"] = roll;
+    out["diameter_mm"] = diameter;
+    out["z_mm"] = z;
+    out["deviation_um"] = deviation;
+    out["design_um"] = design;
+    return out;
+  }
+
+private:
+  bool grid_, traces_, roll_length_;
 };
 
 } // namespace
@@ -54,17 +73,7 @@ py::dict topology_columns(const std::vector<grinding::FlankTopology>& topo, grin
       c.flank.set(static_cast<std::size_t>(i), to_string(ft.flank));
       ++i;
     }
-  py::dict out;
-  out["tooth"] = c.tooth;
-  out["flank"] = c.flank.array();
-  out["row"] = c.row;
-  out["col"] = c.col;
-  out["roll_length_mm"] = c.roll;
-  out["diameter_mm"] = c.diameter;
-  out["z_mm"] = c.z;
-  out["deviation_um"] = c.deviation;
-  out["design_um"] = c.design;
-  return out;
+  return c.to_dict();
 }
 
 py::dict traces_columns(const std::vector<grinding::FlankTopology>& topo) {
@@ -85,20 +94,11 @@ py::dict traces_columns(const std::vector<grinding::FlankTopology>& topo) {
         c.trace.set(static_cast<std::size_t>(i), trace == &ft.profile ? "profile" : "helix");
         ++i;
       }
-  py::dict out;
-  out["tooth"] = c.tooth;
-  out["flank"] = c.flank.array();
-  out["trace"] = c.trace.array();
-  out["roll_length_mm"] = c.roll;
-  out["diameter_mm"] = c.diameter;
-  out["z_mm"] = c.z;
-  out["deviation_um"] = c.deviation;
-  out["design_um"] = c.design;
-  return out;
+  return c.to_dict();
 }
 
 py::dict topology_row_columns(const std::vector<grinding::TopologyRow>& rows) {
-  Columns c(rows.size(), true, false);
+  Columns c(rows.size(), true, false, false);
   auto tooth = c.tooth.mutable_unchecked<1>(), row = c.row.mutable_unchecked<1>(), col = c.col.mutable_unchecked<1>();
   auto d = c.diameter.mutable_unchecked<1>(), z = c.z.mutable_unchecked<1>();
   auto dev = c.deviation.mutable_unchecked<1>(), design = c.design.mutable_unchecked<1>();
@@ -109,16 +109,7 @@ py::dict topology_row_columns(const std::vector<grinding::TopologyRow>& rows) {
     d(i) = r.diameter_mm, z(i) = r.z_mm, dev(i) = r.deviation_um, design(i) = r.design_um;
     c.flank.set(k, to_string(r.flank));
   }
-  py::dict out;
-  out["tooth"] = c.tooth;
-  out["flank"] = c.flank.array();
-  out["row"] = c.row;
-  out["col"] = c.col;
-  out["diameter_mm"] = c.diameter;
-  out["z_mm"] = c.z;
-  out["deviation_um"] = c.deviation;
-  out["design_um"] = c.design;
-  return out;
+  return c.to_dict();
 }
 
 namespace {
