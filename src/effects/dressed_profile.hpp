@@ -50,6 +50,11 @@ struct DressedProfile {
     left_above_middle = !(contact(0.5 * (r.xi_active_start_mm + r.xi_active_end_mm)).y() > v_middle_mm);
   }
 
+  /// Where on the active profile the wheel at axial coordinate v grinds: the roll-length fraction, 0 root … 1 tip.
+  double roll_fraction(const grinding::GrindingSetup& s, double v_mm) const {
+    return roll_fraction_of_radius.value(s.wheel().radius(v_mm));
+  }
+
   /// True when the wheel at axial coordinate v grinds left gear flanks.
   bool grinds_left(double v_mm) const { return (v_mm > v_middle_mm) == left_above_middle; }
 
@@ -58,7 +63,7 @@ struct DressedProfile {
   /// error is normal to the wheel surface, as a radial change 1/normal_per_radial larger, and a bigger wheel removes
   /// material.
   double radius_error_mm(const grinding::GrindingSetup& s, double v_mm, double slope_um, double crowning_um) const {
-    const double t = roll_fraction_of_radius.value(s.wheel().radius(v_mm)) - 0.5; // −½ at the gear's root, +½ at its tip
+    const double t = roll_fraction(s, v_mm) - 0.5; // −½ at the gear's root, +½ at its tip
     const double normal = -units::mm_from_um(slope_um * t + crowning_um * (1.0 - 4.0 * t * t));
     return normal / s.wheel().normal_per_radial(v_mm);
   }

@@ -46,7 +46,7 @@ public:
 
   double wheel_radius_error_mm(double v, const grinding::PathPoint&) const override {
     const bool left = profile_->grinds_left(v);
-    const double t = profile_->roll_fraction_of_radius.value(setup().wheel().radius(v));
+    const double t = profile_->roll_fraction(setup(), v);
     const double phase = 2.0 * std::numbers::pi * value(4) * t;
     const double deviation_um = value(left ? 0 : 2) * std::cos(phase) + value(left ? 1 : 3) * std::sin(phase);
     // plus material on the gear is a smaller wheel: the normal change −deviation, as a radial change
