@@ -302,9 +302,10 @@ std::vector<Candidate> fit_machine_hypotheses(const grinding::GrindingSetup& set
       const double strokes = static_cast<double>(setup.path().strokes().size());
       c.description = fmt::format(
           "the wheel's profile wears with the strokes: the gear profile slope changes by {} µm and its crowning by {} "
-          "µm per stroke ({:+.2f} µm and {:+.2f} µm over the {:.0f} strokes)",
+          "µm per stroke ({} µm and {} µm over the {:.0f} strokes)",
           text::with_uncertainty(f.beta(0), slope_sd, true), text::with_uncertainty(f.beta(1), crowning_sd, true),
-          f.beta(0) * strokes, f.beta(1) * strokes, strokes);
+          text::with_uncertainty(f.beta(0) * strokes, slope_sd * strokes, true),
+          text::with_uncertainty(f.beta(1) * strokes, crowning_sd * strokes, true), strokes);
       const auto specs = effects::make_effect("wheel_profile_wear")->parameters();
       for (int j = 0; j < 2; ++j) {
         const double v = f.beta(j), sd = std::sqrt(f.cov(j, j));
