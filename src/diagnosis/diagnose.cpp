@@ -272,6 +272,17 @@ std::string at_the_end_of_its_range(const Candidate& c) {
   return {};
 }
 
+/// Why an explanation's single values are no measurement: one at the end of its allowed range
+/// (at_the_end_of_its_range), or one the data do not determine (FittedParameter::determined: a thermal drift's growth
+/// and time constant trading against each other); empty when every fitted value is measured.
+std::string not_measured(const Candidate& c) {
+  if (std::string at_end = at_the_end_of_its_range(c); !at_end.empty()) return at_end;
+  for (size_t e = 0; e < c.effects.size(); ++e)
+    for (const auto& p : c.parameters[e])
+      if (p.fitted && !p.determined) return fmt::format("{}.{} is not determined by these data", c.effects[e].type, p.key);
+  return {};
+}
+
 /// "x_growth_um = 9.1 ± 1.2, time_constant_s = 600 ± 90": the fitted values of a candidate with their 1σ, each rounded
 /// to its uncertainty (GUM §7.2.6, text::with_uncertainty).
 std::string parameters_text(const Candidate& c) {
@@ -502,10 +513,18 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     // Every pair among them, not only the best with the others: with few teeth one effect can stand in for the
     // partner of two others (thermal drift mimicking wear beside eccentricity on teeth 1, 2, 18, 35 — independent
     // hidden-effect tests), and the true pair then never gets fitted if the stand-in ranks first.
-    fits_known += static_cast<long long>(top.size() * (top.size() - 1) / 2);
+    // And the best with every other effect of the list: a partner whose field the set-up terms and the best one's
+    // absorb on these teeth can be far from significant alone (wheel wear beside eccentricity on teeth 1 and 18 with
+    // skip indexing: alone it is not favoured, and without it a thermal drift with no determined value took its place).
+    std::vector<std::pair<std::string, std::string>> pair_list;
     for (size_t a = 0; a < top.size(); ++a)
-      for (size_t b = a + 1; b < top.size(); ++b) {
-        Candidate c = fit_effects(setup, at_points, d.residual_before_um, {top[a], top[b]}, fitted_values, setup_terms, o);
+      for (size_t b = a + 1; b < top.size(); ++b) pair_list.emplace_back(top[a], top[b]);
+    for (const auto& c : d.ranked)
+      if (const auto& t = c.effects.front().type; std::find(top.begin(), top.end(), t) == top.end())
+        pair_list.emplace_back(top.front(), t);
+    fits_known += static_cast<long long>(pair_list.size());
+    for (const auto& [first, second] : pair_list) {
+        Candidate c = fit_effects(setup, at_points, d.residual_before_um, {first, second}, fitted_values, setup_terms, o);
         c.significant = c.delta_bic < d.ranked.front().delta_bic - o.bic_threshold && c.rejected.empty();
         pairs.push_back(c);
         candidate_fitted();
@@ -539,6 +558,9 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
       if (rival(c)) d.rivals.push_back(c);
     std::stable_sort(d.rivals.begin(), d.rivals.end(),
                      [](const Candidate& a, const Candidate& b) { return a.delta_bic < b.delta_bic; });
+    // The plan separates the chosen one from its best rival of other physics first; whether a partner comes with it
+    // (a nested rival) is the second question, asked when no other rival is left.
+    std::stable_partition(d.rivals.begin(), d.rivals.end(), [&](const Candidate& c) { return !nested(c); });
   }
 
   // What is left with an explanation (or none): by the exact simulation, with and without the set-up terms, and
@@ -610,16 +632,39 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   // Beyond the library (docs/diagnosis.md): when nothing in it explains the residual, the chain's own error components
   // under their laws and each wheel flank's profile. The best plausible, significant one that leaves noise is named
   // with its equivalence class; one that leaves more is the nearest machine element, and the residual stays unexplained.
-  // Also when the library's explanation holds a value at the end of its allowed range: that value is no measurement
-  // (a thermal drift whose time constant runs away turns into a drift rate), and a machine element whose law the data
-  // do determine, fitting about as well, is named instead.
+  // Also when the library's explanation holds a value that is no measurement: at the end of its allowed range (a
+  // thermal drift whose time constant runs away turns into a drift rate) or not determined by the data (a thermal drift
+  // and a wear of opposite signs cancelling into the profile slope an A-axis drift makes). A machine element whose law
+  // the data do determine is named instead when it fits better — by the threshold when the library's explanation can
+  // leave the same field (an X axis approaching a steady state is a thermal X growth: the library's physics stays
+  // named, with what the data fix of it); fitting worse within the threshold, with another field, it is a rival (a
+  // C-axis radial motion beside a thermal drift whose time constant skip-indexed teeth do not fix).
   std::string hypothesis_rivals, nearest_element;
   std::optional<Candidate> equivalent_member; // the best other member of the chosen hypothesis' equivalence class
-  const std::string chosen_at_bound = d.chosen ? at_the_end_of_its_range(*d.chosen) : std::string();
+  const std::string chosen_at_bound = d.chosen ? not_measured(*d.chosen) : std::string();
   if (d.unexplained || !chosen_at_bound.empty()) {
     d.hypotheses = fit_machine_hypotheses(setup, at_points, d.residual_before_um, setup_terms, o, in_scene);
-    if (!d.hypotheses.empty() && d.hypotheses.front().rejected.empty() && d.hypotheses.front().delta_bic < -o.bic_threshold &&
-        (!d.chosen || d.hypotheses.front().delta_bic < d.chosen->delta_bic + o.bic_threshold)) {
+    const bool usable = !d.hypotheses.empty() && d.hypotheses.front().rejected.empty() &&
+                        d.hypotheses.front().delta_bic < -o.bic_threshold &&
+                        (!d.chosen || d.hypotheses.front().delta_bic < d.chosen->delta_bic + o.bic_threshold);
+    bool same_as_chosen = false;
+    if (usable && d.chosen) {
+      const HypothesisField hf = hypothesis_field(setup, at_points, d.hypotheses.front(), o.threads);
+      const Eigen::VectorXd mine = setup_terms.remove(Eigen::VectorXd(hf.X * hf.beta));
+      same_as_chosen = mine.norm() > 0.0 &&
+                       share_of_field_in_span(mine, library_columns(setup, at_points, setup_terms, *d.chosen, o.threads)) >= 0.95;
+    }
+    // The same field: the element takes the place only when the data prefer it by the threshold (the library's
+    // explanation then spends more parameters than the data determine on it: an A-axis drift as a thermal drift and a
+    // wear cancelling each other).
+    const bool element_first =
+        usable && (!d.chosen || d.hypotheses.front().delta_bic < d.chosen->delta_bic - (same_as_chosen ? o.bic_threshold : 0.0));
+    if (usable && !same_as_chosen && !element_first) {
+      Candidate& h = d.hypotheses.front();
+      h.rms_after_um = std::sqrt(remainder(&h).removed.squaredNorm() / n);
+      d.rivals.insert(d.rivals.begin(), h);
+    }
+    if (element_first) {
       Candidate& h = d.hypotheses.front();
       Remainder hr = remainder(&h);
       h.rms_after_um = std::sqrt(hr.removed.squaredNorm() / n);

@@ -36,15 +36,15 @@ struct Contact {
 };
 
 /// A noise-free measurement of the scene as modelled (the simulator's exact deviation) on the given teeth, with the
-/// contact of every point. Built once per layout.
+/// contact of every point. Built once per layout, for the default scene unless another workbench is given.
 struct Layout {
   std::vector<measurement::MeasuredPoint> points;
   std::vector<Contact> contacts;
 };
 
 /// The contacts of l.points (each point's nominal flank point and generating pose), and each one's profile fraction.
-inline void add_contacts(Layout& l) {
-  const auto& s = bench().setup;
+inline void add_contacts(Layout& l, const workbench::Workbench& b = bench()) {
+  const auto& s = b.setup;
   const grinding::IdealProcess ideal;
   const grinding::FlankDeviation generating(s.flanks(), s.wheel(), s.path(), ideal);
   for (const auto& p : l.points) {
@@ -62,16 +62,16 @@ inline void add_contacts(Layout& l) {
   for (size_t i = 0; i < l.points.size(); ++i) l.contacts[i].profile_fraction = (l.points[i].roll_length_mm - lo) / (hi - lo);
 }
 
-inline Layout make_layout(const std::vector<int>& teeth, int rows, int cols) {
-  const auto& s = bench().setup;
+inline Layout make_layout(const std::vector<int>& teeth, int rows, int cols, const workbench::Workbench& b = bench()) {
+  const auto& s = b.setup;
   diagnosis::SynthOptions o;
   o.teeth = teeth;
   o.rows = rows;
   o.cols = cols;
   o.noise_um = 0.0;
   Layout l;
-  l.points = measurement::measured_points(diagnosis::synthesize(s, bench().process(), o), s.geometry(), "independent");
-  add_contacts(l);
+  l.points = measurement::measured_points(diagnosis::synthesize(s, b.process(), o), s.geometry(), "independent");
+  add_contacts(l, b);
   return l;
 }
 
