@@ -4,6 +4,7 @@
 #include "geartopo/report/iso_report.hpp"
 #include "geartopo/report/prediction_report.hpp"
 #include "app/options.hpp"
+#include "geartopo/workbench/machine_flank_values.hpp"
 #include "geartopo/workbench/machine_pitch.hpp"
 
 #include "geartopo/measurement/any_measurement.hpp"
@@ -18,10 +19,62 @@
 #include <optional>
 
 namespace geartopo::app {
+namespace {
+
+// The machine's values beside geartopo's, as iso1328.json "machine_flank_values" and as the console prints them: the
+// same rows, numbers and causes (docs/measurement-formats.md, "The machine's values beside geartopo's").
+nlohmann::json machine_flank_values_json(const workbench::MachineFlankComparison& c,
+                                         const measurement::KlingelnbergValues& m) {
+  nlohmann::json rows = nlohmann::json::array(), quantities = nlohmann::json::array(), settings = nlohmann::json::object();
+  for (const auto& r : c.rows)
+    rows.push_back({{"tooth", r.tooth},
+                    {"flank", geartopo::to_string(r.side)},
+                    {"quantity", measurement::symbol(r.quantity)},
+                    {"machine_um", r.machine_um},
+                    {"geartopo_um", r.geartopo_um},
+                    {"difference_um", r.machine_um - r.geartopo_um},
+                    {r.quantity >= measurement::MachineQuantity::HelixSlope ? "helix_trace_diameter_mm" : "profile_trace_z_mm",
+                     r.trace_position_mm},
+                    {"flagged", r.flagged},
+                    {"line", r.line}});
+  for (const auto& q : c.quantities)
+    quantities.push_back({{"quantity", measurement::symbol(q.quantity)},
+                          {"rows", q.rows},
+                          {"flagged", q.flagged},
+                          {"max_abs_difference_um", q.max_abs_difference_um},
+                          {"cause", q.flagged ? nlohmann::json(workbench::to_string(q.cause)) : nlohmann::json(nullptr)},
+                          {"likely_cause", q.flagged ? nlohmann::json(q.likely_cause) : nlohmann::json(nullptr)}});
+  for (const auto& [code, s] : m.settings) settings[std::to_string(code)] = s.text;
+  return {{"file", m.source},           {"rows", rows},
+          {"quantities", quantities},   {"flagged", c.flagged},
+          {"flag_above_um", workbench::kMachineMismatchUm},
+          {"not_compared", c.not_compared}, {"settings", settings},
+          {"filters", m.filters},       {"unknown_lines", m.unknown_lines}};
+}
+
+std::string machine_flank_values_text(const workbench::MachineFlankComparison& c, const measurement::KlingelnbergValues& m) {
+  std::string out = fmt::format("The machine's values ({}) beside geartopo's evaluation of the same traces, µm "
+                                "(profile trace nearest mid face width at z, helix trace nearest mid profile at d):\n",
+                                m.source);
+  out += "  tooth flank  quantity   machine  geartopo  difference  trace\n";
+  for (const auto& r : c.rows)
+    out += fmt::format("  {:5} {:6} {:8} {:9.3f} {:9.3f} {:11.3f}  {}= {:.3f} mm{}\n", r.tooth, geartopo::to_string(r.side),
+                       measurement::symbol(r.quantity), r.machine_um, r.geartopo_um, r.machine_um - r.geartopo_um,
+                       r.quantity >= measurement::MachineQuantity::HelixSlope ? "d" : "z", r.trace_position_mm,
+                       r.flagged ? "  ← flagged" : "");
+  for (const auto& q : c.quantities)
+    out += fmt::format("  {}: {} values, max |difference| {:.3f} µm, {} above {:.1f} µm{}\n", measurement::symbol(q.quantity),
+                       q.rows, q.max_abs_difference_um, q.flagged, workbench::kMachineMismatchUm,
+                       q.flagged ? " — likely cause: " + q.likely_cause : "");
+  for (const auto& n : c.not_compared) out += "  not compared: " + n + "\n";
+  return out;
+}
+
+} // namespace
 
 void register_evaluate_command(CLI::App& app, Action& action) {
   struct Options {
-    std::string scene, out, method = "exact", traces, prediction, side = "after";
+    std::string scene, out, method = "exact", traces, machine_values, prediction, side = "after";
     workbench::IsoOptions iso;
     measurement::KlingelnbergOptions mka;
   };
@@ -33,6 +86,12 @@ void register_evaluate_command(CLI::App& app, Action& action) {
   cmd->add_option("--method", opt->method, "exact or linear simulation")->check(CLI::IsMember({"exact", "linear"}));
   cmd->add_option("--traces", opt->traces, "Evaluate measured traces instead: traces CSV (docs/grinding.md) or Klingelnberg "
                                            "export (docs/measurement-formats.md), told apart by content");
+  cmd->add_option("--machine-values", opt->machine_values,
+                  "With --traces EXPORT.mka: the measuring machine's value file (.mew, HEADER KS.MW.FILE) written beside "
+                  "it; its f_Hα, f_fα, F_α, f_Hβ, f_fβ, F_β per tooth and flank are printed beside geartopo's evaluation "
+                  "of the same traces, a difference above 0.1 µm flagged with its likely cause "
+                  "(docs/measurement-formats.md). Never read unless given")
+      ->check(non_empty_path());
   cmd->add_option("--prediction", opt->prediction,
                   "prediction.json of geartopo compensate: print each quantity beside its predicted median and 95 % "
                   "interval and whether it lies inside (a report, not a gate: the exit code does not depend on it); "
@@ -48,7 +107,7 @@ void register_evaluate_command(CLI::App& app, Action& action) {
   cmd->callback([&action, opt, direction_flag, sign_flag] {
     const bool direction_given = direction_flag->count() > 0, sign_given = sign_flag->count() > 0;
     action = [opt, direction_given, sign_given] {
-      const output::RunFiles files{{opt->scene, opt->traces, opt->prediction}, {"iso1328.json"}};
+      const output::RunFiles files{{opt->scene, opt->traces, opt->machine_values, opt->prediction}, {"iso1328.json"}};
       output::OutputFolder folder(opt->out, files); // locked and staged before any work: a second run is refused now
       const Workbench wb(opt->scene);
       // Read before anything is written: a wrong prediction file leaves the output folder as it was.
@@ -85,10 +144,33 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       std::vector<grinding::FlankTopology> topo;
       std::string source;
       std::vector<measurement::KlingelnbergPitchRow> machine_pitch; // an export's own pitch table, if any
+      std::optional<measurement::KlingelnbergFile> curves;            // the export, when --machine-values is given
+      std::optional<measurement::KlingelnbergValues> machine_values;
+      if (!opt->machine_values.empty() && opt->traces.empty())
+        throw CLI::ValidationError("--machine-values", "needs --traces EXPORT.mka: the values are compared with "
+                                                       "geartopo's evaluation of the export's traces");
       if (!opt->traces.empty()) {
         refuse_mka_flags_without_export(opt->traces);
         auto traces = measurement::read_any_traces(opt->traces, wb.setup, opt->mka);
         if (traces.klingelnberg) machine_pitch = measurement::read_klingelnberg(opt->traces).pitch;
+        if (!opt->machine_values.empty()) {
+          if (!traces.klingelnberg)
+            throw CLI::ValidationError("--machine-values",
+                                       opt->traces + " is not a Klingelnberg export: the value file evaluates an "
+                                                     "export's curves (.mka)");
+          curves = measurement::read_klingelnberg(opt->traces);
+          machine_values = measurement::read_klingelnberg_values(opt->machine_values);
+          if (!machine_values->unknown_lines.empty())
+            traces.warnings.push_back(fmt::format("{}: result lines not read (sizes and other codes): {}",
+                                                  opt->machine_values, fmt::join(machine_values->unknown_lines, ", ")));
+        } else if (traces.klingelnberg) {
+          // A value file beside the export is not read unless named: a stale one would be compared silently.
+          auto beside_mew = std::filesystem::path(opt->traces).replace_extension(".mew");
+          if (std::filesystem::is_regular_file(beside_mew))
+            traces.warnings.push_back(fmt::format("{} beside the export is not read: give --machine-values {} to compare "
+                                                  "the machine's profile and helix values",
+                                                  beside_mew.string(), beside_mew.string()));
+        }
         for (const auto& w : traces.warnings) say("geartopo: warning: " + w);
         topo = std::move(traces.flanks);
         source = (traces.klingelnberg ? "measured traces (Klingelnberg export) " : "measured traces ") + opt->traces;
@@ -123,6 +205,12 @@ void register_evaluate_command(CLI::App& app, Action& action) {
                                     {"likely_cause", beside->likely_cause.empty() ? nlohmann::json(nullptr)
                                                                                   : nlohmann::json(beside->likely_cause)}};
       }
+      std::optional<workbench::MachineFlankComparison> flank_values;
+      if (machine_values) {
+        flank_values = workbench::compare_machine_flank_values(*machine_values, g, wb.setup.ranges(), topo,
+                                                               iso.evaluation, &*curves);
+        j["machine_flank_values"] = machine_flank_values_json(*flank_values, *machine_values);
+      }
       // The quantities as the prediction names them; largest |deviation| needs the grid (none in a traces file).
       std::vector<report::PredictionCheck> checks;
       if (prediction) {
@@ -145,6 +233,7 @@ void register_evaluate_command(CLI::App& app, Action& action) {
                                    beside->flagged, workbench::kMachineMismatchUm,
                                    beside->likely_cause.empty() ? "" : " — likely cause: " + beside->likely_cause);
       }
+      if (flank_values) std::cout << machine_flank_values_text(*flank_values, *machine_values);
       if (prediction) {
         std::cout << "Against " << opt->prediction << ":\n";
         for (const auto& l : report::prediction_check_lines(checks, *prediction, opt->side)) std::cout << "  " << l << "\n";
