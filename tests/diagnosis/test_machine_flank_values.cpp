@@ -331,6 +331,7 @@ TEST(MachineFlankValues, EvaluatePrintsTheJsonsRowsAndRefusesWhatItCannotUse) {
                              dir);
   // The default scene's machine is not ideal, but the traces are the file's: the evaluation does not depend on it.
   ASSERT_EQ(r.code, 0) << r.err;
+  if (std::getenv("GEARTOPO_TEST_VERBOSE")) std::cout << r.out << r.err;
   std::ifstream in(dir / "e" / "iso1328.json");
   const auto j = nlohmann::json::parse(in)["machine_flank_values"];
   ASSERT_EQ(j["rows"].size(), 24u);
