@@ -8,6 +8,7 @@
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/machine/error_table.hpp"
 
+#include "../cli_run.hpp"
 #include "../grinding/grinding_fixture.hpp"
 
 #include <gtest/gtest.h>
@@ -311,26 +312,6 @@ TEST(IsgTable, PositionOnlyTableLeavesTheOrientationErrorsFlankDeviation) {
   EXPECT_GT(left, 0.1); // and it is not nothing: the orientation error is not carried
 }
 
-namespace {
-
-struct IsgCliRun {
-  int code;
-  std::string out, err;
-};
-
-IsgCliRun run_geartopo_for_isg(const std::string& args, const std::filesystem::path& dir) {
-  const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const int status = std::system((std::string(GEARTOPO_BINARY) + " " + args + " >" + out.string() + " 2>" + err.string()).c_str());
-  const auto slurp = [](const std::filesystem::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  };
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
-}
-
-} // namespace
 
 TEST(IsgTable, CompensateWritesTheTableAndReportsWhatItLeaves) {
   const auto dir = std::filesystem::temp_directory_path() / ("geartopo_isg_" + std::to_string(::getpid()));
@@ -338,7 +319,7 @@ TEST(IsgTable, CompensateWritesTheTableAndReportsWhatItLeaves) {
   std::filesystem::create_directories(dir);
   const std::string scene = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35.yaml";
 
-  const auto ok = run_geartopo_for_isg("compensate " + scene + " --out " + (dir / "comp").string() + " --isg-table", dir);
+  const auto ok = test::run_geartopo("compensate " + scene + " --out " + (dir / "comp").string() + " --isg-table", dir);
   ASSERT_EQ(ok.code, 0) << ok.err;
   EXPECT_NE(ok.out.find("left after the table"), std::string::npos) << ok.out;
   std::ifstream in(dir / "comp" / "isg_compensation.csv");
@@ -360,7 +341,7 @@ TEST(IsgTable, CompensateWritesTheTableAndReportsWhatItLeaves) {
   EXPECT_LT(left, before);
 
   // A controller limit the table does not fit: refused, named, and nothing written.
-  const auto refused = run_geartopo_for_isg(
+  const auto refused = test::run_geartopo(
       "compensate " + scene + " --out " + (dir / "refused").string() + " --isg-table --isg-max-records 50", dir);
   EXPECT_EQ(refused.code, 1);
   EXPECT_NE(refused.err.find("max_records = 50"), std::string::npos) << refused.err;

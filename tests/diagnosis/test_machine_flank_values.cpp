@@ -5,6 +5,7 @@
 //   f_H = s·L; its residual a·(u² − L²/12) has the peak-to-valley f_f = |a|·L²/4; F = max − min of s·u + a·u² over the
 //   range (ends and, when inside, the vertex u* = −s/(2a)). Over another range [u1, u2] the slope is s + a·(u1 + u2).
 // Units: mm, µm.
+#include "../cli_run.hpp"
 #include "trace_export_fixture.hpp"
 
 #include "geartopo/measurement/klingelnberg.hpp"
@@ -297,26 +298,6 @@ TEST(MachineFlankValues, PlaceholdersAndFlanksWithoutTracesAreListed) {
 
 // ------------------------------------------------------------------------------------------------ the command line
 
-namespace {
-
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
-CliRun run_geartopo(const std::string& args, const std::filesystem::path& dir) {
-  const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const int status = std::system((std::string(GEARTOPO_BINARY) + " " + args + " >" + out.string() + " 2>" + err.string()).c_str());
-  const auto slurp = [](const std::filesystem::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  };
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
-}
-
-} // namespace
 
 // `evaluate --traces X.mka --machine-values X.mew`: the console rows and causes are the JSON's; usage and file errors.
 TEST(MachineFlankValues, EvaluatePrintsTheJsonsRowsAndRefusesWhatItCannotUse) {
@@ -326,7 +307,7 @@ TEST(MachineFlankValues, EvaluatePrintsTheJsonsRowsAndRefusesWhatItCannotUse) {
   TempFile mka2("n.mka", fixture().mka); // a .mew beside it (n.mew) is pointed out, not read
   std::ofstream(mka2.dir / "n.mew") << value_file(v, "");
   const auto dir = mka.dir;
-  const CliRun r = run_geartopo("evaluate " + kDefaultScene + " --traces " + mka.path.string() + " --machine-values " +
+  const test::CliRun r = test::run_geartopo("evaluate " + kDefaultScene + " --traces " + mka.path.string() + " --machine-values " +
                                  mew.path.string() + " --out " + (dir / "e").string(),
                              dir);
   // The default scene's machine is not ideal, but the traces are the file's: the evaluation does not depend on it.
@@ -348,19 +329,19 @@ TEST(MachineFlankValues, EvaluatePrintsTheJsonsRowsAndRefusesWhatItCannotUse) {
     }
   EXPECT_NE(r.out.find("← flagged"), std::string::npos);
   // Without the flag, a value file beside the export is named in a warning and not read.
-  const CliRun n = run_geartopo("evaluate " + kDefaultScene + " --traces " + mka2.path.string() + " --out " + (dir / "n").string(), dir);
+  const test::CliRun n = test::run_geartopo("evaluate " + kDefaultScene + " --traces " + mka2.path.string() + " --out " + (dir / "n").string(), dir);
   ASSERT_EQ(n.code, 0) << n.err;
   EXPECT_NE((n.out + n.err).find("n.mew beside the export is not read"), std::string::npos) << n.out << n.err;
   EXPECT_EQ((n.out + n.err).find("The machine's values"), std::string::npos);
   // The flag without --traces is a usage error; a value file that contradicts itself is an input error naming it.
-  EXPECT_EQ(run_geartopo("evaluate " + kDefaultScene + " --machine-values " + mew.path.string() + " --out " +
+  EXPECT_EQ(test::run_geartopo("evaluate " + kDefaultScene + " --machine-values " + mew.path.string() + " --out " +
                              (dir / "u").string(),
                          dir).code,
             2);
   std::string bad = value_file(v, "");
   bad.replace(bad.find("fHa links 1 :"), 13, "fHb links 1 :");
   TempFile badmew("bad.mew", bad);
-  const CliRun b = run_geartopo("evaluate " + kDefaultScene + " --traces " + mka.path.string() + " --machine-values " +
+  const test::CliRun b = test::run_geartopo("evaluate " + kDefaultScene + " --traces " + mka.path.string() + " --machine-values " +
                                  badmew.path.string() + " --out " + (dir / "b").string(),
                              dir);
   EXPECT_EQ(b.code, 1);
