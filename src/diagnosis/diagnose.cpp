@@ -512,6 +512,25 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   // What every fit evaluates thousands of times: the effects' first-order deviation at these points, whose
   // parameter-independent part (pose, contact, axis Jacobian) is computed here once for all candidates.
   const EffectContribution at_points(setup, pts, o.threads);
+  // On a large measurement the fits search from their starts on every k-th point (FitSubsample, effect_fit.hpp).
+  std::optional<FitSubsample> subsample;
+  if (const std::size_t k = subsample_stride(pts.size(), o.fit_search_points); k > 1) {
+    std::vector<std::size_t> rows;
+    for (std::size_t i = 0; i < pts.size(); i += k) rows.push_back(i);
+    std::vector<MeasuredPoint> sub_pts;
+    std::vector<double> sub_r0;
+    DiagnoseOptions sub_o = o; // the model's uncertainty, if given, at the subsample's points
+    const auto& M = o.model_uncertainty_um;
+    if (M.size() > 0) sub_o.model_uncertainty_um.resize(static_cast<Eigen::Index>(rows.size()), M.cols());
+    for (std::size_t j = 0; j < rows.size(); ++j) {
+      sub_pts.push_back(pts[rows[j]]);
+      sub_r0.push_back(d.residual_before_um[rows[j]]);
+      if (M.size() > 0) sub_o.model_uncertainty_um.row(static_cast<Eigen::Index>(j)) = M.row(static_cast<Eigen::Index>(rows[j]));
+    }
+    subsample.emplace(FitSubsample{at_points.rows(rows), setup_term_model(setup, model, sub_pts, d.noise_um, sub_o),
+                                   std::move(sub_r0)});
+  }
+  const FitSubsample* search = subsample ? &*subsample : nullptr;
   std::map<std::string, std::vector<double>> fitted_values;
   std::vector<Candidate> pairs; // every pair fitted, taken or not
   long long fits_done = 0, fits_known = static_cast<long long>(types.size());
@@ -519,7 +538,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     if (o.on_candidate_fitted) o.on_candidate_fitted(++fits_done, fits_known);
   };
   for (const auto& t : types) {
-    Candidate c = fit_effects(setup, at_points, d.residual_before_um, {t}, {}, setup_terms, o);
+    Candidate c = fit_effects(setup, at_points, d.residual_before_um, {t}, {}, setup_terms, o, search);
     c.significant = c.delta_bic < -o.bic_threshold && c.rejected.empty();
     fitted_values[t] = c.effects.front().values;
     d.ranked.push_back(std::move(c));
@@ -565,7 +584,8 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
       pair_list.emplace_back(top.front(), t);
     fits_known += static_cast<long long>(pair_list.size());
     for (const auto& [first, second] : pair_list) {
-        Candidate c = fit_effects(setup, at_points, d.residual_before_um, {first, second}, fitted_values, setup_terms, o);
+        Candidate c = fit_effects(setup, at_points, d.residual_before_um, {first, second}, fitted_values, setup_terms, o,
+                                  search);
         c.significant = c.delta_bic < d.ranked.front().delta_bic - o.bic_threshold && c.rejected.empty();
         pairs.push_back(c);
         candidate_fitted();

@@ -89,6 +89,14 @@ Eigen::VectorXd EffectContribution::deviation_um(std::span<const effects::Effect
   return out;
 }
 
+EffectContribution EffectContribution::rows(std::span<const std::size_t> indices) const {
+  EffectContribution out;
+  out.offset_um_ = offset_um_;
+  out.points_.reserve(indices.size());
+  for (const std::size_t i : indices) out.points_.push_back(points_.at(i));
+  return out;
+}
+
 Eigen::MatrixXd EffectContribution::component_sensitivity_um(int threads) const {
   Eigen::MatrixXd out(static_cast<Eigen::Index>(points_.size()), machine::kComponentCount); // n × 43
   for_chunks(points_.size(), threads, [&](std::size_t i) {

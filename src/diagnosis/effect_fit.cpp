@@ -347,13 +347,29 @@ double sum_of_squares(const std::vector<double>& r) {
   return s;
 }
 
+std::size_t subsample_stride(std::size_t n, std::size_t most) {
+  return most == 0 || n <= most ? 1 : (n + most - 1) / most;
+}
+
 Candidate fit_effects(const grinding::GrindingSetup& setup, const EffectContribution& at_points,
                       const std::vector<double>& r0, const std::vector<std::string>& types,
                       const std::map<std::string, std::vector<double>>& warm, const SetupTermModel& setup_terms,
-                      const DiagnoseOptions& o) {
+                      const DiagnoseOptions& o, const FitSubsample* subsample) {
   EffectFit f(setup, at_points, r0, types, setup_terms, o.threads);
   const Box box = parameter_box(f);
-  const LmResult best = best_of_starts(f, start_points(f, box, warm), box);
+  const std::vector<Eigen::VectorXd> starts = start_points(f, box, warm);
+  LmResult best;
+  if (subsample && starts.size() > 1) {
+    // The starts on every k-th point (an iteration there costs 1/k of one on all points), then the best start's
+    // solution polished on all points: a few iterations from next to the minimum. One start: no search to save.
+    EffectFit coarse(setup, subsample->at, subsample->r0, types, subsample->terms, o.threads);
+    best = f.minimise(best_of_starts(coarse, starts, box).x, box.lo, box.hi);
+    if (!std::isfinite(best.rss))
+      throw std::runtime_error("diagnose: the fit on all points gave a non-finite residual (a non-finite measurement or "
+                               "prediction reached the fit)");
+  } else {
+    best = best_of_starts(f, starts, box);
+  }
   const double n = static_cast<double>(r0.size());
   const double dof = n - static_cast<double>(f.size()) - setup_terms.count();
   const double sigma2 = best.rss / std::max(1.0, dof); // σ̂² (µm²)

@@ -217,6 +217,12 @@ struct DiagnoseOptions {
   double plausible_change_um = 100.0, plausible_change_urad = 1000.0;
   /// Hypotheses beyond the library shown in the ranked list (count).
   std::size_t hypotheses_listed = 10;
+  /// Large measurements (count): a candidate's multi-start search runs on every k-th measured point, k the smallest
+  /// stride leaving at most this many, and only its best start is then refined on all points, from which every value,
+  /// RSS, ΔBIC and uncertainty comes (docs/diagnosis.md, "Large measurements"). 25 000: a full trace export of all teeth
+  /// (210 000 points) is searched on every 9th point, ≈ 60 per 500-point trace; a grid of two teeth is not subsampled.
+  /// 0: every start on all points.
+  std::size_t fit_search_points = 25000;
   /// Smallest first step of that walk (unit-free, in units of the parameter's typical size): a parameter whose
   /// linearised σ is 0 still moves.
   double profile_min_step = 1e-6;

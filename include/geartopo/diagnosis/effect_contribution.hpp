@@ -40,6 +40,9 @@ public:
   double offset_um() const { return offset_um_; }
 
   std::size_t size() const { return points_.size(); }
+  /// The same state at a subset of the points, in the order given (each index < size()): what a fit on a subsample of
+  /// the points evaluates (diagnosis/effect_fit.hpp, FitSubsample). Nothing is recomputed; the values are copied.
+  EffectContribution rows(std::span<const std::size_t> indices) const;
 
   /// The first-order deviation at every point per unit change of each of the chain's 43 error components, at the
   /// point's generating pose (n × 43; µm per mm for lengths, per rad for angles): wᵀ J_twistw_e(q)
@@ -52,6 +55,7 @@ public:
   double wheel_axial_mm(std::size_t i) const { return points_[i].v; }
 
 private:
+  EffectContribution() = default;
   /// Per point (≈ 170 bytes): the deviation is d = a_qᵀ δq + wᵀ ξ − δR(v)·normal_per_radial with
   ///   w = (n; P × n)          so that n·(δp + δθ × P) = wᵀ (δp; δθ) for a pose-error twist ξ = (δp; δθ) in w,
   ///   a_q = J_twistw_q(q)ᵀ w  the deviation per unit command offset of each axis (X, Y, Z mm; A, C rad).

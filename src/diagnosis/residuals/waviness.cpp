@@ -25,13 +25,13 @@ struct WaveSums {
   double cc = 0.0, cs = 0.0, ss = 0.0, hc = 0.0, hs = 0.0;
   Eigen::VectorXd qc, qs; // QᵀC, p each
   explicit WaveSums(Eigen::Index p) : qc(Eigen::VectorXd::Zero(p)), qs(Eigen::VectorXd::Zero(p)) {}
-  void add(const Eigen::MatrixXd& Qt, Eigen::Index i, double c, double s, double r) {
-    cc += c * c, cs += c * s, ss += s * s, hc += c * r, hs += s * r;
-    // p is 6 to 10: a plain loop over the column, not Eigen's dynamic-size expression machinery, per point.
-    const double* q = Qt.data() + i * Qt.rows();
+  /// The m points at one position (count m): q the sum of their rows of Q (p), r of their residuals.
+  void add(const double* q, Eigen::Index p, double m, double c, double s, double r) {
+    cc += m * c * c, cs += m * c * s, ss += m * s * s, hc += c * r, hs += s * r;
+    // p is 6 to 10: a plain loop over the column, not Eigen's dynamic-size expression machinery, per position.
     double* a = qc.data();
     double* b = qs.data();
-    for (Eigen::Index j = 0; j < Qt.rows(); ++j) a[j] += c * q[j], b[j] += s * q[j];
+    for (Eigen::Index j = 0; j < p; ++j) a[j] += c * q[j], b[j] += s * q[j];
   }
   double gain(Eigen::Index n) const {
     Eigen::Matrix2d G;
@@ -52,13 +52,44 @@ struct WaveSums {
   }
 };
 
-/// RSS removed by adding a wave of frequency f (cycles/mm) along x to the base model (Qt, r0: WaveSums).
-double wave_gain(const Eigen::MatrixXd& Qt, const Eigen::VectorXd& r0, const std::vector<double>& x, double x0, double f) {
-  const Eigen::Index n = Qt.cols();
-  WaveSums sums(Qt.rows());
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double ph = kTwoPi * f * (x[static_cast<std::size_t>(i)] - x0);
-    sums.add(Qt, i, std::cos(ph), std::sin(ph), r0(i));
+/// The points gathered by their position along x: a wave has one value at a position, so every sum of WaveSums over
+/// the points is the sum over the positions of that value times the points' count, row sum of Q or residual sum there.
+/// A trace export repeats each position on every line along it (every helix line has the same z, every profile line
+/// the same ξ): ≈ 6× fewer terms per frequency than points on 3 + 3 lines.
+struct Positions {
+  std::vector<double> x, count, r; // per distinct position: x (mm), points there, Σ r0 (µm)
+  Eigen::MatrixXd Qt;              // p × positions: Σ of the points' rows of Q
+  Positions(const Eigen::MatrixXd& Qt_points, const Eigen::VectorXd& r0, const std::vector<double>& xs) {
+    std::vector<std::size_t> order(xs.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return xs[a] < xs[b]; });
+    std::vector<std::size_t> first; // index into `order` where each position starts
+    for (std::size_t k = 0; k < order.size(); ++k)
+      if (k == 0 || xs[order[k]] != xs[order[k - 1]]) first.push_back(k);
+    first.push_back(order.size());
+    const std::size_t g = first.size() - 1;
+    Qt = Eigen::MatrixXd::Zero(Qt_points.rows(), static_cast<Eigen::Index>(g));
+    x.resize(g), count.resize(g), r.assign(g, 0.0);
+    for (std::size_t j = 0; j < g; ++j) {
+      x[j] = xs[order[first[j]]];
+      count[j] = static_cast<double>(first[j + 1] - first[j]);
+      for (std::size_t k = first[j]; k < first[j + 1]; ++k) {
+        const auto i = static_cast<Eigen::Index>(order[k]);
+        Qt.col(static_cast<Eigen::Index>(j)) += Qt_points.col(i);
+        r[j] += r0(i);
+      }
+    }
+  }
+  std::size_t size() const { return x.size(); }
+};
+
+/// RSS removed by adding a wave of frequency f (cycles/mm) along x to the base model (the positions' sums; n points).
+double wave_gain(const Positions& at, Eigen::Index n, double x0, double f) {
+  const Eigen::Index p = at.Qt.rows();
+  WaveSums sums(p);
+  for (std::size_t j = 0; j < at.size(); ++j) {
+    const double ph = kTwoPi * f * (at.x[j] - x0);
+    sums.add(at.Qt.data() + static_cast<Eigen::Index>(j) * p, p, at.count[j], std::cos(ph), std::sin(ph), at.r[j]);
   }
   return sums.gain(n);
 }
@@ -99,31 +130,31 @@ WavinessScan scan_waviness(WaveDirection dir, const Eigen::MatrixXd& base, const
   const Eigen::MatrixXd Qt = Q.transpose(); // p × n: a point's basis values contiguous
   const Eigen::VectorXd r0 = y - Q * (Q.transpose() * y);
   const double rss0 = r0.squaredNorm();
+  const Positions at(Qt, r0, x);
+  const Eigen::Index n = base.rows(), p = Qt.rows();
 
-  // The frequency grid f_k = f_lo + k df: each point's phase advances by 2π df (x − x0) per step, so its cos and sin
-  // follow by rotation instead of sincos (2000 steps drift < 1e-12; the last step, clamped to f_hi, is computed).
+  // The frequency grid f_k = f_lo + k df: each position's phase advances by 2π df (x − x0) per step, so its cos and
+  // sin follow by rotation instead of sincos (2000 steps drift < 1e-12; the last step, clamped to f_hi, is computed).
   const double df = 1.0 / (o.waviness_oversampling * L);
   const auto steps = static_cast<std::size_t>(std::ceil((f_hi - f_lo) / df));
-  const Eigen::Index n = base.rows();
-  std::vector<double> cs(static_cast<std::size_t>(n)), sn(cs.size()), rc(cs.size()), rs(cs.size());
-  for (std::size_t i = 0; i < cs.size(); ++i) {
-    cs[i] = std::cos(kTwoPi * f_lo * (x[i] - x0)), sn[i] = std::sin(kTwoPi * f_lo * (x[i] - x0));
-    rc[i] = std::cos(kTwoPi * df * (x[i] - x0)), rs[i] = std::sin(kTwoPi * df * (x[i] - x0));
+  std::vector<double> cs(at.size()), sn(cs.size()), rc(cs.size()), rs(cs.size());
+  for (std::size_t j = 0; j < cs.size(); ++j) {
+    cs[j] = std::cos(kTwoPi * f_lo * (at.x[j] - x0)), sn[j] = std::sin(kTwoPi * f_lo * (at.x[j] - x0));
+    rc[j] = std::cos(kTwoPi * df * (at.x[j] - x0)), rs[j] = std::sin(kTwoPi * df * (at.x[j] - x0));
   }
   double best_f = f_lo, best_gain = -1.0;
   for (std::size_t k = 0; k <= steps; ++k) {
     const double f = f_lo + static_cast<double>(k) * df;
     double g = 0.0;
     if (f >= f_hi) {
-      g = wave_gain(Qt, r0, x, x0, f_hi);
+      g = wave_gain(at, n, x0, f_hi);
     } else {
-      WaveSums sums(Qt.rows());
-      for (Eigen::Index i = 0; i < n; ++i) {
-        const auto u = static_cast<std::size_t>(i);
-        sums.add(Qt, i, cs[u], sn[u], r0(i));
-        const double cu = cs[u];
-        cs[u] = cu * rc[u] - sn[u] * rs[u];
-        sn[u] = sn[u] * rc[u] + cu * rs[u];
+      WaveSums sums(p);
+      for (std::size_t j = 0; j < cs.size(); ++j) {
+        sums.add(at.Qt.data() + static_cast<Eigen::Index>(j) * p, p, at.count[j], cs[j], sn[j], at.r[j]);
+        const double cu = cs[j];
+        cs[j] = cu * rc[j] - sn[j] * rs[j];
+        sn[j] = sn[j] * rc[j] + cu * rs[j];
       }
       g = sums.gain(n);
     }
@@ -136,23 +167,23 @@ WavinessScan scan_waviness(WaveDirection dir, const Eigen::MatrixXd& base, const
   double a = std::max(f_lo, best_f - df), b = std::min(f_hi, best_f + df);
   const double gr = 0.5 * (std::sqrt(5.0) - 1.0);
   double c = b - gr * (b - a), e = a + gr * (b - a);
-  double gc = wave_gain(Qt, r0, x, x0, c), ge = wave_gain(Qt, r0, x, x0, e);
+  double gc = wave_gain(at, n, x0, c), ge = wave_gain(at, n, x0, e);
   for (int it = 0; it < 60 && b - a > 1e-9 * f_hi; ++it) {
     if (gc > ge) {
       b = e;
       e = c;
       ge = gc;
       c = b - gr * (b - a);
-      gc = wave_gain(Qt, r0, x, x0, c);
+      gc = wave_gain(at, n, x0, c);
     } else {
       a = c;
       c = e;
       gc = ge;
       e = a + gr * (b - a);
-      ge = wave_gain(Qt, r0, x, x0, e);
+      ge = wave_gain(at, n, x0, e);
     }
   }
-  const double fm = 0.5 * (a + b), gm = wave_gain(Qt, r0, x, x0, fm);
+  const double fm = 0.5 * (a + b), gm = wave_gain(at, n, x0, fm);
   if (gm > best_gain) {
     best_gain = gm;
     best_f = fm;
