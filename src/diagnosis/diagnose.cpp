@@ -701,6 +701,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   // named, with what the data fix of it); fitting worse within the threshold, with another field, it is a rival (a
   // C-axis radial motion beside a thermal drift whose time constant skip-indexed teeth do not fix).
   std::string hypothesis_rivals, nearest_element;
+  std::string element_kept_out; // a machine element that fits about as well with the library explanation's own field
   std::optional<Candidate> equivalent_member; // the best other member of the chosen hypothesis' equivalence class
   const std::string chosen_at_bound = d.chosen ? not_measured(*d.chosen) : std::string();
   if (d.unexplained || !chosen_at_bound.empty()) {
@@ -720,6 +721,12 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     // wear cancelling each other).
     const bool element_first =
         usable && (!d.chosen || d.hypotheses.front().delta_bic < d.chosen->delta_bic - (same_as_chosen ? o.bic_threshold : 0.0));
+    if (usable && same_as_chosen && !element_first)
+      element_kept_out = fmt::format(
+          " The best machine element, {} (ΔBIC {:.1f}), leaves a field {} can leave too, within {:g} of it: {} stays "
+          "named.",
+          d.hypotheses.front().description, d.hypotheses.front().delta_bic, d.chosen->name(), o.bic_threshold,
+          d.chosen->name());
     if (usable && !same_as_chosen && !element_first) {
       Candidate& h = d.hypotheses.front();
       h.rms_after_um = std::sqrt(remainder(&h).removed.squaredNorm() / n);
@@ -901,6 +908,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     if (!d.determined.empty())
       d.verdict += fmt::format(" Its single values are not all determined; the data fix: {}.", fmt::join(d.determined, "; "));
   }
+  d.verdict += element_kept_out;
   if (!d.assumed.empty()) {
     std::string list;
     for (const auto& a : d.assumed) list += (list.empty() ? "" : "; ") + a;
