@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -22,6 +23,9 @@
 namespace geartopo::app {
 namespace {
 
+/// A value as printed with 3 decimals: one that rounds to zero is +0, so the table says 0.000, never -0.000.
+double printed_3(double v) { return std::abs(v) < 5e-4 ? 0.0 : v; }
+
 std::string machine_flank_values_text(const workbench::MachineFlankComparison& c, const measurement::KlingelnbergValues& m) {
   std::string out = fmt::format("The machine's values ({}) beside geartopo's evaluation of the same traces, µm "
                                 "(profile trace nearest mid face width at z, helix trace nearest mid profile at d):\n",
@@ -29,7 +33,8 @@ std::string machine_flank_values_text(const workbench::MachineFlankComparison& c
   out += "  tooth flank  quantity   machine  geartopo  difference  trace\n";
   for (const auto& r : c.rows)
     out += fmt::format("  {:5} {:6} {:8} {:9.3f} {:9.3f} {:11.3f}  {}= {:.3f} mm{}\n", r.tooth, geartopo::to_string(r.side),
-                       measurement::symbol(r.quantity), r.machine_um, r.geartopo_um, r.machine_um - r.geartopo_um,
+                       measurement::symbol(r.quantity), printed_3(r.machine_um), printed_3(r.geartopo_um),
+                       printed_3(r.machine_um - r.geartopo_um),
                        r.quantity >= measurement::MachineQuantity::HelixSlope ? "d" : "z", r.trace_position_mm,
                        r.flagged ? "  ← flagged" : "");
   for (const auto& q : c.quantities)
