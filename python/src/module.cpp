@@ -10,6 +10,7 @@ PYBIND11_MODULE(geartopo, m) {
   geartopo::python::bind_scene(m);
   geartopo::python::bind_simulate(m);
   geartopo::python::bind_evaluate(m);
+  geartopo::python::bind_machine_values(m);
   geartopo::python::bind_measured(m);
   geartopo::python::bind_compensate(m);
   geartopo::python::bind_synth(m);

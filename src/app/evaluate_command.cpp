@@ -2,6 +2,7 @@
 #include "geartopo/core/atomic_file.hpp"
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/report/iso_report.hpp"
+#include "geartopo/report/machine_values_report.hpp"
 #include "geartopo/report/prediction_report.hpp"
 #include "app/options.hpp"
 #include "geartopo/workbench/machine_flank_values.hpp"
@@ -12,6 +13,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -21,36 +23,8 @@
 namespace geartopo::app {
 namespace {
 
-// The machine's values beside geartopo's, as iso1328.json "machine_flank_values" and as the console prints them: the
-// same rows, numbers and causes (docs/measurement-formats.md, "The machine's values beside geartopo's").
-nlohmann::json machine_flank_values_json(const workbench::MachineFlankComparison& c,
-                                         const measurement::KlingelnbergValues& m) {
-  nlohmann::json rows = nlohmann::json::array(), quantities = nlohmann::json::array(), settings = nlohmann::json::object();
-  for (const auto& r : c.rows)
-    rows.push_back({{"tooth", r.tooth},
-                    {"flank", geartopo::to_string(r.side)},
-                    {"quantity", measurement::symbol(r.quantity)},
-                    {"machine_um", r.machine_um},
-                    {"geartopo_um", r.geartopo_um},
-                    {"difference_um", r.machine_um - r.geartopo_um},
-                    {r.quantity >= measurement::MachineQuantity::HelixSlope ? "helix_trace_diameter_mm" : "profile_trace_z_mm",
-                     r.trace_position_mm},
-                    {"flagged", r.flagged},
-                    {"line", r.line}});
-  for (const auto& q : c.quantities)
-    quantities.push_back({{"quantity", measurement::symbol(q.quantity)},
-                          {"rows", q.rows},
-                          {"flagged", q.flagged},
-                          {"max_abs_difference_um", q.max_abs_difference_um},
-                          {"cause", q.flagged ? nlohmann::json(workbench::to_string(q.cause)) : nlohmann::json(nullptr)},
-                          {"likely_cause", q.flagged ? nlohmann::json(q.likely_cause) : nlohmann::json(nullptr)}});
-  for (const auto& [code, s] : m.settings) settings[std::to_string(code)] = s.text;
-  return {{"file", m.source},           {"rows", rows},
-          {"quantities", quantities},   {"flagged", c.flagged},
-          {"flag_above_um", workbench::kMachineMismatchUm},
-          {"not_compared", c.not_compared}, {"settings", settings},
-          {"filters", m.filters},       {"unknown_lines", m.unknown_lines}};
-}
+/// A value as printed with 3 decimals: one that rounds to zero is +0, so the table says 0.000, never -0.000.
+double printed_3(double v) { return std::abs(v) < 5e-4 ? 0.0 : v; }
 
 std::string machine_flank_values_text(const workbench::MachineFlankComparison& c, const measurement::KlingelnbergValues& m) {
   std::string out = fmt::format("The machine's values ({}) beside geartopo's evaluation of the same traces, µm "
@@ -59,7 +33,8 @@ std::string machine_flank_values_text(const workbench::MachineFlankComparison& c
   out += "  tooth flank  quantity   machine  geartopo  difference  trace\n";
   for (const auto& r : c.rows)
     out += fmt::format("  {:5} {:6} {:8} {:9.3f} {:9.3f} {:11.3f}  {}= {:.3f} mm{}\n", r.tooth, geartopo::to_string(r.side),
-                       measurement::symbol(r.quantity), r.machine_um, r.geartopo_um, r.machine_um - r.geartopo_um,
+                       measurement::symbol(r.quantity), printed_3(r.machine_um), printed_3(r.geartopo_um),
+                       printed_3(r.machine_um - r.geartopo_um),
                        r.quantity >= measurement::MachineQuantity::HelixSlope ? "d" : "z", r.trace_position_mm,
                        r.flagged ? "  ← flagged" : "");
   for (const auto& q : c.quantities)
@@ -192,24 +167,13 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       std::optional<workbench::MachinePitchComparison> beside;
       if (!machine_pitch.empty()) {
         beside = workbench::compare_machine_pitch(machine_pitch, iso.evaluation);
-        nlohmann::json rows = nlohmann::json::array();
-        for (const auto& r : beside->rows)
-          rows.push_back({{"tooth", r.tooth}, {"flank", geartopo::to_string(r.side)}, {"machine_fp_um", r.machine_fp_um},
-                          {"geartopo_fp_um", r.geartopo_fp_um}, {"machine_Fp_um", r.machine_Fp_um},
-                          {"geartopo_Fp_um", r.geartopo_Fp_um}, {"flagged", r.flagged}});
-        j["machine_pitch_table"] = {{"rows", rows},
-                                    {"max_abs_fp_difference_um", beside->max_abs_fp_difference_um},
-                                    {"max_abs_Fp_difference_um", beside->max_abs_Fp_difference_um},
-                                    {"flagged", beside->flagged},
-                                    {"flag_above_um", workbench::kMachineMismatchUm},
-                                    {"likely_cause", beside->likely_cause.empty() ? nlohmann::json(nullptr)
-                                                                                  : nlohmann::json(beside->likely_cause)}};
+        j["machine_pitch_table"] = report::machine_pitch_table_json(*beside);
       }
       std::optional<workbench::MachineFlankComparison> flank_values;
       if (machine_values) {
         flank_values = workbench::compare_machine_flank_values(*machine_values, g, wb.setup.ranges(), topo,
                                                                iso.evaluation, &*curves);
-        j["machine_flank_values"] = machine_flank_values_json(*flank_values, *machine_values);
+        j["machine_flank_values"] = report::machine_flank_values_json(*flank_values, *machine_values);
       }
       // The quantities as the prediction names them; largest |deviation| needs the grid (none in a traces file).
       std::vector<report::PredictionCheck> checks;

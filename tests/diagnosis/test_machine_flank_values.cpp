@@ -317,11 +317,14 @@ TEST(MachineFlankValues, EvaluatePrintsTheJsonsRowsAndRefusesWhatItCannotUse) {
   const auto j = nlohmann::json::parse(in)["machine_flank_values"];
   ASSERT_EQ(j["rows"].size(), 24u);
   EXPECT_EQ(j["flagged"].get<int>(), 1);
+  // The console prints each JSON number to 3 decimals, a value that rounds to zero as 0.000 (never -0.000).
+  const auto printed = [](const nlohmann::json& v) { return std::abs(v.get<double>()) < 5e-4 ? 0.0 : v.get<double>(); };
   for (const auto& row : j["rows"]) {
-    const std::string line = fmt::format("{:9.3f} {:9.3f} {:11.3f}", row["machine_um"].get<double>(),
-                                         row["geartopo_um"].get<double>(), row["difference_um"].get<double>());
+    const std::string line = fmt::format("{:9.3f} {:9.3f} {:11.3f}", printed(row["machine_um"]),
+                                         printed(row["geartopo_um"]), printed(row["difference_um"]));
     EXPECT_NE(r.out.find(line), std::string::npos) << line << "\n" << r.out;
   }
+  EXPECT_EQ(r.out.find("-0.000 "), std::string::npos) << r.out;
   for (const auto& q : j["quantities"])
     if (q["flagged"].get<int>() > 0) {
       EXPECT_EQ(q["cause"], "unexplained");
