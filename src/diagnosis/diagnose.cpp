@@ -723,7 +723,8 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   // with its equivalence class; one that leaves more is the nearest machine element, and the residual stays unexplained.
   // Also when the library's explanation holds a value that is no measurement: at the end of its allowed range (a
   // thermal drift whose time constant runs away turns into a drift rate) or not determined by the data (a thermal drift
-  // and a wear of opposite signs cancelling into the profile slope an A-axis drift makes). A machine element whose law
+  // and a wear of opposite signs cancelling into the profile slope an A-axis drift makes), or a pair whose parts cancel
+  // (parts_cancel: the same thermal drift and wear with values the data do fix). A machine element whose law
   // the data do determine is named instead when it fits better — by the threshold when the library's explanation can
   // leave the same field (an X axis approaching a steady state is a thermal X growth: the library's physics stays
   // named, with what the data fix of it); fitting worse within the threshold, with another field, it is a rival (a
@@ -731,9 +732,9 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
   std::string hypothesis_rivals, nearest_element;
   std::string element_kept_out; // a machine element that fits about as well with the library explanation's own field
   std::optional<Candidate> equivalent_member; // the best other member of the chosen hypothesis' equivalence class
-  std::string chosen_at_bound = d.chosen ? not_measured(*d.chosen) : std::string();
-  if (d.chosen && chosen_at_bound.empty()) chosen_at_bound = parts_cancel(setup, at_points, setup_terms, *d.chosen, o.threads);
-  if (d.unexplained || !chosen_at_bound.empty()) {
+  std::string chosen_not_measured = d.chosen ? not_measured(*d.chosen) : std::string();
+  if (d.chosen && chosen_not_measured.empty()) chosen_not_measured = parts_cancel(setup, at_points, setup_terms, *d.chosen, o.threads);
+  if (d.unexplained || !chosen_not_measured.empty()) {
     d.hypotheses = fit_machine_hypotheses(setup, at_points, d.residual_before_um, setup_terms, o, in_scene);
     const bool usable = !d.hypotheses.empty() && d.hypotheses.front().rejected.empty() &&
                         d.hypotheses.front().delta_bic < -o.bic_threshold &&
@@ -768,7 +769,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
       if (hr.excess.empty()) {
         if (d.chosen) { // the library's explanation at its bound becomes the nearest, with why
           d.nearest = d.chosen;
-          d.nearest_rejected = chosen_at_bound;
+          d.nearest_rejected = chosen_not_measured;
           d.chosen.reset();
           d.rivals.clear();
         }
