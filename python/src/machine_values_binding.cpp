@@ -50,7 +50,7 @@ void bind_machine_values(py::module_& m) {
           auto traces = measurement::read_any_traces(file, wb.setup);
           warnings = std::move(traces.warnings);
           flanks = std::move(traces.flanks);
-          curves = measurement::read_klingelnberg(file);
+          curves = std::move(traces.export_file);
           if (!values_file.empty()) {
             machine = measurement::read_klingelnberg_values(values_file);
             if (!machine->unknown_lines.empty())
@@ -58,17 +58,16 @@ void bind_machine_values(py::module_& m) {
                                              fmt::join(machine->unknown_lines, ", ")));
           } else {
             // As the CLI: a value file beside the export is not read unless named (a stale one would be compared).
-            const auto beside_mew = std::filesystem::path(file).replace_extension(".mew");
-            if (std::filesystem::is_regular_file(beside_mew))
+            if (const auto beside_mew = measurement::value_file_beside(file))
               warnings.push_back(fmt::format("{} beside the export is not read: give values=\"{}\" to compare the "
                                              "machine's profile and helix values",
-                                             beside_mew.string(), beside_mew.string()));
+                                             *beside_mew, *beside_mew));
           }
           result = workbench::evaluate_iso(wb.setup.geometry(), wb.setup.ranges(), flanks, iso);
-          if (!curves->pitch.empty()) pitch = workbench::compare_machine_pitch(curves->pitch, result.evaluation);
+          if (curves && !curves->pitch.empty()) pitch = workbench::compare_machine_pitch(curves->pitch, result.evaluation);
           if (machine)
             flank_values = workbench::compare_machine_flank_values(*machine, wb.setup.geometry(), wb.setup.ranges(),
-                                                                   flanks, result.evaluation, &*curves);
+                                                                   flanks, result.evaluation, curves ? &*curves : nullptr);
         }
         if (!warnings.empty()) {
           const auto warn = py::module_::import("warnings").attr("warn");

@@ -127,24 +127,23 @@ void register_evaluate_command(CLI::App& app, Action& action) {
       if (!opt->traces.empty()) {
         refuse_mka_flags_without_export(opt->traces);
         auto traces = measurement::read_any_traces(opt->traces, wb.setup, opt->mka);
-        if (traces.klingelnberg) machine_pitch = measurement::read_klingelnberg(opt->traces).pitch;
+        if (traces.export_file) machine_pitch = traces.export_file->pitch;
         if (!opt->machine_values.empty()) {
           if (!traces.klingelnberg)
             throw CLI::ValidationError("--machine-values",
                                        opt->traces + " is not a Klingelnberg export: the value file evaluates an "
                                                      "export's curves (.mka)");
-          curves = measurement::read_klingelnberg(opt->traces);
+          curves = std::move(traces.export_file);
           machine_values = measurement::read_klingelnberg_values(opt->machine_values);
           if (!machine_values->unknown_lines.empty())
             traces.warnings.push_back(fmt::format("{}: result lines not read (sizes and other codes): {}",
                                                   opt->machine_values, fmt::join(machine_values->unknown_lines, ", ")));
         } else if (traces.klingelnberg) {
           // A value file beside the export is not read unless named: a stale one would be compared silently.
-          auto beside_mew = std::filesystem::path(opt->traces).replace_extension(".mew");
-          if (std::filesystem::is_regular_file(beside_mew))
+          if (const auto beside_mew = measurement::value_file_beside(opt->traces))
             traces.warnings.push_back(fmt::format("{} beside the export is not read: give --machine-values {} to compare "
                                                   "the machine's profile and helix values",
-                                                  beside_mew.string(), beside_mew.string()));
+                                                  *beside_mew, *beside_mew));
         }
         for (const auto& w : traces.warnings) say("geartopo: warning: " + w);
         topo = std::move(traces.flanks);

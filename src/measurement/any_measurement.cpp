@@ -75,8 +75,12 @@ MeasuredTraces read_any_traces(const std::string& file, const grinding::Grinding
   auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "traces file");
   refuse_utf16_stream(in, file);
   t.klingelnberg = looks_like_klingelnberg(in);
-  t.flanks = t.klingelnberg ? klingelnberg_traces(read_klingelnberg(file), g, mka, &t.warnings)
-                            : grinding::read_traces_csv(file, g.teeth());
+  if (t.klingelnberg) {
+    t.export_file = read_klingelnberg(file);
+    t.flanks = klingelnberg_traces(*t.export_file, g, mka, &t.warnings);
+  } else {
+    t.flanks = grinding::read_traces_csv(file, g.teeth());
+  }
   refer_to_design(t.flanks, setup.design());
   return t;
 }

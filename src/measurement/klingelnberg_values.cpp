@@ -7,6 +7,7 @@
 #include "geartopo/measurement/klingelnberg.hpp"
 #include "klingelnberg_text.hpp"
 
+#include <filesystem>
 #include <fmt/format.h>
 
 #include <sstream>
@@ -335,6 +336,13 @@ KlingelnbergValues parse_klingelnberg_values(std::string_view raw, const std::st
   }
   if (first) fail(source, 0, 0, "HEADER", "the file is empty: expected 'HEADER KS.MW.FILE' and result lines");
   return f;
+}
+
+std::optional<std::string> value_file_beside(const std::string& export_file) {
+  const auto beside = std::filesystem::path(export_file).replace_extension(".mew");
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(beside, ec)) return std::nullopt;
+  return beside.string();
 }
 
 KlingelnbergValues read_klingelnberg_values(const std::string& file) {

@@ -11,6 +11,7 @@
 #include "geartopo/measurement/klingelnberg.hpp"
 #include "geartopo/measurement/measured_points.hpp"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,9 @@ struct MeasuredTraces {
   std::vector<grinding::FlankTopology> flanks;
   bool klingelnberg = false;         ///< read from a Klingelnberg export (else a traces CSV)
   std::vector<std::string> warnings; ///< the export reader's findings that are not errors
+  /// The export as read, when it is one: its pitch tables and curves for what the machine evaluated itself
+  /// (workbench::compare_machine_pitch, compare_machine_flank_values), without reading the file again.
+  std::optional<KlingelnbergFile> export_file;
 };
 
 /// A traces CSV (grinding/topology_csv.hpp) or a Klingelnberg export (klingelnberg_traces, read with `mka`), told

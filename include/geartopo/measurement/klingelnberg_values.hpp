@@ -84,4 +84,8 @@ inline constexpr double kMachineNotMeasured = -9999.0, kMachineNotAvailable = 89
 KlingelnbergValues parse_klingelnberg_values(std::string_view text, const std::string& source);
 KlingelnbergValues read_klingelnberg_values(const std::string& file);
 
+/// The value file the machine writes beside an export (same stem, `.mew`) when one is there; callers say it is not
+/// read unless named (a stale one would be compared silently).
+std::optional<std::string> value_file_beside(const std::string& export_file);
+
 } // namespace geartopo::measurement
