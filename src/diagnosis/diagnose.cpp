@@ -640,7 +640,13 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
         return c.effects.size() > d.chosen->effects.size() &&
                (c.delta_bic < d.chosen->delta_bic ||
                 (c.delta_bic < d.chosen->delta_bic + o.bic_threshold && confounded_partner(c, *d.chosen)));
-      return c.delta_bic < d.chosen->delta_bic + o.bic_threshold;
+      // Another physics that loses only on BIC's parameter count is not told apart by these data either: when AIC
+      // (the fit plus 2 per parameter, what the extra parameters buy on noise alone) does not prefer the chosen one,
+      // the penalty is Occam's, not the measurement's (a true thermal drift at 1.5 µm noise on two teeth fits better
+      // than wear, yet pays 2 ln n for a Z growth and a time constant they cannot fix).
+      const double ln_n = std::log(static_cast<double>(pts.size()));
+      const auto aic = [&](const Candidate& x) { return x.delta_bic - x.fitted_parameters() * (ln_n - 2.0); };
+      return c.delta_bic < d.chosen->delta_bic + o.bic_threshold || aic(c) <= aic(*d.chosen);
     };
     for (const auto& c : d.ranked)
       if (rival(c)) d.rivals.push_back(c);
