@@ -6,6 +6,8 @@
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
+#include "example_text.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -36,18 +38,9 @@ gears::GearGeometry example_gear(double mn = 2.0, int z = 24) {
   return gears::GearGeometry(s);
 }
 
-std::string example_text() {
-  std::ifstream in(kExample, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string example_text() { return test::file_text(kExample); }
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return text.replace(at, from.size(), to);
-}
+using test::replaced;
 
 std::string points_error(const std::string& text, const gears::GearGeometry& g) {
   try {

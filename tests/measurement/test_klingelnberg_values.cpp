@@ -4,6 +4,8 @@
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/measurement/klingelnberg_values.hpp"
 
+#include "example_text.hpp"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -17,18 +19,9 @@ namespace values_test {
 
 const std::string kExample = std::string(GEARTOPO_SOURCE_DIR) + "/tests/measurement/data/klingelnberg_example.mew";
 
-std::string example_text() {
-  std::ifstream in(kExample, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string example_text() { return test::file_text(kExample); }
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return at == std::string::npos ? text : text.replace(at, from.size(), to);
-}
+using test::replaced;
 
 std::string error_of(const std::string& text) {
   try {
