@@ -7,6 +7,7 @@
 #include "py_scene.hpp"
 #include "python_progress.hpp"
 
+#include "geartopo/diagnosis/diagnosis_json.hpp"
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/identified_effects.hpp"
@@ -121,7 +122,7 @@ Returns compare.json's content, plus "residuals": residuals.csv's columns as arr
         std::string name;
         const auto pts = measured_points(s, measured, name);
         const auto d = run_diagnosis(s, pts, noise_um, candidates, scene_uncertainty, progress);
-        py::dict out = to_python(report::diagnosis_json(s.source, name, d, diagnosis::mean_allowance_offset_um(s.wb->setup.geometry()))).cast<py::dict>();
+        py::dict out = to_python(diagnosis::diagnosis_json(s.source, name, d, diagnosis::mean_allowance_offset_um(s.wb->setup.geometry()))).cast<py::dict>();
         out["scene_with_effect_yaml"] = py::none();
         if (d.chosen && d.withheld.empty()) {
           const auto identified = diagnosis::identified_effects(d, *d.chosen);
@@ -152,7 +153,7 @@ file `geartopo diagnose` writes), or None when nothing is chosen or it is withhe
         std::string name;
         const auto pts = measured_points(s, measured, name);
         const auto d = run_diagnosis(s, pts, noise_um, {}, false, progress);
-        return to_python(report::plan_json(s.source, name, d));
+        return to_python(diagnosis::plan_json(s.source, name, d));
       },
       py::arg("scene"), py::arg("measured"), py::arg("noise_um") = 0.0, py::arg("progress") = py::none(),
       R"(What to measure next when explanations are within ΔBIC 10 of each other, as `geartopo plan`.

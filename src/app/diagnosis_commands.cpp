@@ -2,6 +2,7 @@
 #include "app/commands.hpp"
 #include "geartopo/core/atomic_file.hpp"
 #include "app/options.hpp"
+#include "geartopo/diagnosis/diagnosis_json.hpp"
 #include "geartopo/report/measurement_report.hpp"
 
 #include "geartopo/diagnosis/compare.hpp"
@@ -167,7 +168,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
       const auto d = diagnosis::diagnose(wb.setup, wb.process(), pts, wb.effect_types(), o);
       progress.finish();
 
-      const nlohmann::json j = report::diagnosis_json(opt->scene, opt->measured, d, diagnosis::mean_allowance_offset_um(wb.setup.geometry()));
+      const nlohmann::json j = diagnosis::diagnosis_json(opt->scene, opt->measured, d, diagnosis::mean_allowance_offset_um(wb.setup.geometry()));
 
       const std::filesystem::path out(opt->out);
       output::write_text_atomically(out / "diagnosis.json", j.dump(2) + "\n");

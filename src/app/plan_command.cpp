@@ -2,6 +2,7 @@
 // "Ambiguity and what to measure next"). Runs the diagnosis and prints/writes its measurement plan.
 #include "app/commands.hpp"
 #include "app/options.hpp"
+#include "geartopo/diagnosis/diagnosis_json.hpp"
 #include "geartopo/report/measurement_report.hpp"
 
 #include "geartopo/core/atomic_file.hpp"
@@ -54,7 +55,7 @@ void register_plan_command(CLI::App& app, Action& action) {
       o.on_candidate_fitted = progress.callback();
       const auto d = diagnosis::diagnose(wb.setup, wb.process(), pts, wb.effect_types(), o);
       progress.finish();
-      const nlohmann::json j = report::plan_json(opt->scene, opt->measured, d);
+      const nlohmann::json j = diagnosis::plan_json(opt->scene, opt->measured, d);
       if (!d.plan) {
         std::cout << (d.chosen ? fmt::format("Not ambiguous: {} is ahead of every other explanation by more than the "
                                              "ΔBIC threshold; nothing more to measure to decide.\n",

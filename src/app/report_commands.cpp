@@ -4,6 +4,7 @@
 #include "geartopo/report/figures.hpp"
 #include "geartopo/report/html_report.hpp"
 #include "geartopo/report/iso_report.hpp"
+#include "geartopo/diagnosis/diagnosis_json.hpp"
 #include "geartopo/report/measurement_report.hpp"
 #include "geartopo/pipeline/pipeline.hpp"
 #include "app/options.hpp"
@@ -82,7 +83,7 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
     output::write_text_atomically(dir / "compare.json", report::compare_json(scene_file, m.file, m.points, m.before).dump(2) + "\n");
     output::write_text_atomically(
         dir / "diagnosis.json",
-        report::diagnosis_json(scene_file, m.file, m.diagnosis, diagnosis::mean_allowance_offset_um(wb.setup.geometry())).dump(2) + "\n");
+        diagnosis::diagnosis_json(scene_file, m.file, m.diagnosis, diagnosis::mean_allowance_offset_um(wb.setup.geometry())).dump(2) + "\n");
   }
   // Only an accepted explanation is added (docs/diagnosis.md: not ambiguous, no value at the end of its range).
   if (r.measurement && r.measurement->diagnosis.chosen && r.measurement->diagnosis.withheld.empty()) {

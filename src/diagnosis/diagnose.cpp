@@ -1,6 +1,7 @@
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/residuals/line_noise.hpp"
 
+#include "diagnosis_dump.hpp"
 #include "effect_fit.hpp"
 #include "machine_hypotheses.hpp"
 #include "setup_terms.hpp"
@@ -951,6 +952,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
     for (const auto& a : d.assumed) list += (list.empty() ? "" : "; ") + a;
     d.verdict += " Set-up values assumed, not measured: " + list + ".";
   }
+  dump_if_asked(d);
   return d;
 }
 

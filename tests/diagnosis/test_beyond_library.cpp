@@ -8,6 +8,7 @@
 // Units: µm (deviations, noise), mm, s, rad (µrad in the case names).
 #include "independent_truth.hpp"
 
+#include "geartopo/diagnosis/diagnosis_json.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/diagnosis/residual_follows.hpp"
@@ -102,7 +103,7 @@ TEST(BeyondLibrary, ASwivelAxisDriftIsNamedAsTheAAxisWithItsRate) {
       EXPECT_NEAR(ch.size * 60e6, rate * 60e6, 2.0 * d.chosen->change_sd.front() * 60e6 + 0.01 * rate * 60e6);
     }
     EXPECT_LT(d.chosen->rms_after_um, 1.3 * 0.5);
-    const auto j = geartopo::report::diagnosis_json("scene.yaml", "measured.csv", d, 0.0);
+    const auto j = geartopo::diagnosis::diagnosis_json("scene.yaml", "measured.csv", d, 0.0);
     EXPECT_TRUE(j["beyond_library"]["chosen"].get<bool>());
     EXPECT_EQ(j["chosen"]["effect"], d.chosen->name());
   }

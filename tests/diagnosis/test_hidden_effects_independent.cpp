@@ -15,6 +15,7 @@
 // is in the library. Ambiguous verdicts are followed literally (the plan's teeth and grid, synthesised here from the
 // same truth with a new seed). Run time: 11 cases × 2 seeds, each one `diagnose` on 252 points (63 on one flank), plus
 // the follow-ups (≈ 60 s wall in Release on the shared machine).
+#include "geartopo/diagnosis/diagnosis_json.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/synth.hpp"
 #include "geartopo/effects/registry.hpp"
@@ -345,7 +346,7 @@ void expect_unexplained_reported_alike(const diagnosis::Diagnosis& d, const std:
   ASSERT_TRUE(d.nearest.has_value()) << name << ": " << d.verdict;
   EXPECT_NE(d.verdict.find("Nearest library explanation: " + d.nearest->name()), std::string::npos) << d.verdict;
   EXPECT_NE(d.verdict.find("rejected: " + d.nearest_rejected), std::string::npos) << d.verdict;
-  const auto j = report::diagnosis_json("scene.yaml", "measured.csv", d, 0.0);
+  const auto j = diagnosis::diagnosis_json("scene.yaml", "measured.csv", d, 0.0);
   EXPECT_TRUE(j["chosen"].is_null()) << name;
   EXPECT_TRUE(j["unexplained"].get<bool>()) << name;
   EXPECT_FALSE(j["ambiguous"].get<bool>()) << name;
