@@ -124,7 +124,7 @@ Returns compare.json's content, plus "residuals": residuals.csv's columns as arr
         const auto d = run_diagnosis(s, pts, noise_um, candidates, scene_uncertainty, progress);
         py::dict out = to_python(diagnosis::diagnosis_json(s.source, name, d, diagnosis::mean_allowance_offset_um(s.wb->setup.geometry()))).cast<py::dict>();
         out["scene_with_effect_yaml"] = py::none();
-        if (d.chosen && d.withheld.empty()) {
+        if (d.chosen && !d.withheld) {
           const auto identified = diagnosis::identified_effects(d, *d.chosen);
           const std::filesystem::path to = yaml_dir.is_none() ? s.dir : yaml_dir.cast<std::filesystem::path>();
           out["scene_with_effect_yaml"] = diagnosis::scene_text_with_effects(

@@ -186,7 +186,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
             params += fmt::format("{} {}  ", p.key, p.determined ? text::with_uncertainty(p.value, p.uncertainty)
                                                                  : std::string("not determined"));
         std::cout << fmt::format("  {:<4} {:<16} {:>9.1f} {:>9.1f}% {:>7.2f} µm  {}{}\n", rank++, c.name(), c.delta_bic,
-                                 100.0 * c.explained_fraction, c.rms_after_um, params, !c.rejected.empty() ? "(rejected: " + c.rejected + ")" : c.significant ? std::string() : std::string("(not significant)"));
+                                 100.0 * c.explained_fraction, c.rms_after_um, params, c.rejection ? "(rejected: " + diagnosis::to_text(*c.rejection) + ")" : c.significant ? std::string() : std::string("(not significant)"));
       }
       if (d.combination)
         std::cout << fmt::format("  combination: {} (ΔBIC {:.1f}, RMS after {:.2f} µm)\n", d.combination->name(),
@@ -197,11 +197,11 @@ void register_diagnose_command(CLI::App& app, Action& action) {
         for (const auto& c : d.hypotheses)
           std::cout << fmt::format("  {:<4} {:<34} {:>9.1f} {:>9.1f}%  {}{}\n", k++, c.name(), c.delta_bic,
                                    100.0 * c.explained_fraction, c.description,
-                                   c.rejected.empty() ? std::string() : " (rejected: " + c.rejected + ")");
+                                   c.rejection ? " (rejected: " + diagnosis::to_text(*c.rejection) + ")" : std::string());
       }
       std::cout << d.verdict << "\n";
-      if (d.chosen && !d.withheld.empty()) {
-        std::cout << "scene_with_effect.yaml not written: " << d.withheld << "\n";
+      if (d.chosen && d.withheld) {
+        std::cout << "scene_with_effect.yaml not written: " << diagnosis::to_text(*d.withheld) << "\n";
         std::cout << "wrote " << (out / "diagnosis.json").string() << "\n";
       } else if (d.chosen) {
         const auto comments = diagnosis::identification_comments(*d.chosen, opt->measured);

@@ -86,7 +86,7 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
         diagnosis::diagnosis_json(scene_file, m.file, m.diagnosis, diagnosis::mean_allowance_offset_um(wb.setup.geometry())).dump(2) + "\n");
   }
   // Only an accepted explanation is added (docs/diagnosis.md: not ambiguous, no value at the end of its range).
-  if (r.measurement && r.measurement->diagnosis.chosen && r.measurement->diagnosis.withheld.empty()) {
+  if (r.measurement && r.measurement->diagnosis.chosen && !r.measurement->diagnosis.withheld) {
     std::vector<std::string> comments;
     for (const auto& e : r.measurement->diagnosis.chosen->effects)
       comments.push_back(e.type + ": identified by geartopo from " + r.measurement->file);

@@ -1,6 +1,7 @@
 // geartopo diagnosis — diagnosis.json and plan.json (diagnosis_json.hpp).
 #include "geartopo/diagnosis/diagnosis_json.hpp"
 
+#include "geartopo/diagnosis/hypothesis_family.hpp"
 #include "geartopo/machine/error_component.hpp"
 
 #include <sstream>
@@ -22,6 +23,34 @@ std::string unit_of_key(const std::string& key) {
       }
   return "";
 }
+
+nlohmann::json decision_json(const Decision& d) {
+  nlohmann::json numbers = nlohmann::json::object();
+  for (const auto& [key, value] : d.numbers) {
+    if (!numbers.contains(key)) numbers[key] = nlohmann::json::array();
+    numbers[key].push_back(value);
+  }
+  // A number named once is a number, one named for each part (parts_cancel's part_rms_um) a list.
+  for (auto& [key, value] : numbers.items())
+    if (value.size() == 1 && d.reason != Reason::parts_cancel) value = value.front();
+  nlohmann::json j{{"reason", to_string(d.reason)}, {"subject", d.subject}, {"names", d.names}, {"numbers", numbers},
+                   {"text", to_text(d)}};
+  if (!d.unit.empty()) j["unit"] = d.unit;
+  if (!d.test.empty()) j["test"] = d.test;
+  return j;
+}
+
+namespace {
+
+nlohmann::json residual_pattern_json(const ResidualPattern& p) {
+  nlohmann::json largest = nlohmann::json::array(), teeth = nlohmann::json::array();
+  for (const auto& s : p.largest)
+    largest.push_back({{"pattern", s.pattern}, {"mean_um", s.mean_um}, {"lo_um", s.lo_um}, {"hi_um", s.hi_um}});
+  for (const auto& [tooth, rms] : p.tooth_rms_um) teeth.push_back({{"tooth", tooth}, {"rms_um", rms}});
+  return {{"largest", largest}, {"flanks", p.flanks}, {"tooth_rms", teeth}};
+}
+
+} // namespace
 
 nlohmann::json candidate_json(const Candidate& c) {
   nlohmann::json j;
@@ -52,11 +81,14 @@ nlohmann::json candidate_json(const Candidate& c) {
       const double scale = machine::file_per_internal(ch.law, q);
       nlohmann::json cj{{"component", machine::info(ch.component).name},
                         {"meaning", machine::info(ch.component).meaning},
-                        {"law", machine::to_string(ch.law)},
+                        {"law", ch.law_name()},
                         {machine::size_key(ch.law, q), ch.size * scale},
                         {"uncertainty", k < c.change_sd.size() ? c.change_sd[k] * scale : 0.0}};
       if (ch.law == machine::ChangeLaw::SteadyState) cj["time_constant_s"] = ch.time_constant_s;
-      if (ch.law == machine::ChangeLaw::OncePerRevolution) cj["phase_deg"] = ch.phase_rad * 180.0 / 3.141592653589793;
+      if (ch.law == machine::ChangeLaw::PerRevolution) {
+        cj["phase_deg"] = ch.phase_rad * 180.0 / 3.141592653589793;
+        cj["order"] = ch.order;
+      }
       changes.push_back(cj);
     }
     j["machine_changes"] = changes;
@@ -65,7 +97,9 @@ nlohmann::json candidate_json(const Candidate& c) {
   if (!c.equivalent.empty()) j["equivalent"] = c.equivalent;
   if (!c.library_equivalent.empty()) j["library_equivalent"] = c.library_equivalent;
   j["explained_fraction"] = c.explained_fraction;
-  j["rejected"] = c.rejected.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.rejected);
+  j["rejected"] = c.rejection ? nlohmann::json(to_text(*c.rejection)) : nlohmann::json(nullptr);
+  j["rejection"] = c.rejection ? decision_json(*c.rejection) : nlohmann::json(nullptr);
+  if (c.family) j["family"] = c.family->name();
   j["rms_before_um"] = c.rms_before_um;
   j["rms_after_um"] = c.rms_after_um;
   j["delta_bic"] = c.delta_bic;
@@ -152,7 +186,7 @@ nlohmann::json diagnosis_json(const std::string& scene, const std::string& measu
   j["unexplained"] = d.unexplained;
   if (d.nearest) {
     j["nearest"] = candidate_json(*d.nearest);
-    j["nearest"]["rejected_because"] = d.nearest_rejected;
+    j["nearest"]["rejected_because"] = d.nearest_rejection ? to_text(*d.nearest_rejection) : std::string();
   } else {
     j["nearest"] = nullptr;
   }
@@ -160,11 +194,32 @@ nlohmann::json diagnosis_json(const std::string& scene, const std::string& measu
   // its degrees of freedom (unit-free; docs/diagnosis.md, "Stroke-to-stroke scatter and the map's uncertainty").
   j["residual_chi2"] = d.chi2_after;
   j["residual_chi2_dof"] = d.chi2_dof;
-  j["residual_pattern"] = d.residual_pattern.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.residual_pattern);
-  j["assumed"] = d.assumed; // set-up values not fitted and not given: the effect's default
-  j["determined_by_the_data"] = d.determined; // when single values are "not determined": what the data do fix
+  j["residual_pattern"] = d.residual_pattern ? nlohmann::json(to_text(*d.residual_pattern)) : nlohmann::json(nullptr);
+  j["residual_pattern_record"] = d.residual_pattern ? residual_pattern_json(*d.residual_pattern) : nlohmann::json(nullptr);
+  // Set-up values not fitted and not given (the effect's default), and what the data do fix when single values are
+  // "not determined": the sentences, and the records they are made of.
+  nlohmann::json assumed = nlohmann::json::array(), assumed_records = nlohmann::json::array();
+  for (const auto& a : d.assumed) {
+    assumed.push_back(to_text(a));
+    assumed_records.push_back({{"effect", a.effect}, {"key", a.key}, {"value", a.value}, {"unit", unit_of_key(a.key)}});
+  }
+  j["assumed"] = assumed;
+  j["assumed_records"] = assumed_records;
+  nlohmann::json fixed = nlohmann::json::array(), fixed_records = nlohmann::json::array();
+  for (const auto& g : d.determined) {
+    fixed.push_back(to_text(g));
+    fixed_records.push_back({{"axis", g.axis}, {"growth_um", g.value_um}, {"growth_sd_um", g.sd_um},
+                             {"from_s", g.from_s}, {"to_s", g.to_s}});
+  }
+  j["determined_by_the_data"] = fixed;
+  j["determined_records"] = fixed_records;
   // scene_with_effect.yaml is written only for an accepted explanation; otherwise why not.
-  j["scene_with_effect_withheld"] = d.withheld.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.withheld);
+  j["scene_with_effect_withheld"] = d.withheld ? nlohmann::json(to_text(*d.withheld)) : nlohmann::json(nullptr);
+  j["rms_after_um"] = d.rms_after_um;
+  // Every decision of the pipeline as a record (docs/diagnosis.md, "The verdict as data").
+  nlohmann::json decisions = nlohmann::json::array();
+  for (const auto& r : d.decisions()) decisions.push_back(decision_json(r));
+  j["decisions"] = decisions;
   j["verdict"] = d.verdict;
 
   return j;

@@ -64,7 +64,8 @@ diagnosis::Diagnosis diagnose_points(const std::vector<measurement::MeasuredPoin
   if (std::getenv("GEARTOPO_TEST_VERBOSE")) o.hypotheses_listed = 1000;
   auto d = diagnosis::diagnose(bench().setup, bench().process(), pts, bench().effect_types(), o);
   if (std::getenv("GEARTOPO_TEST_VERBOSE"))
-    for (const auto& h : d.hypotheses) std::cout << h.name() << " " << h.delta_bic << " " << h.description << " " << h.rejected << "\n";
+    for (const auto& h : d.hypotheses) std::cout << h.name() << " " << h.delta_bic << " " << h.description << " "
+                << (h.rejection ? diagnosis::to_text(*h.rejection) : std::string()) << "\n";
   return d;
 }
 
@@ -213,7 +214,7 @@ TEST(BeyondLibrary, TheNamedChangeWrittenIntoTheSceneTakesTheResidualToTheNoise)
   const auto pts = measure_with(two_teeth(), hidden, 0.5, 61);
   const auto d = diagnose_points(pts, 0.5);
   ASSERT_TRUE(d.beyond_library) << d.verdict;
-  ASSERT_TRUE(d.withheld.empty()) << d.withheld;
+  ASSERT_FALSE(d.withheld) << diagnosis::to_text(*d.withheld);
   const auto dir = std::filesystem::temp_directory_path() / "geartopo_beyond_library";
   std::filesystem::create_directories(dir);
   const auto out = dir / "scene_with_effect.yaml";
@@ -477,11 +478,12 @@ TEST(DeterminedByTheData, AThermalDriftWhoseTimeConstantIsOpenStillFixesItsGrowt
     }
     ++open_cases;
     ASSERT_EQ(d.determined.size(), 2u);
-    // "X grew by +5.8 ± 0.3 µm between 0.0 and 9.4 min": the value and its σ read back from the sentence.
-    double value = 0.0, sd = 0.0;
-    ASSERT_EQ(std::sscanf(d.determined.front().c_str(), "X grew by %lf ± %lf", &value, &sd), 2) << d.determined.front();
-    EXPECT_LT(sd, 1.0);
-    EXPECT_NEAR(value, truth, 2.0 * sd + 0.05) << d.determined.front();
+    // "X grew by +5.8 ± 0.3 µm between 0.0 and 9.4 min": the record, and its sentence.
+    const auto& growth = d.determined.front();
+    EXPECT_EQ(growth.axis, "X");
+    EXPECT_LT(growth.sd_um, 1.0);
+    EXPECT_NEAR(growth.value_um, truth, 2.0 * growth.sd_um + 0.05) << diagnosis::to_text(growth);
+    EXPECT_EQ(diagnosis::to_text(growth).rfind("X grew by ", 0), 0u);
     EXPECT_NE(d.verdict.find("the data fix: X grew by"), std::string::npos);
   }
   EXPECT_GE(open_cases, 2);
@@ -534,7 +536,8 @@ TEST(BeyondLibrary, TwoMachineElementsWithinTenAreAmbiguousAndThePlannedTeethDec
     ASSERT_TRUE(d.beyond_library);
     ASSERT_FALSE(d.rivals.empty());
     EXPECT_NE(d.verdict.find("Ambiguous between " + d.chosen->name()), std::string::npos);
-    EXPECT_FALSE(d.withheld.empty()); // nothing written into the scene while ambiguous
+    ASSERT_TRUE(d.withheld); // nothing written into the scene while ambiguous
+    EXPECT_EQ(d.withheld->reason, diagnosis::Reason::ambiguous);
     std::vector<std::string> named = named_class(d);
     for (const auto& r : d.rivals) named.push_back(r.name());
     EXPECT_TRUE(lists(named, "E_BOC constant"));
@@ -557,7 +560,7 @@ TEST(BeyondLibrary, TwoMachineElementsWithinTenAreAmbiguousAndThePlannedTeethDec
     ASSERT_TRUE(after.beyond_library);
     EXPECT_TRUE(lists(named_class(after), "E_BOC constant"));
     EXPECT_TRUE(after.rivals.empty());
-    EXPECT_TRUE(after.withheld.empty());
+    EXPECT_FALSE(after.withheld);
   }
 }
 

@@ -13,6 +13,8 @@ namespace geartopo::diagnosis {
 /// The unit of a parameter key: from its first unit token to the end ("wear_um_per_stroke" → "um_per_stroke",
 /// "x_growth_um" → "um", "dressing_interval_strokes" → "strokes"); empty when it names none.
 std::string unit_of_key(const std::string& key);
+/// A decision record: {"reason", "subject", "names", "numbers": {key: value or [values]}, "unit"?, "test"?, "text"}.
+nlohmann::json decision_json(const Decision& d);
 /// One explanation: effect(s), parameters with value, uncertainty, unit, fitted; scores.
 nlohmann::json candidate_json(const Candidate& c);
 /// What to measure next: the competing explanations, the recommended teeth and every unmeasured tooth's separation.
