@@ -74,7 +74,8 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
                                                ? beyond.best
                                                : judgement.pick;
   stages::Plans plans = stages::make_plans(ctx, chosen, alternatives);
-  Diagnosis d = stages::compose(ctx, library, pairs, judgement, beyond, alternatives, std::move(plans));
+  auto draws = stages::posterior_draws(ctx, chosen);
+  Diagnosis d = stages::compose(ctx, library, pairs, judgement, beyond, alternatives, std::move(plans), std::move(draws));
   dump_if_asked(d);
   return d;
 }

@@ -2,6 +2,7 @@
 #include "geartopo/diagnosis/diagnosis_json.hpp"
 
 #include "geartopo/diagnosis/hypothesis_family.hpp"
+#include "geartopo/effects/registry.hpp"
 #include "geartopo/machine/error_component.hpp"
 
 #include <sstream>
@@ -216,6 +217,24 @@ nlohmann::json diagnosis_json(const std::string& scene, const std::string& measu
   // scene_with_effect.yaml is written only for an accepted explanation; otherwise why not.
   j["scene_with_effect_withheld"] = d.withheld ? nlohmann::json(to_text(*d.withheld)) : nlohmann::json(nullptr);
   j["rms_after_um"] = d.rms_after_um;
+  // What the data determine when the chosen explanation's single values are open: its posterior as value sets, per
+  // effect {"type", "values": {key: [draw 1, draw 2, …]}} (docs/diagnosis.md, "What the data determine").
+  if (d.draws && d.chosen) {
+    nlohmann::json effects = nlohmann::json::array();
+    for (size_t e = 0; e < d.draws->values.size() && e < d.chosen->effects.size(); ++e) {
+      const auto& m = d.draws->values[e];
+      nlohmann::json values = nlohmann::json::object();
+      const auto params = effects::make_effect(d.chosen->effects[e].type)->parameters();
+      for (Eigen::Index c = 0; c < m.cols() && c < static_cast<Eigen::Index>(params.size()); ++c)
+        values[params[static_cast<size_t>(c)].key] = std::vector<double>(m.col(c).data(), m.col(c).data() + m.rows());
+      effects.push_back({{"type", d.chosen->effects[e].type}, {"values", values}});
+    }
+    j["posterior_draws"] = {{"draws", d.draws->values.empty() ? 0 : d.draws->values.front().rows()},
+                            {"grid_points", d.draws->grid_points},
+                            {"effects", effects}};
+  } else {
+    j["posterior_draws"] = nullptr;
+  }
   // Every decision of the pipeline as a record (docs/diagnosis.md, "The verdict as data").
   nlohmann::json decisions = nlohmann::json::array();
   for (const auto& r : d.decisions()) decisions.push_back(decision_json(r));

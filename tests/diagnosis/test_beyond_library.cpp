@@ -8,6 +8,8 @@
 // Units: µm (deviations, noise), mm, s, rad (µrad in the case names).
 #include "independent_truth.hpp"
 
+#include "geartopo/effects/registry.hpp"
+
 #include "geartopo/diagnosis/diagnosis_json.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
@@ -485,6 +487,31 @@ TEST(DeterminedByTheData, AThermalDriftWhoseTimeConstantIsOpenStillFixesItsGrowt
     EXPECT_NEAR(growth.value_um, truth, 2.0 * growth.sd_um + 0.05) << diagnosis::to_text(growth);
     EXPECT_EQ(diagnosis::to_text(growth).rfind("X grew by ", 0), 0u);
     EXPECT_NE(d.verdict.find("the data fix: X grew by"), std::string::npos);
+    // The posterior's draws (what the scene carries instead of σ): every draw inside the allowed ranges (τ > 0), the
+    // growth over the measured window the same in every draw to its σ, the time constant spread over its range.
+    ASSERT_TRUE(d.draws.has_value());
+    ASSERT_EQ(d.draws->values.size(), 1u);
+    const Eigen::MatrixXd& v = d.draws->values.front();
+    const auto params = effects::make_effect("thermal_drift")->parameters();
+    const auto column = [&](const std::string& key) {
+      for (size_t k = 0; k < params.size(); ++k)
+        if (params[k].key == key) return static_cast<Eigen::Index>(k);
+      throw std::out_of_range(key);
+    };
+    const Eigen::Index ix = column("x_growth_um"), itau = column("time_constant_s");
+    for (Eigen::Index k = 0; k < v.rows(); ++k)
+      for (Eigen::Index c = 0; c < v.cols(); ++c) {
+        EXPECT_GE(v(k, c), params[static_cast<size_t>(c)].lo);
+        EXPECT_LE(v(k, c), params[static_cast<size_t>(c)].hi);
+      }
+    Eigen::VectorXd drawn_growth(v.rows());
+    for (Eigen::Index k = 0; k < v.rows(); ++k)
+      drawn_growth(k) = v(k, ix) * (std::exp(-t1 / v(k, itau)) - std::exp(-t2 / v(k, itau)));
+    const double mean = drawn_growth.mean();
+    const double sd = std::sqrt((drawn_growth.array() - mean).square().sum() / static_cast<double>(v.rows() - 1));
+    EXPECT_NEAR(mean, truth, 2.0 * growth.sd_um + 0.05);
+    EXPECT_LT(sd, 2.0 * growth.sd_um + 0.05);
+    EXPECT_GT(v.col(itau).maxCoeff() / v.col(itau).minCoeff(), 2.0); // open: spread over its range
   }
   EXPECT_GE(open_cases, 2);
 }

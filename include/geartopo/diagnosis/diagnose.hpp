@@ -291,6 +291,20 @@ struct ResidualPattern {
   std::vector<std::pair<int, double>> tooth_rms_um; ///< (tooth, RMS in µm), by tooth
 };
 
+/// What the data determine of the chosen library explanation when its single values are not all determined
+/// (FittedParameter::determined; docs/diagnosis.md, "What the data determine, into the scene"): equally likely value
+/// sets drawn from the fit's posterior. Every parameter the deviation depends on nonlinearly (a time constant) on a
+/// grid over its allowed range — log-spaced when the range is positive, with a log-uniform prior — weighted by
+/// exp(−ΔRSS/2σ̂²); the linear parameters (ParameterSpec::linear) from their Gaussian given it, within their allowed
+/// ranges. So a draw is a whole explanation that fits the measurement, and what the data fix (a thermal drift's growth
+/// over the measured window) is fixed in every draw, while what they leave open (its time constant) spans its range.
+struct PosteriorDraws {
+  /// Per effect of the chosen explanation (its order): draws × values, every value of the effect in parameter order
+  /// (file units); the same row of every effect is one draw.
+  std::vector<Eigen::MatrixXd> values;
+  int grid_points = 0; ///< grid points per nonlinear parameter (count); 0: none, the draws are Gaussian
+};
+
 struct Diagnosis {
   int points = 0;
   double noise_um = 0.0;
@@ -315,6 +329,9 @@ struct Diagnosis {
   /// What the data do fix when single values of the chosen explanation are "not determined". Empty when every value
   /// is determined.
   std::vector<DeterminedGrowth> determined;
+  /// The chosen library explanation drawn from its posterior when its single values are not all determined: what
+  /// scene_with_effect.yaml carries instead of a standard uncertainty. None otherwise.
+  std::optional<PosteriorDraws> draws;
   /// Why `chosen` is not to be added to the scene (scene_with_effect.yaml is then not written): ambiguous, or a fitted
   /// parameter at the end of its allowed range (the fit pushed against its box: the value is no measurement). None:
   /// accepted, add it.

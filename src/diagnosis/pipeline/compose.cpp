@@ -146,7 +146,7 @@ std::vector<Candidate> hypotheses_as_listed(const Context& ctx, const BeyondLibr
 } // namespace
 
 Diagnosis compose(const Context& ctx, const LibraryFits& library, const PairFits& pairs, const LibraryJudgement& j,
-                  const BeyondLibrary& b, const Alternatives& a, Plans plans) {
+                  const BeyondLibrary& b, const Alternatives& a, Plans plans, std::optional<PosteriorDraws> draws) {
   Diagnosis d;
   d.points = static_cast<int>(ctx.points.size());
   d.noise_um = ctx.noise_um, d.noise_estimated = ctx.noise_estimated;
@@ -187,6 +187,7 @@ Diagnosis compose(const Context& ctx, const LibraryFits& library, const PairFits
     d.withheld = at_the_end_of_its_range(*d.chosen);
   d.assumed = assumed_values(d);
   if (d.chosen) d.determined = thermal_growth_determined(*d.chosen, ctx.first_time_s, ctx.last_time_s);
+  d.draws = std::move(draws);
   d.verdict = verdict_text(d, ctx.options);
   return d;
 }

@@ -3,11 +3,14 @@
 // value; none changes another's result. The outcome (compose.cpp) assembles the Diagnosis from them and the verdict's
 // sentences are composed from its records in one place (verdict_text.cpp).
 //
-//   Context ─► fit_library ─► fit_pairs ─► judge_library ─► try_families ─► find_alternatives ─► make_plans ─► compose
-//   (residual,   (each effect   (pairs of    (the pick        (the families    (rivals, look-alikes, (what to      (records,
-//    noise,       alone)         favoured     against the      beyond the       equivalence          measure)      verdict)
+//   Context ─► fit_library ─► fit_pairs ─► judge_library ─► try_families ─► find_alternatives ─► make_plans ─►
+//   (residual,   (each effect   (pairs of    (the pick        (the families    (rivals, look-alikes, (what to
+//    noise,       alone)         favoured     against the      beyond the       equivalence          measure)
 //    set-up                      effects)     noise)           library)         classes)
 //    terms)
+//   ─► posterior_draws ─► compose
+//      (what the data     (records,
+//       determine)         verdict)
 //
 // Units: µm for residuals and fields; parameters in their own units (their keys).
 #pragma once
@@ -169,10 +172,14 @@ struct Plans {
 };
 Plans make_plans(const Context& ctx, const std::optional<Candidate>& chosen, const Alternatives& alternatives);
 
-/// Stage 7: the Diagnosis with its records, from every stage's result; the verdict composed from them.
+/// Stage 7: what the data determine of the chosen library explanation when its single values are not all
+/// determined — its posterior as equally likely value sets (posterior.cpp); none otherwise.
+std::optional<PosteriorDraws> posterior_draws(const Context& ctx, const std::optional<Candidate>& chosen);
+
+/// Stage 8: the Diagnosis with its records, from every stage's result; the verdict composed from them.
 Diagnosis compose(const Context& ctx, const LibraryFits& library, const PairFits& pairs,
                   const LibraryJudgement& judgement, const BeyondLibrary& beyond, const Alternatives& alternatives,
-                  Plans plans);
+                  Plans plans, std::optional<PosteriorDraws> draws);
 
 /// The verdict paragraph from a Diagnosis' records (verdict_text.cpp), the one place the sentences are made.
 std::string verdict_text(const Diagnosis& d, const DiagnoseOptions& options);
