@@ -1,6 +1,6 @@
 // geartopo compare: measured − model, where the model fails, and the residual's patterns.
 #include "app/commands.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "app/options.hpp"
 
 #include "geartopo/diagnosis/compare.hpp"

@@ -1,5 +1,5 @@
 #include "app/commands.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/report/iso_report.hpp"
 #include "geartopo/core/units.hpp"
 #include "app/options.hpp"

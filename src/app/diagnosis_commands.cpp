@@ -1,6 +1,7 @@
 // geartopo synth / diagnose: synthetic measurements with hidden effects, and finding what a model is missing.
 #include "app/commands.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
+#include "geartopo/files/input_registry.hpp"
 #include "app/options.hpp"
 #include "geartopo/report/measurement_report.hpp"
 

@@ -1,5 +1,5 @@
 #include "app/commands.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/report/iso_report.hpp"
 #include "geartopo/report/machine_values_report.hpp"

@@ -1,6 +1,6 @@
 #include "app/commands.hpp"
 #include "app/options.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/input_registry.hpp"
 #include "geartopo/report/gear_report.hpp"
 
 #include "geartopo/scene/scene.hpp"

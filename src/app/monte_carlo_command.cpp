@@ -5,7 +5,7 @@
 #include "app/monte_carlo_flags.hpp"
 #include "app/options.hpp"
 
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/core/text_field.hpp"
 #include "geartopo/report/prediction_report.hpp"
 

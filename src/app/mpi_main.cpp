@@ -5,7 +5,7 @@
 #include "app/commands.hpp"
 #include "app/mpi_driver.hpp"
 #include "app/options.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/termination.hpp"
 
 #include <CLI/CLI.hpp>
 

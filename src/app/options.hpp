@@ -2,7 +2,7 @@
 // the options that several commands take.
 #pragma once
 
-#include "geartopo/core/output_folder.hpp"
+#include "geartopo/files/output_folder.hpp"
 #include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/measurement/klingelnberg.hpp"
 #include "geartopo/pipeline/monte_carlo.hpp"

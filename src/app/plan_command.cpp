@@ -4,7 +4,7 @@
 #include "app/options.hpp"
 #include "geartopo/report/measurement_report.hpp"
 
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/measurement/klingelnberg.hpp"
 #include "geartopo/workbench/workbench.hpp"

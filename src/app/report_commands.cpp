@@ -1,6 +1,6 @@
 // geartopo report / run: the report, and the main job (everything, with a short summary).
 #include "app/commands.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/report/figures.hpp"
 #include "geartopo/report/html_report.hpp"
 #include "geartopo/report/iso_report.hpp"

@@ -1,6 +1,6 @@
 // geartopo — CSV error-table reader with located messages. Units: file units in, mm and rad out.
 #include "geartopo/machine/error_table.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 
 #include "geartopo/core/text_field.hpp"
 

@@ -1,9 +1,9 @@
 #include "geartopo/pipeline/monte_carlo.hpp"
 
 #include "geartopo/compensation/compensator.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/core/input_error.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 #include "geartopo/core/parallel.hpp"
 #include "geartopo/core/text_field.hpp"
 #include "geartopo/core/units.hpp"

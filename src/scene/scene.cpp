@@ -1,7 +1,7 @@
 #include "geartopo/scene/scene.hpp"
 
 #include "geartopo/machine/component_change.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/core/field_error.hpp"

@@ -1,7 +1,7 @@
 // Issue 18, "nothing lost": output files are written to a temporary beside them and renamed only when complete. A
 // write error (a full disk, simulated with a file-size limit, which works for root too, unlike a read-only folder)
 // gives OutputError naming the file and leaves nothing partial under the final name.
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,10 +3,11 @@
 // Issue 18, "a run writes into its folder only what it produced", and "no temporary is left after a kill": the output
 // folder's manifest and the clean-up of dead processes' temporaries, and the signal-time removal of temporaries in
 // progress. Expected states are written out by hand: which names must exist after each step.
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
+#include "geartopo/files/termination.hpp"
 #include "geartopo/core/input_error.hpp"
-#include "geartopo/core/input_file.hpp"
-#include "geartopo/core/output_folder.hpp"
+#include "geartopo/files/input_file.hpp"
+#include "geartopo/files/output_folder.hpp"
 
 #include <gtest/gtest.h>
 

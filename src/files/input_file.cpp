@@ -1,8 +1,8 @@
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 
-#include "geartopo/core/atomic_file.hpp"
 #include "geartopo/core/input_error.hpp"
-#include "geartopo/core/output_folder.hpp"
+#include "geartopo/files/input_registry.hpp"
+#include "geartopo/files/output_folder.hpp"
 
 #include <fmt/format.h>
 
@@ -46,7 +46,7 @@ std::uintmax_t check_regular_file(const std::filesystem::path& file, std::uintma
   const auto size = static_cast<std::uintmax_t>(st.st_size);
   if (size > max_bytes)
     fail(file, fmt::format("is {} bytes, more than the {} bytes a {} may have", size, max_bytes, what));
-  output::note_input(file); // no output of this run may replace it (atomic_file.hpp)
+  output::note_input(file); // no output of this run may replace it (input_registry.hpp)
   return size;
 }
 
