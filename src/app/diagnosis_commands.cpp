@@ -2,7 +2,13 @@
 #include "app/commands.hpp"
 #include "geartopo/files/atomic_write.hpp"
 #include "geartopo/files/input_registry.hpp"
-#include "app/options.hpp"
+#include "app/json_summary.hpp"
+#include "app/measurement_options.hpp"
+#include "app/messages.hpp"
+#include "app/parsers.hpp"
+#include "app/progress.hpp"
+#include "app/validators.hpp"
+#include "geartopo/files/output_folder.hpp"
 #include "geartopo/report/measurement_report.hpp"
 
 #include "geartopo/diagnosis/compare.hpp"
@@ -129,7 +135,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
     double noise = 0.0;
     bool json = false, scene_uncertainty = false;
     std::vector<std::string> candidates;
-    measurement::KlingelnbergOptions mka;
+    KlingelnbergFlags mka;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("diagnose", "Which physical effect is the model missing? Fits every library effect "

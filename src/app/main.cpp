@@ -1,6 +1,6 @@
 // geartopo — command-line entry. Exit codes: 0 success, 1 bad input, 2 bad usage.
 #include "app/commands.hpp"
-#include "app/options.hpp"
+#include "app/messages.hpp"
 #include "geartopo/files/termination.hpp"
 
 #include <CLI/CLI.hpp>

@@ -1,9 +1,9 @@
-// geartopo merge, and the Monte Carlo flags that compensate and run share (docs/monte-carlo.md): --samples, --seed,
-// --shard i/n. A shard writes its raw samples (prediction_samples.csv); merge combines the shards' files into the
-// same prediction a single run writes, bit for bit.
-#include "app/commands.hpp"
+// The Monte Carlo flags that compensate, run and report share (monte_carlo_flags.hpp, docs/monte-carlo.md), the
+// in-process driver, and the prediction files they write.
 #include "app/monte_carlo_flags.hpp"
-#include "app/options.hpp"
+
+#include "app/messages.hpp"
+#include "app/validators.hpp"
 
 #include "geartopo/files/atomic_write.hpp"
 #include "geartopo/core/text_field.hpp"
@@ -198,36 +198,6 @@ void write_prediction(const std::filesystem::path& dir, const pipeline::MonteCar
   std::string text;
   for (const auto& l : report::prediction_lines(s)) text += l + "\n";
   output::write_text_atomically(dir / "prediction.txt", text);
-}
-
-void register_merge_command(CLI::App& app, Action& action) {
-  struct Options {
-    std::vector<std::string> parts;
-    std::string out;
-  };
-  auto opt = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand("merge", "Combine the Monte Carlo shards' prediction_samples.csv into one prediction "
-                                              "(prediction.json, prediction.txt, prediction_samples.csv)");
-  cmd->add_option("PARTS", opt->parts, "Partial results (prediction_samples.csv of each shard)")->required();
-  cmd->add_option("--out", opt->out, "Output directory (created)")->required()->check(non_empty_path());
-  cmd->callback([&action, opt] {
-    action = [opt] {
-      const output::RunFiles files{{opt->parts.begin(), opt->parts.end()},
-                                   {"prediction_samples.csv", "prediction.json", "prediction.txt"}};
-      output::OutputFolder folder(opt->out, files); // locked and staged before any work: a second run is refused now
-      std::vector<pipeline::MonteCarloRun> runs;
-      for (const auto& p : opt->parts) runs.push_back(pipeline::read_run_csv(p));
-      const auto merged = pipeline::merge_runs(std::move(runs));
-      const auto summary = pipeline::summarise(merged);
-      const std::filesystem::path out(opt->out);
-      pipeline::write_run_csv(out / "prediction_samples.csv", merged);
-      write_prediction(out, summary);
-      for (const auto& l : report::prediction_lines(summary)) std::cout << l << "\n";
-      std::cout << "wrote " << out.string() << "/prediction.json, prediction.txt, prediction_samples.csv\n";
-      finish_output_folder(folder);
-      return 0;
-    };
-  });
 }
 
 } // namespace geartopo::app
