@@ -1,13 +1,10 @@
 #include "geartopo/pipeline/monte_carlo.hpp"
 
 #include "geartopo/compensation/compensator.hpp"
-#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/files/input_file.hpp"
 #include "geartopo/core/parallel.hpp"
-#include "geartopo/core/text_field.hpp"
 #include "geartopo/core/units.hpp"
-#include "geartopo/evaluation/tolerances.hpp"
 #include "geartopo/pipeline/topology_sensitivities.hpp"
 
 #include "sample_model.hpp"
@@ -23,122 +20,9 @@
 #include <memory>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
 namespace geartopo::pipeline {
-namespace {
-
-std::string_view ascii_name(evaluation::Quantity q) {
-  using evaluation::Quantity;
-  switch (q) {
-  case Quantity::SinglePitch: return "f_p";
-  case Quantity::CumulativePitch: return "F_p";
-  case Quantity::ProfileSlope: return "f_Halpha";
-  case Quantity::ProfileForm: return "f_falpha";
-  case Quantity::ProfileTotal: return "F_alpha";
-  case Quantity::HelixSlope: return "f_Hbeta";
-  case Quantity::HelixForm: return "f_fbeta";
-  case Quantity::HelixTotal: return "F_beta";
-  case Quantity::Runout: return "F_r";
-  }
-  return "?";
-}
-
-constexpr evaluation::Quantity kAllQuantities[] = {
-    evaluation::Quantity::SinglePitch, evaluation::Quantity::CumulativePitch, evaluation::Quantity::ProfileSlope,
-    evaluation::Quantity::ProfileForm,  evaluation::Quantity::ProfileTotal,    evaluation::Quantity::HelixSlope,
-    evaluation::Quantity::HelixForm,    evaluation::Quantity::HelixTotal,      evaluation::Quantity::Runout};
-
-// What a quantity of gear_quantities can physically be: the check read_run_csv makes on every value of a shard.
-struct QuantityRule {
-  enum class Kind { IsoClass, Magnitude, Signed } kind;
-  // "" when v is allowed; else why not (follows the value in the message).
-  std::string refusal(double v) const {
-    switch (kind) {
-    case Kind::IsoClass:
-      if (v != std::floor(v) || v < evaluation::kFinestClass || v > evaluation::kWorseThanClass11)
-        return fmt::format("is not a class of ISO 1328-1: a whole number of {} … {} ({}: worse than class {})",
-                           evaluation::kFinestClass, evaluation::kCoarsestClass, evaluation::kWorseThanClass11,
-                           evaluation::kCoarsestClass);
-      return {};
-    case Kind::Magnitude:
-      if (v < 0.0) return "µm is negative: an ISO deviation or largest |deviation| is a magnitude, ≥ 0";
-      [[fallthrough]];
-    case Kind::Signed:
-      if (std::abs(v) > kMaxQuantityUm)
-        return fmt::format("µm is beyond ±{} µm, more than a ground gear deviates (a wrong unit or an edited file)",
-                           kMaxQuantityUm);
-      return {};
-    }
-    return {};
-  }
-};
-
-std::optional<QuantityRule> rule_of(const std::string& name) {
-  using K = QuantityRule::Kind;
-  if (name == "overall_class") return QuantityRule{K::IsoClass};
-  if (name == "largest_abs_um") return QuantityRule{K::Magnitude};
-  if (name == "thickness_um" || name == "rotation_um") return QuantityRule{K::Signed};
-  for (const auto q : kAllQuantities) {
-    if (name == fmt::format("{}_um", ascii_name(q))) return QuantityRule{K::Magnitude}; // |worst value| (gear_quantities)
-    if (name == fmt::format("{}_class", ascii_name(q))) return QuantityRule{K::IsoClass};
-  }
-  return std::nullopt;
-}
-
-std::vector<std::string> known_quantity_names() {
-  std::vector<std::string> out;
-  for (const auto q : kAllQuantities) {
-    out.push_back(fmt::format("{}_um", ascii_name(q)));
-    out.push_back(fmt::format("{}_class", ascii_name(q)));
-  }
-  for (const char* n : {"overall_class", "largest_abs_um", "thickness_um", "rotation_um"}) out.emplace_back(n);
-  return out;
-}
-
-
-} // namespace
-
-GearQuantities gear_quantities(const workbench::IsoResult& iso, const std::vector<grinding::FlankTopology>& topo) {
-  GearQuantities g;
-  const auto add = [&g](std::string name, double v) {
-    g.names.push_back(std::move(name));
-    g.values.push_back(v);
-  };
-  const auto& c = iso.evaluation.classification;
-  for (const auto& q : c.quantities) {
-    // |value|: the worst slope's sign flips with the flank that is worst, which would split one band in two; the
-    // class is judged by |value| too (evaluation/gear_evaluation.hpp, QuantityClass).
-    add(fmt::format("{}_um", ascii_name(q.quantity)), std::abs(q.worst_value_um));
-    if (q.flank_class) add(fmt::format("{}_class", ascii_name(q.quantity)), *q.flank_class);
-  }
-  if (c.overall) add("overall_class", *c.overall);
-  add("largest_abs_um", grinding::largest_abs_deviation_um(topo));
-  std::map<int, std::pair<double, double>> mean_by_tooth; // tooth → (left, right) mean grid deviation
-  std::map<int, int> sides;
-  for (const auto& ft : topo) {
-    if (ft.grid.empty()) continue;
-    double sum = 0.0;
-    for (const auto& p : ft.grid) sum += p.deviation_um;
-    auto& m = mean_by_tooth[ft.tooth];
-    (ft.flank == Flank::Left ? m.first : m.second) = sum / static_cast<double>(ft.grid.size());
-    ++sides[ft.tooth];
-  }
-  double thickness = 0.0, rotation = 0.0;
-  int teeth = 0;
-  for (const auto& [tooth, m] : mean_by_tooth) {
-    if (sides[tooth] != 2) continue;
-    thickness += m.first + m.second;
-    rotation += 0.5 * (m.first - m.second);
-    ++teeth;
-  }
-  if (teeth > 0) {
-    add("thickness_um", thickness / teeth);
-    add("rotation_um", rotation / teeth);
-  }
-  return g;
-}
 
 std::map<int, machine::Vector5d> draw_stroke_offsets(const std::set<int>& spaces, const machine::Vector5d& repeatability_sd,
                                                      const std::function<double()>& standard_normal) {
@@ -571,15 +455,6 @@ AfterLimit after_limit(const MonteCarloSummary& s) {
   return out;
 }
 
-std::optional<std::string> quantity_value_refusal(const std::string& name, double value) {
-  const auto rule = rule_of(name);
-  if (!rule)
-    return fmt::format("'{}' is not a quantity geartopo writes ({})", text::excerpt(name), fmt::join(known_quantity_names(), ", "));
-  if (!std::isfinite(value)) return fmt::format("{} is not a finite number", value);
-  if (const std::string why = rule->refusal(value); !why.empty()) return fmt::format("{:.6g} {}", value, why);
-  return std::nullopt;
-}
-
 std::string gear_record(const gears::GearSpec& spec) {
   return fmt::format("teeth={} normal_module_mm={:.9g} normal_pressure_angle_deg={:.9g} helix_angle_deg={:.9g} "
                      "profile_shift={:.9g} face_width_mm={:.9g}",
@@ -602,196 +477,6 @@ std::string scene_fingerprint(const workbench::Workbench& wb, const std::string&
     add(input::read_input_file(table, input::kMaxErrorTableBytes, "error table"));
   add(options);
   return fmt::format("{:016x}", h);
-}
-
-void write_run_csv(const std::filesystem::path& file, const MonteCarloRun& run) {
-  output::write_atomically(file, [&](std::ostream& out) {
-    out << "# geartopo Monte Carlo partial result (docs/monte-carlo.md); merge with: geartopo merge\n";
-    out << "# samples_total: " << run.samples_total << "\n# seed: " << run.seed << "\n";
-    out << "# iso_direction: " << evaluation::to_string(run.iso.direction)
-        << "\n# helix_slope_sign: " << evaluation::to_string(run.iso.helix_slope_sign) << "\n";
-    out << fmt::format("# probe_noise_um: {}\n", run.probe_noise_um);
-    out << "# sampling: " << run.sampling.method << "\n# sampling_reason: " << run.sampling.reason << "\n";
-    out << fmt::format("# linear_check_samples: {}\n# linear_check_points_um: {}\n# linear_check_quantities_um: {}\n",
-                       run.sampling.checked_samples, run.sampling.largest_point_difference_um,
-                       run.sampling.largest_quantity_difference_um);
-    if (!run.scene_fingerprint.empty()) out << "# scene_fingerprint: " << run.scene_fingerprint << "\n";
-    if (!run.gear.empty()) out << "# gear: " << run.gear << "\n";
-    out << "sample";
-    for (const auto& n : run.names) out << ",before." << n;
-    for (const auto& n : run.names) out << ",after." << n;
-    for (const auto& w : run.without)
-      for (const auto& n : run.names) out << ",without_" << w << "." << n;
-    out << "\n";
-    for (const auto& s : run.samples) {
-      out << s.index;
-      for (double v : s.before) out << fmt::format(",{}", v); // shortest form that reads back to the same double
-      for (double v : s.after) out << fmt::format(",{}", v);
-      for (const auto& w : s.after_without)
-        for (double v : w) out << fmt::format(",{}", v);
-      out << "\n";
-    }
-  });
-}
-
-MonteCarloRun read_run_csv(const std::filesystem::path& file) {
-  const std::string text = input::read_input_file(file, input::kMaxMeasurementBytes, "Monte Carlo partial result");
-  const std::string name = file.string();
-  MonteCarloRun run;
-  run.source = name;
-  bool have_total = false, have_seed = false, have_header = false;
-  std::vector<QuantityRule> rules; // per name
-  std::istringstream in(text);
-  std::string line;
-  int line_no = 0;
-  const auto fail = [&](int column, const std::string& field, const std::string& message) {
-    throw InputError(SourcePosition{name, line_no, column}, field, message);
-  };
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::string_view view(line);
-    if (line_no == 1) text::strip_bom(view);
-    if (view.empty()) continue;
-    if (view.front() == '#') {
-      const auto take = [&](std::string_view key, auto& value, bool& have) {
-        if (view.substr(0, key.size()) != key) return;
-        const auto rest = view.substr(key.size());
-        if (text::parse_number(rest, value) != std::errc())
-          fail(static_cast<int>(key.size()) + 1, std::string(key.substr(2, key.size() - 4)),
-               key == "# seed: " ? fmt::format("'{}' is not a seed: a whole number of 0 … 2⁶⁴ − 1", text::excerpt(rest))
-                                 : fmt::format("'{}' is not a whole number", text::excerpt(rest)));
-        have = true;
-      };
-      take("# samples_total: ", run.samples_total, have_total);
-      take("# seed: ", run.seed, have_seed);
-      if (constexpr std::string_view key = "# probe_noise_um: "; view.substr(0, key.size()) == key) {
-        const auto rest = view.substr(key.size());
-        if (text::parse_number(rest, run.probe_noise_um) != std::errc() || !std::isfinite(run.probe_noise_um) ||
-            run.probe_noise_um < 0.0)
-          fail(static_cast<int>(key.size()) + 1, "probe_noise_um", fmt::format("'{}' is not a σ ≥ 0 (µm)", text::excerpt(rest)));
-      }
-      // Words: absent in files written before they were recorded (compensate then always used the defaults).
-      const auto word = [&](std::string_view key, auto parse, auto& value) {
-        if (view.substr(0, key.size()) != key) return;
-        const auto parsed = parse(view.substr(key.size()));
-        if (!parsed) fail(static_cast<int>(key.size()) + 1, std::string(key.substr(2, key.size() - 4)),
-                          fmt::format("'{}' is not one of the words geartopo writes", text::excerpt(view.substr(key.size()))));
-        value = *parsed;
-      };
-      const auto number = [&](std::string_view key, double& value) {
-        if (view.substr(0, key.size()) != key) return;
-        const auto rest = view.substr(key.size());
-        if (text::parse_number(rest, value) != std::errc() || !std::isfinite(value) || value < 0.0)
-          fail(static_cast<int>(key.size()) + 1, std::string(key.substr(2, key.size() - 4)),
-               fmt::format("'{}' is not a number ≥ 0", text::excerpt(rest)));
-      };
-      number("# linear_check_points_um: ", run.sampling.largest_point_difference_um);
-      number("# linear_check_quantities_um: ", run.sampling.largest_quantity_difference_um);
-      bool have_checked = false;
-      take("# linear_check_samples: ", run.sampling.checked_samples, have_checked);
-      const auto one_of = [&](std::string_view key, std::initializer_list<std::string_view> words, std::string& value) {
-        if (view.substr(0, key.size()) != key) return;
-        const auto rest = view.substr(key.size());
-        if (std::find(words.begin(), words.end(), rest) == words.end())
-          fail(static_cast<int>(key.size()) + 1, std::string(key.substr(2, key.size() - 4)),
-               fmt::format("'{}' is not one of the words geartopo writes", text::excerpt(rest)));
-        value = std::string(rest);
-      };
-      one_of("# sampling: ", {"linear", "exact"}, run.sampling.method);
-      one_of("# sampling_reason: ", {"checked", "check failed", "forced", "unchecked", ""}, run.sampling.reason);
-      if (constexpr std::string_view key = "# scene_fingerprint: "; view.substr(0, key.size()) == key) {
-        const auto rest = view.substr(key.size());
-        if (rest.size() != 16 || rest.find_first_not_of("0123456789abcdef") != std::string_view::npos)
-          fail(static_cast<int>(key.size()) + 1, "scene_fingerprint",
-               fmt::format("'{}' is not a fingerprint geartopo writes (16 hex digits, 0-9 a-f)", text::excerpt(rest)));
-        run.scene_fingerprint = std::string(rest);
-      }
-      if (constexpr std::string_view key = "# gear: "; view.substr(0, key.size()) == key) {
-        const auto rest = view.substr(key.size());
-        if (!rest.starts_with("teeth=") || rest.size() > 200)
-          fail(static_cast<int>(key.size()) + 1, "gear",
-               fmt::format("'{}' is not a gear record geartopo writes ('teeth=… normal_module_mm=…')", text::excerpt(rest)));
-        run.gear = std::string(rest);
-      }
-      word("# iso_direction: ", evaluation::parse_iso_direction, run.iso.direction);
-      word("# helix_slope_sign: ", evaluation::parse_helix_slope_sign, run.iso.helix_slope_sign);
-      continue;
-    }
-    std::vector<std::string_view> fields;
-    for (size_t start = 0;;) {
-      const auto comma = view.find(',', start);
-      fields.push_back(view.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
-      if (comma == std::string_view::npos) break;
-      start = comma + 1;
-    }
-    const auto column_of = [&](size_t i) { return static_cast<int>(fields[i].data() - view.data()) + 1; };
-    if (!have_header) {
-      if (!have_total || !have_seed) fail(1, "header", "'# samples_total: M' and '# seed: S' must come before the header");
-      if (run.samples_total < 1) fail(1, "samples_total", "must be ≥ 1");
-      // sample, then groups of the same names in the same order: before.*, after.*, without_<source>.* …
-      if (fields.empty() || fields[0] != "sample") fail(1, "header", "expected sample,before.<name>,…,after.<name>,…");
-      std::vector<std::string> groups;
-      std::vector<std::vector<std::string>> group_names;
-      for (size_t i = 1; i < fields.size(); ++i) {
-        const auto dot = fields[i].find('.');
-        if (dot == std::string_view::npos) fail(column_of(i), "header", "expected <group>.<name>");
-        const std::string group(fields[i].substr(0, dot));
-        if (groups.empty() || groups.back() != group) groups.push_back(group), group_names.emplace_back();
-        group_names.back().emplace_back(fields[i].substr(dot + 1));
-      }
-      if (groups.size() < 2 || groups[0] != "before" || groups[1] != "after")
-        fail(1, "header", "expected sample,before.<name>,…,after.<name>,…");
-      for (size_t k = 1; k < groups.size(); ++k) {
-        if (group_names[k] != group_names[0])
-          fail(1, "header", fmt::format("the names of '{}' are not those of 'before' in the same order", groups[k]));
-        if (k < 2) continue;
-        const auto& sources = limit_sources();
-        const std::string source = groups[k].substr(std::string_view("without_").size());
-        if (!groups[k].starts_with("without_") || std::find(sources.begin(), sources.end(), source) == sources.end())
-          fail(1, "header", fmt::format("'{}' is not a group geartopo writes (without_<source>)", groups[k]));
-        run.without.push_back(source);
-      }
-      run.names = group_names[0];
-      for (size_t n = 0; n < run.names.size(); ++n) {
-        const auto rule = rule_of(run.names[n]);
-        if (!rule)
-          fail(column_of(1 + n), "header",
-               fmt::format("'{}' is not a quantity geartopo writes ({})", text::excerpt(run.names[n]),
-                           fmt::join(known_quantity_names(), ", ")));
-        if (std::find(run.names.begin(), run.names.begin() + static_cast<std::ptrdiff_t>(n), run.names[n]) !=
-            run.names.begin() + static_cast<std::ptrdiff_t>(n))
-          fail(column_of(1 + n), "header", fmt::format("'{}' is listed twice", run.names[n]));
-        rules.push_back(*rule);
-      }
-      have_header = true;
-      continue;
-    }
-    const size_t groups = 2 + run.without.size(), names = run.names.size();
-    if (fields.size() != 1 + groups * names)
-      fail(1, "sample", fmt::format("{} fields, the header has {}", fields.size(), 1 + groups * names));
-    MonteCarloSample s;
-    if (text::parse_number(fields[0], s.index) != std::errc() || s.index < 0 || s.index >= run.samples_total)
-      fail(1, "sample", fmt::format("'{}' is not a sample number of this run of {} samples (0 … {})",
-                                    text::excerpt(fields[0]), run.samples_total, run.samples_total - 1));
-    s.after_without.resize(run.without.size());
-    for (size_t i = 1; i < fields.size(); ++i) {
-      const size_t group = (i - 1) / names, n = (i - 1) % names;
-      const std::string field =
-          (group == 0 ? "before." : group == 1 ? "after." : "without_" + run.without[group - 2] + ".") + run.names[n];
-      double v = 0.0;
-      if (text::parse_number(fields[i], v) != std::errc() || !std::isfinite(v))
-        fail(column_of(i), field, fmt::format("'{}' is not a finite number", text::excerpt(fields[i])));
-      if (const std::string why = rules[n].refusal(v); !why.empty())
-        fail(column_of(i), field, fmt::format("{} {}", text::excerpt(fields[i]), why));
-      (group == 0 ? s.before : group == 1 ? s.after : s.after_without[group - 2]).push_back(v);
-    }
-    if (!run.samples.empty() && s.index <= run.samples.back().index)
-      fail(1, "sample", "sample numbers must increase");
-    run.samples.push_back(std::move(s));
-  }
-  if (!have_header) fail(0, "header", "no header line (sample,before.…): not a partial result");
-  return run;
 }
 
 } // namespace geartopo::pipeline
