@@ -14,7 +14,7 @@
 #include <sstream>
 #include <unistd.h>
 
-#include "app/report_fixture.hpp"
+#include "report/report_fixture.hpp"
 
 namespace fs = std::filesystem;
 

@@ -6,7 +6,7 @@
 //   range (ends and, when inside, the vertex u* = −s/(2a)). Over another range [u1, u2] the slope is s + a·(u1 + u2).
 // Units: mm, µm.
 #include "../cli_run.hpp"
-#include "trace_export_fixture.hpp"
+#include "../trace_export_fixture.hpp"
 
 #include "geartopo/measurement/klingelnberg.hpp"
 #include "geartopo/measurement/klingelnberg_values.hpp"

@@ -17,7 +17,7 @@
 #include <vector>
 #include <unistd.h>
 
-#include "app/report_fixture.hpp"
+#include "report/report_fixture.hpp"
 
 namespace {
 

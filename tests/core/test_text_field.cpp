@@ -1,4 +1,4 @@
-// The number and quoting rule shared by every reader (gears/text_field.hpp); that the readers follow it is in
+// The number and quoting rule shared by every reader (core/text_field.hpp); that the readers follow it is in
 // tests/robustness/test_known_findings.cpp.
 #include "geartopo/core/text_field.hpp"
 
