@@ -1,7 +1,11 @@
 // geartopo compare: measured − model, where the model fails, and the residual's patterns.
 #include "app/commands.hpp"
-#include "geartopo/core/atomic_file.hpp"
-#include "app/options.hpp"
+#include "geartopo/files/atomic_write.hpp"
+#include "app/json_summary.hpp"
+#include "app/measurement_options.hpp"
+#include "app/messages.hpp"
+#include "app/validators.hpp"
+#include "geartopo/files/output_folder.hpp"
 
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/report/residual_follows_figure.hpp"
@@ -24,7 +28,7 @@ void register_compare_command(CLI::App& app, Action& action) {
     std::string scene, measured, out;
     double noise = 0.0;
     bool json = false;
-    measurement::KlingelnbergOptions mka;
+    KlingelnbergFlags mka;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("compare", "Measured − model (µm) at every measured point: statistics, where the model "

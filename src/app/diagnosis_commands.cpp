@@ -1,7 +1,14 @@
 // geartopo synth / diagnose: synthetic measurements with hidden effects, and finding what a model is missing.
 #include "app/commands.hpp"
-#include "geartopo/core/atomic_file.hpp"
-#include "app/options.hpp"
+#include "geartopo/files/atomic_write.hpp"
+#include "geartopo/files/input_registry.hpp"
+#include "app/json_summary.hpp"
+#include "app/measurement_options.hpp"
+#include "app/messages.hpp"
+#include "app/parsers.hpp"
+#include "app/progress.hpp"
+#include "app/validators.hpp"
+#include "geartopo/files/output_folder.hpp"
 #include "geartopo/diagnosis/diagnosis_json.hpp"
 #include "geartopo/report/measurement_report.hpp"
 
@@ -129,7 +136,7 @@ void register_diagnose_command(CLI::App& app, Action& action) {
     double noise = 0.0;
     bool json = false, scene_uncertainty = false;
     std::vector<std::string> candidates;
-    measurement::KlingelnbergOptions mka;
+    KlingelnbergFlags mka;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("diagnose", "Which physical effect is the model missing? Fits every library effect "

@@ -1,7 +1,7 @@
 // geartopo — command-line entry. Exit codes: 0 success, 1 bad input, 2 bad usage.
 #include "app/commands.hpp"
-#include "app/options.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "app/messages.hpp"
+#include "geartopo/files/termination.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
   app.fallthrough();
   bool quiet = false;
   app.add_flag("--quiet,-q", quiet, "No progress, work estimates or notes on stderr (warnings and errors stay)");
-  // An interrupted run (Ctrl-C, kill, a closed terminal) leaves no temporary output file behind (atomic_file.hpp).
+  // An interrupted run (Ctrl-C, kill, a closed terminal) leaves no temporary output file behind (files/termination.hpp).
   geartopo::output::remove_temporaries_on_termination_signals();
   geartopo::app::Action action;
   geartopo::app::register_run_command(app, action);

@@ -1,11 +1,15 @@
 // geartopo plan: what to measure next when the measurement cannot tell two explanations apart (docs/diagnosis.md,
 // "Ambiguity and what to measure next"). Runs the diagnosis and prints/writes its measurement plan.
 #include "app/commands.hpp"
-#include "app/options.hpp"
+#include "app/measurement_options.hpp"
+#include "app/messages.hpp"
+#include "app/progress.hpp"
+#include "app/validators.hpp"
 #include "geartopo/diagnosis/diagnosis_json.hpp"
+#include "geartopo/files/output_folder.hpp"
 #include "geartopo/report/measurement_report.hpp"
 
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/measurement/klingelnberg.hpp"
 #include "geartopo/workbench/workbench.hpp"
@@ -26,7 +30,7 @@ void register_plan_command(CLI::App& app, Action& action) {
     std::string scene, measured, out;
     double noise = 0.0;
     std::string layout = "grid";
-    measurement::KlingelnbergOptions mka;
+    KlingelnbergFlags mka;
   };
   auto opt = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("plan", "What to measure next: when explanations of the residual are within the "

@@ -1,6 +1,6 @@
 #include "geartopo/diagnosis/scene_writer.hpp"
-#include "geartopo/core/atomic_file.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
+#include "geartopo/files/input_file.hpp"
 #include <fstream>
 
 #include "geartopo/effects/registry.hpp"

@@ -1,6 +1,6 @@
 #include "geartopo/report/html_report.hpp"
 #include "geartopo/report/prediction_report.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/core/uncertain_value.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/report/iso_report.hpp"

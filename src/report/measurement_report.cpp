@@ -1,6 +1,6 @@
 #include "geartopo/report/measurement_report.hpp"
 
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 
 #include <fmt/format.h>
 

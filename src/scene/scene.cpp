@@ -1,7 +1,7 @@
 #include "geartopo/scene/scene.hpp"
 
 #include "geartopo/machine/component_change.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/core/field_error.hpp"
@@ -568,7 +568,7 @@ MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& 
     int v = 0;
     if (text::parse_number(listed[i], v) != std::errc() || v < 1 || v > teeth)
       m.fail_item("teeth", i, fmt::format("'{}' is not a tooth number of 1..{}", text::excerpt(listed[i]), teeth));
-    // The words of `--teeth 1,1` (app/options.cpp parse_teeth): a tooth simulated twice is a slip, never a wish.
+    // The words of `--teeth 1,1` (app/parsers.cpp parse_teeth): a tooth simulated twice is a slip, never a wish.
     if (std::find(g.teeth.begin(), g.teeth.end(), v) != g.teeth.end())
       m.fail_item("teeth", i, fmt::format("tooth {} is listed twice", v));
     g.teeth.push_back(v);
