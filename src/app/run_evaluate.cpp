@@ -3,6 +3,7 @@
 #include "app/commands.hpp"
 #include "app/messages.hpp"
 
+#include "geartopo/commands/machine_values.hpp"
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/files/atomic_write.hpp"
 #include "geartopo/files/output_folder.hpp"
@@ -83,40 +84,23 @@ workbench::IsoOptions iso_options_of(const EvaluateOptions& opt, const std::opti
   return recorded;
 }
 
-/// The flanks evaluated: measured traces (--traces) or the simulated gear, and what a measuring machine's export
-/// adds to them (its pitch table; with --machine-values its value file and the curves it evaluates).
+/// The flanks evaluated: measured traces (--traces) or the simulated gear, and, for an export, what the measuring
+/// machine evaluated itself (commands::read_traces_with_machine_values).
 struct Flanks {
   std::vector<grinding::FlankTopology> topo;
   std::string source;
-  std::vector<measurement::KlingelnbergPitchRow> machine_pitch; // an export's own pitch table, if any
-  std::optional<measurement::KlingelnbergFile> curves;            // the export, when --machine-values is given
-  std::optional<measurement::KlingelnbergValues> machine_values;
+  std::optional<commands::TracesWithMachineValues> measured; // --traces: the traces, the export, the value file
 };
 
 Flanks measured_flanks(const EvaluateOptions& opt, const Workbench& wb) {
   Flanks f;
   refuse_mka_flags_without_export(opt.traces, opt.mka);
-  auto traces = measurement::read_any_traces(opt.traces, wb.setup, opt.mka.options);
-  if (traces.export_file) f.machine_pitch = traces.export_file->pitch;
-  if (!opt.machine_values.empty()) {
-    if (!traces.klingelnberg)
-      throw CLI::ValidationError("--machine-values", opt.traces + " is not a Klingelnberg export: the value file "
-                                                                  "evaluates an export's curves (.mka)");
-    f.curves = std::move(traces.export_file);
-    f.machine_values = measurement::read_klingelnberg_values(opt.machine_values);
-    if (!f.machine_values->unknown_lines.empty())
-      traces.warnings.push_back(fmt::format("{}: result lines not read (sizes and other codes): {}", opt.machine_values,
-                                            fmt::join(f.machine_values->unknown_lines, ", ")));
-  } else if (traces.klingelnberg) {
-    // A value file beside the export is not read unless named: a stale one would be compared silently.
-    if (const auto beside_mew = measurement::value_file_beside(opt.traces))
-      traces.warnings.push_back(fmt::format("{} beside the export is not read: give --machine-values {} to compare "
-                                            "the machine's profile and helix values",
-                                            *beside_mew, *beside_mew));
-  }
-  for (const auto& w : traces.warnings) say("geartopo: warning: " + w);
-  f.topo = std::move(traces.flanks);
-  f.source = (traces.klingelnberg ? "measured traces (Klingelnberg export) " : "measured traces ") + opt.traces;
+  auto read = commands::read_traces_with_machine_values(wb, opt.traces, opt.machine_values, opt.mka.options,
+                                                        {"--machine-values", "--machine-values {}"});
+  for (const auto& w : read.warnings) say("geartopo: warning: " + w);
+  f.topo = read.traces.flanks;
+  f.source = (read.traces.klingelnberg ? "measured traces (Klingelnberg export) " : "measured traces ") + opt.traces;
+  f.measured = std::move(read);
   return f;
 }
 
@@ -152,16 +136,10 @@ int run_evaluate(const EvaluateOptions& opt) {
   j["units"] = "µm; plus material positive";
   j["iso_direction"] = std::string(evaluation::to_string(iso_options.direction));
   j["before"] = report::iso_json(iso);
-  std::optional<workbench::MachinePitchComparison> beside;
-  if (!f.machine_pitch.empty()) {
-    beside = workbench::compare_machine_pitch(f.machine_pitch, iso.evaluation);
-    j["machine_pitch_table"] = report::machine_pitch_table_json(*beside);
-  }
-  std::optional<workbench::MachineFlankComparison> flank_values;
-  if (f.machine_values) {
-    flank_values = workbench::compare_machine_flank_values(*f.machine_values, g, wb.setup.ranges(), f.topo,
-                                                           iso.evaluation, &*f.curves);
-    j["machine_flank_values"] = report::machine_flank_values_json(*flank_values, *f.machine_values);
+  std::optional<commands::MachineValuesResult> machine; // the export's pitch table and value file beside geartopo's
+  if (f.measured) {
+    machine = commands::machine_values(wb, *f.measured, iso);
+    for (const auto& [key, value] : machine->json.items()) j[key] = value;
   }
   // The quantities as the prediction names them; largest |deviation| needs the grid (none in a traces file).
   std::vector<report::PredictionCheck> checks;
@@ -175,7 +153,8 @@ int run_evaluate(const EvaluateOptions& opt) {
   const std::filesystem::path out(opt.out);
   output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
   std::cout << "Source: " << f.source << "\n" << report::iso_table(iso);
-  if (beside) {
+  if (machine && machine->pitch) {
+    const auto& beside = machine->pitch;
     if (beside->rows.empty())
       std::cout << "The export's pitch table: not compared (geartopo evaluates pitch only with every tooth of a side)\n";
     else
@@ -185,7 +164,8 @@ int run_evaluate(const EvaluateOptions& opt) {
                                beside->flagged, workbench::kMachineMismatchUm,
                                beside->likely_cause.empty() ? "" : " — likely cause: " + beside->likely_cause);
   }
-  if (flank_values) std::cout << machine_flank_values_text(*flank_values, *f.machine_values);
+  if (machine && machine->flank_values)
+    std::cout << machine_flank_values_text(*machine->flank_values, *f.measured->machine_values);
   if (prediction) {
     std::cout << "Against " << opt.prediction << ":\n";
     for (const auto& l : report::prediction_check_lines(checks, *prediction, opt.side)) std::cout << "  " << l << "\n";
