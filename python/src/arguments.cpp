@@ -1,5 +1,7 @@
 #include "arguments.hpp"
 
+#include "geartopo/commands/limits.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -9,6 +11,22 @@
 namespace py = pybind11;
 
 namespace geartopo::python {
+
+std::string path_argument(const py::object& path, const char* argument) {
+  py::object text = path;
+  if (!py::isinstance<py::str>(path)) {
+    if (!py::hasattr(path, "__fspath__"))
+      throw py::type_error(fmt::format("{}: {} is not a path (a str or an os.PathLike)", argument,
+                                       py::repr(path).cast<std::string>()));
+    text = path.attr("__fspath__")();
+    if (!py::isinstance<py::str>(text))
+      throw py::type_error(fmt::format("{}: {} is not a path given as text (bytes paths are not read)", argument,
+                                       py::repr(path).cast<std::string>()));
+  }
+  std::string s = text.cast<std::string>();
+  commands::check_path(s, argument);
+  return s;
+}
 
 std::vector<int> teeth_argument(const py::object& teeth, int z, const std::vector<int>& fallback) {
   if (teeth.is_none()) return fallback;

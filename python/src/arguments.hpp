@@ -14,6 +14,9 @@ namespace geartopo::python {
 
 /// teeth=None → `fallback`; "all" → {} (every tooth); a sequence of tooth numbers 1..z, none twice.
 std::vector<int> teeth_argument(const pybind11::object& teeth, int z, const std::vector<int>& fallback);
+/// A file's path: a str or an os.PathLike naming one (TypeError otherwise, naming `argument`); empty or holding a
+/// NUL character: ValueError (commands::check_path) — a C string would end at the NUL and name another file.
+std::string path_argument(const pybind11::object& path, const char* argument);
 /// "exact" or "linear".
 grinding::Method method_argument(const std::string& method);
 /// iso_direction "transverse"|"normal", helix_slope_sign "helix-angle"|"rise-towards-plus-z".

@@ -1,6 +1,7 @@
 // geartopo Python module — compensate(scene, …): the axis corrections, the gear before and the nominal after-state,
 // and the predicted after-state as a distribution — the library calls of `geartopo compensate` (its cycle table,
 // ISG table and shards stay with the CLI).
+#include "interrupt.hpp"
 #include "arguments.hpp"
 #include "bindings.hpp"
 #include "json_to_python.hpp"
@@ -110,7 +111,7 @@ void bind_compensate(py::module_& m) {
         std::optional<pipeline::MonteCarloSummary> prediction;
         workbench::IsoResult iso_b, iso_a;
         {
-          const py::gil_scoped_release nogil;
+          const LibraryWork work; // Ctrl-C caught, the GIL released
           before = grinding::simulate_topology(wb.setup, wb.process(), so);
           table = compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm}, co);
           const compensation::CompensatedProcess corrected(wb.process(), *table);

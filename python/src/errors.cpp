@@ -1,8 +1,11 @@
 // geartopo Python module — errors. A located input error (geartopo::InputError, "file:line:column: field: message",
 // what the CLI prints before exiting with 1) becomes geartopo.InputError, a ValueError with the same message and its
 // parts as attributes (file, line, column, field, message). pybind11 itself turns std::invalid_argument and
-// std::domain_error into ValueError and other std::exception into RuntimeError.
+// std::domain_error into ValueError and other std::exception into RuntimeError; Ctrl-C during a call (interrupt.hpp)
+// becomes KeyboardInterrupt.
 #include "bindings.hpp"
+
+#include "interrupt.hpp"
 
 #include "geartopo/core/input_error.hpp"
 
@@ -35,6 +38,8 @@ class InputError(ValueError):
       err.attr("field") = e.field();
       err.attr("message") = e.message();
       PyErr_SetObject(input_error.ptr(), err.ptr());
+    } catch (const Interrupted&) {
+      PyErr_SetNone(PyExc_KeyboardInterrupt);
     }
   });
 }

@@ -1,5 +1,6 @@
 // geartopo Python module — evaluate(scene, topo): ISO 1328-1:2013 values and classes (workbench::evaluate_iso,
 // report::iso_json) of a simulation, of simulate()'s arrays or of a measured traces file, as `geartopo evaluate`.
+#include "interrupt.hpp"
 #include "arguments.hpp"
 #include "bindings.hpp"
 #include "json_to_python.hpp"
@@ -30,7 +31,7 @@ void bind_evaluate(py::module_& m) {
           so.profile_points = wb.scene.grid.profile_points;
           so.helix_points = wb.scene.grid.helix_points;
           so.progress = progress_function(progress);
-          const py::gil_scoped_release nogil;
+          const LibraryWork work; // Ctrl-C caught, the GIL released
           flanks = grinding::simulate_topology(wb.setup, wb.process(), so);
         } else if (py::isinstance<py::dict>(topo)) { // simulate()'s or synth()'s arrays
           flanks = topology_from_columns(topo.cast<py::dict>(), "topo");
@@ -45,7 +46,7 @@ void bind_evaluate(py::module_& m) {
         }
         workbench::IsoResult result;
         {
-          const py::gil_scoped_release nogil;
+          const LibraryWork work; // Ctrl-C caught, the GIL released
           result = workbench::evaluate_iso(wb.setup.geometry(), wb.setup.ranges(), flanks, iso);
         }
         return to_python(report::iso_json(result));

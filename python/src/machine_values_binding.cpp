@@ -1,12 +1,12 @@
 // geartopo Python module — machine_values(scene, export, values): the measuring machine's own evaluation beside
 // geartopo's evaluation of the same traces, as `geartopo evaluate --traces EXPORT.mka [--machine-values EXPORT.mew]`
 // writes it into iso1328.json: the same calls (commands/machine_values.hpp).
+#include "interrupt.hpp"
 #include "arguments.hpp"
 #include "bindings.hpp"
 #include "json_to_python.hpp"
 #include "py_scene.hpp"
 
-#include "geartopo/commands/limits.hpp"
 #include "geartopo/commands/machine_values.hpp"
 #include "geartopo/measurement/klingelnberg.hpp"
 
@@ -28,10 +28,8 @@ void bind_machine_values(py::module_& m) {
          const std::string& helix_slope_sign) {
         const auto& wb = *s.wb;
         const workbench::IsoOptions iso = iso_arguments(iso_direction, helix_slope_sign);
-        const std::string file = py::str(export_path).cast<std::string>();
-        const std::string values_file = values_path.is_none() ? std::string() : py::str(values_path).cast<std::string>();
-        commands::check_path(file, "export");
-        if (!values_path.is_none()) commands::check_path(values_file, "values");
+        const std::string file = path_argument(export_path, "export");
+        const std::string values_file = values_path.is_none() ? std::string() : path_argument(values_path, "values");
         {
           std::ifstream in(file, std::ios::binary); // unreadable: the reader below says why
           if (in && !measurement::looks_like_klingelnberg(in))
@@ -41,7 +39,7 @@ void bind_machine_values(py::module_& m) {
         commands::MachineValuesResult compared;
         std::vector<std::string> warnings;
         {
-          const py::gil_scoped_release nogil;
+          const LibraryWork work; // Ctrl-C caught, the GIL released
           const auto read = commands::read_traces_with_machine_values(wb, file, values_file, {}, {});
           warnings = read.warnings;
           const workbench::IsoResult result = workbench::evaluate_iso(wb.setup.geometry(), wb.setup.ranges(),

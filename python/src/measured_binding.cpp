@@ -1,5 +1,6 @@
 // geartopo Python module — compare, diagnose, plan: a measurement against the scene's model, with the library calls
 // of `geartopo compare`, `diagnose` and `plan` and their JSON files' content (report/measurement_report.hpp).
+#include "interrupt.hpp"
 #include "bindings.hpp"
 #include "json_to_python.hpp"
 #include "measured_input.hpp"
@@ -89,7 +90,7 @@ void bind_measured(py::module_& m) {
         const auto pts = measured_points(s, measured, name);
         std::optional<commands::CompareResult> r;
         {
-          const py::gil_scoped_release nogil;
+          const LibraryWork work; // Ctrl-C caught, the GIL released
           r = commands::compare(scene_input(s), {pts, name, {}}, noise_um);
         }
         py::dict out = to_python(r->json).cast<py::dict>();
@@ -114,7 +115,7 @@ Returns compare.json's content, plus "residuals": residuals.csv's columns as arr
         const std::filesystem::path to = yaml_dir.is_none() ? s.dir : yaml_dir.cast<std::filesystem::path>();
         std::optional<commands::DiagnoseResult> r;
         {
-          const py::gil_scoped_release nogil;
+          const LibraryWork work; // Ctrl-C caught, the GIL released
           r = commands::diagnose(scene_input(s), {pts, name, {}}, request, to);
         }
         py::dict out = to_python(r->json).cast<py::dict>();
@@ -143,7 +144,7 @@ file `geartopo diagnose` writes), or None when nothing is chosen or it is withhe
         const auto request = request_of(noise_um, {}, false, progress);
         std::optional<commands::PlanResult> r;
         {
-          const py::gil_scoped_release nogil;
+          const LibraryWork work; // Ctrl-C caught, the GIL released
           r = commands::plan(scene_input(s), {pts, name, {}}, request);
         }
         return to_python(r->json);

@@ -1,3 +1,5 @@
+#include "arguments.hpp"
+#include "interrupt.hpp"
 #include "measured_input.hpp"
 #include "numpy_columns.hpp"
 
@@ -85,11 +87,14 @@ std::vector<measurement::MeasuredPoint> measured_points(const PyScene& scene, co
     measurement::refer_to_design(points, setup.design()); // as read_any_measurement refers a file's
     return points;
   }
-  name = py::str(measured).cast<std::string>();
+  if (!py::isinstance<py::str>(measured) && !py::hasattr(measured, "__fspath__"))
+    throw py::type_error(fmt::format("measured: {} is not a measurement: a path (str or os.PathLike) or a dict of "
+                                     "arrays", py::repr(measured).cast<std::string>()));
+  name = path_argument(measured, "measured");
   std::vector<std::string> warnings;
   std::vector<measurement::MeasuredPoint> points;
   {
-    const py::gil_scoped_release nogil;
+    const LibraryWork work; // Ctrl-C caught, the GIL released
     points = measurement::read_any_measurement(name, setup, &warnings);
   }
   if (!warnings.empty()) {

@@ -1,5 +1,6 @@
 // geartopo Python module — Scene, load_scene(path), scene_from_yaml(text): the scene read and built by the same
 // functions as every CLI command (scene::load_scene / parse_scene, workbench::Workbench).
+#include "interrupt.hpp"
 #include "bindings.hpp"
 #include "json_to_python.hpp"
 #include "py_scene.hpp"
@@ -44,13 +45,19 @@ void bind_scene(py::module_& m) {
           "The gear's geometry (ISO 21771) as `geartopo gear --json` prints it: a dict, units in the keys")
       .def_property_readonly("notes", [](const PyScene& s) { return s.wb->notes; },
                              "What was chosen for the user (e.g. a wheel diameter), as the CLI prints as notes")
-      .def("__repr__", [](const PyScene& s) { return "<geartopo.Scene '" + s.wb->scene.name + "' from " + s.source + ">"; });
+      .def("__repr__", [](const PyScene& s) { return "<geartopo.Scene '" + s.wb->scene.name + "' from " + s.source + ">"; })
+      // Scene.__new__(Scene) made an object with no scene inside, on which every property read freed memory: a Scene
+      // is only made by load_scene and scene_from_yaml (the module makes its objects without __new__).
+      .def_static("__new__", [](const py::args&, const py::kwargs&) -> py::object {
+        throw py::type_error("geartopo.Scene cannot be made directly: use geartopo.load_scene(path) or "
+                             "geartopo.scene_from_yaml(text, source=...)");
+      });
 
   m.def(
       "load_scene",
       [](const std::filesystem::path& file) {
         std::string text = input::read_input_file(file, input::kMaxSceneBytes, "scene");
-        const py::gil_scoped_release nogil; // the form wheel's synthesis takes a while
+        const LibraryWork work; // Ctrl-C caught, the GIL released: the form wheel's synthesis takes a while
         return make_scene(scene::load_scene(file), file.string(), std::move(text));
       },
       py::arg("path"),
@@ -58,7 +65,7 @@ void bind_scene(py::module_& m) {
   m.def(
       "scene_from_yaml",
       [](const std::string& text, const std::string& source) {
-        const py::gil_scoped_release nogil;
+        const LibraryWork work; // Ctrl-C caught, the GIL released
         return make_scene(scene::parse_scene(text, source), source, text);
       },
       py::arg("text"), py::arg("source") = "<yaml>",

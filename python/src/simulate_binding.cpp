@@ -1,5 +1,6 @@
 // geartopo Python module — simulate(scene, …): grinding::simulate_topology with the options `geartopo simulate`
 // gives it, the result as topology.csv's and traces.csv's columns.
+#include "interrupt.hpp"
 #include "arguments.hpp"
 #include "bindings.hpp"
 #include "numpy_columns.hpp"
@@ -36,7 +37,7 @@ void bind_simulate(py::module_& m) {
         so.progress = progress_function(progress);
         std::vector<grinding::FlankTopology> topo;
         {
-          const py::gil_scoped_release nogil;
+          const LibraryWork work; // Ctrl-C caught, the GIL released
           topo = grinding::simulate_topology(wb.setup, wb.process(), so);
         }
         py::dict out = topology_columns(topo, grinding::GridKind::Topology);

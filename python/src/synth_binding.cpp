@@ -1,5 +1,6 @@
 // geartopo Python module — synth(truth, …): a synthetic measurement of a gear ground on a truth scene, the library
 // calls of `geartopo synth` (diagnosis::synthesize / synthesize_traces, pipeline::synth_corrections).
+#include "interrupt.hpp"
 #include "arguments.hpp"
 #include "bindings.hpp"
 #include "numpy_columns.hpp"
@@ -38,7 +39,7 @@ void bind_synth(py::module_& m) {
         so.noise_um = noise_um;
         so.seed = seed;
         const std::string corrections_file = corrections.is_none() ? std::string() : py::str(corrections).cast<std::string>();
-        const py::gil_scoped_release nogil;
+        const LibraryWork work; // Ctrl-C caught, the GIL released
         const auto table = pipeline::synth_corrections(wb, corrections_file, stroke_scatter, seed);
         std::optional<compensation::CompensatedProcess> corrected;
         if (table) corrected.emplace(wb.process(), *table);

@@ -1,0 +1,40 @@
+// geartopo Python module — Ctrl-C during a long call. The libraries work with the GIL released, on worker threads,
+// where Python's own check (PyErr_CheckSignals) does nothing and its SIGINT handler only marks a flag the interpreter
+// reads once the call returns: a `compensate(samples=10**5)` ran on to its end. So, for the call's duration, SIGINT
+// sets a flag of ours instead, which every progress report checks (with or without a user callback): the work stops
+// by the exception `Interrupted`, as any progress function's exception stops it, and the caller gets
+// KeyboardInterrupt. Python's handler is back when the call returns; a Ctrl-C the work never saw is handed to it
+// (PyErr_SetInterrupt), so it is not lost.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include <exception>
+
+namespace geartopo::python {
+
+/// The work stopped by Ctrl-C; turned into KeyboardInterrupt (bind_errors).
+struct Interrupted : std::exception {
+  const char* what() const noexcept override { return "interrupted (Ctrl-C)"; }
+};
+
+/// SIGINT caught by geartopo while it lives (nested and concurrent calls share one installation).
+class InterruptScope {
+public:
+  InterruptScope();
+  ~InterruptScope();
+  InterruptScope(const InterruptScope&) = delete;
+  InterruptScope& operator=(const InterruptScope&) = delete;
+};
+
+/// Throws Interrupted when Ctrl-C was pressed during the current call. Safe from any thread, without the GIL.
+void throw_if_interrupted();
+
+/// A long call's library work: SIGINT caught by geartopo, then the GIL released (destroyed in the reverse order: the
+/// GIL taken back before Python's handler returns).
+struct LibraryWork {
+  InterruptScope sigint;
+  pybind11::gil_scoped_release nogil;
+};
+
+} // namespace geartopo::python

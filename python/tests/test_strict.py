@@ -1,0 +1,110 @@
+"""The module as hard to break as the CLI (issue 43): values the CLI refuses are refused here with the argument's
+name, by the same code (commands/limits.hpp); a Scene is only made by the module; Ctrl-C stops a long call with
+KeyboardInterrupt, with or without a progress callback."""
+import copy
+import os
+import signal
+import subprocess
+import threading
+import time
+
+import pytest
+
+import geartopo
+from conftest import MEASURED, ROOT, SCENE, cli_path
+
+
+@pytest.mark.parametrize("noise", [1e-158, 1e-320, 1e-7, -1.0, float("nan"), float("inf"), 1001.0])
+@pytest.mark.parametrize("command", ["compare", "diagnose", "plan"])
+def test_a_noise_the_cli_refuses_is_refused_naming_noise_um(scene, command, noise):
+    # 1e-158 crashed the interpreter inside the tooth-trend fit; 1e-320 made diagnose's χ² infinite.
+    with pytest.raises(ValueError, match=r"noise_um: .* is not a probe noise σ: 0 \(estimated\) or 1e-06 … 1000 µm"):
+        getattr(geartopo, command)(scene, str(MEASURED), noise_um=noise)
+
+
+def test_the_cli_refuses_the_same_noise(tmp_path):
+    p = subprocess.run([cli_path(), "compare", str(SCENE), str(MEASURED), "--noise-um", "1e-158",
+                        "--out", str(tmp_path / "out")], capture_output=True, text=True, cwd=ROOT)
+    assert p.returncode == 2 and "--noise-um" in p.stderr and "1e-06" in p.stderr, p.stderr
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("samples", [-1, 10**6 + 1, 10**9])
+def test_samples_beyond_the_cli_bound_are_refused_before_any_work(scene, samples):
+    # 10**9 ended in MemoryError: std::bad_alloc
+    with pytest.raises(ValueError, match=r"samples: .* is not a number of samples: 0 \(nominal only\) … 1000000"):
+        geartopo.compensate(scene, samples=samples)
+
+
+@pytest.mark.parametrize("call", [
+    lambda s: geartopo.compare(s, str(MEASURED) + "\0.bak"),
+    lambda s: geartopo.diagnose(s, str(MEASURED) + "\0.bak"),
+    lambda s: geartopo.machine_values(s, str(MEASURED) + "\0.bak"),
+])
+def test_a_path_with_a_nul_is_refused_not_cut(scene, call):
+    # "m.csv\0.bak" quietly read m.csv
+    with pytest.raises(ValueError, match="NUL character"):
+        call(scene)
+
+
+def test_progress_that_cannot_be_called_is_a_type_error_naming_it(scene):
+    with pytest.raises(TypeError, match=r"progress: 5 is not callable"):
+        geartopo.simulate(scene, teeth=[1], progress=5)
+
+
+def test_a_scene_is_made_only_by_the_module(scene):
+    # Scene.__new__(Scene) made an empty object whose properties read freed memory (a crash)
+    with pytest.raises(TypeError, match="load_scene"):
+        geartopo.Scene.__new__(geartopo.Scene)
+    with pytest.raises(TypeError):
+        copy.copy(scene)
+    assert scene.teeth == 35  # the module's own objects are made as before
+
+
+def interrupt_after(seconds):
+    """Sends this process SIGINT (Ctrl-C) after `seconds`, from another thread; returns the time it was sent."""
+    sent = {}
+
+    def send():
+        time.sleep(seconds)
+        sent["at"] = time.monotonic()
+        os.kill(os.getpid(), signal.SIGINT)
+
+    threading.Thread(target=send, daemon=True).start()
+    return sent
+
+
+@pytest.mark.parametrize("with_callback", [False, True])
+def test_ctrl_c_stops_a_long_compensate(scene, with_callback):
+    # 10**5 samples run for many minutes; before, Ctrl-C was seen only with a callback, or at the end.
+    sent = interrupt_after(2.0)
+    progress = (lambda done, total: None) if with_callback else None
+    with pytest.raises(KeyboardInterrupt):
+        geartopo.compensate(scene, samples=10**5, progress=progress)
+    # Each Monte Carlo sample reports; a few samples' time at most, far below the call's own minutes.
+    assert time.monotonic() - sent["at"] < 30.0
+
+
+def test_after_an_interrupt_the_next_call_runs(scene):
+    sent = interrupt_after(1.0)
+    with pytest.raises(KeyboardInterrupt):
+        geartopo.compensate(scene, samples=10**5)
+    assert "at" in sent
+    r = geartopo.compare(scene, str(MEASURED))
+    assert r["overall"]["rms_um"] > 0
+
+
+@pytest.mark.parametrize("call, error, message", [
+    (lambda s: geartopo.compare(s, None), TypeError, r"measured: None is not a measurement: a path"),
+    (lambda s: geartopo.compare(s, 5), TypeError, r"measured: 5 is not a measurement"),
+    (lambda s: geartopo.machine_values(s, 5), TypeError, r"export: 5 is not a path"),
+    (lambda s: geartopo.machine_values(s, str(MEASURED), values=b"x.mew"), TypeError, r"values: b'x.mew' is not a path"),
+    (lambda s: geartopo.compare(s, ""), ValueError, r"measured: an empty path names no file"),
+])
+def test_what_is_not_a_path_is_refused_naming_the_argument(scene, call, error, message):
+    with pytest.raises(error, match=message):
+        call(scene)
+
+
+def test_a_path_like_measurement_is_read_as_its_text(scene):
+    assert geartopo.compare(scene, MEASURED)["overall"] == geartopo.compare(scene, str(MEASURED))["overall"]
