@@ -28,6 +28,24 @@ std::string path_argument(const py::object& path, const char* argument) {
   return s;
 }
 
+std::pair<int, int> grid_argument(const py::object& grid, const char* argument) {
+  const auto shown = [&] { return py::repr(grid).cast<std::string>(); };
+  if (!(py::isinstance<py::tuple>(grid) || py::isinstance<py::list>(grid)) || py::len(grid) != 2)
+    throw py::type_error(fmt::format("{}: {} is not (rows, cols), e.g. (40, 60)", argument, shown()));
+  int rc[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    const py::object v = grid[py::int_(k)];
+    if (py::isinstance<py::bool_>(v) || (!py::isinstance<py::int_>(v) && !py::hasattr(v, "__index__")))
+      throw py::type_error(fmt::format("{}: {} is not (rows, cols) of whole numbers", argument, shown()));
+    const auto n = py::int_(v.attr("__index__")()).cast<long long>();
+    if (n < 2 || n > commands::kMaxGridLines)
+      throw std::invalid_argument(
+          fmt::format("{}: {} is not (rows, cols) with 2 ≤ each ≤ {}", argument, shown(), commands::kMaxGridLines));
+    rc[k] = static_cast<int>(n);
+  }
+  return {rc[0], rc[1]};
+}
+
 std::vector<int> teeth_argument(const py::object& teeth, int z, const std::vector<int>& fallback) {
   if (teeth.is_none()) return fallback;
   if (py::isinstance<py::str>(teeth)) {
@@ -35,6 +53,11 @@ std::vector<int> teeth_argument(const py::object& teeth, int z, const std::vecto
     throw std::invalid_argument(fmt::format("teeth: '{}' is not \"all\" or a list of tooth numbers (e.g. [1, 18])",
                                             teeth.cast<std::string>()));
   }
+  // A mapping or a set is not a list of teeth ({1: 18} iterated as [1]); a single number is not a list either.
+  if (py::isinstance<py::dict>(teeth) || py::isinstance<py::set>(teeth) || py::isinstance<py::frozenset>(teeth) ||
+      !py::hasattr(teeth, "__iter__"))
+    throw py::type_error(fmt::format("teeth: {} is not \"all\" or a list of tooth numbers (e.g. [1, 18])",
+                                     py::repr(teeth).cast<std::string>()));
   std::vector<int> out;
   for (const auto& item : py::iter(teeth)) {
     // A tooth is a whole number: 1.5 or True is refused, not truncated to 1 (an integral float such as 18.0 is read).

@@ -8,6 +8,7 @@
 #include <pybind11/pybind11.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace geartopo::python {
@@ -17,6 +18,9 @@ std::vector<int> teeth_argument(const pybind11::object& teeth, int z, const std:
 /// A file's path: a str or an os.PathLike naming one (TypeError otherwise, naming `argument`); empty or holding a
 /// NUL character: ValueError (commands::check_path) — a C string would end at the NUL and name another file.
 std::string path_argument(const pybind11::object& path, const char* argument);
+/// A grid's (rows, cols): a pair of whole numbers, each 2 … 1000 (commands::kMaxGridLines); otherwise a TypeError or
+/// ValueError naming `argument`.
+std::pair<int, int> grid_argument(const pybind11::object& grid, const char* argument);
 /// "exact" or "linear".
 grinding::Method method_argument(const std::string& method);
 /// iso_direction "transverse"|"normal", helix_slope_sign "helix-angle"|"rise-towards-plus-z".

@@ -1,9 +1,9 @@
 // geartopo Python module — compensate(scene, …): the axis corrections, the gear before and the nominal after-state,
 // and the predicted after-state as a distribution — the library calls of `geartopo compensate` (its cycle table,
 // ISG table and shards stay with the CLI).
-#include "interrupt.hpp"
 #include "arguments.hpp"
 #include "bindings.hpp"
+#include "interrupt.hpp"
 #include "json_to_python.hpp"
 #include "numpy_columns.hpp"
 #include "py_scene.hpp"

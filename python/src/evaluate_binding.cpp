@@ -1,8 +1,8 @@
 // geartopo Python module — evaluate(scene, topo): ISO 1328-1:2013 values and classes (workbench::evaluate_iso,
 // report::iso_json) of a simulation, of simulate()'s arrays or of a measured traces file, as `geartopo evaluate`.
-#include "interrupt.hpp"
 #include "arguments.hpp"
 #include "bindings.hpp"
+#include "interrupt.hpp"
 #include "json_to_python.hpp"
 #include "numpy_columns.hpp"
 #include "py_scene.hpp"
@@ -36,7 +36,7 @@ void bind_evaluate(py::module_& m) {
         } else if (py::isinstance<py::dict>(topo)) { // simulate()'s or synth()'s arrays
           flanks = topology_from_columns(topo.cast<py::dict>(), "topo");
         } else { // a measured traces file
-          const std::string file = py::str(topo).cast<std::string>();
+          const std::string file = path_argument(topo, "topo");
           auto traces = measurement::read_any_traces(file, wb.setup);
           if (!traces.warnings.empty()) {
             const auto warn = py::module_::import("warnings").attr("warn");

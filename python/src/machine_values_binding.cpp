@@ -1,9 +1,9 @@
 // geartopo Python module — machine_values(scene, export, values): the measuring machine's own evaluation beside
 // geartopo's evaluation of the same traces, as `geartopo evaluate --traces EXPORT.mka [--machine-values EXPORT.mew]`
 // writes it into iso1328.json: the same calls (commands/machine_values.hpp).
-#include "interrupt.hpp"
 #include "arguments.hpp"
 #include "bindings.hpp"
+#include "interrupt.hpp"
 #include "json_to_python.hpp"
 #include "py_scene.hpp"
 

@@ -1,15 +1,16 @@
 // geartopo Python module — compare, diagnose, plan: a measurement against the scene's model, with the library calls
 // of `geartopo compare`, `diagnose` and `plan` and their JSON files' content (report/measurement_report.hpp).
-#include "interrupt.hpp"
+#include "arguments.hpp"
 #include "bindings.hpp"
+#include "interrupt.hpp"
 #include "json_to_python.hpp"
 #include "measured_input.hpp"
 #include "numpy_columns.hpp"
 #include "py_scene.hpp"
 #include "python_progress.hpp"
 
-#include "geartopo/diagnosis/diagnosis_json.hpp"
 #include "geartopo/commands/limits.hpp"
+#include "geartopo/diagnosis/diagnosis_json.hpp"
 #include "geartopo/commands/measured.hpp"
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
@@ -112,7 +113,7 @@ Returns compare.json's content, plus "residuals": residuals.csv's columns as arr
         std::string name;
         const auto pts = measured_points(s, measured, name);
         const auto request = request_of(noise_um, candidates, scene_uncertainty, progress);
-        const std::filesystem::path to = yaml_dir.is_none() ? s.dir : yaml_dir.cast<std::filesystem::path>();
+        const std::filesystem::path to = yaml_dir.is_none() ? s.dir : std::filesystem::path(path_argument(yaml_dir, "yaml_dir"));
         std::optional<commands::DiagnoseResult> r;
         {
           const LibraryWork work; // Ctrl-C caught, the GIL released

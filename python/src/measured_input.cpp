@@ -1,6 +1,6 @@
+#include "measured_input.hpp"
 #include "arguments.hpp"
 #include "interrupt.hpp"
-#include "measured_input.hpp"
 #include "numpy_columns.hpp"
 
 #include "geartopo/core/input_error.hpp"

@@ -128,9 +128,16 @@ void check_length(long long& n, long long size, const char* key, const std::stri
 
 template <class T>
 py::array_t<T> typed_column(const py::dict& d, const char* key, const std::string& source, long long& n) {
+  // Numbers only: numpy's cast would drop a complex value's imaginary part and read "1.5" strings as numbers.
+  const py::array raw = py::array::ensure(required(d, key, source));
+  if (!raw) throw InputError(source, 0, 0, key, "not a one-dimensional array of numbers");
+  if (const char kind = raw.dtype().kind(); kind != 'i' && kind != 'u' && kind != 'f')
+    throw InputError(source, 0, 0, key,
+                     fmt::format("an array of {} is not an array of real numbers",
+                                 py::str(raw.dtype()).cast<std::string>()));
   py::array_t<T, py::array::c_style | py::array::forcecast> a;
   try {
-    a = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(required(d, key, source));
+    a = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(raw);
   } catch (const py::error_already_set&) {
     a = {};
   }
@@ -215,10 +222,16 @@ std::vector<grinding::FlankTopology> topology_from_columns(const py::dict& topo,
   };
   const bool traces_only = topo.contains("trace"); // a traces dict itself (synth(format="traces"))
   if (!traces_only) read_grid(topo, source, false);
-  if (topo.contains("dense")) read_grid(topo["dense"].cast<py::dict>(), source + "['dense']", true);
+  const auto nested = [&](const char* key) {
+    const py::object o = topo[key];
+    if (!py::isinstance<py::dict>(o))
+      throw InputError(source, 0, 0, key, fmt::format("{} is not a dict of arrays", py::repr(o).cast<std::string>()));
+    return o.cast<py::dict>();
+  };
+  if (topo.contains("dense")) read_grid(nested("dense"), source + "['dense']", true);
   if (traces_only || topo.contains("traces")) {
     const std::string src = traces_only ? source : source + "['traces']";
-    const py::dict t = traces_only ? topo : topo["traces"].cast<py::dict>();
+    const py::dict t = traces_only ? topo : nested("traces");
     long long n = -1;
     const auto tooth = int_column(t, "tooth", src, n);
     const auto flanks = word_list(t, "flank", src, n), traces = word_list(t, "trace", src, n);

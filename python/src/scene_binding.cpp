@@ -1,7 +1,7 @@
 // geartopo Python module — Scene, load_scene(path), scene_from_yaml(text): the scene read and built by the same
 // functions as every CLI command (scene::load_scene / parse_scene, workbench::Workbench).
-#include "interrupt.hpp"
 #include "bindings.hpp"
+#include "interrupt.hpp"
 #include "json_to_python.hpp"
 #include "py_scene.hpp"
 

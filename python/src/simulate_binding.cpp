@@ -1,8 +1,8 @@
 // geartopo Python module — simulate(scene, …): grinding::simulate_topology with the options `geartopo simulate`
 // gives it, the result as topology.csv's and traces.csv's columns.
-#include "interrupt.hpp"
 #include "arguments.hpp"
 #include "bindings.hpp"
+#include "interrupt.hpp"
 #include "numpy_columns.hpp"
 #include "py_scene.hpp"
 #include "python_progress.hpp"
@@ -27,10 +27,7 @@ void bind_simulate(py::module_& m) {
         so.method = method_argument(method);
         so.teeth = teeth_argument(teeth, wb.setup.geometry().teeth(), wb.scene.grid.teeth);
         if (!dense.is_none()) {
-          const auto rc = dense.cast<std::pair<int, int>>();
-          if (rc.first < 2 || rc.second < 2)
-            throw std::invalid_argument(fmt::format("dense: ({}, {}) is not (rows, cols) with 2 ≤ each", rc.first, rc.second));
-          std::tie(so.dense_rows, so.dense_cols) = rc;
+          std::tie(so.dense_rows, so.dense_cols) = grid_argument(dense, "dense");
         }
         if (threads < 0) throw std::invalid_argument(fmt::format("threads: {} is negative (0: all hardware threads)", threads));
         so.threads = threads;

@@ -1,8 +1,8 @@
 // geartopo Python module — synth(truth, …): a synthetic measurement of a gear ground on a truth scene, the library
 // calls of `geartopo synth` (diagnosis::synthesize / synthesize_traces, pipeline::synth_corrections).
-#include "interrupt.hpp"
 #include "arguments.hpp"
 #include "bindings.hpp"
+#include "interrupt.hpp"
 #include "numpy_columns.hpp"
 #include "py_scene.hpp"
 

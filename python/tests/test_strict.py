@@ -108,3 +108,37 @@ def test_what_is_not_a_path_is_refused_naming_the_argument(scene, call, error, m
 
 def test_a_path_like_measurement_is_read_as_its_text(scene):
     assert geartopo.compare(scene, MEASURED)["overall"] == geartopo.compare(scene, str(MEASURED))["overall"]
+
+
+@pytest.mark.parametrize("call, error, message", [
+    (lambda s: geartopo.simulate(s, dense="10x10"), TypeError, r"dense: '10x10' is not \(rows, cols\)"),
+    (lambda s: geartopo.simulate(s, dense=(1, 2, 3)), TypeError, r"dense: \(1, 2, 3\) is not \(rows, cols\)"),
+    (lambda s: geartopo.simulate(s, dense=(2**31, 2)), ValueError, r"dense: \(2147483648, 2\) is not \(rows, cols\) "
+                                                                    r"with 2 ≤ each ≤ 1000"),
+    (lambda s: geartopo.simulate(s, dense=(2.5, 3)), TypeError, r"dense: \(2.5, 3\) is not \(rows, cols\) of whole"),
+    (lambda s: geartopo.simulate(s, teeth=3), TypeError, r"teeth: 3 is not \"all\" or a list"),
+    (lambda s: geartopo.simulate(s, teeth={1: 18}), TypeError, r"teeth: \{1: 18\} is not \"all\" or a list"),
+    (lambda s: geartopo.diagnose(s, str(MEASURED), yaml_dir=5), TypeError, r"yaml_dir: 5 is not a path"),
+    (lambda s: geartopo.evaluate(s, topo=5), TypeError, r"topo: 5 is not a path"),
+    (lambda s: geartopo.evaluate(s, topo={**geartopo.simulate(s, teeth=[1]), "traces": 5}), ValueError,
+     r"traces: 5 is not a dict of arrays"),
+])
+def test_arguments_of_the_wrong_shape_are_refused_naming_them(scene, call, error, message):
+    # each was a bare "Unable to cast Python instance to C++ type", or read as something else
+    with pytest.raises(error, match=message):
+        call(scene)
+
+
+def test_numpy_integers_are_whole_numbers(scene):
+    import numpy as np
+    t = geartopo.simulate(scene, teeth=np.array([2]), dense=(np.int64(6), 11))
+    assert set(t["tooth"]) == {2} and len(t["dense"]["tooth"]) == 2 * 6 * 11
+
+
+@pytest.mark.parametrize("bad", ["complex", "string"])
+def test_measured_arrays_of_complex_or_strings_are_refused(scene, truth, bad):
+    import numpy as np
+    m = geartopo.synth(truth, teeth=[1], noise_um=0.0)
+    m["deviation_um"] = (m["deviation_um"] + 1j) if bad == "complex" else m["deviation_um"].astype(str)
+    with pytest.raises(ValueError, match=r"deviation_um: an array of .* is not an array of real numbers"):
+        geartopo.compare(scene, m)
