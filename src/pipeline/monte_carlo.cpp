@@ -53,7 +53,8 @@ compensation::CorrectionTable rounded_to_resolution(const compensation::Correcti
 }
 
 std::pair<long long, long long> shard_range(long long samples, int shard, int shards) {
-  if (samples < 1) throw std::invalid_argument(fmt::format("samples {} < 1", samples));
+  if (samples < 1 || samples > kMaxMonteCarloSamples)
+    throw std::invalid_argument(fmt::format("samples {} is not within 1 … {}", samples, kMaxMonteCarloSamples));
   if (shards < 1 || shard < 1 || shard > shards || shards > samples)
     throw std::invalid_argument(fmt::format("shard {}/{}: need 1 ≤ shard ≤ shards ≤ samples ({})", shard, shards, samples));
   const auto at = [&](long long i) { return samples * i / shards; }; // exact in integers

@@ -7,6 +7,7 @@
 #include "geartopo/diagnosis/synth.hpp"
 #include "geartopo/files/input_file.hpp"
 #include "geartopo/measurement/measured_points.hpp"
+#include "geartopo/pipeline/monte_carlo.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
 #include <gtest/gtest.h>
@@ -70,6 +71,18 @@ TEST(Limits, TheLibrariesRefuseANoiseTheyWouldOverflowOn) {
                  std::invalid_argument)
         << v;
     EXPECT_THROW(diagnosis::compare(bench().setup, bench().process(), measured(), v), std::invalid_argument) << v;
+  }
+}
+
+TEST(Limits, TheMonteCarloRefusesMoreSamplesThanAnyFrontEndAllows) {
+  // 10⁹ samples given to the library directly ended in std::bad_alloc; refused before any allocation, and the bound
+  // is the one both front ends check.
+  static_assert(commands::kMaxSamples == pipeline::kMaxMonteCarloSamples);
+  const compensation::CorrectionTable none({}); // refused before the table is looked at
+  for (long long samples : {pipeline::kMaxMonteCarloSamples + 1, 1'000'000'000LL, -5LL}) {
+    pipeline::MonteCarloOptions o;
+    o.samples = samples;
+    EXPECT_THROW(pipeline::run_monte_carlo(bench(), none, o), std::invalid_argument) << samples;
   }
 }
 

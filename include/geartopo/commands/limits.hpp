@@ -4,6 +4,8 @@
 // or loop over the value (diagnose's noise, the Monte Carlo's samples). Units in every name.
 #pragma once
 
+#include "geartopo/pipeline/monte_carlo.hpp"
+
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -35,7 +37,7 @@ void check_path(const std::string& path, std::string_view argument);
 /// Teeth: each within 1 … z, none twice (empty: the caller's default).
 void check_teeth(const std::vector<int>& teeth, int z, std::string_view argument);
 
-inline constexpr long long kMaxSamples = 1'000'000;
+inline constexpr long long kMaxSamples = pipeline::kMaxMonteCarloSamples;
 inline constexpr long long kMaxGridLines = 1000;
 
 } // namespace geartopo::commands

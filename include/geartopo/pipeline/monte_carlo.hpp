@@ -62,8 +62,12 @@ inline const std::vector<std::string>& limit_sources() {
   return names;
 }
 
+/// The most samples a run takes: every front end's bound (commands::kMaxSamples), checked again by run_monte_carlo —
+/// 10⁹ ended in std::bad_alloc.
+inline constexpr long long kMaxMonteCarloSamples = 1'000'000;
+
 struct MonteCarloOptions {
-  long long samples = 200;  ///< M, over all shards
+  long long samples = 200;  ///< M, over all shards: 1 … kMaxMonteCarloSamples
   std::uint64_t seed = 1;
   int shard = 1, shards = 1; ///< this run computes shard `shard` of `shards` (1-based): a contiguous block of samples
   int threads = 0;           ///< 0: all hardware threads (results do not depend on it)
