@@ -4,6 +4,7 @@
 #include "app/messages.hpp"
 #include "app/monte_carlo_flags.hpp"
 
+#include "geartopo/diagnosis/diagnosis_json.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
 #include "geartopo/files/atomic_write.hpp"
@@ -70,10 +71,10 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
     output::write_text_atomically(dir / "compare.json", report::compare_json(scene_file, m.file, m.points, m.before).dump(2) + "\n");
     output::write_text_atomically(
         dir / "diagnosis.json",
-        report::diagnosis_json(scene_file, m.file, m.diagnosis, diagnosis::mean_allowance_offset_um(wb.setup.geometry())).dump(2) + "\n");
+        diagnosis::diagnosis_json(scene_file, m.file, m.diagnosis, diagnosis::mean_allowance_offset_um(wb.setup.geometry())).dump(2) + "\n");
   }
   // Only an accepted explanation is added (docs/diagnosis.md: not ambiguous, no value at the end of its range).
-  if (r.measurement && r.measurement->diagnosis.chosen && r.measurement->diagnosis.withheld.empty()) {
+  if (r.measurement && r.measurement->diagnosis.chosen && !r.measurement->diagnosis.withheld) {
     std::vector<std::string> comments;
     for (const auto& e : r.measurement->diagnosis.chosen->effects)
       comments.push_back(e.type + ": identified by geartopo from " + r.measurement->file);
