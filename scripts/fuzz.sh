@@ -19,7 +19,7 @@ cmake -S . -B "$build_dir" -G Ninja -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMP
   -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined" >/dev/null
 cmake --build "$build_dir" --target fuzz_scene fuzz_error_table fuzz_topology fuzz_point_cloud fuzz_klingelnberg
 
-declare -A corpus=([scene]=scenes [error_table]=error_tables [topology]=topology [point_cloud]=point_clouds [klingelnberg]=klingelnberg)
+declare -A corpus=([scene]=scenes [error_table]=error_tables [topology]=topology [point_cloud]=point_clouds [klingelnberg]=exports)
 declare -A shipped=([scene]="scenes/*.yaml" [error_table]="scenes/machine/*.csv" [topology]="" [point_cloud]="" [klingelnberg]="tests/measurement/data/*.mka")
 status=0
 for reader in scene error_table topology point_cloud klingelnberg; do

@@ -60,7 +60,7 @@ double FlankDeviation::entry_depth(const gears::FlankPoint& fp, const machine::P
     // lies within r of t_k (Kantorovich: M|s|/|f′| ≤ ½), and |t − t*| = |f(t)|/|f′(η)| ≤ ½ M s² / (|f′(t_k)| − M r).
     // M: ρ″ = (m_x² + m_z² − ρ′²)/ρ ∈ [0, 1/ρ] with ρ ≥ ρ_k − r, and (R∘v)″ = R″ m_y² with |m_y| ≤ 1 (|m| = 1).
     // Quadratic convergence makes this save the last step (|s| ~ 1e-6 mm leaves ~1e-14 mm; the step after it is
-    // rounding); docs/performance.md, third round.
+    // rounding; measured in docs/performance.md at commit 845718f and before).
     const double r = 2.0 * std::abs(step);
     if (!(rho > r) || q.y() - r < wheel_.v_min() || q.y() + r > wheel_.v_max()) continue;
     const double f2_bound = 1.0 / (rho - r) + wheel_.second_derivative_bound(w, r);

@@ -15,10 +15,15 @@
 #include <vtkWindowToImageFilter.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <dlfcn.h>
+#include <link.h>
+#include <unistd.h>
 
 namespace geartopo::render::detail {
 
@@ -35,7 +40,7 @@ std::string egl_error_text(EGLint code) {
   return buffer;
 }
 
-/// The surfaceless EGL display, initialised once per process (never terminated: other threads may hold contexts).
+/// The surfaceless EGL display, initialised once per process (terminated at exit with the shared context).
 struct Display {
   EGLDisplay display = EGL_NO_DISPLAY;
   EGLConfig config = nullptr;
@@ -90,11 +95,11 @@ const Display& surfaceless_display() {
   return d;
 }
 
-/// The process's one OpenGL context and the one render window on it, made on first use and kept (never destroyed:
-/// other static destructors may run after ours). Every figure borrows them under render_mutex(): a fresh context per
-/// figure made Mesa's llvmpipe compile every shader again (LLVM was ~30 % of a `geartopo run`); a kept window keeps
-/// VTK's shader cache, and the context keeps llvmpipe's compiled variants. Made current on the borrowing thread and
-/// released from it when the figure is done, so any thread may borrow next.
+/// The process's one OpenGL context and the one render window on it, made on first use and kept until the process
+/// exits. Every figure borrows them under render_mutex(): a fresh context per figure made Mesa's llvmpipe compile
+/// every shader again (LLVM was ~30 % of a `geartopo run`); a kept window keeps VTK's shader cache, and the context
+/// keeps llvmpipe's compiled variants. Made current on the borrowing thread and released from it when the figure is
+/// done, so any thread may borrow next.
 struct SharedContext {
   EGLDisplay display = EGL_NO_DISPLAY;
   EGLContext context = EGL_NO_CONTEXT;
@@ -102,8 +107,50 @@ struct SharedContext {
 };
 
 SharedContext& shared_context() {
-  static SharedContext* c = new SharedContext; // intentionally never deleted (see above)
+  static SharedContext* c = new SharedContext; // not a static object: its end is release_at_exit's, in order
   return *c;
+}
+
+/// Keeps the loaded DRI drivers (Mesa's swrast_dri.so) mapped for the rest of the process. eglTerminate unloads the
+/// driver; blocks it allocated and still points to from its own globals then look unreferenced, and LeakSanitizer's
+/// exit check reported them as leaks (240 bytes, in an "unknown module"). The names are collected first: dlopen is
+/// not called from inside dl_iterate_phdr.
+void keep_dri_drivers_loaded() {
+  std::vector<std::string> drivers;
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, std::size_t, void* found) -> int {
+        if (info->dlpi_name != nullptr && std::strstr(info->dlpi_name, "/dri/") != nullptr)
+          static_cast<std::vector<std::string>*>(found)->emplace_back(info->dlpi_name);
+        return 0;
+      },
+      &drivers);
+  for (const std::string& driver : drivers) dlopen(driver.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+}
+
+/// At exit (std::atexit, registered when the context is first made, so it runs before the static destructors of
+/// VTK and Mesa that were constructed before it): the window's OpenGL resources released while its context is
+/// current, the context destroyed and the display terminated, which ends llvmpipe's threads. Left alive, those
+/// threads and the context outlived main, and LeakSanitizer's exit check crashed beside them. A figure being drawn
+/// on another thread (render_mutex() held) keeps everything as it is: the process ends around it; so does a child
+/// forked after the context was made (its copy has no llvmpipe threads to end).
+pid_t context_owner = 0;
+
+extern "C" void release_at_exit() {
+  std::unique_lock lock(render_mutex(), std::try_to_lock);
+  if (!lock.owns_lock()) return;
+  SharedContext& c = shared_context();
+  if (c.context == EGL_NO_CONTEXT || ::getpid() != context_owner) return;
+  if (eglBindAPI(EGL_OPENGL_API) == EGL_TRUE &&
+      eglMakeCurrent(c.display, EGL_NO_SURFACE, EGL_NO_SURFACE, c.context) == EGL_TRUE) {
+    c.window->Finalize();
+    c.window = nullptr;
+    eglMakeCurrent(c.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+  }
+  eglDestroyContext(c.display, c.context);
+  c.context = EGL_NO_CONTEXT;
+  keep_dri_drivers_loaded();
+  eglTerminate(c.display);
+  eglReleaseThread();
 }
 
 void make_current_or_throw(EGLDisplay display, EGLContext context) {
@@ -159,6 +206,8 @@ void acquire(SharedContext& c) {
   c.display = d.display;
   c.context = context;
   c.window = window;
+  context_owner = ::getpid();
+  std::atexit(release_at_exit);
 }
 
 } // namespace

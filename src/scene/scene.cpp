@@ -623,9 +623,9 @@ void Scene::fail_at(const std::string& field, const std::string& message) const 
 }
 
 /// yaml-cpp 0.7 (Debian 12) never returns from LoadAll when a document's first token is a ',' (found by fuzz_scene:
-/// ",` !" hung `geartopo gear` for ever; docs/performance.md, finding 22). A ',' is a flow indicator and cannot start a
-/// document, so such a text is refused here, before the parser sees it, at the comma's line and column; so is a
-/// control character, which YAML does not allow and which hid such a comma.
+/// ",` !" hung `geartopo gear` for ever; docs/robustness.md, "Findings": finding 22). A ',' is a flow indicator and
+/// cannot start a document, so such a text is refused here, before the parser sees it, at the comma's line and
+/// column; so is a control character, which YAML does not allow and which hid such a comma.
 void refuse_what_hangs_yaml_cpp(const std::string& text, const ReadContext& ctx) {
   // YAML's character set (1.2, c-printable) excludes the C0 controls but TAB, LF and CR, and DEL: a NUL in front of
   // the ',' hid it from the check below and hung the parser again (the second fuzzing run). Refused, located.

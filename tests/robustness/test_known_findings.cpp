@@ -1,4 +1,4 @@
-// FINDINGS of the robustness work (docs/performance.md, "Robustness findings"), kept as regression tests, all fixed on
+// FINDINGS of the robustness work (docs/robustness.md, "Findings"), kept as regression tests, all fixed on
 // 2026-11-21: (1) a 10⁸-point dense grid per flank accepted by the scene reader (corpus/scenes/grid_dense_*.yaml);
 // (2) readers echoing a whole 64 KiB field into their message; (3) unknown-key messages listing only the keys a reader
 // happened to look up; (4) topology and traces files with a UTF-8 byte-order mark refused; (10) "+-5" read as −5. Findings 6 and 7 are

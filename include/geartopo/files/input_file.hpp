@@ -1,7 +1,7 @@
 // geartopo — opening an input file: only a regular file, of at most a documented size, checked before anything is
 // read. A directory, a device (/dev/zero, /dev/urandom), a FIFO or a socket named as a scene or a measurement used to
 // hang a reader or give a misleading message ("empty scene", "missing header"); every reader opens its file through
-// here and so refuses them by name (docs/performance.md, "Input bounds").
+// here and so refuses them by name (docs/robustness.md, "Inputs and outputs").
 #pragma once
 
 #include <cstdint>

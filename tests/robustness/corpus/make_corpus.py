@@ -213,7 +213,7 @@ write(T, "extra_header_column.csv", TH.rstrip("\n") + ",note\n" + trows(), ("Inp
 write(T, "missing_header.csv", trows(), ("InputError", 1, "header"))
 write(T, "truncated_line.csv", TH + trows(2) + "1,left,2,1,562.0\n", ("InputError", 4, "fields"))
 # Cut in the middle of the 6th field, no final newline. (A cut that leaves a number, e.g. "0.1234" → "0.", cannot be
-# told from a complete file unless a final newline is required: docs/performance.md, robustness findings.)
+# told from a complete file unless a final newline is required: docs/robustness.md, "Findings".)
 write(T, "truncated_file.csv", TH + trows(2) + "1,left,2,1,562.0,1", ("InputError", 4, "fields"))
 write(T, "nan_deviation.csv", TH + trows(2) + "1,left,2,1,562.0,10.0,nan\n", ("InputError", 4, "deviation_um"))
 # Issue 18: a finite but absurd deviation (1e300 µm crashed diagnose; 1e12 µm is a wrong unit) is refused at its line.
