@@ -1,5 +1,6 @@
 // geartopo — command-line entry. Exit codes: 0 success, 1 bad input, 2 bad usage.
 #include "app/commands.hpp"
+#include "geartopo/commands/limits.hpp"
 #include "app/messages.hpp"
 #include "geartopo/files/termination.hpp"
 
@@ -53,6 +54,9 @@ int main(int argc, char** argv) {
   try {
     code = action ? action() : 2;
   } catch (const CLI::ValidationError& e) {
+    code = 2;
+    error = std::string("geartopo: usage: ") + e.what();
+  } catch (const geartopo::commands::ArgumentError& e) { // a flag's value the command refuses: bad usage, named
     code = 2;
     error = std::string("geartopo: usage: ") + e.what();
   } catch (const std::exception& e) {

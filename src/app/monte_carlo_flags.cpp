@@ -5,6 +5,7 @@
 #include "app/messages.hpp"
 #include "app/validators.hpp"
 
+#include "geartopo/commands/limits.hpp"
 #include "geartopo/files/atomic_write.hpp"
 #include "geartopo/core/text_field.hpp"
 #include "geartopo/report/prediction_report.hpp"
@@ -30,7 +31,7 @@ void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards)
          fmt::format("Monte Carlo samples of the predicted after-state over all shards (default {}; 0: none; not with "
                      "--adaptive-tolerance-um)",
                      flags.samples))
-      ->check(CLI::Range(0LL, 1'000'000LL));
+      ->check(CLI::Range(0LL, commands::kMaxSamples));
   cmd->add_option("--seed", flags.seed, "Seed of the Monte Carlo draws (default 1): sample k depends on (seed, k) only")
       ->check(seed_value());
   cmd->add_option("--max-time-s", flags.max_time_s,
@@ -52,7 +53,7 @@ void add_monte_carlo_options(CLI::App* cmd, MonteCarloFlags& flags, bool shards)
            flags.max_samples_given = true;
          },
          fmt::format("The adaptive run's limit (default {}; with --adaptive-tolerance-um only)", flags.max_samples))
-      ->check(CLI::Range(200LL, 1'000'000LL));
+      ->check(CLI::Range(200LL, commands::kMaxSamples));
   cmd->add_option_function<double>(
          "--probe-noise-um",
          [&flags](const double& v) {

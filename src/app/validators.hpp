@@ -2,6 +2,8 @@
 // (exit 2), named by its flag.
 #pragma once
 
+#include "geartopo/diagnosis/diagnose.hpp"
+
 namespace CLI {
 class Validator;
 }
@@ -12,8 +14,9 @@ namespace geartopo::app {
 /// `--noise-um nan` or `--step nan` passed the check. Refuses NaN, ±inf and values outside the range (exit 2).
 CLI::Validator finite_in(double lo, double hi);
 /// The probe noise σ a fit divides by (--noise-um of compare, diagnose, plan, report): finite and within
-/// [kMinProbeSigmaUm, kMaxProbeSigmaUm]; 1e-320 µm would make Σr²/σ² infinite in diagnosis.json and plan.json.
-inline constexpr double kMinProbeSigmaUm = 1e-6, kMaxProbeSigmaUm = 1000.0;
+/// [kMinProbeSigmaUm, kMaxProbeSigmaUm] — diagnose's and compare's own bounds (diagnosis::kMinNoiseUm, kMaxNoiseUm, the
+/// commands' check_noise_um); 1e-320 µm would make Σr²/σ² infinite in diagnosis.json and plan.json.
+inline constexpr double kMinProbeSigmaUm = diagnosis::kMinNoiseUm, kMaxProbeSigmaUm = diagnosis::kMaxNoiseUm;
 CLI::Validator probe_sigma_um();
 /// A path that is not empty: `--out ""` wrote into the current folder's root ("" / "file" is "file"; "" as a folder
 /// was created as nothing) instead of being refused.

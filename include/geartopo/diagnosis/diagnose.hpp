@@ -172,7 +172,7 @@ struct MeasurementPlan {
 
 /// What diagnose does and when; the defaults are the documented behaviour (docs/diagnosis.md).
 struct DiagnoseOptions {
-  double noise_um = 0.0;            ///< probe noise σ (µm); ≤ 0: estimated from the residual (estimate_noise_um)
+  double noise_um = 0.0;            ///< probe noise σ (µm) in [kMinNoiseUm, kMaxNoiseUm]; 0: estimated (estimate_noise_um)
   /// Stroke-to-stroke scatter of the axis commands, one standard deviation per axis X, Y, Z (mm), A, C (rad): the
   /// scene's `machine.repeatability` (ISO 230-2 R/4). Non-zero: the residual's covariance is σ² I plus each stroke's
   /// scatter (stroke_scatter.hpp) and every fit is generalised least squares. Zero (default): white noise only.
@@ -399,6 +399,10 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
 MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& points,
                                  const std::vector<double>& residual_um, const Candidate& a, const Candidate& b,
                                  double noise_um, const DiagnoseOptions& options);
+
+/// The probe noise σ diagnose and compare accept when it is given (µm): below kMinNoiseUm no probe measures and the
+/// fits' Σr²/σ² would overflow; above kMaxNoiseUm it is no measurement of a ground flank. 0 means "estimate it".
+inline constexpr double kMinNoiseUm = 1e-6, kMaxNoiseUm = 1000.0;
 
 /// The smallest σ an estimate gives (µm): the exports' resolution (3 decimals), so that noise-free data give a finite
 /// σ nobody divides by zero with.

@@ -54,6 +54,7 @@ std::string_view to_string(TrendKind k) {
 namespace {
 
 constexpr std::string_view kWhat = "tooth trend fit";
+constexpr double kSmallestStandardErrorUm = 1e-100;
 
 /// The flanks' indices by tooth, after the checks every fit needs: one side, teeth in 1..z and given once, finite
 /// pattern values with standard errors > 0.
@@ -73,9 +74,10 @@ std::vector<std::size_t> checked_order(std::span<const FlankPatterns> flanks, in
       refuse(kWhat, fmt::format("tooth {} outside 1..{}", f.tooth, teeth_in_gear));
     for (NamedPattern p : kNamedPatterns) {
       const Estimate e = pattern_value(f, p);
-      if (!std::isfinite(e.value) || !std::isfinite(e.standard_error) || !(e.standard_error > 0))
-        refuse(kWhat, fmt::format("tooth {}: {} = {} ± {} µm (needs a finite value and a standard error > 0)", f.tooth,
-                                  to_string(p), e.value, e.standard_error));
+      // The weights are 1/σ²: a σ below 1e-100 µm (no measurement has one) would overflow them.
+      if (!std::isfinite(e.value) || !std::isfinite(e.standard_error) || !(e.standard_error > kSmallestStandardErrorUm))
+        refuse(kWhat, fmt::format("tooth {}: {} = {} ± {} µm (needs a finite value and a standard error > {:g} µm)",
+                                  f.tooth, to_string(p), e.value, e.standard_error, kSmallestStandardErrorUm));
     }
   }
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return flanks[a].tooth < flanks[b].tooth; });
@@ -161,7 +163,8 @@ void many_teeth_trend(PatternTrend& t, const PatternSeries& v, const TrendTests&
   Eigen::MatrixXd XL(n, 2);
   XL.col(0).setOnes();
   XL.col(1) = v.j.array() - v.j.mean();
-  const auto lin = weighted_fit(XL, v.y, v.s); // distinct teeth: always full rank
+  const auto lin = weighted_fit(XL, v.y, v.s); // distinct teeth: full rank unless the weights overflow
+  if (!lin) refuse(kWhat, fmt::format("the linear trend of {} is not determined (weights out of range)", to_string(t.pattern)));
   t.slope_um_per_tooth = {lin->coef(1), std::sqrt(lin->cov(1, 1) * tests.birge(lin->chi2, 2))};
   t.linear_significant = tests.significant(chi2_constant - lin->chi2, 1, lin->chi2, 2);
   // Once per revolution.
@@ -222,6 +225,7 @@ SideTrends fit_tooth_trends(std::span<const FlankPatterns> flanks, int teeth_in_
       v.th(i) = kTwoPi * (f.tooth - 1) / teeth_in_gear;
     }
     const auto c0 = weighted_fit(Eigen::MatrixXd::Ones(n, 1), v.y, v.s);
+    if (!c0) refuse(kWhat, fmt::format("the mean of {} is not determined (weights out of range)", to_string(t.pattern)));
     t.mean_um = {c0->coef(0), std::sqrt(c0->cov(0, 0) * tests.birge(c0->chi2, 1))};
     t.chi2_constant = c0->chi2;
     const std::string mean_text = fmt::format("mean {} ± {:.2f} µm", signed_um(t.mean_um.value), t.mean_um.standard_error);
