@@ -141,12 +141,24 @@ AxisPose setting_of(const Pose& M) {
 
 } // namespace
 
-KinematicChain::KinematicChain(ChainSpec spec) : spec_(std::move(spec)) {
+const AxisSpec& KinematicChain::at(int i) const {
+  return i < static_cast<int>(spec_.workpiece.size()) ? spec_.workpiece[static_cast<std::size_t>(i)]
+                                                       : spec_.tool[static_cast<std::size_t>(i) - spec_.workpiece.size()];
+}
+
+Axis KinematicChain::slot_at(int position) const {
+  for (int s = 0; s < kAxisCount; ++s)
+    if (chain_position_[static_cast<std::size_t>(s)] == position) return static_cast<Axis>(s);
+  return Axis::X;
+}
+
+std::string_view KinematicChain::keep(std::string s) {
+  strings_.push_back(std::move(s));
+  return strings_.back();
+}
+
+int KinematicChain::validate() const {
   const int n = static_cast<int>(spec_.workpiece.size() + spec_.tool.size());
-  const auto at = [&](int i) -> const AxisSpec& {
-    return i < static_cast<int>(spec_.workpiece.size()) ? spec_.workpiece[static_cast<std::size_t>(i)]
-                                                         : spec_.tool[static_cast<std::size_t>(i) - spec_.workpiece.size()];
-  };
   if (n != kAxisCount)
     throw ChainError(-1, "", fmt::format("a profile grinder's chain has five moving axes (three linear, two rotary); "
                                          "this one has {}", n));
@@ -193,7 +205,11 @@ KinematicChain::KinematicChain(ChainSpec spec) : spec_(std::move(spec)) {
                                        "directions", at(j).name, at(i).name,
                                        kCoordinate[static_cast<std::size_t>(coordinate_direction(at(i).direction)->first)]));
     }
+  return swivel;
+}
 
+void KinematicChain::order_axes(int swivel) {
+  const int n = kAxisCount;
   // Pose order: the linear axes by ISO 841 letter, the swivel, the spindle.
   std::vector<int> linear_positions;
   for (int i = 0; i < n; ++i)
@@ -209,17 +225,11 @@ KinematicChain::KinematicChain(ChainSpec spec) : spec_(std::move(spec)) {
   for (auto it = spec_.workpiece.begin(); it != spec_.workpiece.end(); ++it) layout_ += it->name;
   layout_ += "F";
   for (const auto& a : spec_.tool) layout_ += a.name;
+}
 
-  const auto slot_at = [&](int position) {
-    for (int s = 0; s < kAxisCount; ++s)
-      if (chain_position_[static_cast<std::size_t>(s)] == position) return static_cast<Axis>(s);
-    return Axis::X;
-  };
+void KinematicChain::name_components() {
+  const int n = kAxisCount;
   // Components: motion blocks by slot, squareness, location (spindle, then swivel).
-  const auto keep = [&](std::string s) -> std::string_view {
-    strings_.push_back(std::move(s));
-    return strings_.back();
-  };
   bool rotary_after = false; // a rotary axis between this axis and the wheel
   std::array<bool, kAxisCount> rotary_after_slot{};
   for (int i = n - 1; i >= 0; --i) {
@@ -276,7 +286,10 @@ KinematicChain::KinematicChain(ChainSpec spec) : spec_(std::move(spec)) {
           fmt::format("tilt of the {} axis line about {}", a.name, kCoordinate[static_cast<std::size_t>(p)]), Quantity::Angle);
     add(kRotationUpper[static_cast<std::size_t>(dir)], fmt::format("zero-position error of {}", a.name), Quantity::Angle);
   }
+}
 
+void KinematicChain::compile_joints() {
+  const int n = kAxisCount;
   // Joints, in chain order.
   for (int i = 0; i < n; ++i) {
     const AxisSpec& a = at(i);
@@ -307,7 +320,9 @@ KinematicChain::KinematicChain(ChainSpec spec) : spec_(std::move(spec)) {
         ++jt.squareness_count;
       }
   }
+}
 
+bool KinematicChain::is_setting_layout() const {
   // The CFXZAY itself (names aside): its axes are the setting's coordinates.
   const ChainSpec seed = cfxzay_spec();
   const auto same_geometry = [](const std::vector<AxisSpec>& a, const std::vector<AxisSpec>& b) {
@@ -322,7 +337,14 @@ KinematicChain::KinematicChain(ChainSpec spec) : spec_(std::move(spec)) {
   for (int s = 0; s < 3; ++s)
     slots_are_setting = slots_are_setting && coordinate_direction(axis(static_cast<Axis>(s)).direction) ==
                                                  std::optional<std::pair<int, double>>(std::pair{s, 1.0});
-  setting_chain_ = slots_are_setting && same_geometry(spec_.workpiece, seed.workpiece) && same_geometry(spec_.tool, seed.tool);
+  return slots_are_setting && same_geometry(spec_.workpiece, seed.workpiece) && same_geometry(spec_.tool, seed.tool);
+}
+
+KinematicChain::KinematicChain(ChainSpec spec) : spec_(std::move(spec)) {
+  order_axes(validate());
+  name_components();
+  compile_joints();
+  setting_chain_ = is_setting_layout();
 }
 
 bool KinematicChain::on_workpiece_side(Axis slot) const {

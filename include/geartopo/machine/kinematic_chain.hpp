@@ -170,6 +170,15 @@ public:
 private:
   explicit KinematicChain(ChainSpec spec);
   friend const KinematicChain& make_chain(ChainSpec spec);
+  // The constructor's steps (kinematic_chain.cpp).
+  const AxisSpec& at(int position) const; ///< in workpiece then tool order
+  Axis slot_at(int position) const;
+  std::string_view keep(std::string s);   ///< stored in strings_, viewed by info_
+  int validate() const;                   ///< throws ChainError; returns the swivel's position
+  void order_axes(int swivel);            ///< pose order, layout
+  void name_components();                 ///< info_
+  void compile_joints();                  ///< joints_
+  bool is_setting_layout() const;
 
   ChainSpec spec_;
   std::string layout_;
