@@ -29,6 +29,10 @@ render::LineChart run_chart(const SeriesQuantity& q, const SeriesResult& r) {
   c.title = fmt::format("{} over the series", q.label);
   c.x = {"gear (in the order ground)", "", 0.5, static_cast<double>(n) + 1.5};
   c.y = {q.label, "µm", {}, {}};
+  for (size_t k = 1; k <= n + 1; ++k) { // whole gears; the last place is the next gear's
+    c.x_ticks.push_back(static_cast<double>(k));
+    c.x_tick_labels.push_back(k <= n ? std::to_string(k) : std::string("next"));
+  }
   render::Series measured{"measured", {}, q.values_um, render::series_colour(0), 1.5, render::Marker::circle};
   double mean = 0.0;
   for (size_t k = 0; k < n; ++k) measured.x.push_back(static_cast<double>(k + 1)), mean += q.values_um[k] / n;
