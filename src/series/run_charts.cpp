@@ -60,6 +60,10 @@ render::LineChart run_chart(const SeriesQuantity& q, const SeriesResult& r) {
     for (const auto& p : q.fit->chosen.parameters)
       c.text.lines.push_back(p.determined ? fmt::format("{} = {:.4g} ± {:.2g}", p.name, p.value, p.sigma)
                                           : fmt::format("{}: not determined", p.name));
+  if (q.loss && q.loss->gears_median)
+    c.text.lines.push_back(fmt::format("limit expected left {} gears ahead (95 %: {} … {})", *q.loss->gears_median,
+                                       *q.loss->gears_early,
+                                       q.loss->gears_late ? std::to_string(*q.loss->gears_late) : std::string("later")));
   c.legend = render::LegendPlace::above;
   return c;
 }

@@ -99,7 +99,14 @@ void fit_quantity(SeriesQuantity& q, const SeriesResult& r, const SeriesOptions&
     if (!std::isfinite(v)) return;
   q.fit = fit_series(r.states, q.values_um, std::max(q.floor_um, 1e-3));
   q.next = predict(q.fit->chosen, r.next);
-  if (q.limit_um) q.loss = class_loss(q.fit->chosen, r.next, r.step, *q.limit_um, o.max_gears_ahead);
+  if (!q.limit_um) return;
+  q.loss = class_loss(q.fit->chosen, r.next, r.step, *q.limit_um, o.max_gears_ahead);
+  // The laws see each gear at its measured points; the shop re-dresses by the strokes and time at a job's start.
+  const auto& last = r.gears.back();
+  for (auto* s : {&q.loss->strokes_early, &q.loss->strokes_median, &q.loss->strokes_late})
+    if (*s) **s -= last.mean_stroke;
+  for (auto* t : {&q.loss->time_early_h, &q.loss->time_median_h, &q.loss->time_late_h})
+    if (*t) **t -= last.mean_grinding_time_s / 3600.0;
 }
 
 } // namespace
@@ -212,13 +219,15 @@ std::string parameter_text(const FittedParameter& p) {
 
 std::string loss_text(const SeriesQuantity& q, const SeriesResult& r) {
   const auto& c = *q.loss;
-  if (c.already) return fmt::format("  already outside class {} (|value| > {:.1f} µm) at the next gear\n", *r.drawing_class, *q.limit_um);
+  const std::string limit = q.iso ? fmt::format("class {} (|value| ≤ {:.1f} µm)", *r.drawing_class, *q.limit_um)
+                                  : fmt::format("the allowance (±{:.1f} µm)", *q.limit_um);
+  if (c.already) return fmt::format("  already outside {} at the next gear\n", limit);
   if (!c.gears_median)
-    return c.gears_early ? fmt::format("  class {} kept (median) as far as looked; the 95 % interval reaches {:.1f} "
-                                       "µm {} gears ahead\n", *r.drawing_class, *q.limit_um, *c.gears_early)
+    return c.gears_early ? fmt::format("  {} kept (median) as far as looked; the 95 % interval leaves it {} gears "
+                                       "ahead\n", limit, *c.gears_early)
                          : "";
-  return fmt::format("  class {} expected lost {} gears ahead (95 %: {} … {}), at {:.0f} strokes since dressing, "
-                     "{:.2f} h after the series start\n", *r.drawing_class, *c.gears_median, *c.gears_early,
+  return fmt::format("  {} expected left {} gears ahead (95 %: {} … {}), at a job starting {:.0f} strokes after "
+                     "dressing, {:.2f} h after the series start\n", limit, *c.gears_median, *c.gears_early,
                      c.gears_late ? fmt::format("{}", *c.gears_late) : std::string("beyond"), *c.strokes_median,
                      *c.time_median_h);
 }

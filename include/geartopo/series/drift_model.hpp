@@ -83,8 +83,9 @@ Predicted predict(const LawFit& fit, const GearState& at);
 struct ClassLoss {
   bool already = false;          ///< the next gear's median is already outside
   std::optional<int> gears_median, gears_early, gears_late; ///< gears after the last measured one (1 = the next)
-  std::optional<double> strokes_median, strokes_early, strokes_late; ///< strokes since dressing at those gears
-  std::optional<double> time_median_h, time_early_h, time_late_h;    ///< time since the series start
+  std::optional<double> strokes_median, strokes_early, strokes_late; ///< strokes since dressing at those gears (the
+                                                                     ///< states' strokes; analyse_series: at the job's start)
+  std::optional<double> time_median_h, time_early_h, time_late_h;    ///< time since the series start (likewise)
 };
 /// early: the first gear whose 95 % interval reaches beyond the limit; median: the first whose median does; late: the
 /// first whose whole interval lies beyond it.
