@@ -13,5 +13,6 @@ void bind_machine_values(pybind11::module_& m); ///< machine_values_binding.cpp:
 void bind_measured(pybind11::module_& m);   ///< measured_binding.cpp: compare, diagnose, plan
 void bind_compensate(pybind11::module_& m); ///< compensate_binding.cpp: compensate
 void bind_synth(pybind11::module_& m);      ///< synth_binding.cpp: synth
+void bind_series(pybind11::module_& m);     ///< series_binding.cpp: series
 
 } // namespace geartopo::python

@@ -14,4 +14,5 @@ PYBIND11_MODULE(geartopo, m) {
   geartopo::python::bind_measured(m);
   geartopo::python::bind_compensate(m);
   geartopo::python::bind_synth(m);
+  geartopo::python::bind_series(m);
 }

@@ -42,6 +42,8 @@ void register_compare_command(CLI::App& app, Action& action);
 void register_report_command(CLI::App& app, Action& action);
 /// `geartopo merge PARTS... --out DIR` — Monte Carlo shards into one prediction (docs/monte-carlo.md)
 void register_merge_command(CLI::App& app, Action& action);
+/// `geartopo series SERIES --out DIR [--aqdef FILE.dfq]` — a production series (docs/series.md)
+void register_series_command(CLI::App& app, Action& action);
 /// `geartopo run SCENE --out DIR` — the main job
 void register_run_command(CLI::App& app, Action& action);
 

@@ -33,6 +33,9 @@ void register_evaluate_command(CLI::App& app, Action& action) {
   cmd->add_option("--prediction-side", opt->side,
                   "after (default: the gear ground with the corrections) or before (without them)")
       ->check(CLI::IsMember({"before", "after"}));
+  cmd->add_option("--aqdef", opt->aqdef, "Also write the ISO 1328-1 values per tooth and flank as an AQDEF file (.dfq, "
+                                         "docs/aqdef.md) for the quality system")
+      ->check(non_empty_path());
   add_iso_options(cmd, opt->iso);
   add_klingelnberg_options(cmd, opt->mka);
   const CLI::Option* direction_flag = cmd->get_option("--iso-direction");

@@ -12,7 +12,7 @@
 namespace geartopo::app {
 
 struct EvaluateOptions {
-  std::string scene, out, method = "exact", traces, machine_values, prediction, side = "after";
+  std::string scene, out, method = "exact", traces, machine_values, prediction, side = "after", aqdef;
   workbench::IsoOptions iso;
   KlingelnbergFlags mka;
   bool iso_direction_given = false, helix_slope_sign_given = false; ///< the ISO flags on the command line

@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   geartopo::app::register_plan_command(app, action);
   geartopo::app::register_report_command(app, action);
   geartopo::app::register_merge_command(app, action);
+  geartopo::app::register_series_command(app, action);
 
   try {
     app.parse(argc, argv);

@@ -2,6 +2,7 @@
 
 #include "app/commands.hpp"
 #include "app/messages.hpp"
+#include "app/series_command.hpp"
 
 #include "geartopo/commands/machine_values.hpp"
 #include "geartopo/core/input_error.hpp"
@@ -171,6 +172,12 @@ int run_evaluate(const EvaluateOptions& opt) {
     for (const auto& l : report::prediction_check_lines(checks, *prediction, opt.side)) std::cout << "  " << l << "\n";
   }
   std::cout << "wrote " << (out / "iso1328.json").string() << "\n";
+  if (!opt.aqdef.empty()) {
+    const auto part = series::iso_aqdef({{&iso.evaluation, std::nullopt}}, iso.parameters, wb.scene.report.tolerance_class,
+                                        aqdef_header(wb, "", ""));
+    aqdef::write_dfq(opt.aqdef, part);
+    std::cout << "wrote " << opt.aqdef << "\n";
+  }
   finish_output_folder(folder);
   return 0;
 }

@@ -673,15 +673,15 @@ void refuse_what_hangs_yaml_cpp(const std::string& text, const ReadContext& ctx)
   }
 }
 
-Scene parse_scene(const std::string& text, const std::string& source) {
-  ReadContext ctx{source, {}};
+YAML::Node load_one_document(const std::string& text, const ReadContext& ctx, std::string_view what) {
   YAML::Node root;
   try {
     refuse_what_hangs_yaml_cpp(text, ctx);
     // LoadAll, not Load: Load reads the first document and silently drops the rest of a file holding two ("---").
     const std::vector<YAML::Node> docs = YAML::LoadAll(text);
     if (docs.size() > 1)
-      ctx.fail(docs[1].Mark(), "", "a second YAML document ('---'): a scene is one document (merge them or split the file)");
+      ctx.fail(docs[1].Mark(), "", fmt::format("a second YAML document ('---'): a {} is one document (merge them or "
+                                               "split the file)", what));
     if (!docs.empty()) root = docs[0];
   } catch (const YAML::DeepRecursion& e) {
     // yaml-cpp stops at a fixed depth and reports it only as "bad file".
@@ -689,6 +689,12 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   } catch (const YAML::ParserException& e) {
     ctx.fail(e.mark, "", "YAML syntax error: " + e.msg);
   }
+  return root;
+}
+
+Scene parse_scene(const std::string& text, const std::string& source) {
+  ReadContext ctx{source, {}};
+  const YAML::Node root = load_one_document(text, ctx, "scene");
   if (!root.IsDefined() || root.IsNull()) ctx.fail(YAML::Mark::null_mark(), "", "empty scene (a 'gear' map is needed)");
 
   Scene scene;

@@ -46,6 +46,11 @@ struct ReadContext {
   [[noreturn]] void fail_field(const std::string& field, const std::string& message) const;
 };
 
+/// The one YAML document of `text`: what hangs yaml-cpp refused first (control characters, a ',' starting a
+/// document), a syntax error, too deep a nesting or a second document ('---') located at its line; undefined when
+/// the text is empty. `what` names the file's kind in messages ("scene", "series file"). Defined in scene.cpp.
+YAML::Node load_one_document(const std::string& text, const ReadContext& ctx, std::string_view what);
+
 class MapReader {
 public:
   /// `node` must be a map; `path` is its dotted path ("" for the document root).

@@ -1,0 +1,202 @@
+// The series library's plain parts: the across-series laws on values written from their own formulas here, the AQDEF
+// writer and its strict reader (a round trip, and bad lines refused at file:line), the series file's reader.
+// Units: µm, h, s, strokes.
+#include "geartopo/aqdef/aqdef.hpp"
+#include "geartopo/core/input_error.hpp"
+#include "geartopo/core/random.hpp"
+#include "geartopo/series/aqdef_export.hpp"
+#include "geartopo/series/drift_model.hpp"
+#include "geartopo/series/series_file.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+
+using namespace geartopo;
+
+namespace {
+
+/// The message of the InputError `f` throws ("" when it throws none).
+template <class F>
+std::string input_error_of(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+} // namespace
+
+// y = 2 + 6 (1 − e^(−t/1.5 h)) + 0.05 µm noise at 10 gears over 6 h: τ and the amplitude within 2σ, the noise-only and
+// wear models refused by the F-test, and a gear 40 min later inside the 95 % interval.
+TEST(SeriesLaws, ThermalTimeConstantFromItsCurve) {
+  random::SplitMix64 rng(11);
+  std::vector<series::GearState> s;
+  std::vector<double> y;
+  const auto truth = [](double t) { return 2.0 + 6.0 * (1.0 - std::exp(-t / 1.5)); };
+  for (int k = 0; k < 10; ++k) {
+    s.push_back({k * 0.66, 35.0 * k, 0});
+    y.push_back(truth(k * 0.66) + 0.05 * rng.normal());
+  }
+  const auto fit = series::fit_series(s, y, 0.01);
+  ASSERT_EQ(fit.chosen.name(), "thermal drift");
+  EXPECT_NEAR(fit.chosen.time_constant_h(), 1.5, 2.0 * fit.chosen.parameters[2].sigma);
+  EXPECT_NEAR(fit.chosen.parameters[1].value, 6.0, 2.0 * fit.chosen.parameters[1].sigma);
+  const auto next = series::predict(fit.chosen, {6.6, 350.0, 0});
+  EXPECT_LT(next.lower95_um, truth(6.6));
+  EXPECT_GT(next.upper95_um, truth(6.6));
+}
+
+// A series much shorter than τ sees a straight line: τ is not determined, and says so.
+TEST(SeriesLaws, TimeConstantBeyondTheSeriesIsNotDetermined) {
+  std::vector<series::GearState> s;
+  std::vector<double> y;
+  for (int k = 0; k < 6; ++k) {
+    s.push_back({k * 0.1, 0.0, 0});
+    y.push_back(1.0 + 10.0 * (1.0 - std::exp(-k * 0.1 / 50.0)) + (k % 2 ? 0.02 : -0.02));
+  }
+  const auto f = series::fit_laws(s, y, {series::Law::ThermalDrift}, 0.01);
+  ASSERT_TRUE(f.has_value());
+  EXPECT_FALSE(f->parameters[2].determined) << f->parameters[2].value;
+  EXPECT_FALSE(f->parameters[1].determined);
+}
+
+// Class loss of a straight wear line y = 0.1 µm/stroke × S, limit 10.5 µm: lost past S = 105 strokes.
+TEST(SeriesLaws, ClassLossOfAWearLine) {
+  std::vector<series::GearState> s;
+  std::vector<double> y;
+  for (int k = 0; k < 5; ++k) {
+    s.push_back({k * 0.2, 10.0 * k, 0});
+    y.push_back(0.1 * 10.0 * k + (k % 2 ? 0.01 : -0.01));
+  }
+  const auto f = series::fit_laws(s, y, {series::Law::WheelWear}, 0.005);
+  ASSERT_TRUE(f.has_value());
+  const auto loss = series::class_loss(*f, {1.0, 50.0, 0}, {0.2, 10.0, 0}, 10.5, 100);
+  ASSERT_TRUE(loss.gears_median.has_value());
+  EXPECT_EQ(*loss.strokes_median, 110.0); // the first gear beyond 100 strokes
+  EXPECT_LE(*loss.gears_early, *loss.gears_median);
+  EXPECT_GE(loss.gears_late.value_or(1000), *loss.gears_median);
+}
+
+TEST(Aqdef, RoundTripKeepsEveryKeyAndValue) {
+  aqdef::Part p;
+  p.number = "DRW-4711";
+  p.description = "helical gear m_n 14 z 35";
+  p.machine = "SKMC-1200W/10";
+  for (int i = 0; i < 3; ++i) {
+    aqdef::Characteristic c;
+    c.code = "fHa_T0" + std::to_string(i + 1) + "_L";
+    c.description = "f_H_alpha, tooth " + std::to_string(i + 1);
+    c.nominal = 0.0;
+    c.lower_limit = -7.5;
+    c.upper_limit = 7.5;
+    c.unit = "um";
+    for (int k = 0; k < 4; ++k) c.values.push_back({0.1234 * (k + 1) - i, aqdef::format_time(1795759200 + 600 * k), "lot 7"});
+    p.characteristics.push_back(c);
+  }
+  p.characteristics[1].lower_limit.reset();
+  std::stringstream file;
+  aqdef::write_dfq(file, p);
+  const std::string text = file.str();
+  EXPECT_EQ(text.substr(0, 8), "K0100 3\n");
+  EXPECT_NE(text.find("K0004/1 27.11.2026/06:00:00\n"), std::string::npos) << text;
+  const aqdef::Part back = aqdef::read_dfq(file, "round.dfq");
+  EXPECT_EQ(back.number, p.number);
+  EXPECT_EQ(back.description, p.description);
+  EXPECT_EQ(back.machine, p.machine);
+  ASSERT_EQ(back.characteristics.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    const auto &a = p.characteristics[i], &b = back.characteristics[i];
+    EXPECT_EQ(b.code, a.code);
+    EXPECT_EQ(b.description, a.description);
+    EXPECT_EQ(b.lower_limit.has_value(), a.lower_limit.has_value());
+    EXPECT_EQ(b.upper_limit, a.upper_limit);
+    ASSERT_EQ(b.values.size(), a.values.size());
+    for (size_t k = 0; k < a.values.size(); ++k) {
+      EXPECT_NEAR(b.values[k].value, a.values[k].value, 0.5e-4); // written with 4 decimals
+      EXPECT_EQ(b.values[k].time, a.values[k].time);
+      EXPECT_EQ(b.values[k].batch, "lot 7");
+    }
+  }
+}
+
+TEST(Aqdef, StrictReaderNamesLineAndKey) {
+  const auto refused = [](const std::string& text) {
+    std::istringstream in(text);
+    return input_error_of([&] { aqdef::read_dfq(in, "bad.dfq"); });
+  };
+  EXPECT_NE(refused("K1001/1 x\n").find("bad.dfq:1:1: K1001: before K0100"), std::string::npos);
+  EXPECT_NE(refused("K0100 1\nK2001/1 a\nK0001/1 1,5\n").find("bad.dfq:3:9: K0001: '1,5' is not a finite number"),
+            std::string::npos);
+  EXPECT_NE(refused("K0100 1\nK2001/2 a\n").find("bad.dfq:2:1: K2001: index 2 outside 1 … 1"), std::string::npos);
+  EXPECT_NE(refused("K0100 1\nK2001/1 a\nK2001/1 b\n").find("bad.dfq:3:1: K2001: given twice"), std::string::npos);
+  EXPECT_NE(refused("K0100 1\nK2001/1 a\nK0004/1 01.01.2026/00:00:00\n").find("bad.dfq:3:1: K0004: not right after"),
+            std::string::npos);
+  EXPECT_NE(refused("K0100 1\nK2001/1 a\nK9999/1 x\n").find("bad.dfq:3:1: K9999: not a key"), std::string::npos);
+  EXPECT_NE(refused("K0100 2\nK2001/1 a\n").find("K2001/2: characteristic without"), std::string::npos);
+  EXPECT_NE(refused("").find("no K0100"), std::string::npos);
+}
+
+// ISO values of two gears as characteristics: f_Hα of tooth 1 left carries its two values and ±f_HαT of class 5.
+TEST(Aqdef, IsoValuesBecomeCharacteristicsPerToothAndFlank) {
+  evaluation::GearEvaluation e1, e2;
+  evaluation::FlankEvaluation f;
+  f.tooth = 1, f.side = Flank::Left, f.profile.slope_um = 2.5, f.helix.total_um = 4.0;
+  e1.flanks.push_back(f);
+  f.profile.slope_um = -1.25;
+  e2.flanks.push_back(f);
+  evaluation::GearParameters p;
+  p.teeth = 35, p.reference_diameter_mm = 565.8, p.normal_module_mm = 14.0, p.face_width_mm = 150.0;
+  const auto part = series::iso_aqdef({{&e1, 1795759200}, {&e2, std::nullopt}}, p, 5, {"DRW", "gear", "grinder", "lot"});
+  ASSERT_EQ(part.characteristics.size(), 6u);
+  const auto& fHa = part.characteristics[2];
+  EXPECT_EQ(fHa.code, "fHa_T01_L");
+  ASSERT_EQ(fHa.values.size(), 2u);
+  EXPECT_EQ(fHa.values[0].value, 2.5);
+  EXPECT_EQ(fHa.values[1].value, -1.25);
+  EXPECT_EQ(fHa.values[1].time, "");
+  const double t = evaluation::tolerance_um(evaluation::Quantity::ProfileSlope, p, 5);
+  EXPECT_EQ(fHa.upper_limit, t);
+  EXPECT_EQ(fHa.lower_limit, -t);
+  EXPECT_FALSE(part.characteristics[3].lower_limit.has_value()) << "F_β has no lower limit";
+}
+
+TEST(SeriesFile, ReadsTimesDressingAndCorrections) {
+  const std::string text = "scene: scene.yaml\nstarted: 2026-11-27T06:00:00\ngears:\n"
+                           "  - measurement: g1.csv\n    start_s: 0\n    strokes_since_dressing: 10\n"
+                           "  - measurement: g2.csv\n    started: 2026-11-27T06:30:00\n"
+                           "  - measurement: g3.csv\n    start_s: 3600\n    dressed_before: true\n"
+                           "    corrections: c.csv\n";
+  const auto s = series::parse_series(text, "/shop/run/series.yaml", 35.0);
+  ASSERT_EQ(s.gears.size(), 3u);
+  EXPECT_EQ(s.scene, std::filesystem::path("/shop/run/scene.yaml"));
+  EXPECT_EQ(s.gears[1].start_s, 1800.0);
+  EXPECT_EQ(s.gears[1].strokes_since_dressing, 45.0);
+  EXPECT_EQ(s.gears[2].strokes_since_dressing, 0.0);
+  EXPECT_EQ(s.gears[2].corrections, std::filesystem::path("/shop/run/c.csv"));
+  EXPECT_EQ(s.gears[1].id, "gear 2");
+  EXPECT_EQ(*s.gears[2].start_epoch_s, *series::parse_date_time("2026-11-27 07:00:00"));
+  EXPECT_TRUE(s.dressing_known);
+}
+
+TEST(SeriesFile, BadEntriesRefusedAtTheirLine) {
+  const auto refused = [](const std::string& gears) {
+    return input_error_of([&] { series::parse_series("scene: s.yaml\ngears:\n" + gears, "series.yaml", 35.0); });
+  };
+  EXPECT_NE(refused("  - measurement: a.csv\n    start_s: 10\n  - measurement: b.csv\n    start_s: 5\n")
+                .find("series.yaml:6:"), std::string::npos);
+  EXPECT_NE(refused("  - measurement: a.csv\n    start_s: 0\n    strokes: 3\n").find("series.yaml:5:"), std::string::npos);
+  EXPECT_NE(refused("  - measurement: a.csv\n").find("start_s"), std::string::npos);
+  EXPECT_NE(refused("  - measurement: a.csv\n    start_s: -1\n").find("series.yaml:4:"), std::string::npos);
+  EXPECT_NE(refused("  - measurement: a.csv\n    started: 2026-11-27T06:00:00\n").find("series' own 'started'"),
+            std::string::npos);
+  EXPECT_NE(refused("  - measurement: a.csv\n    start_s: 0\n    dressed_before: yes\n").find("series.yaml:5:"),
+            std::string::npos);
+  EXPECT_NE(refused("  - {measurement: a.csv, start_s: 0, id: x}\n  - {measurement: b.csv, start_s: 1, id: x}\n")
+                .find("'x' is listed twice"), std::string::npos);
+  EXPECT_NE(input_error_of([] { series::parse_series("scene: s.yaml\n", "series.yaml", 35.0); }).find("gears"),
+            std::string::npos);
+}
