@@ -1,6 +1,8 @@
 // geartopo Python module — series(file): a production series analysed (series::analyse_series, series::series_json),
 // as `geartopo series` without its files.
+#include "arguments.hpp"
 #include "bindings.hpp"
+#include "interrupt.hpp"
 #include "json_to_python.hpp"
 
 #include "geartopo/series/series_analysis.hpp"
@@ -13,10 +15,11 @@ namespace geartopo::python {
 void bind_series(py::module_& m) {
   m.def(
       "series",
-      [](const std::string& file) {
+      [](const py::object& path) {
+        const std::string file = path_argument(path, "file");
         nlohmann::json j;
         {
-          const py::gil_scoped_release nogil;
+          const LibraryWork work; // Ctrl-C caught, the GIL released
           const workbench::Workbench wb(series::series_scene(file));
           const auto spec = series::load_series(file, series::strokes_per_gear(wb));
           j = series::series_json(series::analyse_series(spec, wb));
