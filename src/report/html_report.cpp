@@ -344,6 +344,8 @@ std::string first_page(const workbench::Workbench& wb, const pipeline::PipelineR
                      "flank, slopes as |value|. Improvement: 100 (B − A)/B, B and A the medians before and after; its "
                      "interval: A at the ends of the after-interval.</p>\n",
                      p.samples);
+    for (const auto& w : predicted_worsening(p))
+      h += "<p class=note><b>Worse after compensation:</b> " + esc(worsening_text(w)) + ".</p>\n";
     const int cls = p.find("overall_class");
     if (cls >= 0 && p.after[static_cast<size_t>(cls)].median > p.before[static_cast<size_t>(cls)].median)
       h += "<p class=warn><b>The predicted gear is worse after compensation</b> (overall class, medians): do not apply "

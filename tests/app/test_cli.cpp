@@ -369,9 +369,8 @@ TEST(Cli, CompensateWritesCorrectionsAndBeforeAfter) {
   EXPECT_LT(j["improvement"]["quantities"]["largest_abs_um"]["improvement_percent"].get<double>(), 90.0); // … and what is predicted
   EXPECT_EQ(r.out.find("100 %"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("Predicted improvement"), std::string::npos) << r.out;
-  // The default scene's 1 µm / 1 mdeg command resolution turns the small C and A corrections into steps: the
-  // predicted gear comes out a class worse (docs/monte-carlo.md). Whenever the medians say worse, it is a warning,
-  // on stderr and in iso1328.json, not a silent table.
+  // A coarse command resolution can make the predicted gear a class worse (docs/monte-carlo.md, "On the default
+  // scene"). Whenever the medians say worse, it is a warning, on stderr and in iso1328.json, not a silent table.
   if (j.contains("prediction")) {
     const auto& q = j["prediction"]["quantities"]["overall_class"];
     const bool worse = q["after"]["median"].get<double>() > q["before"]["median"].get<double>();

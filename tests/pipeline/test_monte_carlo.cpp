@@ -498,8 +498,11 @@ std::string slurp_mc(const std::filesystem::path& p) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-int run_geartopo(const std::string& args, const std::filesystem::path& log) {
-  const int status = std::system((std::string(GEARTOPO_BINARY) + " " + args + " >" + log.string() + " 2>&1").c_str());
+/// stdout (and stderr, unless `err` names a file of its own: mixed, stderr's unbuffered lines can land inside a line of
+/// stdout's) into `log`.
+int run_geartopo(const std::string& args, const std::filesystem::path& log, const std::filesystem::path& err = {}) {
+  const std::string to_err = err.empty() ? std::string(" 2>&1") : " 2>" + err.string();
+  const int status = std::system((std::string(GEARTOPO_BINARY) + " " + args + " >" + log.string() + to_err).c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
@@ -608,17 +611,44 @@ TEST(MonteCarloCli, TheMainJobNamesWhatLimitsTheClassAfterCompensation) {
   EXPECT_EQ(fine_json["sampling"]["method"], "linear");
   EXPECT_EQ(fine_json["limit"]["dominant"], "repeatability") << fine_json["limit"].dump(1);
   EXPECT_NE(slurp_mc(log).find("limit after compensation: the repeatability"), std::string::npos) << slurp_mc(log);
-  ASSERT_EQ(run_geartopo("compensate " + (dir / "coarse.yaml").string() + " --out " + (dir / "coarse").string() + " --samples 40", log), 0)
-      << slurp_mc(log);
+  const std::string err = (dir / "err.txt").string();
+  ASSERT_EQ(run_geartopo("compensate " + (dir / "coarse.yaml").string() + " --out " + (dir / "coarse").string() + " --samples 40", log, err), 0)
+      << slurp_mc(log) << slurp_mc(err);
   const auto coarse_json = nlohmann::json::parse(slurp_mc(dir / "coarse" / "prediction.json"));
   EXPECT_EQ(coarse_json["limit"]["dominant"], "resolution_rounding") << coarse_json["limit"].dump(1);
   const auto& q = coarse_json["quantities"]["overall_class"];
   EXPECT_GT(q["after"]["median"].get<double>(), q["before"]["median"].get<double>()) << "the 5 µm steps make it worse";
   const double without = coarse_json["limit"]["without"]["resolution_rounding"]["overall_class"].get<double>();
   EXPECT_LT(without, q["after"]["median"].get<double>());
-  EXPECT_NE(slurp_mc(log).find(fmt::format("without the rounding to machine.resolution the median class is {:g}", without)),
+  EXPECT_NE(slurp_mc(err).find(fmt::format("without the rounding to machine.resolution the median class is {:g}", without)),
             std::string::npos)
-      << slurp_mc(log);
+      << slurp_mc(err);
+  // Each size predicted worse names its cause (iso1328.json improvement.…worse, the same sentence on stdout): the
+  // source without which its after-median falls most, recomputed here from the prediction's decomposition; a size
+  // not worse has none.
+  const auto iso = nlohmann::json::parse(slurp_mc(dir / "coarse" / "iso1328.json"));
+  int worse_sizes = 0;
+  for (const auto& [name, imp] : iso["improvement"]["quantities"].items()) {
+    const auto& band = coarse_json["quantities"][name];
+    const bool worse = band["after"]["median"].get<double>() > band["before"]["median"].get<double>();
+    ASSERT_EQ(worse, imp.contains("worse")) << name;
+    if (!worse) continue;
+    ++worse_sizes;
+    std::string best;
+    double best_median = 0.0;
+    for (const auto& [source, w] : coarse_json["limit"]["without"].items()) {
+      const double m = w["quantities"][name]["median"].get<double>();
+      if (best.empty() || m < best_median) best = source, best_median = m;
+    }
+    EXPECT_EQ(imp["worse"]["source"], best) << name;
+    if (name == "f_falpha_um" || name == "f_fbeta_um") {
+      EXPECT_EQ(imp["worse"]["source"], "resolution_rounding") << name;
+    }
+    EXPECT_NEAR(imp["worse"]["after_median_without_source_um"].get<double>(), best_median, 1e-12) << name;
+    EXPECT_NE(slurp_mc(log).find(imp["worse"]["text"].get<std::string>()), std::string::npos) << name;
+  }
+  EXPECT_TRUE(iso["improvement"]["quantities"]["f_falpha_um"].contains("worse")) << "X's and Y's 5 µm steps";
+  EXPECT_TRUE(iso["improvement"]["quantities"]["f_fbeta_um"].contains("worse")) << "X's and Y's 5 µm steps";
   std::filesystem::remove_all(dir);
 }
 
