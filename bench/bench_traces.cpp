@@ -1,12 +1,12 @@
 // Measured traces at full scale (issue 28): an export of every tooth of the default gear, both flanks, three profile
 // and three helix traces of 500 points (35 × 2 × 6 × 500 = 210 000 points), written from the documented structure
-// (tests/diagnosis/trace_export_fixture.hpp) with the truth scene's deviations (hidden thermal drift) plus 0.3 µm noise
+// (tests/trace_export_fixture.hpp) with the truth scene's deviations (hidden thermal drift) plus 0.3 µm noise
 // once, outside the timing. Timed as a user waits for `geartopo compare` / `diagnose`: reading the export, then
 // diagnosis::compare (noise estimated from the lines), or diagnosis::diagnose with every library effect. Target:
 // compare and diagnose together < 5 s. Both report the CPU time of all threads beside the wall time (process_time).
 #include "bench_scene.hpp"
 
-#include "../tests/diagnosis/trace_export_fixture.hpp"
+#include "../tests/trace_export_fixture.hpp"
 
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"

@@ -8,6 +8,7 @@
 #include "py_scene.hpp"
 #include "python_progress.hpp"
 
+#include "geartopo/commands/limits.hpp"
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/pipeline/monte_carlo.hpp"
@@ -85,7 +86,7 @@ void bind_compensate(py::module_& m) {
           throw std::invalid_argument("method: paper drives the wheel to its nominal pose and would grind away the "
                                       "drawing's helix modifications (gear.modifications): use flank or cycle, which "
                                       "correct towards the design");
-        if (samples < 0) throw std::invalid_argument(fmt::format("samples: {} is negative (0: no prediction)", samples));
+        commands::check_samples(samples, "samples"); // the CLI's --samples bound
         if (!(probe_noise_um >= 0.0 && probe_noise_um <= 1000.0))
           throw std::invalid_argument(fmt::format("probe_noise_um: {} is outside [0, 1000]", probe_noise_um));
         if (threads < 0) throw std::invalid_argument(fmt::format("threads: {} is negative (0: all hardware threads)", threads));

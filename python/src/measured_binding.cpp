@@ -7,6 +7,9 @@
 #include "py_scene.hpp"
 #include "python_progress.hpp"
 
+#include "geartopo/diagnosis/diagnosis_json.hpp"
+#include "geartopo/commands/limits.hpp"
+#include "geartopo/commands/measured.hpp"
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/identified_effects.hpp"
@@ -63,30 +66,16 @@ py::dict residual_columns(const std::vector<measurement::MeasuredPoint>& pts, co
   return out;
 }
 
-void check_noise(double noise_um) {
-  if (!(noise_um >= 0.0 && noise_um <= 1000.0))
-    throw std::invalid_argument(fmt::format("noise_um: {} is outside [0, 1000] (0: estimated)", noise_um));
-}
+commands::SceneInput scene_input(const PyScene& s) { return {*s.wb, s.source, s.text, s.dir}; }
 
-diagnosis::Diagnosis run_diagnosis(const PyScene& s, const std::vector<measurement::MeasuredPoint>& pts, double noise_um,
-                                   const std::vector<std::string>& candidates, bool scene_uncertainty,
-                                   const py::object& progress) {
-  check_noise(noise_um);
-  for (const auto& c : candidates)
-    if (!effects::make_effect(c))
-      throw std::invalid_argument(fmt::format("candidates: '{}' is not an effect of the library ({})", c,
-                                              fmt::join(effects::effect_types(), ", ")));
-  const auto& wb = *s.wb;
-  diagnosis::DiagnoseOptions o;
-  o.noise_um = noise_um;
-  o.candidates = candidates;
-  o.on_candidate_fitted = progress_function(progress);
-  const py::gil_scoped_release nogil;
-  if (scene_uncertainty) {
-    o.stroke_repeatability_sd = wb.scene.machine.uncertainty.repeatability;
-    o.model_uncertainty_um = diagnosis::map_sensitivity(wb, pts);
-  }
-  return diagnosis::diagnose(wb.setup, wb.process(), pts, wb.effect_types(), o);
+commands::DiagnoseRequest request_of(double noise_um, const std::vector<std::string>& candidates, bool scene_uncertainty,
+                                     const py::object& progress) {
+  commands::DiagnoseRequest r;
+  r.noise_um = noise_um;
+  r.candidates = candidates;
+  r.scene_uncertainty = scene_uncertainty;
+  r.on_candidate_fitted = progress_function(progress);
+  return r;
 }
 
 } // namespace
@@ -95,16 +84,16 @@ void bind_measured(py::module_& m) {
   m.def(
       "compare",
       [](const PyScene& s, const py::object& measured, double noise_um) {
-        check_noise(noise_um);
+        commands::check_noise_um(noise_um, "noise_um"); // before reading the measurement
         std::string name;
         const auto pts = measured_points(s, measured, name);
-        std::optional<diagnosis::Comparison> c;
+        std::optional<commands::CompareResult> r;
         {
           const py::gil_scoped_release nogil;
-          c = diagnosis::compare(s.wb->setup, s.wb->process(), pts, noise_um);
+          r = commands::compare(scene_input(s), {pts, name, {}}, noise_um);
         }
-        py::dict out = to_python(report::compare_json(s.source, name, pts, *c)).cast<py::dict>();
-        out["residuals"] = residual_columns(pts, *c);
+        py::dict out = to_python(r->json).cast<py::dict>();
+        out["residuals"] = residual_columns(pts, r->comparison);
         return out;
       },
       py::arg("scene"), py::arg("measured"), py::arg("noise_um") = 0.0,
@@ -118,19 +107,18 @@ Returns compare.json's content, plus "residuals": residuals.csv's columns as arr
       "diagnose",
       [](const PyScene& s, const py::object& measured, double noise_um, const std::vector<std::string>& candidates,
          bool scene_uncertainty, const py::object& progress, const py::object& yaml_dir) {
+        commands::check_noise_um(noise_um, "noise_um");
         std::string name;
         const auto pts = measured_points(s, measured, name);
-        const auto d = run_diagnosis(s, pts, noise_um, candidates, scene_uncertainty, progress);
-        py::dict out = to_python(report::diagnosis_json(s.source, name, d, diagnosis::mean_allowance_offset_um(s.wb->setup.geometry()))).cast<py::dict>();
-        out["scene_with_effect_yaml"] = py::none();
-        if (d.chosen && d.withheld.empty()) {
-          const auto identified = diagnosis::identified_effects(d, *d.chosen);
-          const std::filesystem::path to = yaml_dir.is_none() ? s.dir : yaml_dir.cast<std::filesystem::path>();
-          out["scene_with_effect_yaml"] = diagnosis::scene_text_with_effects(
-              s.text, s.dir, to, identified.effects, diagnosis::identification_comments(*d.chosen, name),
-              identified.uncertainties, identified.correlation, d.chosen->changes, d.chosen->change_sd,
-              diagnosis::change_identification_comments(*d.chosen, name));
+        const auto request = request_of(noise_um, candidates, scene_uncertainty, progress);
+        const std::filesystem::path to = yaml_dir.is_none() ? s.dir : yaml_dir.cast<std::filesystem::path>();
+        std::optional<commands::DiagnoseResult> r;
+        {
+          const py::gil_scoped_release nogil;
+          r = commands::diagnose(scene_input(s), {pts, name, {}}, request, to);
         }
+        py::dict out = to_python(r->json).cast<py::dict>();
+        out["scene_with_effect_yaml"] = r->scene_with_effect ? py::cast(*r->scene_with_effect) : py::none();
         return out;
       },
       py::arg("scene"), py::arg("measured"), py::arg("noise_um") = 0.0,
@@ -149,10 +137,16 @@ file `geartopo diagnose` writes), or None when nothing is chosen or it is withhe
   m.def(
       "plan",
       [](const PyScene& s, const py::object& measured, double noise_um, const py::object& progress) {
+        commands::check_noise_um(noise_um, "noise_um");
         std::string name;
         const auto pts = measured_points(s, measured, name);
-        const auto d = run_diagnosis(s, pts, noise_um, {}, false, progress);
-        return to_python(report::plan_json(s.source, name, d));
+        const auto request = request_of(noise_um, {}, false, progress);
+        std::optional<commands::PlanResult> r;
+        {
+          const py::gil_scoped_release nogil;
+          r = commands::plan(scene_input(s), {pts, name, {}}, request);
+        }
+        return to_python(r->json);
       },
       py::arg("scene"), py::arg("measured"), py::arg("noise_um") = 0.0, py::arg("progress") = py::none(),
       R"(What to measure next when explanations are within ΔBIC 10 of each other, as `geartopo plan`.

@@ -4,7 +4,7 @@
 #include "json_to_python.hpp"
 #include "py_scene.hpp"
 
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 #include "geartopo/report/gear_report.hpp"
 #include "geartopo/scene/scene.hpp"
 

@@ -1,5 +1,7 @@
-// geartopo — the subcommands of the geartopo CLI. Each registers itself on the CLI11 app and returns an action
-// that runs after parsing. Exit codes: 0 success, 1 bad input (clear message on stderr), 2 bad usage.
+// geartopo — the subcommands of the geartopo CLI. Each registers its flags on the CLI11 app (<command>_command.cpp)
+// and sets the action that runs after parsing: its body, a named function of its own (run_<command>.cpp, declared
+// with the command's options in <command>_command.hpp). Exit codes: 0 success, 1 bad input (clear message on
+// stderr), 2 bad usage.
 #pragma once
 
 #include <functional>
@@ -7,10 +9,16 @@
 namespace CLI {
 class App;
 }
+namespace geartopo::workbench {
+struct Workbench;
+}
 
 namespace geartopo::app {
 
 using Action = std::function<int()>;
+
+/// The scene's Workbench (workbench/workbench.hpp), by its short name in every command.
+using workbench::Workbench;
 
 /// `geartopo gear SCENE [--json] [--mesh FILE]`
 void register_gear_command(CLI::App& app, Action& action);

@@ -1,59 +1,17 @@
-#include "app/commands.hpp"
-#include "geartopo/core/atomic_file.hpp"
-#include "geartopo/core/input_error.hpp"
-#include "geartopo/report/iso_report.hpp"
-#include "geartopo/report/machine_values_report.hpp"
-#include "geartopo/report/prediction_report.hpp"
-#include "app/options.hpp"
-#include "geartopo/workbench/machine_flank_values.hpp"
-#include "geartopo/workbench/machine_pitch.hpp"
+#include "app/evaluate_command.hpp"
 
-#include "geartopo/measurement/any_measurement.hpp"
+#include "app/commands.hpp"
+#include "app/parsers.hpp"
+#include "app/validators.hpp"
 
 #include <CLI/CLI.hpp>
-#include <fmt/format.h>
 
-#include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <iostream>
 #include <memory>
-#include <optional>
 
 namespace geartopo::app {
-namespace {
-
-/// A value as printed with 3 decimals: one that rounds to zero is +0, so the table says 0.000, never -0.000.
-double printed_3(double v) { return std::abs(v) < 5e-4 ? 0.0 : v; }
-
-std::string machine_flank_values_text(const workbench::MachineFlankComparison& c, const measurement::KlingelnbergValues& m) {
-  std::string out = fmt::format("The machine's values ({}) beside geartopo's evaluation of the same traces, µm "
-                                "(profile trace nearest mid face width at z, helix trace nearest mid profile at d):\n",
-                                m.source);
-  out += "  tooth flank  quantity   machine  geartopo  difference  trace\n";
-  for (const auto& r : c.rows)
-    out += fmt::format("  {:5} {:6} {:8} {:9.3f} {:9.3f} {:11.3f}  {}= {:.3f} mm{}\n", r.tooth, geartopo::to_string(r.side),
-                       measurement::symbol(r.quantity), printed_3(r.machine_um), printed_3(r.geartopo_um),
-                       printed_3(r.machine_um - r.geartopo_um),
-                       r.quantity >= measurement::MachineQuantity::HelixSlope ? "d" : "z", r.trace_position_mm,
-                       r.flagged ? "  ← flagged" : "");
-  for (const auto& q : c.quantities)
-    out += fmt::format("  {}: {} values, max |difference| {:.3f} µm, {} above {:.1f} µm{}\n", measurement::symbol(q.quantity),
-                       q.rows, q.max_abs_difference_um, q.flagged, workbench::kMachineMismatchUm,
-                       q.flagged ? " — likely cause: " + q.likely_cause : "");
-  for (const auto& n : c.not_compared) out += "  not compared: " + n + "\n";
-  return out;
-}
-
-} // namespace
 
 void register_evaluate_command(CLI::App& app, Action& action) {
-  struct Options {
-    std::string scene, out, method = "exact", traces, machine_values, prediction, side = "after";
-    workbench::IsoOptions iso;
-    measurement::KlingelnbergOptions mka;
-  };
-  auto opt = std::make_shared<Options>();
+  auto opt = std::make_shared<EvaluateOptions>();
   CLI::App* cmd = app.add_subcommand("evaluate", "ISO 1328-1:2013 deviations (µm) and flank tolerance classes of the "
                                                  "simulated gear, or of measured traces");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
@@ -80,131 +38,9 @@ void register_evaluate_command(CLI::App& app, Action& action) {
   const CLI::Option* direction_flag = cmd->get_option("--iso-direction");
   const CLI::Option* sign_flag = cmd->get_option("--helix-slope-sign");
   cmd->callback([&action, opt, direction_flag, sign_flag] {
-    const bool direction_given = direction_flag->count() > 0, sign_given = sign_flag->count() > 0;
-    action = [opt, direction_given, sign_given] {
-      const output::RunFiles files{{opt->scene, opt->traces, opt->machine_values, opt->prediction}, {"iso1328.json"}};
-      output::OutputFolder folder(opt->out, files); // locked and staged before any work: a second run is refused now
-      const Workbench wb(opt->scene);
-      // Read before anything is written: a wrong prediction file leaves the output folder as it was.
-      std::optional<pipeline::MonteCarloSummary> prediction;
-      if (!opt->prediction.empty()) {
-        prediction = report::read_prediction_json(opt->prediction);
-        // A prediction of another gear (z, module, angles, shift, width) compares nothing: refused, naming both.
-        const std::string gear = pipeline::gear_record(wb.setup.geometry().spec());
-        if (prediction->gear.empty())
-          throw InputError(opt->prediction, 0, 0, "gear",
-                           "does not record the gear it predicts (written before geartopo recorded it), so it cannot be "
-                           "shown to be of this scene's gear: predict again with geartopo compensate");
-        if (prediction->gear != gear)
-          throw InputError(opt->prediction, 0, 0, "gear",
-                           fmt::format("a prediction of another gear ({}); {} is {}", prediction->gear, opt->scene, gear));
-      }
-      // The measurement is evaluated as the prediction's samples were (prediction.json "iso_options"); a flag that
-      // says otherwise would compare values of another convention. A file without the key: the flags, as before.
-      if (prediction && prediction->iso) {
-        const auto& recorded = *prediction->iso;
-        if (direction_given && opt->iso.direction != recorded.direction)
-          throw CLI::ValidationError("--iso-direction",
-                                     fmt::format("{}, but {} was predicted with {}: leave the flag out or predict again",
-                                                 evaluation::to_string(opt->iso.direction), opt->prediction,
-                                                 evaluation::to_string(recorded.direction)));
-        if (sign_given && opt->iso.helix_slope_sign != recorded.helix_slope_sign)
-          throw CLI::ValidationError("--helix-slope-sign",
-                                     fmt::format("{}, but {} was predicted with {}: leave the flag out or predict again",
-                                                 evaluation::to_string(opt->iso.helix_slope_sign), opt->prediction,
-                                                 evaluation::to_string(recorded.helix_slope_sign)));
-        opt->iso = recorded;
-      }
-      const auto& g = wb.setup.geometry();
-      std::vector<grinding::FlankTopology> topo;
-      std::string source;
-      std::vector<measurement::KlingelnbergPitchRow> machine_pitch; // an export's own pitch table, if any
-      std::optional<measurement::KlingelnbergFile> curves;            // the export, when --machine-values is given
-      std::optional<measurement::KlingelnbergValues> machine_values;
-      if (!opt->machine_values.empty() && opt->traces.empty())
-        throw CLI::ValidationError("--machine-values", "needs --traces EXPORT.mka: the values are compared with "
-                                                       "geartopo's evaluation of the export's traces");
-      if (!opt->traces.empty()) {
-        refuse_mka_flags_without_export(opt->traces);
-        auto traces = measurement::read_any_traces(opt->traces, wb.setup, opt->mka);
-        if (traces.export_file) machine_pitch = traces.export_file->pitch;
-        if (!opt->machine_values.empty()) {
-          if (!traces.klingelnberg)
-            throw CLI::ValidationError("--machine-values",
-                                       opt->traces + " is not a Klingelnberg export: the value file evaluates an "
-                                                     "export's curves (.mka)");
-          curves = std::move(traces.export_file);
-          machine_values = measurement::read_klingelnberg_values(opt->machine_values);
-          if (!machine_values->unknown_lines.empty())
-            traces.warnings.push_back(fmt::format("{}: result lines not read (sizes and other codes): {}",
-                                                  opt->machine_values, fmt::join(machine_values->unknown_lines, ", ")));
-        } else if (traces.klingelnberg) {
-          // A value file beside the export is not read unless named: a stale one would be compared silently.
-          if (const auto beside_mew = measurement::value_file_beside(opt->traces))
-            traces.warnings.push_back(fmt::format("{} beside the export is not read: give --machine-values {} to compare "
-                                                  "the machine's profile and helix values",
-                                                  *beside_mew, *beside_mew));
-        }
-        for (const auto& w : traces.warnings) say("geartopo: warning: " + w);
-        topo = std::move(traces.flanks);
-        source = (traces.klingelnberg ? "measured traces (Klingelnberg export) " : "measured traces ") + opt->traces;
-      } else {
-        grinding::SimulationOptions so;
-        so.method = opt->method == "linear" ? grinding::Method::Linear : grinding::Method::Exact;
-        so.profile_points = wb.scene.grid.profile_points;
-        so.helix_points = wb.scene.grid.helix_points;
-        topo = grinding::simulate_topology(wb.setup, wb.process(), so); // pitch and runout need every tooth
-        source = "simulation (" + opt->method + ")";
-      }
-      const workbench::IsoResult iso = workbench::evaluate_iso(g, wb.setup.ranges(), topo, opt->iso);
-      nlohmann::json j;
-      j["scene"] = wb.scene.name;
-      j["source"] = source;
-      j["units"] = "µm; plus material positive";
-      j["iso_direction"] = std::string(evaluation::to_string(opt->iso.direction));
-      j["before"] = report::iso_json(iso);
-      std::optional<workbench::MachinePitchComparison> beside;
-      if (!machine_pitch.empty()) {
-        beside = workbench::compare_machine_pitch(machine_pitch, iso.evaluation);
-        j["machine_pitch_table"] = report::machine_pitch_table_json(*beside);
-      }
-      std::optional<workbench::MachineFlankComparison> flank_values;
-      if (machine_values) {
-        flank_values = workbench::compare_machine_flank_values(*machine_values, g, wb.setup.ranges(), topo,
-                                                               iso.evaluation, &*curves);
-        j["machine_flank_values"] = report::machine_flank_values_json(*flank_values, *machine_values);
-      }
-      // The quantities as the prediction names them; largest |deviation| needs the grid (none in a traces file).
-      std::vector<report::PredictionCheck> checks;
-      if (prediction) {
-        bool has_grid = false;
-        for (const auto& ft : topo) has_grid = has_grid || !ft.grid.empty();
-        checks = report::check_against_prediction(pipeline::gear_quantities(iso, topo), *prediction, opt->side, has_grid);
-        j["against_prediction"] = report::prediction_check_json(checks, *prediction, opt->side);
-        j["against_prediction"]["file"] = opt->prediction;
-      }
-      const std::filesystem::path out(opt->out);
-      output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
-      std::cout << "Source: " << source << "\n" << report::iso_table(iso);
-      if (beside) {
-        if (beside->rows.empty())
-          std::cout << "The export's pitch table: not compared (geartopo evaluates pitch only with every tooth of a side)\n";
-        else
-          std::cout << fmt::format("The export's pitch table beside geartopo's evaluation of the same traces ({} rows): "
-                                   "max |Δf_p| {:.2f} µm, max |ΔF_p| {:.2f} µm; {} rows differ by more than {:.1f} µm{}\n",
-                                   beside->rows.size(), beside->max_abs_fp_difference_um, beside->max_abs_Fp_difference_um,
-                                   beside->flagged, workbench::kMachineMismatchUm,
-                                   beside->likely_cause.empty() ? "" : " — likely cause: " + beside->likely_cause);
-      }
-      if (flank_values) std::cout << machine_flank_values_text(*flank_values, *machine_values);
-      if (prediction) {
-        std::cout << "Against " << opt->prediction << ":\n";
-        for (const auto& l : report::prediction_check_lines(checks, *prediction, opt->side)) std::cout << "  " << l << "\n";
-      }
-      std::cout << "wrote " << (out / "iso1328.json").string() << "\n";
-      finish_output_folder(folder);
-      return 0;
-    };
+    opt->iso_direction_given = direction_flag->count() > 0;
+    opt->helix_slope_sign_given = sign_flag->count() > 0;
+    action = [opt] { return run_evaluate(*opt); };
   });
 }
 

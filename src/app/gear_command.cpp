@@ -1,52 +1,23 @@
-#include "app/commands.hpp"
-#include "app/options.hpp"
-#include "geartopo/core/atomic_file.hpp"
-#include "geartopo/report/gear_report.hpp"
+#include "app/gear_command.hpp"
 
-#include "geartopo/scene/scene.hpp"
-#include "geartopo/surfaces/gear_mesh.hpp"
+#include "app/commands.hpp"
+#include "app/validators.hpp"
 
 #include <CLI/CLI.hpp>
-#include <fmt/format.h>
 
-#include <iostream>
 #include <memory>
 
 namespace geartopo::app {
 
 void register_gear_command(CLI::App& app, Action& action) {
-  struct Options {
-    std::string scene, mesh;
-    bool json = false;
-  };
-  auto opt = std::make_shared<Options>();
+  auto opt = std::make_shared<GearOptions>();
   CLI::App* cmd = app.add_subcommand("gear", "Gear geometry (ISO 21771) of a scene's gear; optionally its mesh");
   cmd->add_option("SCENE", opt->scene, "Scene file (YAML; units named in its keys)")->required();
   cmd->add_flag("--json", opt->json, "Print one JSON object (lengths mm, angles deg) instead of a table");
   cmd->add_option("--mesh", opt->mesh, "Write all teeth, flanks, tip, root and end faces as a triangle mesh "
                                        "(.ply, .obj, .stl or .off; mm)")
       ->check(non_empty_path());
-  cmd->callback([&action, opt] {
-    action = [opt] {
-      if (!opt->mesh.empty() && !surfaces::is_mesh_extension(opt->mesh))
-        throw CLI::ValidationError("--mesh", opt->mesh + ": use a .ply, .obj, .stl or .off file name");
-      const scene::Scene sc = scene::load_scene(opt->scene);
-      if (!opt->mesh.empty()) output::check_not_an_input(opt->mesh); // the scene (or a table it names) is never replaced
-      const gears::GearGeometry g(sc.gear);
-      if (opt->json)
-        std::cout << report::gear_json(sc, g).dump(2) << "\n";
-      else
-        std::cout << report::gear_table(sc, g);
-      for (const auto& w : g.warnings()) say("geartopo: warning: " + w);
-      if (!opt->mesh.empty()) {
-        const surfaces::TriangleMesh mesh = surfaces::gear_mesh(g);
-        surfaces::write_mesh(mesh, opt->mesh);
-        say(fmt::format("geartopo: wrote {} ({} vertices, {} triangles, mm)", opt->mesh, mesh.vertices.cols(),
-                        mesh.faces.cols()));
-      }
-      return 0;
-    };
-  });
+  cmd->callback([&action, opt] { action = [opt] { return run_gear(*opt); }; });
 }
 
 } // namespace geartopo::app

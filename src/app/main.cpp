@@ -1,7 +1,8 @@
 // geartopo — command-line entry. Exit codes: 0 success, 1 bad input, 2 bad usage.
 #include "app/commands.hpp"
-#include "app/options.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/commands/limits.hpp"
+#include "app/messages.hpp"
+#include "geartopo/files/termination.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -16,7 +17,7 @@ int main(int argc, char** argv) {
   app.fallthrough();
   bool quiet = false;
   app.add_flag("--quiet,-q", quiet, "No progress, work estimates or notes on stderr (warnings and errors stay)");
-  // An interrupted run (Ctrl-C, kill, a closed terminal) leaves no temporary output file behind (atomic_file.hpp).
+  // An interrupted run (Ctrl-C, kill, a closed terminal) leaves no temporary output file behind (files/termination.hpp).
   geartopo::output::remove_temporaries_on_termination_signals();
   geartopo::app::Action action;
   geartopo::app::register_run_command(app, action);
@@ -53,6 +54,9 @@ int main(int argc, char** argv) {
   try {
     code = action ? action() : 2;
   } catch (const CLI::ValidationError& e) {
+    code = 2;
+    error = std::string("geartopo: usage: ") + e.what();
+  } catch (const geartopo::commands::ArgumentError& e) { // a flag's value the command refuses: bad usage, named
     code = 2;
     error = std::string("geartopo: usage: ") + e.what();
   } catch (const std::exception& e) {

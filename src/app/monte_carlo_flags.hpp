@@ -27,7 +27,7 @@ struct MonteCarloFlags {
   std::uint64_t seed = 1;
   std::string shard;   ///< --shard i/n; empty: not given (1/1, or the Slurm array task's: shard_from_slurm)
   bool shards = false; ///< the command writes partial results (--shard is one of its flags)
-  double max_time_s = kMaxMonteCarloSeconds; ///< --max-time-s (MonteCarloWatch, options.hpp)
+  double max_time_s = kMaxMonteCarloSeconds; ///< --max-time-s (MonteCarloWatch, work_estimates.hpp)
   double adaptive_tolerance_um = 0.0; ///< > 0: adaptive stop (JCGM 101 §7.9, docs/monte-carlo.md); --samples is then ignored
   long long max_samples = 10'000;     ///< the adaptive run's limit
   double probe_noise_um = 0.0;        ///< --probe-noise-um: σ of the probe noise each sample's gears are measured with

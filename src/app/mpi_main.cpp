@@ -4,8 +4,8 @@
 // `geartopo compensate` run. Exit codes as geartopo's (0, 1 bad input, 2 bad usage), the same on every rank.
 #include "app/commands.hpp"
 #include "app/mpi_driver.hpp"
-#include "app/options.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "app/messages.hpp"
+#include "geartopo/files/termination.hpp"
 
 #include <CLI/CLI.hpp>
 

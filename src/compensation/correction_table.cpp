@@ -1,7 +1,7 @@
 #include "geartopo/compensation/correction_table.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/core/input_error.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 #include "geartopo/core/text_field.hpp"
 #include "geartopo/core/units.hpp"
 

@@ -1,6 +1,6 @@
 #include "geartopo/compensation/cycle_corrections.hpp"
 
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/core/units.hpp"
 
 #include <fmt/format.h>

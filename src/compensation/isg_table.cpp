@@ -1,7 +1,7 @@
 // geartopo — the ISG/Beckhoff TF5280 volumetric compensation table (docs/compensation.md, "Controller table: ISG CSV").
 #include "geartopo/compensation/isg_table.hpp"
 
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/machine/chain.hpp"

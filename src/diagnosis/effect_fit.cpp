@@ -4,7 +4,6 @@
 #include "effect_fit.hpp"
 
 #include "geartopo/diagnosis/levenberg_marquardt.hpp"
-#include "geartopo/core/uncertain_value.hpp"
 #include "geartopo/effects/registry.hpp"
 
 #include <Eigen/Dense>
@@ -314,7 +313,7 @@ Candidate to_candidate(EffectFit& f, const LmResult& best, const Eigen::VectorXd
                                        (std::isnan(spec.plausible_lo) ? spec.lo : spec.plausible_lo);
         params.back().determined = !(v <= spec.lo + end || v >= spec.hi - end) && !(u > plausible_width);
       }
-      if (j < 0 || !c.rejected.empty()) continue;
+      if (j < 0 || c.rejection) continue;
       // Plausibility: a value the data demand beyond what a real machine shows is the optimiser absorbing a pattern
       // the effect does not make — not a measurement of the effect. "Demand": outside the plausible range by more than
       // 2σ. A value merely wandering there along a direction the data cannot see (a thermal amplitude trading against
@@ -323,9 +322,10 @@ Candidate to_candidate(EffectFit& f, const LmResult& best, const Eigen::VectorXd
       const double outside = std::max(spec.plausible_lo - v, v - spec.plausible_hi); // > 0: outside (file units)
       if (outside > 2.0 * u) {
         const double at_end = 1e-6 * (spec.hi - spec.lo);
-        c.rejected = fmt::format("{}.{} = {} is outside its plausible range [{}, {}]{}", eff.type(), spec.key,
-                                 text::with_uncertainty(v, u), spec.plausible_lo, spec.plausible_hi,
-                                 v <= spec.lo + at_end || v >= spec.hi - at_end ? " (at the end of the fit's range)" : "");
+        c.rejection = Decision{Reason::implausible_value, std::string(eff.type()) + "." + spec.key, {},
+                               {{"value", v}, {"sd", u}, {"plausible_lo", spec.plausible_lo},
+                                {"plausible_hi", spec.plausible_hi},
+                                {"at_end_of_range", v <= spec.lo + at_end || v >= spec.hi - at_end ? 1.0 : 0.0}}};
       }
     }
     c.parameters.push_back(params);

@@ -58,7 +58,7 @@ std::vector<std::string> change_identification_comments(const Candidate& candida
   std::vector<std::string> comments;
   for (const auto& c : candidate.changes)
     comments.push_back(fmt::format("{} {}: identified by geartopo diagnose from {} (ΔBIC {:.1f}){}",
-                                   machine::info(c.component).name, machine::to_string(c.law), measured,
+                                   machine::info(c.component).name, c.law_name(), measured,
                                    candidate.delta_bic,
                                    candidate.equivalent.empty()
                                        ? std::string()

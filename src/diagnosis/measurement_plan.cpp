@@ -10,10 +10,10 @@
 #include "geartopo/diagnosis/diagnose.hpp"
 
 #include "effect_fit.hpp"
-#include "machine_hypotheses.hpp"
 #include "setup_terms.hpp"
 
 #include "geartopo/diagnosis/effect_contribution.hpp"
+#include "geartopo/diagnosis/hypothesis_family.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/effects/effects_process.hpp"
 #include "geartopo/grinding/topology.hpp"
@@ -31,15 +31,20 @@
 namespace geartopo::diagnosis {
 namespace {
 
-/// The first-order deviation (µm) of a candidate's effects at the points; zero for "no effect" (no effects). A machine
-/// hypothesis (a component change, one wheel flank's profile) by its linear field X β at the points' generating poses:
-/// the same columns it was fitted with (machine_hypotheses.hpp).
+/// A hypothesis' columns at the points (n × p): its family's, at the points' contact states.
+Eigen::MatrixXd columns_at(const grinding::GrindingSetup& setup, const Candidate& c, const std::vector<MeasuredPoint>& pts,
+                           int threads) {
+  const EffectContribution at(setup, pts, threads);
+  return c.family->columns(c, ContactStates(setup, at, nullptr, threads));
+}
+
+/// The first-order deviation (µm) of a candidate's effects at the points; zero for "no effect" (no effects). A
+/// hypothesis beyond the library by its linear field X β at the points' generating poses: the same columns it was
+/// fitted with (hypothesis_family.hpp).
 std::vector<double> effects_at(const grinding::GrindingSetup& setup, const Candidate& c,
                                const std::vector<MeasuredPoint>& pts, int threads) {
-  if (is_machine_hypothesis(c)) {
-    const EffectContribution at(setup, pts, threads);
-    const auto f = hypothesis_field(setup, at, c, threads);
-    const Eigen::VectorXd field = f.X * f.beta;
+  if (c.family) {
+    const Eigen::VectorXd field = columns_at(setup, c, pts, threads) * c.coefficients;
     return {field.data(), field.data() + field.size()};
   }
   if (c.effects.empty()) return std::vector<double>(pts.size(), 0.0);
@@ -140,11 +145,10 @@ double expected_gap(const grinding::GrindingSetup& setup, const std::vector<Meas
   const SetupTermModel terms(setup.geometry(), all);
   const double n = static_cast<double>(all.size());
   double loser_rss = 0.0;
-  if (is_machine_hypothesis(*loser.candidate)) {
+  if (loser.candidate->family) {
     // Linear in its coefficients: least squares on its columns at measured + new points, set-up terms removed.
-    const EffectContribution at_new(setup, grid, o.threads);
     const Eigen::MatrixXd& Xm = loser.columns_measured;
-    const Eigen::MatrixXd Xn = hypothesis_field(setup, at_new, *loser.candidate, o.threads).X; // grid × p
+    const Eigen::MatrixXd Xn = columns_at(setup, *loser.candidate, grid, o.threads); // grid × p
     Eigen::MatrixXd X(Xm.rows() + Xn.rows(), Xm.cols());
     X << Xm, Xn;
     Eigen::MatrixXd Xp(X.rows(), X.cols());
@@ -169,61 +173,10 @@ double expected_gap(const grinding::GrindingSetup& setup, const std::vector<Meas
          static_cast<double>(loser.candidate->fitted_parameters() - truth.candidate->fitted_parameters()) * std::log(n);
 }
 
-} // namespace
-
-std::string what_to_measure(const MeasurementOption& m) {
-  if (!m.traces) return fmt::format("a {} × {} grid per flank", m.rows, m.cols);
-  return fmt::format("{} profile traces (z = {:.1f} mm) and {} helix traces (d = {:.1f} mm) of {} points per flank",
-                     m.profile_z_mm.size(), fmt::join(m.profile_z_mm, ", "), m.helix_diameter_mm.size(),
-                     fmt::join(m.helix_diameter_mm, ", "), m.points_per_trace);
-}
-
-MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
-                                 const std::vector<double>& residual, const Candidate& a, const Candidate& b,
-                                 double noise_um, const DiagnoseOptions& o) {
-  MeasurementPlan plan;
-  plan.first = a.effects.empty() && a.changes.empty() ? "none" : a.name();
-  plan.second = b.effects.empty() && b.changes.empty() ? "none" : b.name();
-  plan.delta_bic_gap = b.delta_bic - a.delta_bic;
-  plan.noise_um = noise_um;
-  plan.rows = o.plan_rows;
-  plan.cols = o.plan_cols;
-
-  // The unmeasured teeth: where the two explanations can part (none: nothing to suggest).
-  std::set<int> measured;
-  for (const auto& p : pts) measured.insert(p.tooth);
-  std::vector<int> unmeasured;
-  for (int tooth = 1; tooth <= setup.geometry().teeth(); ++tooth)
-    if (!measured.count(tooth)) unmeasured.push_back(tooth);
-  if (unmeasured.empty()) return plan;
-
-  // Each explanation on the measured points: its effects, its set-up terms and the RSS it leaves.
-  const SetupTermModel model(setup.geometry(), pts);
-  const auto fitted = [&](const Candidate& c) {
-    Fitted f;
-    f.candidate = &c;
-    if (is_machine_hypothesis(c)) {
-      const EffectContribution at(setup, pts, o.threads);
-      const auto field = hypothesis_field(setup, at, c, o.threads);
-      f.columns_measured = field.X;
-      const Eigen::VectorXd e = field.X * field.beta;
-      f.effects_measured.assign(e.data(), e.data() + e.size());
-    } else {
-      f.effects_measured = effects_at(setup, c, pts, o.threads);
-    }
-    f.terms = setup_terms_of(model, residual, f.effects_measured);
-    Eigen::VectorXd r(static_cast<Eigen::Index>(pts.size()));
-    for (size_t i = 0; i < pts.size(); ++i) r(static_cast<Eigen::Index>(i)) = residual[i] - f.effects_measured[i];
-    f.rss = model.remove(r).squaredNorm();
-    return f;
-  };
-  const Fitted fa = fitted(a), fb = fitted(b);
-
-  // The grid of every unmeasured tooth, both flanks.
-  const auto grid = grid_points(setup, unmeasured, o.plan_rows, o.plan_cols);
-
-  // Raw difference per tooth, row and column: where the two explanations part, before any refit.
-  const auto pa = prediction_at(setup, fa, grid, o.threads), pb = prediction_at(setup, fb, grid, o.threads);
+/// Raw difference per tooth, row and column: where the two explanations part on the grid of every unmeasured tooth
+/// (pa, pb: their predictions there), before any refit; the teeth largest separation first.
+void separate_on_teeth(MeasurementPlan& plan, const std::vector<MeasuredPoint>& grid, const std::vector<double>& pa,
+                       const std::vector<double>& pb, double noise_um, const DiagnoseOptions& o) {
   plan.row_separation_sigma.assign(static_cast<size_t>(o.plan_rows), 0.0);
   plan.col_separation_sigma.assign(static_cast<size_t>(o.plan_cols), 0.0);
   const double s2 = noise_um * noise_um;
@@ -247,7 +200,15 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
   std::stable_sort(plan.teeth.begin(), plan.teeth.end(), [](const ToothSuggestion& x, const ToothSuggestion& y) {
     return x.separation_sigma > y.separation_sigma;
   });
+}
 
+/// The measurement options scored after refit, fewest new points first, until one resolves; the recommendation.
+void score_options(MeasurementPlan& plan, const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
+                   const std::vector<double>& residual, const Fitted& fa, const Fitted& fb, double noise_um,
+                   const DiagnoseOptions& o) {
+  const Candidate& a = *fa.candidate;
+  const Candidate& b = *fb.candidate;
+  const double s2 = noise_um * noise_um;
   // Options: the best k teeth (k = 2, 4, 8, 16, at most all) on the plan grid and on grids 2× and 3× denser each
   // way, fewest new points first (then fewest teeth). Scored after refit until one resolves: both expected gaps reach
   // the target. A few joint fits each; the denser ones only when the cheaper ones do not suffice.
@@ -300,6 +261,62 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
     if (opt.resolves || worst > best_worst_gap) best_worst_gap = worst, plan.recommended = opt;
     if (opt.resolves) break;
   }
+}
+
+} // namespace
+
+std::string what_to_measure(const MeasurementOption& m) {
+  if (!m.traces) return fmt::format("a {} × {} grid per flank", m.rows, m.cols);
+  return fmt::format("{} profile traces (z = {:.1f} mm) and {} helix traces (d = {:.1f} mm) of {} points per flank",
+                     m.profile_z_mm.size(), fmt::join(m.profile_z_mm, ", "), m.helix_diameter_mm.size(),
+                     fmt::join(m.helix_diameter_mm, ", "), m.points_per_trace);
+}
+
+MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
+                                 const std::vector<double>& residual, const Candidate& a, const Candidate& b,
+                                 double noise_um, const DiagnoseOptions& o) {
+  MeasurementPlan plan;
+  plan.first = a.effects.empty() && a.changes.empty() ? "none" : a.name();
+  plan.second = b.effects.empty() && b.changes.empty() ? "none" : b.name();
+  plan.delta_bic_gap = b.delta_bic - a.delta_bic;
+  plan.noise_um = noise_um;
+  plan.rows = o.plan_rows;
+  plan.cols = o.plan_cols;
+
+  // The unmeasured teeth: where the two explanations can part (none: nothing to suggest).
+  std::set<int> measured;
+  for (const auto& p : pts) measured.insert(p.tooth);
+  std::vector<int> unmeasured;
+  for (int tooth = 1; tooth <= setup.geometry().teeth(); ++tooth)
+    if (!measured.count(tooth)) unmeasured.push_back(tooth);
+  if (unmeasured.empty()) return plan;
+
+  // Each explanation on the measured points: its effects, its set-up terms and the RSS it leaves.
+  const SetupTermModel model(setup.geometry(), pts);
+  const auto fitted = [&](const Candidate& c) {
+    Fitted f;
+    f.candidate = &c;
+    if (c.family) {
+      f.columns_measured = columns_at(setup, c, pts, o.threads);
+      const Eigen::VectorXd e = f.columns_measured * c.coefficients;
+      f.effects_measured.assign(e.data(), e.data() + e.size());
+    } else {
+      f.effects_measured = effects_at(setup, c, pts, o.threads);
+    }
+    f.terms = setup_terms_of(model, residual, f.effects_measured);
+    Eigen::VectorXd r(static_cast<Eigen::Index>(pts.size()));
+    for (size_t i = 0; i < pts.size(); ++i) r(static_cast<Eigen::Index>(i)) = residual[i] - f.effects_measured[i];
+    f.rss = model.remove(r).squaredNorm();
+    return f;
+  };
+  const Fitted fa = fitted(a), fb = fitted(b);
+
+  // The grid of every unmeasured tooth, both flanks.
+  const auto grid = grid_points(setup, unmeasured, o.plan_rows, o.plan_cols);
+
+  const auto pa = prediction_at(setup, fa, grid, o.threads), pb = prediction_at(setup, fb, grid, o.threads);
+  separate_on_teeth(plan, grid, pa, pb, noise_um, o);
+  score_options(plan, setup, pts, residual, fa, fb, noise_um, o);
   return plan;
 }
 

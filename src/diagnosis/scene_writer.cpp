@@ -1,6 +1,6 @@
 #include "geartopo/diagnosis/scene_writer.hpp"
-#include "geartopo/core/atomic_file.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
+#include "geartopo/files/input_file.hpp"
 #include <fstream>
 
 #include "geartopo/effects/registry.hpp"
@@ -100,9 +100,9 @@ std::string machine_changes_yaml_items(const std::vector<machine::ComponentChang
     const double scale = machine::file_per_internal(c.law, q);
     if (i < comments.size() && !comments[i].empty()) out += "  # " + comments[i] + "\n";
     out += fmt::format("  - {{component: {}, law: {}, {}: {:.6g}", machine::info(c.component).name,
-                       machine::to_string(c.law), machine::size_key(c.law, q), c.size * scale);
+                       c.law_name(), machine::size_key(c.law, q), c.size * scale);
     if (c.law == machine::ChangeLaw::SteadyState) out += fmt::format(", time_constant_s: {:.6g}", c.time_constant_s);
-    if (c.law == machine::ChangeLaw::OncePerRevolution) out += fmt::format(", phase_deg: {:.6g}", c.phase_rad * 180.0 / 3.141592653589793);
+    if (c.law == machine::ChangeLaw::PerRevolution) out += fmt::format(", phase_deg: {:.6g}", c.phase_rad * 180.0 / 3.141592653589793);
     // The fit's 1σ: a prediction from the completed scene draws the size within it (docs/monte-carlo.md).
     if (i < uncertainties.size() && uncertainties[i] > 0.0)
       out += fmt::format(", uncertainty: {{{}: {:.6g}}}", machine::size_key(c.law, q), uncertainties[i] * scale);

@@ -1,6 +1,6 @@
 #include "geartopo/grinding/topology_csv.hpp"
-#include "geartopo/core/atomic_file.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
+#include "geartopo/files/input_file.hpp"
 
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/core/text_field.hpp"

@@ -1,6 +1,6 @@
 #include "geartopo/measurement/any_measurement.hpp"
 
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 #include "geartopo/surfaces/point_cloud.hpp"

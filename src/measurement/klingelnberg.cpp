@@ -1,7 +1,7 @@
 #include "geartopo/measurement/klingelnberg.hpp"
 
 #include "geartopo/core/input_error.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 #include "geartopo/core/text_field.hpp"
 #include "geartopo/core/units.hpp"
 #include "klingelnberg_text.hpp"
@@ -242,257 +242,309 @@ void refuse_utf16(std::string_view head, const std::string& source) {
                    nuls, sample.size(), kSave));
 }
 
+namespace {
+
+/// The export read line by line: a state machine over its blocks (header lines, trace heads and their values, the
+/// pitch tables, blocks this reader skips), keeping what the rules across lines need (the teeth, the traces seen).
+class ExportParser {
+public:
+  explicit ExportParser(const std::string& source) { f_.source = source; }
+  /// `raw`: UTF-8 (any BOM stripped).
+  KlingelnbergFile parse(std::string_view raw);
+
+private:
+  enum class State { Free, Values, Skip, PitchHead, PitchRows };
+  // (tooth, flank, kind, TOPOGRAFIE, position symbol, position in µm) → line of the trace's head
+  using TraceKey = std::tuple<int, int, int, bool, char, double>;
+
+  /// The column of a token of line_ in the file's own line.
+  int column(std::string_view token) const;
+  /// A value line of the trace being read: its values taken; false when the line is not one (the trace ends).
+  bool read_value_line();
+  /// A trace block ends at the first line that is not all numbers: it must have had the values its head announced.
+  void end_trace() const;
+  /// A skipped block lasts until a line this reader knows starts something (its rows need not be numbers:
+  /// "Teilung:" has "1   R  0.0000 …").
+  bool still_skipping() const;
+  void skip_block(const std::string& title);
+  void read_pitch_head();
+  /// A row of the pitch table; false when the line is not one (the table ends).
+  bool read_pitch_row();
+  void read_header_line(int code, std::string_view rest);
+  void read_trace_head();
+  /// A line outside any block: a header line, a trace head, a title, a pitch table's flank, the preamble, or the
+  /// start of a block this reader does not know.
+  void read_free_line();
+
+  KlingelnbergFile f_;
+  State state_ = State::Free;
+  std::optional<TraceKind> pending_; // a title line "Profil:" announces the kind of the next bare head
+  std::map<TraceKey, int> first_line_;
+  Flank pitch_flank_ = Flank::Left;
+  std::vector<std::string> pitch_columns_;
+  std::map<std::string, int> skipped_count_;
+  std::map<std::pair<int, int>, int> pitch_rows_; // (tooth, flank) → line
+  DecimalMark decimal_;
+  int teeth_ = 0;       // header line 22, once read
+  std::string english_; // a line with English labels in German words (german_words)
+  std::vector<size_t> english_from_;
+  bool skip_numbers_only_ = false; // a skipped trace ends at its last number line, an unknown block at a known line
+  // The line being read: its number, the line as in the file, trimmed, and as parsed (in German words).
+  int ln_ = 0;
+  std::string_view full_, trimmed_, line_;
+};
+
+KlingelnbergFile ExportParser::parse(std::string_view raw) {
+  size_t pos = 0;
+  while (pos < raw.size()) {
+    const size_t nl = raw.find('\n', pos);
+    full_ = raw.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
+    pos = nl == std::string_view::npos ? raw.size() : nl + 1;
+    ++ln_;
+    trimmed_ = trim(full_);
+    if (trimmed_.empty()) continue;
+    line_ = trimmed_;
+    if (std::string_view unused; !header_code(line_, unused)) line_ = german_words(line_, english_, english_from_);
+
+    if (state_ == State::Values) {
+      if (read_value_line()) continue;
+      end_trace();
+      state_ = State::Free;
+    }
+    if (state_ == State::Skip) {
+      if (still_skipping()) continue;
+      state_ = State::Free;
+    }
+    if (state_ == State::PitchHead) {
+      read_pitch_head();
+      continue;
+    }
+    if (state_ == State::PitchRows) {
+      if (read_pitch_row()) continue;
+      state_ = State::Free;
+    }
+    read_free_line();
+  }
+  f_.last_line = ln_;
+  if (state_ == State::Values) end_trace();
+  check_ranges(f_);
+  for (const auto& t : f_.traces)
+    f_.undefined_points += static_cast<int>(std::count_if(t.values_um.begin(), t.values_um.end(), [](double v) { return std::isnan(v); }));
+  return std::move(f_);
+}
+
+int ExportParser::column(std::string_view tok) const {
+  if (line_.data() == trimmed_.data()) return column_of(full_, tok);
+  return column_of(full_, trimmed_.substr(english_from_[static_cast<size_t>(tok.data() - line_.data())]));
+}
+
+bool ExportParser::read_value_line() {
+  auto& t = f_.traces.back();
+  if (!all_numbers(line_) && !is_value_line(line_, t)) return false;
+  for (const auto tok : tokens(line_)) {
+    if (static_cast<int>(t.values_um.size()) == t.announced_values)
+      fail(f_.source, ln_, "Werte",
+           fmt::format("more values than the {} announced by the head at line {}", t.announced_values, t.line));
+    const int col = column(tok);
+    double v = 0.0;
+    // nan, inf, "--" or text among the values: said as such, at its place (not as a trace that ends too early).
+    if (const auto why = read_number(tok, ln_, decimal_, v); !why.empty())
+      throw InputError(f_.source, ln_, col, "Werte",
+                       fmt::format("{}: value {} of the {} trace of tooth {} (head at line {}); {}; a point "
+                                   "the machine could not measure is written {}",
+                                   why, t.values_um.size() + 1, kind_name(t.kind), t.tooth, t.line, kNumberRule,
+                                   kKlingelnbergUndefined));
+    if (v > kKlingelnbergUndefined + 1.0 && std::abs(v) > grinding::kMaxDeviationUm)
+      throw InputError(f_.source, ln_, col, "Werte",
+                       fmt::format("{} µm is beyond ±{} µm, more than any ground flank deviates (a wrong unit?)",
+                                   text::excerpt(tok), grinding::kMaxDeviationUm));
+    t.values_um.push_back(v <= kKlingelnbergUndefined + 1.0 ? kNaN : v);
+    t.value_lines.push_back(ln_);
+  }
+  return true;
+}
+
+void ExportParser::end_trace() const {
+  const auto& t = f_.traces.back();
+  if (static_cast<int>(t.values_um.size()) != t.announced_values)
+    fail(f_.source, t.line, "Werte",
+         fmt::format("the head announces {} values, {} follow", t.announced_values, t.values_um.size()));
+}
+
+bool ExportParser::still_skipping() const {
+  std::string_view unused;
+  const bool known = header_code(line_, unused) || line_.find("Zahn-Nr.") != std::string_view::npos ||
+                     line_ == "Profil:" || line_ == "Flankenlinie:" || line_ == "linke Zahnflanke" ||
+                     line_ == "rechte Zahnflanke";
+  return !known && !(skip_numbers_only_ && !all_numbers(line_));
+}
+
+void ExportParser::skip_block(const std::string& title) {
+  if (skipped_count_[title]++ == 0) f_.skipped_blocks.push_back(fmt::format("{} (line {})", title, ln_));
+  state_ = State::Skip;
+}
+
+void ExportParser::read_pitch_head() {
+  const auto t = tokens(line_);
+  if (t[0] != "Zahn-Nr.") fail(f_.source, ln_, "Zahn-Nr.", "expected the pitch table's column line 'Zahn-Nr. fp Fp Fr'");
+  pitch_columns_.assign(t.begin() + 1, t.end());
+  for (const char* need : {"fp", "Fp", "Fr"})
+    if (std::find(pitch_columns_.begin(), pitch_columns_.end(), need) == pitch_columns_.end())
+      fail(f_.source, ln_, "Zahn-Nr.", fmt::format("the pitch table has no column '{}' (expected 'Zahn-Nr. fp Fp Fr')", need));
+  state_ = State::PitchRows;
+}
+
+bool ExportParser::read_pitch_row() {
+  const auto t = tokens(line_);
+  // A row starts with a whole number (the tooth); every other field must be a number of this file (nan, inf or
+  // "--" is an error at its place, not the end of the table). A numbered header line ("  2 :Datum…") ends it.
+  std::string_view header_rest;
+  if (!whole(t[0]) || header_code(line_, header_rest)) return false;
+  if (t.size() != pitch_columns_.size() + 1)
+    fail(f_.source, ln_, "Zahn-Nr.", fmt::format("{} fields, the pitch table has {} columns", t.size(), pitch_columns_.size() + 1));
+  KlingelnbergPitchRow r;
+  r.tooth = *whole(t[0]);
+  r.flank = pitch_flank_;
+  r.line = ln_;
+  const std::string allowed = teeth_ > 0 ? fmt::format("1 … {} (z, header line 22)", teeth_) : "from 1";
+  if (r.tooth < 1 || (teeth_ > 0 && r.tooth > teeth_))
+    throw InputError(f_.source, ln_, column(t[0]), "Zahn-Nr.",
+                     fmt::format("tooth {} in the pitch table: a tooth number is {}", r.tooth, allowed));
+  const auto [at, fresh] = pitch_rows_.emplace(std::pair{r.tooth, static_cast<int>(pitch_flank_)}, ln_);
+  if (!fresh)
+    fail(f_.source, ln_, "Zahn-Nr.",
+         fmt::format("tooth {} is in the {} pitch table twice (first at line {})", r.tooth, to_string(pitch_flank_), at->second));
+  for (size_t c = 0; c < pitch_columns_.size(); ++c) {
+    const auto tok = t[c + 1];
+    const int col = column(tok);
+    double v = 0.0;
+    if (const auto why = read_number(tok, ln_, decimal_, v); !why.empty())
+      throw InputError(f_.source, ln_, col, pitch_columns_[c],
+                       fmt::format("{}: the pitch table's {} of tooth {} ({} flank), in µm; {}", why, pitch_columns_[c],
+                                   r.tooth, to_string(pitch_flank_), kNumberRule));
+    if (std::abs(v) > grinding::kMaxDeviationUm)
+      throw InputError(f_.source, ln_, col, pitch_columns_[c],
+                       fmt::format("{} µm is beyond ±{} µm, more than any ground gear's pitch deviates (a wrong unit?)",
+                                   text::excerpt(tok), grinding::kMaxDeviationUm));
+    if (pitch_columns_[c] == "fp") r.fp_um = v;
+    if (pitch_columns_[c] == "Fp") r.Fp_um = v;
+    if (pitch_columns_[c] == "Fr") r.Fr_um = v;
+  }
+  f_.pitch.push_back(r);
+  return true;
+}
+
+void ExportParser::read_header_line(int code, std::string_view rest) {
+  const auto colon = rest.find(':');
+  KlingelnbergHeaderLine h;
+  h.label = strip_leaders(rest.substr(0, colon));
+  h.line = ln_;
+  const auto sym = range_symbol(h.label);
+  // The lines the reader checks or uses (module, teeth, ranges) must hold numbers only, at least one; on any other
+  // line (a date, an order number) what is not a number is text.
+  const bool used = code == 21 || code == 22 || sym.has_value();
+  const std::string field = fmt::format("{} {}", code, h.label);
+  if (colon != std::string_view::npos)
+    for (const auto t : tokens(rest.substr(colon + 1), " \t:;")) {
+      double v = 0.0;
+      if (!used) {
+        if (const auto n = number(t)) h.values.push_back(*n);
+        continue;
+      }
+      if (const auto why = read_number(t, ln_, decimal_, v); !why.empty())
+        throw InputError(f_.source, ln_, column(t), field, fmt::format("{}; this line's values are numbers ({})", why, kNumberRule));
+      if (std::abs(v) > kMaxPositionMm)
+        throw InputError(f_.source, ln_, column(t), field,
+                         fmt::format("{} is beyond ±{:g}, more than any gear measures (a wrong unit?)", text::excerpt(t),
+                                     kMaxPositionMm));
+      h.values.push_back(v);
+    }
+  if (used && h.values.empty())
+    fail(f_.source, ln_, field, "no value after the label: expected a number (the reader uses this line)");
+  if (code == 21 && h.values[0] <= 0.0)
+    fail(f_.source, ln_, field, fmt::format("{} mm is not a normal module: a length > 0 mm", h.values[0]));
+  if (code == 22) {
+    const double z = h.values[0];
+    if (z != std::floor(z) || z < 1.0 || z > 10000.0)
+      fail(f_.source, ln_, field, fmt::format("{} is not a number of teeth: a whole number 1 … 10000", z));
+    teeth_ = static_cast<int>(z);
+    for (const auto& t : f_.traces)
+      if (t.tooth > teeth_)
+        fail(f_.source, t.line, "Zahn-Nr.", fmt::format("tooth {} of a gear with {} teeth (header line 22 at line {})", t.tooth, teeth_, ln_));
+  }
+  if (sym) f_.ranges[*sym] = h;
+  f_.codes[code] = std::move(h);
+}
+
+void ExportParser::read_trace_head() {
+  const Head h = parse_head(line_, pending_, f_.source, ln_, decimal_, teeth_, [this](std::string_view t) { return column(t); });
+  pending_.reset();
+  if (!h.kind) { // e.g. "Verschränkung:" (twist) traces: listed, their values skipped
+    skip_block(h.title.empty() ? std::string("Zahn-Nr.") : h.title);
+    skip_numbers_only_ = true;
+    return;
+  }
+  // One trace per tooth, flank, kind and position (to the µm the positions are printed to): a second one is either
+  // another tooth's block numbered wrongly or a repeat, and a repeat would count the flank twice in every fit and
+  // evaluation. Refused (docs/measurement-formats.md, "Repeated traces").
+  const TraceKey key{h.tooth, static_cast<int>(h.flank), static_cast<int>(*h.kind), h.title == "TOPOGRAFIE", h.symbol,
+                     std::round(h.position * 1000.0)}; // a double: a position of 1e300 mm must not overflow
+  if (const auto [at, fresh] = first_line_.emplace(key, ln_); !fresh)
+    fail(f_.source, ln_, "Zahn-Nr.",
+         fmt::format("tooth {} {} {} {}at {}= {} mm is measured twice (first at line {}): a repeated measurement is "
+                     "refused. If another tooth's blocks carry this number by mistake, correct it; to state the "
+                     "repeatability, export each measurement to a file of its own",
+                     h.tooth, to_string(h.flank), kind_name(*h.kind), h.title == "TOPOGRAFIE" ? "(TOPOGRAFIE) " : "",
+                     h.symbol, h.position, at->second));
+  KlingelnbergTrace t;
+  t.kind = *h.kind;
+  t.tooth = h.tooth;
+  t.flank = h.flank;
+  t.topography = h.title == "TOPOGRAFIE";
+  t.position_symbol = h.symbol;
+  t.position_mm = h.position;
+  t.announced_values = h.count;
+  t.line = ln_;
+  f_.traces.push_back(std::move(t));
+  state_ = State::Values;
+}
+
+void ExportParser::read_free_line() {
+  std::string_view rest;
+  if (const auto code = header_code(line_, rest)) return read_header_line(*code, rest);
+  if (line_.find("Zahn-Nr.") != std::string_view::npos) return read_trace_head();
+  if (line_ == "Profil:" || line_ == "Flankenlinie:") {
+    pending_ = line_ == "Profil:" ? TraceKind::Profile : TraceKind::Helix;
+    return;
+  }
+  if (line_ == "linke Zahnflanke" || line_ == "rechte Zahnflanke") {
+    pitch_flank_ = line_ == "linke Zahnflanke" ? Flank::Left : Flank::Right;
+    state_ = State::PitchHead;
+    return;
+  }
+  // Preamble ("HEADER KS.MK.FILE", "TYPE STI ! comment", …): settings of the export, not data.
+  const auto t = tokens(line_);
+  const bool preamble = t[0].size() >= 2 && std::all_of(t[0].begin(), t[0].end(), [](char c) {
+    return (c >= 'A' && c <= 'Z') || c == '_' || c == '.';
+  });
+  if (preamble) return;
+  // Anything else opens a block this reader does not know: skipped with the numbers that follow it, and listed.
+  std::string title(text::utf8_prefix(line_, 40));
+  if (const auto c = title.find(':'); c != std::string::npos) title = std::string(trim(title.substr(0, c)));
+  skip_block(title);
+  skip_numbers_only_ = false;
+}
+
+} // namespace
+
 KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& source) {
-  KlingelnbergFile f;
-  f.source = source;
   refuse_utf16(raw, source);
   std::string converted;
   if (!text::strip_bom(raw) && !is_utf8(raw)) { // no BOM and not UTF-8: the older latin-1 exports
     converted = latin1_to_utf8(raw);
     raw = converted;
   }
-  enum class State { Free, Values, Skip, PitchHead, PitchRows };
-  State state = State::Free;
-  std::optional<TraceKind> pending; // a title line "Profil:" announces the kind of the next bare head
-  // (tooth, flank, kind, TOPOGRAFIE, position symbol, position in µm) → line of the trace's head
-  using TraceKey = std::tuple<int, int, int, bool, char, double>;
-  std::map<TraceKey, int> first_line;
-  Flank pitch_flank = Flank::Left;
-  std::vector<std::string> pitch_columns;
-  std::map<std::string, int> skipped_count;
-  std::map<std::pair<int, int>, int> pitch_rows; // (tooth, flank) → line
-  DecimalMark decimal;
-  int teeth = 0;       // header line 22, once read
-  std::string english; // a line with English labels in German words (german_words)
-  std::vector<size_t> english_from;
-  bool skip_numbers_only = false; // a skipped trace ends at its last number line, an unknown block at a known line
-  auto skip_block = [&](const std::string& title, int ln) {
-    if (skipped_count[title]++ == 0) f.skipped_blocks.push_back(fmt::format("{} (line {})", title, ln));
-    state = State::Skip;
-  };
-  // A trace block ends at the first line that is not all numbers: it must have had the values its head announced.
-  auto end_trace = [&] {
-    const auto& t = f.traces.back();
-    if (static_cast<int>(t.values_um.size()) != t.announced_values)
-      fail(source, t.line, "Werte",
-           fmt::format("the head announces {} values, {} follow", t.announced_values, t.values_um.size()));
-  };
-
-  int ln = 0;
-  size_t pos = 0;
-  while (pos < raw.size()) {
-    const size_t nl = raw.find('\n', pos);
-    const std::string_view full = raw.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
-    pos = nl == std::string_view::npos ? raw.size() : nl + 1;
-    ++ln;
-    const std::string_view trimmed = trim(full);
-    if (trimmed.empty()) continue;
-    std::string_view line = trimmed;
-    if (std::string_view unused; !header_code(line, unused)) line = german_words(line, english, english_from);
-    // The column of a token of `line` in the file's own line.
-    const auto col = [&](std::string_view tok) {
-      if (line.data() == trimmed.data()) return column_of(full, tok);
-      return column_of(full, trimmed.substr(english_from[static_cast<size_t>(tok.data() - line.data())]));
-    };
-
-    if (state == State::Values) {
-      if (all_numbers(line) || is_value_line(line, f.traces.back())) {
-        auto& t = f.traces.back();
-        for (const auto tok : tokens(line)) {
-          if (static_cast<int>(t.values_um.size()) == t.announced_values)
-            fail(source, ln, "Werte",
-                 fmt::format("more values than the {} announced by the head at line {}", t.announced_values, t.line));
-          const int column = col(tok);
-          double v = 0.0;
-          // nan, inf, "--" or text among the values: said as such, at its place (not as a trace that ends too early).
-          if (const auto why = read_number(tok, ln, decimal, v); !why.empty())
-            throw InputError(source, ln, column, "Werte",
-                             fmt::format("{}: value {} of the {} trace of tooth {} (head at line {}); {}; a point "
-                                         "the machine could not measure is written {}",
-                                         why, t.values_um.size() + 1, kind_name(t.kind), t.tooth, t.line, kNumberRule,
-                                         kKlingelnbergUndefined));
-          if (v > kKlingelnbergUndefined + 1.0 && std::abs(v) > grinding::kMaxDeviationUm)
-            throw InputError(source, ln, column, "Werte",
-                             fmt::format("{} µm is beyond ±{} µm, more than any ground flank deviates (a wrong unit?)",
-                                         text::excerpt(tok), grinding::kMaxDeviationUm));
-          t.values_um.push_back(v <= kKlingelnbergUndefined + 1.0 ? kNaN : v);
-          t.value_lines.push_back(ln);
-        }
-        continue;
-      }
-      end_trace();
-      state = State::Free;
-    }
-    if (state == State::Skip) {
-      // A skipped block lasts until a line this reader knows starts something (its rows need not be numbers:
-      // "Teilung:" has "1   R  0.0000 …").
-      std::string_view unused;
-      const bool known = header_code(line, unused) || line.find("Zahn-Nr.") != std::string_view::npos ||
-                         line == "Profil:" || line == "Flankenlinie:" || line == "linke Zahnflanke" ||
-                         line == "rechte Zahnflanke";
-      if (!known && !(skip_numbers_only && !all_numbers(line))) continue;
-      state = State::Free;
-    }
-    if (state == State::PitchHead) {
-      const auto t = tokens(line);
-      if (t[0] != "Zahn-Nr.") fail(source, ln, "Zahn-Nr.", "expected the pitch table's column line 'Zahn-Nr. fp Fp Fr'");
-      pitch_columns.assign(t.begin() + 1, t.end());
-      for (const char* need : {"fp", "Fp", "Fr"})
-        if (std::find(pitch_columns.begin(), pitch_columns.end(), need) == pitch_columns.end())
-          fail(source, ln, "Zahn-Nr.", fmt::format("the pitch table has no column '{}' (expected 'Zahn-Nr. fp Fp Fr')", need));
-      state = State::PitchRows;
-      continue;
-    }
-    if (state == State::PitchRows) {
-      const auto t = tokens(line);
-      // A row starts with a whole number (the tooth); every other field must be a number of this file (nan, inf or
-      // "--" is an error at its place, not the end of the table). A numbered header line ("  2 :Datum…") ends it.
-      std::string_view header_rest;
-      if (whole(t[0]) && !header_code(line, header_rest)) {
-        if (t.size() != pitch_columns.size() + 1)
-          fail(source, ln, "Zahn-Nr.",
-               fmt::format("{} fields, the pitch table has {} columns", t.size(), pitch_columns.size() + 1));
-        KlingelnbergPitchRow r;
-        r.tooth = *whole(t[0]);
-        r.flank = pitch_flank;
-        r.line = ln;
-        const std::string allowed = teeth > 0 ? fmt::format("1 … {} (z, header line 22)", teeth) : "from 1";
-        if (r.tooth < 1 || (teeth > 0 && r.tooth > teeth))
-          throw InputError(source, ln, col(t[0]), "Zahn-Nr.",
-                           fmt::format("tooth {} in the pitch table: a tooth number is {}", r.tooth, allowed));
-        const auto [at, fresh] = pitch_rows.emplace(std::pair{r.tooth, static_cast<int>(pitch_flank)}, ln);
-        if (!fresh)
-          fail(source, ln, "Zahn-Nr.",
-               fmt::format("tooth {} is in the {} pitch table twice (first at line {})", r.tooth, to_string(pitch_flank), at->second));
-        for (size_t c = 0; c < pitch_columns.size(); ++c) {
-          const auto tok = t[c + 1];
-          const int column = col(tok);
-          double v = 0.0;
-          if (const auto why = read_number(tok, ln, decimal, v); !why.empty())
-            throw InputError(source, ln, column, pitch_columns[c],
-                             fmt::format("{}: the pitch table's {} of tooth {} ({} flank), in µm; {}", why,
-                                         pitch_columns[c], r.tooth, to_string(pitch_flank), kNumberRule));
-          if (std::abs(v) > grinding::kMaxDeviationUm)
-            throw InputError(source, ln, column, pitch_columns[c],
-                             fmt::format("{} µm is beyond ±{} µm, more than any ground gear's pitch deviates (a wrong "
-                                         "unit?)",
-                                         text::excerpt(tok), grinding::kMaxDeviationUm));
-          if (pitch_columns[c] == "fp") r.fp_um = v;
-          if (pitch_columns[c] == "Fp") r.Fp_um = v;
-          if (pitch_columns[c] == "Fr") r.Fr_um = v;
-        }
-        f.pitch.push_back(r);
-        continue;
-      }
-      state = State::Free;
-    }
-
-    std::string_view rest;
-    if (const auto code = header_code(line, rest)) {
-      const auto colon = rest.find(':');
-      KlingelnbergHeaderLine h;
-      h.label = strip_leaders(rest.substr(0, colon));
-      h.line = ln;
-      const auto sym = range_symbol(h.label);
-      // The lines the reader checks or uses (module, teeth, ranges) must hold numbers only, at least one; on any other
-      // line (a date, an order number) what is not a number is text.
-      const bool used = *code == 21 || *code == 22 || sym.has_value();
-      const std::string field = fmt::format("{} {}", *code, h.label);
-      if (colon != std::string_view::npos)
-        for (const auto t : tokens(rest.substr(colon + 1), " \t:;")) {
-          double v = 0.0;
-          if (!used) {
-            if (const auto n = number(t)) h.values.push_back(*n);
-            continue;
-          }
-          if (const auto why = read_number(t, ln, decimal, v); !why.empty())
-            throw InputError(source, ln, col(t), field,
-                             fmt::format("{}; this line's values are numbers ({})", why, kNumberRule));
-          if (std::abs(v) > kMaxPositionMm)
-            throw InputError(source, ln, col(t), field,
-                             fmt::format("{} is beyond ±{:g}, more than any gear measures (a wrong unit?)",
-                                         text::excerpt(t), kMaxPositionMm));
-          h.values.push_back(v);
-        }
-      if (used && h.values.empty())
-        fail(source, ln, field, "no value after the label: expected a number (the reader uses this line)");
-      if (*code == 21 && h.values[0] <= 0.0)
-        fail(source, ln, field, fmt::format("{} mm is not a normal module: a length > 0 mm", h.values[0]));
-      if (*code == 22) {
-        const double z = h.values[0];
-        if (z != std::floor(z) || z < 1.0 || z > 10000.0)
-          fail(source, ln, field, fmt::format("{} is not a number of teeth: a whole number 1 … 10000", z));
-        teeth = static_cast<int>(z);
-        if (!f.traces.empty())
-          for (const auto& t : f.traces)
-            if (t.tooth > teeth)
-              fail(source, t.line, "Zahn-Nr.",
-                   fmt::format("tooth {} of a gear with {} teeth (header line 22 at line {})", t.tooth, teeth, ln));
-      }
-      if (sym) f.ranges[*sym] = h;
-      f.codes[*code] = std::move(h);
-      continue;
-    }
-    if (line.find("Zahn-Nr.") != std::string_view::npos) {
-      const Head h = parse_head(line, pending, source, ln, decimal, teeth, col);
-      pending.reset();
-      if (!h.kind) { // e.g. "Verschränkung:" (twist) traces: listed, their values skipped
-        skip_block(h.title.empty() ? std::string("Zahn-Nr.") : h.title, ln);
-        skip_numbers_only = true;
-        continue;
-      }
-      // One trace per tooth, flank, kind and position (to the µm the positions are printed to): a second one is either
-      // another tooth's block numbered wrongly or a repeat, and a repeat would count the flank twice in every fit and
-      // evaluation. Refused (docs/measurement-formats.md, "Repeated traces").
-      const TraceKey key{h.tooth, static_cast<int>(h.flank), static_cast<int>(*h.kind), h.title == "TOPOGRAFIE", h.symbol,
-                         std::round(h.position * 1000.0)}; // a double: a position of 1e300 mm must not overflow
-      if (const auto [at, fresh] = first_line.emplace(key, ln); !fresh)
-        fail(source, ln, "Zahn-Nr.",
-             fmt::format("tooth {} {} {} {}at {}= {} mm is measured twice (first at line {}): a repeated measurement is "
-                         "refused. If another tooth's blocks carry this number by mistake, correct it; to state the "
-                         "repeatability, export each measurement to a file of its own",
-                         h.tooth, to_string(h.flank), kind_name(*h.kind), h.title == "TOPOGRAFIE" ? "(TOPOGRAFIE) " : "",
-                         h.symbol, h.position, at->second));
-      KlingelnbergTrace t;
-      t.kind = *h.kind;
-      t.tooth = h.tooth;
-      t.flank = h.flank;
-      t.topography = h.title == "TOPOGRAFIE";
-      t.position_symbol = h.symbol;
-      t.position_mm = h.position;
-      t.announced_values = h.count;
-      t.line = ln;
-      f.traces.push_back(std::move(t));
-      state = State::Values;
-      continue;
-    }
-    if (line == "Profil:" || line == "Flankenlinie:") {
-      pending = line == "Profil:" ? TraceKind::Profile : TraceKind::Helix;
-      continue;
-    }
-    if (line == "linke Zahnflanke" || line == "rechte Zahnflanke") {
-      pitch_flank = line == "linke Zahnflanke" ? Flank::Left : Flank::Right;
-      state = State::PitchHead;
-      continue;
-    }
-    // Preamble ("HEADER KS.MK.FILE", "TYPE STI ! comment", …): settings of the export, not data.
-    const auto t = tokens(line);
-    const bool preamble = t[0].size() >= 2 && std::all_of(t[0].begin(), t[0].end(), [](char c) {
-      return (c >= 'A' && c <= 'Z') || c == '_' || c == '.';
-    });
-    if (preamble) continue;
-    // Anything else opens a block this reader does not know: skipped with the numbers that follow it, and listed.
-    std::string title(text::utf8_prefix(line, 40));
-    if (const auto c = title.find(':'); c != std::string::npos) title = std::string(trim(title.substr(0, c)));
-    skip_block(title, ln);
-    skip_numbers_only = false;
-  }
-  f.last_line = ln;
-  if (state == State::Values) end_trace();
-  check_ranges(f);
-  for (const auto& t : f.traces)
-    f.undefined_points += static_cast<int>(std::count_if(t.values_um.begin(), t.values_um.end(), [](double v) { return std::isnan(v); }));
-  return f;
+  return ExportParser(source).parse(raw);
 }
 
 KlingelnbergFile read_klingelnberg(const std::string& file) {

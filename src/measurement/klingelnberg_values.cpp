@@ -2,7 +2,7 @@
 #include "geartopo/measurement/klingelnberg_values.hpp"
 
 #include "geartopo/core/input_error.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 #include "geartopo/measurement/klingelnberg.hpp"
 #include "klingelnberg_text.hpp"

@@ -1,7 +1,7 @@
 // PNG input/output as plain pixels, and image statistics for checks.
 
 #include "geartopo/render/image.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "detail/offscreen.hpp"
 
 #include <vtkImageData.h>

@@ -49,7 +49,9 @@ vtkSmartPointer<vtkUnsignedCharArray> colour_array(const std::vector<Rgb>& colou
   return array;
 }
 
-void set_colour(vtkProperty* p, Rgb c) { p->SetColor(c.r / 255.0, c.g / 255.0, c.b / 255.0); }
+void set_colour(vtkProperty* p, Rgb c) {
+  p->SetColor(c.r / 255.0, c.g / 255.0, c.b / 255.0);
+}
 
 struct Label {
   Eigen::Vector3d anchor;

@@ -1,6 +1,6 @@
 #include "geartopo/report/figures.hpp"
 #include "geartopo/report/prediction_report.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/evaluation/tolerances.hpp"

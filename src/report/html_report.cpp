@@ -1,6 +1,6 @@
 #include "geartopo/report/html_report.hpp"
 #include "geartopo/report/prediction_report.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/core/uncertain_value.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/report/iso_report.hpp"
@@ -506,7 +506,7 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
       for (const auto& c : m.diagnosis.hypotheses)
         h += fmt::format("<tr><td>{}</td><td>{}</td><td>{:.1f}</td><td>{:.1f} %</td><td>{}{}</td></tr>", k++, esc(c.name()),
                          c.delta_bic, 100 * c.explained_fraction, esc(c.description),
-                         c.rejected.empty() ? std::string() : esc(" (rejected: " + c.rejected + ")"));
+                         c.rejection ? esc(" (rejected: " + diagnosis::to_text(*c.rejection) + ")") : std::string());
       h += "</table></div>\n";
     }
     h += "<p><b>Verdict.</b> " + esc(m.diagnosis.verdict) + "</p>\n";

@@ -1,7 +1,7 @@
 #include "geartopo/report/prediction_report.hpp"
 
 #include "geartopo/core/input_error.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 #include "geartopo/core/text_field.hpp"
 #include "geartopo/evaluation/tolerances.hpp"
 #include "geartopo/render/charts.hpp"

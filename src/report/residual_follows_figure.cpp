@@ -1,7 +1,7 @@
 // geartopo — residual against the process variables, as a figure (residual_follows_figure.hpp). Units: µm.
 #include "geartopo/report/residual_follows_figure.hpp"
 
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 #include "geartopo/render/charts.hpp"
 #include "geartopo/render/composite.hpp"
 

@@ -1,7 +1,7 @@
 #include "design_table.hpp"
 
 #include "geartopo/core/input_error.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 #include "geartopo/core/text_field.hpp"
 
 #include <fmt/format.h>

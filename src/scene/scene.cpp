@@ -1,7 +1,7 @@
 #include "geartopo/scene/scene.hpp"
 
 #include "geartopo/machine/component_change.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/core/field_error.hpp"
@@ -501,13 +501,20 @@ void read_machine_changes(MapReader& top, ReadContext& ctx, Scene& scene) {
     if (!id)
       ctx.fail_field(m.field("component"),
                      fmt::format("'{}' is not an error component (docs/error-components.md)", text::excerpt(name)));
-    const auto law_name = m.optional_choice("law", {"constant", "linear_in_time", "steady_state", "once_per_revolution"});
     machine::ComponentChange c;
     c.component = *id;
-    c.law = machine::change_law_from_name(law_name.value_or("constant")).value();
+    if (const auto law = m.optional_text("law")) {
+      const auto named = machine::law_from_name(*law);
+      if (!named)
+        ctx.fail_field(m.field("law"), fmt::format("'{}' is not a law: constant, linear_in_time, steady_state, "
+                                                   "once_per_revolution, twice_per_revolution or K_times_per_revolution "
+                                                   "(K = 3 … {})",
+                                                   text::excerpt(*law), machine::kMaxRevolutionOrder));
+      c.law = named->law, c.order = named->order;
+    }
     for (const auto& other : scene.machine_changes)
-      if (other.component == c.component && other.law == c.law)
-        ctx.fail_field(m.field("component"), fmt::format("{} with law {} is listed twice", name, machine::to_string(c.law)));
+      if (other.component == c.component && other.law == c.law && other.order == c.order)
+        ctx.fail_field(m.field("component"), fmt::format("{} with law {} is listed twice", name, c.law_name()));
     const auto q = machine::info(c.component).quantity;
     // Hard limits, far beyond any real machine (a change of 1 mm or 10 mrad, 100 µm or 1 mrad per minute): a value
     // beyond them is a typing error, not a drift.
@@ -521,10 +528,11 @@ void read_machine_changes(MapReader& top, ReadContext& ctx, Scene& scene) {
                                  machine::size_key(c.law, q)));
     c.size = m.number(machine::size_key(c.law, q), {-limit, limit}) / machine::file_per_internal(c.law, q);
     if (c.law == machine::ChangeLaw::SteadyState) c.time_constant_s = m.number("time_constant_s", {1.0, 1e7});
-    if (c.law == machine::ChangeLaw::OncePerRevolution) {
+    if (c.law == machine::ChangeLaw::PerRevolution) {
       if (machine::info(c.component).axis != machine::Axis::C || !machine::info(c.component).position_dependent)
-        ctx.fail_field(m.field("law"), fmt::format("once_per_revolution needs a C-axis motion component (delta_xc … "
-                                                   "epsilon_zc); {} does not turn with the table", name));
+        ctx.fail_field(m.field("law"), fmt::format("{} needs a C-axis motion component (delta_xc … epsilon_zc); {} "
+                                                   "does not turn with the table",
+                                                   c.law_name(), name));
       c.phase_rad = units::rad_from_deg(m.number("phase_deg", {-360.0, 360.0}));
     }
     double u = 0.0;
@@ -560,7 +568,7 @@ MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& 
     int v = 0;
     if (text::parse_number(listed[i], v) != std::errc() || v < 1 || v > teeth)
       m.fail_item("teeth", i, fmt::format("'{}' is not a tooth number of 1..{}", text::excerpt(listed[i]), teeth));
-    // The words of `--teeth 1,1` (app/options.cpp parse_teeth): a tooth simulated twice is a slip, never a wish.
+    // The words of `--teeth 1,1` (app/parsers.cpp parse_teeth): a tooth simulated twice is a slip, never a wish.
     if (std::find(g.teeth.begin(), g.teeth.end(), v) != g.teeth.end())
       m.fail_item("teeth", i, fmt::format("tooth {} is listed twice", v));
     g.teeth.push_back(v);

@@ -125,7 +125,7 @@ std::vector<std::string> Workbench::effect_types() const {
   std::vector<std::string> out;
   for (const auto& e : scene.effects) out.push_back(e.type);
   for (const auto& c : scene.machine_changes)
-    out.push_back(std::string(machine::info(c.component).name) + " " + std::string(machine::to_string(c.law)));
+    out.push_back(std::string(machine::info(c.component).name) + " " + c.law_name());
   return out;
 }
 

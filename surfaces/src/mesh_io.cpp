@@ -1,6 +1,6 @@
 // OpenMesh is confined to this file (its headers are heavy and its IO registers writers globally).
 #include "geartopo/surfaces/triangle_mesh.hpp"
-#include "geartopo/core/atomic_file.hpp"
+#include "geartopo/files/atomic_write.hpp"
 
 // MeshIO must come before the mesh kernel header (OpenMesh requirement).
 #include <OpenMesh/Core/IO/MeshIO.hh>

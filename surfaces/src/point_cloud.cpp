@@ -1,5 +1,5 @@
 #include "geartopo/surfaces/point_cloud.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 
 #include "geartopo/gears/involute_helicoid.hpp"
 #include "geartopo/core/input_error.hpp"

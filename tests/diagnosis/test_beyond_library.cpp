@@ -8,6 +8,9 @@
 // Units: µm (deviations, noise), mm, s, rad (µrad in the case names).
 #include "independent_truth.hpp"
 
+#include "geartopo/effects/registry.hpp"
+
+#include "geartopo/diagnosis/diagnosis_json.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/diagnosis/residual_follows.hpp"
@@ -63,7 +66,8 @@ diagnosis::Diagnosis diagnose_points(const std::vector<measurement::MeasuredPoin
   if (std::getenv("GEARTOPO_TEST_VERBOSE")) o.hypotheses_listed = 1000;
   auto d = diagnosis::diagnose(bench().setup, bench().process(), pts, bench().effect_types(), o);
   if (std::getenv("GEARTOPO_TEST_VERBOSE"))
-    for (const auto& h : d.hypotheses) std::cout << h.name() << " " << h.delta_bic << " " << h.description << " " << h.rejected << "\n";
+    for (const auto& h : d.hypotheses) std::cout << h.name() << " " << h.delta_bic << " " << h.description << " "
+                << (h.rejection ? diagnosis::to_text(*h.rejection) : std::string()) << "\n";
   return d;
 }
 
@@ -102,7 +106,7 @@ TEST(BeyondLibrary, ASwivelAxisDriftIsNamedAsTheAAxisWithItsRate) {
       EXPECT_NEAR(ch.size * 60e6, rate * 60e6, 2.0 * d.chosen->change_sd.front() * 60e6 + 0.01 * rate * 60e6);
     }
     EXPECT_LT(d.chosen->rms_after_um, 1.3 * 0.5);
-    const auto j = geartopo::report::diagnosis_json("scene.yaml", "measured.csv", d, 0.0);
+    const auto j = geartopo::diagnosis::diagnosis_json("scene.yaml", "measured.csv", d, 0.0);
     EXPECT_TRUE(j["beyond_library"]["chosen"].get<bool>());
     EXPECT_EQ(j["chosen"]["effect"], d.chosen->name());
   }
@@ -212,7 +216,7 @@ TEST(BeyondLibrary, TheNamedChangeWrittenIntoTheSceneTakesTheResidualToTheNoise)
   const auto pts = measure_with(two_teeth(), hidden, 0.5, 61);
   const auto d = diagnose_points(pts, 0.5);
   ASSERT_TRUE(d.beyond_library) << d.verdict;
-  ASSERT_TRUE(d.withheld.empty()) << d.withheld;
+  ASSERT_FALSE(d.withheld) << diagnosis::to_text(*d.withheld);
   const auto dir = std::filesystem::temp_directory_path() / "geartopo_beyond_library";
   std::filesystem::create_directories(dir);
   const auto out = dir / "scene_with_effect.yaml";
@@ -476,12 +480,38 @@ TEST(DeterminedByTheData, AThermalDriftWhoseTimeConstantIsOpenStillFixesItsGrowt
     }
     ++open_cases;
     ASSERT_EQ(d.determined.size(), 2u);
-    // "X grew by +5.8 ± 0.3 µm between 0.0 and 9.4 min": the value and its σ read back from the sentence.
-    double value = 0.0, sd = 0.0;
-    ASSERT_EQ(std::sscanf(d.determined.front().c_str(), "X grew by %lf ± %lf", &value, &sd), 2) << d.determined.front();
-    EXPECT_LT(sd, 1.0);
-    EXPECT_NEAR(value, truth, 2.0 * sd + 0.05) << d.determined.front();
+    // "X grew by +5.8 ± 0.3 µm between 0.0 and 9.4 min": the record, and its sentence.
+    const auto& growth = d.determined.front();
+    EXPECT_EQ(growth.axis, "X");
+    EXPECT_LT(growth.sd_um, 1.0);
+    EXPECT_NEAR(growth.value_um, truth, 2.0 * growth.sd_um + 0.05) << diagnosis::to_text(growth);
+    EXPECT_EQ(diagnosis::to_text(growth).rfind("X grew by ", 0), 0u);
     EXPECT_NE(d.verdict.find("the data fix: X grew by"), std::string::npos);
+    // The posterior's draws (what the scene carries instead of σ): every draw inside the allowed ranges (τ > 0), the
+    // growth over the measured window the same in every draw to its σ, the time constant spread over its range.
+    ASSERT_TRUE(d.draws.has_value());
+    ASSERT_EQ(d.draws->values.size(), 1u);
+    const Eigen::MatrixXd& v = d.draws->values.front();
+    const auto params = effects::make_effect("thermal_drift")->parameters();
+    const auto column = [&](const std::string& key) {
+      for (size_t k = 0; k < params.size(); ++k)
+        if (params[k].key == key) return static_cast<Eigen::Index>(k);
+      throw std::out_of_range(key);
+    };
+    const Eigen::Index ix = column("x_growth_um"), itau = column("time_constant_s");
+    for (Eigen::Index k = 0; k < v.rows(); ++k)
+      for (Eigen::Index c = 0; c < v.cols(); ++c) {
+        EXPECT_GE(v(k, c), params[static_cast<size_t>(c)].lo);
+        EXPECT_LE(v(k, c), params[static_cast<size_t>(c)].hi);
+      }
+    Eigen::VectorXd drawn_growth(v.rows());
+    for (Eigen::Index k = 0; k < v.rows(); ++k)
+      drawn_growth(k) = v(k, ix) * (std::exp(-t1 / v(k, itau)) - std::exp(-t2 / v(k, itau)));
+    const double mean = drawn_growth.mean();
+    const double sd = std::sqrt((drawn_growth.array() - mean).square().sum() / static_cast<double>(v.rows() - 1));
+    EXPECT_NEAR(mean, truth, 2.0 * growth.sd_um + 0.05);
+    EXPECT_LT(sd, 2.0 * growth.sd_um + 0.05);
+    EXPECT_GT(v.col(itau).maxCoeff() / v.col(itau).minCoeff(), 2.0); // open: spread over its range
   }
   EXPECT_GE(open_cases, 2);
 }
@@ -533,7 +563,8 @@ TEST(BeyondLibrary, TwoMachineElementsWithinTenAreAmbiguousAndThePlannedTeethDec
     ASSERT_TRUE(d.beyond_library);
     ASSERT_FALSE(d.rivals.empty());
     EXPECT_NE(d.verdict.find("Ambiguous between " + d.chosen->name()), std::string::npos);
-    EXPECT_FALSE(d.withheld.empty()); // nothing written into the scene while ambiguous
+    ASSERT_TRUE(d.withheld); // nothing written into the scene while ambiguous
+    EXPECT_EQ(d.withheld->reason, diagnosis::Reason::ambiguous);
     std::vector<std::string> named = named_class(d);
     for (const auto& r : d.rivals) named.push_back(r.name());
     EXPECT_TRUE(lists(named, "E_BOC constant"));
@@ -556,7 +587,7 @@ TEST(BeyondLibrary, TwoMachineElementsWithinTenAreAmbiguousAndThePlannedTeethDec
     ASSERT_TRUE(after.beyond_library);
     EXPECT_TRUE(lists(named_class(after), "E_BOC constant"));
     EXPECT_TRUE(after.rivals.empty());
-    EXPECT_TRUE(after.withheld.empty());
+    EXPECT_FALSE(after.withheld);
   }
 }
 

@@ -170,7 +170,7 @@ TEST(Diagnosis, AnEffectFarBeyondItsPlausibleRangeIsRejectedNotNamed) {
   }
   bool deflection_rejected = false;
   for (const auto& c : d.ranked)
-    if (c.name() == "deflection") deflection_rejected = !c.rejected.empty() && !c.significant;
+    if (c.name() == "deflection") deflection_rejected = c.is_rejected() && !c.significant;
   EXPECT_TRUE(deflection_rejected) << d.verdict;
   EXPECT_NE(d.verdict.find("rejected"), std::string::npos) << d.verdict;
   EXPECT_NE(d.verdict.find("plausible range"), std::string::npos) << d.verdict;
@@ -183,7 +183,10 @@ TEST(Diagnosis, AssumedSetUpValuesAreSaid) {
   ASSERT_TRUE(d.chosen.has_value()) << d.verdict;
   ASSERT_EQ(d.chosen->name(), "deflection") << d.verdict;
   ASSERT_EQ(d.assumed.size(), 1u) << d.verdict;
-  EXPECT_EQ(d.assumed.front().rfind("deflection.arbor_span_mm = 600 (assumed", 0), 0u) << d.assumed.front();
+  EXPECT_EQ(d.assumed.front().effect, "deflection");
+  EXPECT_EQ(d.assumed.front().key, "arbor_span_mm");
+  EXPECT_EQ(d.assumed.front().value, 600.0);
+  EXPECT_EQ(diagnosis::to_text(d.assumed.front()).rfind("deflection.arbor_span_mm = 600 (assumed", 0), 0u);
   EXPECT_NE(d.verdict.find("Set-up values assumed, not measured: deflection.arbor_span_mm = 600"), std::string::npos)
       << d.verdict;
 }

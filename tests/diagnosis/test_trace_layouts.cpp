@@ -2,7 +2,7 @@
 // profiles; several profiles and one lead; several leads; several leads and one profile), each read from an export
 // written from the documented structure, analysed (patterns with known answers) and diagnosed (a hidden thermal drift
 // found). Units: mm, µm.
-#include "trace_export_fixture.hpp"
+#include "../trace_export_fixture.hpp"
 
 #include "geartopo/diagnosis/compare.hpp"
 #include "geartopo/diagnosis/diagnose.hpp"

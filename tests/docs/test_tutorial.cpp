@@ -111,7 +111,7 @@ TEST(Tutorial, EveryCommandRunsAndPrintsWhatTheTutorialShows) {
   const fs::path out = fs::temp_directory_path() / ("geartopo_tutorial_" + std::to_string(::getpid()));
   fs::remove_all(out);
   fs::create_directories(out);
-  // Built by appending: GCC 12 warns falsely on `"literal" + std::string&&` (as in src/core/atomic_file.cpp).
+  // Built by appending: GCC 12 warns falsely on `"literal" + std::string&&` (as in src/files/atomic_write.cpp).
   std::string out_prefix = " ";
   out_prefix += out.string();
   out_prefix += '/';

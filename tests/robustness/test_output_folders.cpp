@@ -5,7 +5,7 @@
 // replaced. The expected states are the two runs' own results, produced without interruption.
 #include "robustness_support.hpp"
 
-#include "geartopo/core/output_folder.hpp"
+#include "geartopo/files/output_folder.hpp"
 
 #include <gtest/gtest.h>
 

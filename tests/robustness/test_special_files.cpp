@@ -1,11 +1,11 @@
 // Issue 18, "nothing hangs": every reader opens only a regular file of at most its documented size
-// (core/input_file.hpp). A directory, /dev/zero, /dev/urandom, a FIFO and an oversized file named as any input are
+// (files/input_file.hpp). A directory, /dev/zero, /dev/urandom, a FIFO and an oversized file named as any input are
 // refused at once with an InputError naming the file and what it is; before, /dev/zero or a FIFO hung a reader and a
 // directory gave "empty scene" or "missing header". A hang here hits the ctest TIMEOUT.
 #include "robustness_support.hpp"
 
 #include "geartopo/core/input_error.hpp"
-#include "geartopo/core/input_file.hpp"
+#include "geartopo/files/input_file.hpp"
 #include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 #include "geartopo/machine/error_table.hpp"

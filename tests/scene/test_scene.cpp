@@ -601,6 +601,37 @@ TEST(SceneMachineChanges, EveryLawIsReadInItsFileUnits) {
   EXPECT_EQ(u.machine_change_uncertainties, std::vector<double>{1.2});
 }
 
+TEST(SceneMachineChanges, PeriodicLawsOfAnyOrderAreRead) {
+  const auto sc = scene::parse_scene(kGood + R"(machine_changes:
+  - {component: epsilon_zc, law: twice_per_revolution, amplitude_urad: 10, phase_deg: 60}
+  - {component: delta_xc, law: 5_times_per_revolution, amplitude_um: 2, phase_deg: 0}
+  - {component: epsilon_zc, law: once_per_revolution, amplitude_urad: 3, phase_deg: 0}
+)", "mem");
+  ASSERT_EQ(sc.machine_changes.size(), 3u);
+  const auto& c = sc.machine_changes;
+  EXPECT_EQ(c[0].law, machine::ChangeLaw::PerRevolution);
+  EXPECT_EQ(c[0].order, 2);
+  // a cos(2γ − φ): largest where 2γ = 60°, at γ = 30° and 210°; zero at 2γ − φ = 90°, γ = 75°.
+  EXPECT_NEAR(c[0].at(0.0, std::numbers::pi / 6), 10e-6, 1e-15);
+  EXPECT_NEAR(c[0].at(0.0, 7 * std::numbers::pi / 6), 10e-6, 1e-15);
+  EXPECT_NEAR(c[0].at(0.0, 75.0 * std::numbers::pi / 180.0), 0.0, 1e-15);
+  EXPECT_EQ(c[1].order, 5);
+  EXPECT_NEAR(c[1].at(0.0, 2 * std::numbers::pi / 5), 2e-3, 1e-15); // one period of five on
+  EXPECT_EQ(c[1].law_name(), "5_times_per_revolution");
+  EXPECT_EQ(c[2].order, 1); // the same component with another order is another change
+  const auto err = [](const std::string& item) { return error_of(kGood + "machine_changes:\n  - " + item + "\n"); };
+  for (const char* law : {"0_times_per_revolution", "1_times_per_revolution", "2_times_per_revolution",
+                          "03_times_per_revolution", "1001_times_per_revolution", "x_times_per_revolution",
+                          "per_revolution"})
+    EXPECT_NE(err(fmt::format("{{component: epsilon_zc, law: {}, amplitude_urad: 5, phase_deg: 0}}", law))
+                  .find("scenes/x.yaml:11:34: machine_changes[0].law: '"),
+              std::string::npos)
+        << law;
+  EXPECT_NE(err("{component: E_AOA, law: 3_times_per_revolution, amplitude_urad: 5, phase_deg: 0}")
+                .find("3_times_per_revolution needs a C-axis motion component"),
+            std::string::npos);
+}
+
 TEST(SceneMachineChanges, BadChangesAreLocated) {
   const auto err = [](const std::string& item) { return error_of(kGood + "machine_changes:\n  - " + item + "\n"); };
   EXPECT_EQ(err("{component: E_ABC, change_um: 3}"),

@@ -15,6 +15,7 @@
 // key).
 #pragma once
 
+#include "geartopo/diagnosis/decision.hpp"
 #include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/grinding/grinding_process.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
@@ -26,6 +27,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,6 +35,11 @@
 namespace geartopo::diagnosis {
 
 using measurement::MeasuredPoint; ///< what diagnosis works on: measured points, read by the measurement library
+
+class HypothesisFamily; // hypothesis_family.hpp: a kind of explanation beyond the library
+using HypothesisFamilies = std::vector<std::shared_ptr<const HypothesisFamily>>;
+/// The families diagnose tries beyond the library, in their registration order (families/family_list.hpp).
+HypothesisFamilies default_hypothesis_families();
 
 struct FittedParameter {
   std::string key;           ///< with its unit, e.g. "x_growth_um"
@@ -59,26 +66,37 @@ struct Candidate {
   /// and fitted size (internal units), and the size's 1σ, parallel. Empty for a library effect.
   std::vector<machine::ComponentChange> changes;
   std::vector<double> change_sd;
+  /// The family beyond the library that made this hypothesis (hypothesis_family.hpp); null for the library's effects
+  /// and their pairs. Its field at any points is family->columns(…) · coefficients.
+  std::shared_ptr<const HypothesisFamily> family;
+  Eigen::VectorXd coefficients; ///< a hypothesis' fitted coefficients β (p, the family's columns' units)
+  /// A hypothesis that is neither effects nor component changes (a caller's own family): its name, e.g.
+  /// "x_step_per_stroke". Empty otherwise: the name is made from the effects and changes.
+  std::string label;
   /// One sentence for people: "E_AOA (zero-position error of A) drifts by +0.80 ± 0.02 µrad/min (+38 µrad over the
   /// job)"; empty for a library effect.
   std::string description;
   /// Other hypotheses beyond the library that these flanks cannot tell from this one (within the ΔBIC threshold and
-  /// their fitted fields ≥ 95 % alike): named as one equivalence class, never as a choice between them.
+  /// their fitted fields alike by DiagnoseOptions::alike_share; or, for a change per revolution, the orders the
+  /// measured teeth alias with this one's): named as one equivalence class, never as a choice between them.
   std::vector<std::string> equivalent;
-  /// Library explanations (an effect or a pair, by name) that can leave this hypothesis' field on these flanks: ≥ 95 %
-  /// of it lies in the span of their parameters' columns at their fitted values (an X drifting linearly in time is a
-  /// thermal X growth in its early phase), whatever their ΔBIC — theirs pays for parameters the flanks do not fix.
+  /// Library explanations (an effect or a pair, by name) that can leave this hypothesis' field on these flanks: at
+  /// least alike_share of it lies in the span of their parameters' columns at their fitted values (an X drifting
+  /// linearly in time is a thermal X growth in its early phase), whatever their ΔBIC — theirs pays for parameters the
+  /// flanks do not fix.
   std::vector<std::string> library_equivalent;
-  std::string qualifier; ///< appended to the name: which wheel flank ("left") for a wheel_flank_profile hypothesis
-  std::vector<std::vector<FittedParameter>> parameters; ///< per effect
+  /// Which wheel flank a one-sided hypothesis is about (wheel_flank_profile, wheel_flank_waviness): the gear flanks
+  /// it grinds. Printed after the name: "wheel_flank_profile (left)".
+  std::optional<Flank> wheel_flank;
+  std::vector<std::vector<FittedParameter>> parameters; ///< per effect (a component change: its size, phase or τ)
   std::vector<std::string> explanations;                ///< one line of physics per effect
   double rms_before_um = 0.0, rms_after_um = 0.0; ///< with the set-up terms removed (µm)
   double explained_fraction = 0.0; ///< 1 − RSS/RSS₀, both with the set-up terms fitted
   double delta_bic = 0.0;
-  /// Why this fit is no explanation, empty when it can be one: a fitted parameter on the end of its allowed range or
-  /// outside its plausible range (effects::ParameterSpec), e.g. "x_growth_um = 412 is outside its plausible range
-  /// [-100, 100]". A rejected candidate is never significant, whatever its ΔBIC.
-  std::string rejected;
+  /// Why this fit is no explanation, none when it can be one: a fitted parameter outside its plausible range
+  /// (effects::ParameterSpec) by more than 2σ, a machine element changing beyond what one plausibly does, what it
+  /// leaves more than noise. A rejected candidate is never significant, whatever its ΔBIC. to_text() says it.
+  std::optional<Decision> rejection;
   bool significant = false;
   /// Correlation of the fitted parameters (p × p, unit-free; p the fitted parameters, effect by effect in parameter
   /// order) from the linearised covariance (JᵀJ)⁻¹; the uncertainties themselves may be wider (profile likelihood).
@@ -88,6 +106,7 @@ struct Candidate {
   Eigen::VectorXd linearised_sd;
   std::string name() const;        ///< "thermal_drift", "thermal_drift + wheel_wear" or "E_AOA linear_in_time"
   int fitted_parameters() const;   ///< number of fitted parameters over its effects (count)
+  bool is_rejected() const { return rejection.has_value(); }
   /// Every effect of this one is in `bigger`, which has more (eccentricity in eccentricity + wheel_wear).
   bool nested_in(const Candidate& bigger) const;
 };
@@ -153,7 +172,7 @@ struct MeasurementPlan {
 
 /// What diagnose does and when; the defaults are the documented behaviour (docs/diagnosis.md).
 struct DiagnoseOptions {
-  double noise_um = 0.0;            ///< probe noise σ (µm); ≤ 0: estimated from the residual (estimate_noise_um)
+  double noise_um = 0.0;            ///< probe noise σ (µm) in [kMinNoiseUm, kMaxNoiseUm]; 0: estimated (estimate_noise_um)
   /// Stroke-to-stroke scatter of the axis commands, one standard deviation per axis X, Y, Z (mm), A, C (rad): the
   /// scene's `machine.repeatability` (ISO 230-2 R/4). Non-zero: the residual's covariance is σ² I plus each stroke's
   /// scatter (stroke_scatter.hpp) and every fit is generalised least squares. Zero (default): white noise only.
@@ -215,6 +234,21 @@ struct DiagnoseOptions {
   /// angle (3.4′: a swivel head slipping in its clamping), the largest value the law reaches over the job. A fit that
   /// needs more by over 2σ is no explanation.
   double plausible_change_um = 100.0, plausible_change_urad = 1000.0;
+  /// Beyond the library: the largest slope, crowning or wear of one wheel flank's profile a hypothesis is tried with
+  /// (µm; per stroke for the wear): only to tell a hypothesis the measured flanks cannot see (its largest plausible
+  /// size moves them by < 1e-4 µm RMS) from one they can.
+  double plausible_wheel_profile_um = 100.0;
+  /// Beyond the library: the largest waviness amplitude a dressed wheel flank plausibly carries (µm); a fit that needs
+  /// more by over 2σ is no explanation.
+  double plausible_wave_um = 20.0;
+  /// Two fields are "alike" — one equivalence class, a library explanation that can leave an element's field, an
+  /// element kept out as the library explanation's own field — when this share (0 … 1, unit-free) of each lies in the
+  /// span of the other's columns (set-up terms removed): 0.95, cos 18°, what the flanks measured cannot tell apart at a
+  /// noise of a third of the field.
+  double alike_share = 0.95;
+  /// The hypothesis families tried beyond the library (hypothesis_family.hpp): the default list, to which a caller may
+  /// add its own (one line: `options.families.push_back(std::make_shared<MyFamily>())`).
+  HypothesisFamilies families = default_hypothesis_families();
   /// Hypotheses beyond the library shown in the ranked list (count).
   std::size_t hypotheses_listed = 10;
   /// Large measurements (count): a candidate's multi-start search runs on every k-th measured point, k the smallest
@@ -228,12 +262,56 @@ struct DiagnoseOptions {
   double profile_min_step = 1e-6;
 };
 
+/// What the data fix of a thermal drift whose single values are not determined (FittedParameter::determined): its
+/// growth along one axis between the first and the last measured point's grinding time, with 1σ by the delta method
+/// from the linearised covariance (Candidate::linearised_sd and correlation: the trade between amplitude and time
+/// constant, which leaves the growth nearly unchanged, cancels). "X grew by +5.5 ± 0.3 µm between 0.0 and 9.4 min".
+struct DeterminedGrowth {
+  std::string axis;           ///< "X" or "Z"
+  double value_um = 0.0, sd_um = 0.0;
+  double from_s = 0.0, to_s = 0.0;
+};
+
+/// A set-up value a named explanation needs and nobody gave (ParameterSpec::fitted false: an arbor span, a dressing
+/// interval, a runout frequency): the effect's default was assumed.
+struct AssumedValue {
+  std::string effect, key; ///< "deflection", "arbor_span_mm"
+  double value = 0.0;      ///< the default (the key's unit)
+};
+
+/// The pattern of what is left unexplained (set-up terms removed): the two largest named patterns
+/// (docs/residual-patterns.md) over the measured flanks — their mean and range — and the RMS per tooth.
+struct ResidualPattern {
+  struct Spread {
+    std::string pattern;                 ///< "profile slope", …
+    double mean_um = 0.0, lo_um = 0.0, hi_um = 0.0;
+  };
+  std::vector<Spread> largest;           ///< the two that reach farthest, largest first (none: too few positions)
+  int flanks = 0;                        ///< flanks the patterns were fitted on (count)
+  std::vector<std::pair<int, double>> tooth_rms_um; ///< (tooth, RMS in µm), by tooth
+};
+
+/// What the data determine of the chosen library explanation when its single values are not all determined
+/// (FittedParameter::determined; docs/diagnosis.md, "What the data determine, into the scene"): equally likely value
+/// sets drawn from the fit's posterior. Every parameter the deviation depends on nonlinearly (a time constant) on a
+/// grid over its allowed range — log-spaced when the range is positive, with a log-uniform prior — weighted by
+/// exp(−ΔRSS/2σ̂²); the linear parameters (ParameterSpec::linear) from their Gaussian given it, within their allowed
+/// ranges. So a draw is a whole explanation that fits the measurement, and what the data fix (a thermal drift's growth
+/// over the measured window) is fixed in every draw, while what they leave open (its time constant) spans its range.
+struct PosteriorDraws {
+  /// Per effect of the chosen explanation (its order): draws × values, every value of the effect in parameter order
+  /// (file units); the same row of every effect is one draw.
+  std::vector<Eigen::MatrixXd> values;
+  int grid_points = 0; ///< grid points per nonlinear parameter (count); 0: none, the draws are Gaussian
+};
+
 struct Diagnosis {
   int points = 0;
   double noise_um = 0.0;
   bool noise_estimated = false;
   double rms_before_um = 0.0;          ///< measured − model, as measured (µm)
   double rms_before_setup_um = 0.0;    ///< the same with the set-up terms removed: what effects must explain (µm)
+  double rms_after_um = 0.0;           ///< what is left with the chosen explanation (or none), set-up removed (µm)
   SetupTerms setup;                    ///< set-up terms fitted with the chosen explanation (or with none)
   std::vector<Candidate> ranked;       ///< single effects, best ΔBIC first
   std::optional<Candidate> combination; ///< a significant pair, when one effect leaves too much
@@ -244,33 +322,43 @@ struct Diagnosis {
   std::vector<Candidate> rivals;
   std::optional<MeasurementPlan> plan;  ///< between `chosen` and the best rival, when there is one
   /// A machine hypothesis named with an equivalence class: the plan between it and the best other member — not an
-  /// ambiguity (their fields are ≥ 95 % alike on the measured flanks), but whether other teeth would tell them apart.
+  /// ambiguity (their fields are alike on the measured flanks), but whether other teeth would tell them apart.
   std::optional<MeasurementPlan> equivalent_plan;
-  /// Set-up values the named explanations need and nobody gave (ParameterSpec::fitted false: an arbor span, a dressing
-  /// interval, a runout frequency): the effect's default was assumed. One line each, e.g. "deflection.arbor_span_mm =
-  /// 600 (assumed: the effect's default; the scene gives none and the flanks cannot identify it)".
-  std::vector<std::string> assumed;
-  /// What the data do fix when single values of the chosen explanation are "not determined" (FittedParameter::
-  /// determined): for a thermal drift whose amplitude and time constant trade against each other, its X and Z growth
-  /// between the first and the last measured point's grinding time, with 1σ by the delta method from the linearised
-  /// covariance (Candidate::linearised_sd, correlation), e.g. "X grew by +5.5 ± 0.3 µm between 0.0 and 9.4 min".
-  /// Empty when every value is determined.
-  std::vector<std::string> determined;
+  /// Set-up values the named explanations (chosen, rivals, nearest) need and nobody gave: the effect's default.
+  std::vector<AssumedValue> assumed;
+  /// What the data do fix when single values of the chosen explanation are "not determined". Empty when every value
+  /// is determined.
+  std::vector<DeterminedGrowth> determined;
+  /// The chosen library explanation drawn from its posterior when its single values are not all determined: what
+  /// scene_with_effect.yaml carries instead of a standard uncertainty. None otherwise.
+  std::optional<PosteriorDraws> draws;
   /// Why `chosen` is not to be added to the scene (scene_with_effect.yaml is then not written): ambiguous, or a fitted
-  /// parameter at the end of its allowed range (the fit pushed against its box: the value is no measurement). Empty:
+  /// parameter at the end of its allowed range (the fit pushed against its box: the value is no measurement). None:
   /// accepted, add it.
-  std::string withheld;
-  /// True when nothing in the library explains the residual although it is more than noise (the χ² tests of
+  std::optional<Decision> withheld;
+  /// True when nothing explains the residual although it is more than noise (the χ² tests of
   /// DiagnoseOptions::unexplained_false_alarm): `chosen` is then empty, `nearest` says what came closest and why it is
   /// no explanation, `residual_pattern` what is left.
   bool unexplained = false;
-  /// The nearest library explanation when nothing is chosen: the fit that leaves least (single or pair), with why it
-  /// was rejected — implausible parameter, what it leaves more than noise, or not significant. Empty when nothing was fitted.
+  /// The nearest library explanation when nothing from the library is named: the fit that leaves least (single or
+  /// pair), with why it is no explanation — implausible, what it leaves more than noise, not significant, or (when a
+  /// machine element is named instead) a value that is no measurement. None when nothing was fitted.
   std::optional<Candidate> nearest;
-  std::string nearest_rejected;
-  /// The pattern of what is left unexplained (set-up terms removed), one sentence: the largest named patterns
-  /// averaged over the measured flanks and the RMS per tooth. Empty unless `unexplained`.
-  std::string residual_pattern;
+  std::optional<Decision> nearest_rejection;
+  /// Why what is left with the chosen explanation (or none) is more than noise: the χ² test that says so, with its
+  /// numbers. None: what is left is noise.
+  std::optional<Decision> remainder_excess;
+  /// Why the families beyond the library were tried although the library had an explanation: one of its values is no
+  /// measurement (at_end_of_range, not_determined) or its parts cancel (parts_cancel). None when they were tried
+  /// because nothing was explained, or not tried.
+  std::optional<Decision> beyond_trigger;
+  /// The best machine element when it is no explanation either (what it leaves is more than noise): with its rejection.
+  std::optional<Candidate> nearest_element;
+  /// A machine element that fits about as well as the library's explanation with that explanation's own field: the
+  /// library's explanation stays named (element_kept_out).
+  std::optional<Decision> element_kept_out;
+  /// The pattern of what is left unexplained. None unless `unexplained`.
+  std::optional<ResidualPattern> residual_pattern;
   /// Per point (µm): measured − model as measured; after: measured − model with `chosen` (exact simulation) with the
   /// set-up terms removed.
   std::vector<double> residual_before_um, residual_after_um;
@@ -278,14 +366,25 @@ struct Diagnosis {
   /// and its degrees of freedom (points − set-up terms − fitted parameters). Without stroke scatter the residual is
   /// its own whitened form.
   double chi2_after = 0.0, chi2_dof = 0.0;
-  std::string verdict;                  ///< one paragraph for people
-  /// Beyond the library, tried when nothing in it explains the residual (`unexplained`): every error component of the
-  /// chain changed by a constant, linearly in time, towards a steady state or (C axis) once per revolution, and each
-  /// wheel flank's profile error alone — best ΔBIC first, implausible ones after. Empty when not tried.
+  std::string verdict;                  ///< one paragraph for people, composed from the records above
+  /// Beyond the library, tried when nothing in it explains the residual (`unexplained`) or its explanation holds a
+  /// value that is no measurement (`beyond_trigger`): every family's hypotheses (hypothesis_family.hpp) — the chain's
+  /// error components changed by a constant, linearly in time, towards a steady state or (C axis) periodically in the
+  /// table's turn, each wheel flank's profile and waviness, the wheel profile's wear — best ΔBIC first, rejected ones
+  /// after. Empty when not tried.
   std::vector<Candidate> hypotheses;
   /// True when `chosen` is one of `hypotheses`: the verdict names a machine element and its law.
   bool beyond_library = false;
+  /// Every decision record of this diagnosis, in the order the pipeline took them: the nearest's rejection, why the
+  /// families were tried, the machine element kept out or rejected, what is left more than noise, why withheld
+  /// (diagnosis.json's "decisions").
+  std::vector<Decision> decisions() const;
 };
+
+/// The sentences of the records (verdict_text.cpp): "X grew by +5.5 ± 0.3 µm between 0.0 and 9.4 min", …
+std::string to_text(const DeterminedGrowth& g);
+std::string to_text(const AssumedValue& a);
+std::string to_text(const ResidualPattern& p);
 
 /// `model` is what the scene models (geometric errors and the scene's own effects); `in_scene` its effect types.
 Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
@@ -300,6 +399,10 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
 MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& points,
                                  const std::vector<double>& residual_um, const Candidate& a, const Candidate& b,
                                  double noise_um, const DiagnoseOptions& options);
+
+/// The probe noise σ diagnose and compare accept when it is given (µm): below kMinNoiseUm no probe measures and the
+/// fits' Σr²/σ² would overflow; above kMaxNoiseUm it is no measurement of a ground flank. 0 means "estimate it".
+inline constexpr double kMinNoiseUm = 1e-6, kMaxNoiseUm = 1000.0;
 
 /// The smallest σ an estimate gives (µm): the exports' resolution (3 decimals), so that noise-free data give a finite
 /// σ nobody divides by zero with.

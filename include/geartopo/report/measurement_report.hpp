@@ -29,21 +29,4 @@ std::string compare_summary_text(const diagnosis::Comparison& comparison);
 nlohmann::json compare_json(const std::string& scene, const std::string& measured,
                             const std::vector<measurement::MeasuredPoint>& points, const diagnosis::Comparison& comparison);
 
-/// The unit of a parameter key: from its first unit token to the end ("wear_um_per_stroke" → "um_per_stroke",
-/// "x_growth_um" → "um", "dressing_interval_strokes" → "strokes"); empty when it names none.
-std::string unit_of_key(const std::string& key);
-/// One explanation: effect(s), parameters with value, uncertainty, unit, fitted; scores.
-nlohmann::json candidate_json(const diagnosis::Candidate& c);
-/// What to measure next: the competing explanations, the recommended teeth and every unmeasured tooth's separation.
-nlohmann::json measurement_plan_json(const diagnosis::MeasurementPlan& plan);
-
-/// diagnosis.json: set-up terms, every candidate, the chosen explanation, rivals, plan, assumed values, verdict.
-/// `allowance_offset_um`: where the model's nominal flank sits (diagnosis::mean_allowance_offset_um).
-nlohmann::json diagnosis_json(const std::string& scene, const std::string& measured, const diagnosis::Diagnosis& d,
-                              double allowance_offset_um);
-
-/// plan.json (`geartopo plan`): the chosen explanation, whether the diagnosis is ambiguous, its measurement plan
-/// (measurement_plan_json; null when not ambiguous) and the verdict.
-nlohmann::json plan_json(const std::string& scene, const std::string& measured, const diagnosis::Diagnosis& d);
-
 } // namespace geartopo::report

@@ -112,6 +112,128 @@ std::string_view to_string(AxialZone z) {
   return "?";
 }
 
+namespace {
+
+/// A region's extent in the scaled coordinates (u along the profile, w along the face width, 0 … 1).
+struct Extent {
+  double ulo = 1e300, uhi = -1e300, wlo = 1e300, whi = -1e300;
+};
+
+/// The region of `members` (local indices, ascending) with its sign: points, extent, mean, extreme and zones.
+FailingRegion measure_region(const FlankResiduals& flank, const Prepared& p, const std::vector<std::size_t>& members,
+                             int sign, Extent& e, double& mean_abs) {
+  FailingRegion g;
+  g.tooth = flank.tooth;
+  g.side = flank.side;
+  g.sign = sign;
+  double sum = 0.0, sum_abs = 0.0;
+  g.xi_min_mm = g.z_min_mm = 1e300;
+  g.xi_max_mm = g.z_max_mm = -1e300;
+  std::size_t ext = members.front();
+  for (std::size_t i : members) {
+    g.point_indices.push_back(p.index[i]);
+    if (std::abs(p.r[i]) > std::abs(p.r[ext])) ext = i;
+    sum += p.r[i];
+    sum_abs += std::abs(p.r[i]);
+    e.ulo = std::min(e.ulo, p.u[i]), e.uhi = std::max(e.uhi, p.u[i]);
+    e.wlo = std::min(e.wlo, p.w[i]), e.whi = std::max(e.whi, p.w[i]);
+    g.xi_min_mm = std::min(g.xi_min_mm, p.xi[i]), g.xi_max_mm = std::max(g.xi_max_mm, p.xi[i]);
+    g.z_min_mm = std::min(g.z_min_mm, p.z[i]), g.z_max_mm = std::max(g.z_max_mm, p.z[i]);
+  }
+  const double m = static_cast<double>(members.size());
+  g.mean_um = sum / m;
+  mean_abs = sum_abs / m;
+  g.extreme_um = p.r[ext];
+  g.extreme_index = p.index[ext];
+  g.extreme_xi_mm = p.xi[ext];
+  g.extreme_z_mm = p.z[ext];
+  g.profile_zone = profile_zone(e.ulo, e.uhi);
+  g.axial_zone = axial_zone(e.wlo, e.whi);
+  return g;
+}
+
+/// Tendency: plane fit of |residual| (= sign · residual) over the region, in mm about the region's centre — growing
+/// towards the tip or root, the far or datum face, or a peak the plane does not follow.
+void fit_tendency(FailingRegion& g, const Prepared& p, const std::vector<std::size_t>& members, const Extent& e,
+                  double mean_abs, double sigma) {
+  const double span_xi = g.xi_max_mm - g.xi_min_mm, span_z = g.z_max_mm - g.z_min_mm;
+  const double cxi = 0.5 * (g.xi_min_mm + g.xi_max_mm), cz = 0.5 * (g.z_min_mm + g.z_max_mm);
+  bool use_xi = span_xi > 1e-9, use_z = span_z > 1e-9;
+  const auto mi = static_cast<Eigen::Index>(members.size());
+  Eigen::VectorXd ya(mi);
+  for (Eigen::Index i = 0; i < mi; ++i) ya(i) = g.sign * p.r[members[static_cast<std::size_t>(i)]];
+  std::optional<LsFit> plane;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    Eigen::MatrixXd X(mi, 1 + (use_xi ? 1 : 0) + (use_z ? 1 : 0));
+    for (Eigen::Index i = 0; i < mi; ++i) {
+      const std::size_t l = members[static_cast<std::size_t>(i)];
+      Eigen::Index c = 0;
+      X(i, c++) = 1.0;
+      if (use_xi) X(i, c++) = (p.xi[l] - cxi) / std::max(span_xi, 1e-300);
+      if (use_z) X(i, c++) = (p.z[l] - cz) / std::max(span_z, 1e-300);
+    }
+    plane = least_squares(X, ya);
+    if (plane) break;
+    // Not determined (too few points, or they lie on a slanted line): drop the direction of smaller relative extent.
+    if (use_xi && use_z) {
+      if ((e.uhi - e.ulo) < (e.whi - e.wlo)) use_xi = false;
+      else use_z = false;
+    } else {
+      use_xi = use_z = false;
+    }
+  }
+  if (!plane) return;
+  Eigen::Index c = 1;
+  const auto judge = [&](double& change) {
+    change = plane->coef(c);
+    const double se = sigma * std::sqrt(plane->cov_unit(c, c));
+    ++c;
+    return std::abs(change) > kTendencySigmas * se && std::abs(change) > kTendencyFraction * mean_abs;
+  };
+  if (use_xi && judge(g.change_along_profile_um))
+    g.profile_growth = g.change_along_profile_um > 0 ? ProfileGrowth::TowardsTip : ProfileGrowth::TowardsRoot;
+  if (use_z && judge(g.change_along_face_um))
+    g.axial_growth = g.change_along_face_um > 0 ? AxialGrowth::TowardsFarFace : AxialGrowth::TowardsDatumFace;
+  const double rms_plane = std::sqrt(plane->rss / static_cast<double>(mi));
+  g.peaked = g.profile_growth == ProfileGrowth::None && g.axial_growth == AxialGrowth::None && mi >= 4 &&
+             rms_plane > std::max(2.0 * sigma, kTendencyFraction * mean_abs);
+}
+
+/// The region in words: where, thicker or thinner, and how (uniform, growing towards …, a local bump or hollow).
+void put_into_words(FailingRegion& g, std::size_t points) {
+  const std::string where = g.profile_zone == ProfileZone::Whole && g.axial_zone == AxialZone::Whole
+                                ? std::string("whole flank")
+                                : fmt::format("{}, {}", to_string(g.profile_zone), to_string(g.axial_zone));
+  const std::string thick = g.sign > 0 ? "thicker (plus material)" : "thinner (minus material)";
+  std::string trend;
+  if (g.profile_growth != ProfileGrowth::None || g.axial_growth != AxialGrowth::None) {
+    std::vector<std::string> dirs;
+    if (g.profile_growth != ProfileGrowth::None)
+      dirs.emplace_back(g.profile_growth == ProfileGrowth::TowardsTip ? "the tip" : "the root");
+    if (g.axial_growth != AxialGrowth::None)
+      dirs.emplace_back(g.axial_growth == AxialGrowth::TowardsFarFace ? "the far face" : "the datum face");
+    trend = "growing towards " + dirs.front() + (dirs.size() > 1 ? " and " + dirs.back() : "");
+  } else if (g.peaked) {
+    trend = g.sign > 0 ? "local bump" : "local hollow";
+  } else {
+    trend = "uniform";
+  }
+  const std::string extreme = fmt::format("extreme {} at L_y = {:.2f} mm, z = {:.2f} mm", signed_um(g.extreme_um, 1),
+                                          g.extreme_xi_mm, g.extreme_z_mm);
+  const std::string count = fmt::format("{} point{}", points, points == 1 ? "" : "s");
+  if (trend == "uniform") {
+    g.words = fmt::format("{}, uniform {}, {}", where, signed_um(g.mean_um, 1), thick);
+    g.sentence = fmt::format("{}, {}: uniform {}, {}; {}; {}", flank_name(g.tooth, g.side), where,
+                             signed_um(g.mean_um, 1), thick, extreme, count);
+  } else {
+    g.words = fmt::format("{}, {}, {}", where, thick, trend);
+    g.sentence = fmt::format("{}, {}: {}, {}, up to {} at L_y = {:.2f} mm, z = {:.2f} mm; {}", flank_name(g.tooth, g.side),
+                             where, thick, trend, signed_um(g.extreme_um, 1), g.extreme_xi_mm, g.extreme_z_mm, count);
+  }
+}
+
+} // namespace
+
 std::vector<FailingRegion> find_failing_regions(const FlankResiduals& flank, const RegionOptions& o) {
   constexpr std::string_view what = "failing-region search";
   check_noise(what, o.noise_um);
@@ -131,6 +253,7 @@ std::vector<FailingRegion> find_failing_regions(const FlankResiduals& flank, con
   if (!any) return regions;
   const auto nb = neighbours(p, flank);
 
+  // Regions: the failing points connected through neighbours of the same sign.
   std::vector<bool> seen(n, false);
   for (std::size_t start = 0; start < n; ++start) {
     if (mark[start] == 0 || seen[start]) continue;
@@ -144,114 +267,11 @@ std::vector<FailingRegion> find_failing_regions(const FlankResiduals& flank, con
         }
     if (members.size() < o.min_points) continue;
     std::sort(members.begin(), members.end());
-
-    FailingRegion g;
-    g.tooth = flank.tooth;
-    g.side = flank.side;
-    g.sign = mark[start];
-    double ulo = 1e300, uhi = -1e300, wlo = 1e300, whi = -1e300, sum = 0.0, sum_abs = 0.0;
-    g.xi_min_mm = g.z_min_mm = 1e300;
-    g.xi_max_mm = g.z_max_mm = -1e300;
-    std::size_t ext = members.front();
-    for (std::size_t i : members) {
-      g.point_indices.push_back(p.index[i]);
-      if (std::abs(p.r[i]) > std::abs(p.r[ext])) ext = i;
-      sum += p.r[i];
-      sum_abs += std::abs(p.r[i]);
-      ulo = std::min(ulo, p.u[i]);
-      uhi = std::max(uhi, p.u[i]);
-      wlo = std::min(wlo, p.w[i]);
-      whi = std::max(whi, p.w[i]);
-      g.xi_min_mm = std::min(g.xi_min_mm, p.xi[i]);
-      g.xi_max_mm = std::max(g.xi_max_mm, p.xi[i]);
-      g.z_min_mm = std::min(g.z_min_mm, p.z[i]);
-      g.z_max_mm = std::max(g.z_max_mm, p.z[i]);
-    }
-    const double m = static_cast<double>(members.size());
-    g.mean_um = sum / m;
-    const double mean_abs = sum_abs / m;
-    g.extreme_um = p.r[ext];
-    g.extreme_index = p.index[ext];
-    g.extreme_xi_mm = p.xi[ext];
-    g.extreme_z_mm = p.z[ext];
-    g.profile_zone = profile_zone(ulo, uhi);
-    g.axial_zone = axial_zone(wlo, whi);
-
-    // Tendency: plane fit of |residual| (= sign · residual) over the region, in mm about the region's centre.
-    const double span_xi = g.xi_max_mm - g.xi_min_mm, span_z = g.z_max_mm - g.z_min_mm;
-    const double cxi = 0.5 * (g.xi_min_mm + g.xi_max_mm), cz = 0.5 * (g.z_min_mm + g.z_max_mm);
-    bool use_xi = span_xi > 1e-9, use_z = span_z > 1e-9;
-    const auto mi = static_cast<Eigen::Index>(members.size());
-    Eigen::VectorXd ya(mi);
-    for (Eigen::Index i = 0; i < mi; ++i) ya(i) = g.sign * p.r[members[static_cast<std::size_t>(i)]];
-    std::optional<LsFit> plane;
-    for (int attempt = 0; attempt < 3; ++attempt) {
-      Eigen::MatrixXd X(mi, 1 + (use_xi ? 1 : 0) + (use_z ? 1 : 0));
-      for (Eigen::Index i = 0; i < mi; ++i) {
-        const std::size_t l = members[static_cast<std::size_t>(i)];
-        Eigen::Index c = 0;
-        X(i, c++) = 1.0;
-        if (use_xi) X(i, c++) = (p.xi[l] - cxi) / std::max(span_xi, 1e-300);
-        if (use_z) X(i, c++) = (p.z[l] - cz) / std::max(span_z, 1e-300);
-      }
-      plane = least_squares(X, ya);
-      if (plane) break;
-      // Not determined (too few points, or they lie on a slanted line): drop the direction of smaller relative extent.
-      if (use_xi && use_z) {
-        if ((uhi - ulo) < (whi - wlo)) use_xi = false;
-        else use_z = false;
-      } else {
-        use_xi = use_z = false;
-      }
-    }
-    if (plane) {
-      Eigen::Index c = 1;
-      const auto judge = [&](double& change) {
-        change = plane->coef(c);
-        const double se = sigma * std::sqrt(plane->cov_unit(c, c));
-        ++c;
-        return std::abs(change) > kTendencySigmas * se && std::abs(change) > kTendencyFraction * mean_abs;
-      };
-      if (use_xi && judge(g.change_along_profile_um))
-        g.profile_growth = g.change_along_profile_um > 0 ? ProfileGrowth::TowardsTip : ProfileGrowth::TowardsRoot;
-      if (use_z && judge(g.change_along_face_um))
-        g.axial_growth = g.change_along_face_um > 0 ? AxialGrowth::TowardsFarFace : AxialGrowth::TowardsDatumFace;
-      const double rms_plane = std::sqrt(plane->rss / m);
-      g.peaked = g.profile_growth == ProfileGrowth::None && g.axial_growth == AxialGrowth::None && mi >= 4 &&
-                 rms_plane > std::max(2.0 * sigma, kTendencyFraction * mean_abs);
-    }
-
-    // Words.
-    const std::string where = g.profile_zone == ProfileZone::Whole && g.axial_zone == AxialZone::Whole
-                                  ? std::string("whole flank")
-                                  : fmt::format("{}, {}", to_string(g.profile_zone), to_string(g.axial_zone));
-    const std::string thick = g.sign > 0 ? "thicker (plus material)" : "thinner (minus material)";
-    std::string trend;
-    if (g.profile_growth != ProfileGrowth::None || g.axial_growth != AxialGrowth::None) {
-      std::vector<std::string> dirs;
-      if (g.profile_growth != ProfileGrowth::None)
-        dirs.emplace_back(g.profile_growth == ProfileGrowth::TowardsTip ? "the tip" : "the root");
-      if (g.axial_growth != AxialGrowth::None)
-        dirs.emplace_back(g.axial_growth == AxialGrowth::TowardsFarFace ? "the far face" : "the datum face");
-      trend = "growing towards " + dirs.front() + (dirs.size() > 1 ? " and " + dirs.back() : "");
-    } else if (g.peaked) {
-      trend = g.sign > 0 ? "local bump" : "local hollow";
-    } else {
-      trend = "uniform";
-    }
-    const std::string extreme = fmt::format("extreme {} at L_y = {:.2f} mm, z = {:.2f} mm", signed_um(g.extreme_um, 1),
-                                            g.extreme_xi_mm, g.extreme_z_mm);
-    const std::string count = fmt::format("{} point{}", members.size(), members.size() == 1 ? "" : "s");
-    if (trend == "uniform") {
-      g.words = fmt::format("{}, uniform {}, {}", where, signed_um(g.mean_um, 1), thick);
-      g.sentence = fmt::format("{}, {}: uniform {}, {}; {}; {}", flank_name(g.tooth, g.side), where,
-                               signed_um(g.mean_um, 1), thick, extreme, count);
-    } else {
-      g.words = fmt::format("{}, {}, {}", where, thick, trend);
-      g.sentence = fmt::format("{}, {}: {}, {}, up to {} at L_y = {:.2f} mm, z = {:.2f} mm; {}",
-                               flank_name(g.tooth, g.side), where, thick, trend, signed_um(g.extreme_um, 1),
-                               g.extreme_xi_mm, g.extreme_z_mm, count);
-    }
+    Extent e;
+    double mean_abs = 0.0;
+    FailingRegion g = measure_region(flank, p, members, mark[start], e, mean_abs);
+    fit_tendency(g, p, members, e, mean_abs, sigma);
+    put_into_words(g, members.size());
     regions.push_back(std::move(g));
   }
   std::stable_sort(regions.begin(), regions.end(), [](const FailingRegion& a, const FailingRegion& b) {

@@ -1,0 +1,24 @@
+// geartopo report SCENE [--measured FILE] --out DIR: the figures (PNG, rendered off-screen) and an offline
+// index.html of the whole job, with the data files beside them.
+#pragma once
+
+#include "app/measurement_options.hpp"
+#include "app/monte_carlo_flags.hpp"
+
+#include "geartopo/workbench/iso_evaluation.hpp"
+
+#include <string>
+
+namespace geartopo::app {
+
+struct ReportOptions {
+  std::string scene, measured, out;
+  KlingelnbergFlags mka;
+  workbench::IsoOptions iso;
+  MonteCarloFlags mc;
+};
+
+/// The command's work once its flags are parsed (report_command.cpp); returns the exit code.
+int run_report(const ReportOptions& opt);
+
+} // namespace geartopo::app

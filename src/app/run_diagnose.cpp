@@ -1,0 +1,87 @@
+// geartopo diagnose's work (measured_commands.hpp): the ranked explanations printed, diagnosis.json, and the scene
+// with the chosen one added.
+#include "app/json_summary.hpp"
+#include "app/messages.hpp"
+#include "app/progress.hpp"
+#include "app/run_measured.hpp"
+
+#include "geartopo/core/uncertain_value.hpp"
+#include "geartopo/diagnosis/prediction.hpp"
+#include "geartopo/files/atomic_write.hpp"
+#include "geartopo/files/output_folder.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <iostream>
+
+namespace geartopo::app {
+namespace {
+
+/// The explanations as ranked: the library's single effects, a combination, and beyond the library.
+void print_ranked(const diagnosis::Diagnosis& d, double allowance_offset_um) {
+  std::cout << fmt::format("{} measured points; residual {:.2f} µm RMS; noise {:.2f} µm{}\n", d.points, d.rms_before_um,
+                           d.noise_um, d.noise_estimated ? " (estimated)" : "");
+  std::cout << fmt::format("Model: nominal flank at mean allowance {:+.2f} µm (along the normal, every flank)\n",
+                           allowance_offset_um);
+  std::cout << fmt::format("  {:<4} {:<16} {:>9} {:>10} {:>10}  {}\n", "rank", "effect", "ΔBIC", "explained", "RMS after",
+                           "parameters (± 1σ)");
+  int rank = 1;
+  for (const auto& c : d.ranked) {
+    std::string params;
+    for (const auto& p : c.parameters.front())
+      if (p.fitted) // GUM §7.2.6; the files keep every digit. A value the data do not fix is no finding.
+        params += fmt::format("{} {}  ", p.key, p.determined ? text::with_uncertainty(p.value, p.uncertainty)
+                                                             : std::string("not determined"));
+    const std::string status = c.rejection     ? "(rejected: " + diagnosis::to_text(*c.rejection) + ")"
+                               : c.significant ? std::string()
+                                               : std::string("(not significant)");
+    std::cout << fmt::format("  {:<4} {:<16} {:>9.1f} {:>9.1f}% {:>7.2f} µm  {}{}\n", rank++, c.name(), c.delta_bic,
+                             100.0 * c.explained_fraction, c.rms_after_um, params, status);
+  }
+  if (d.combination)
+    std::cout << fmt::format("  combination: {} (ΔBIC {:.1f}, RMS after {:.2f} µm)\n", d.combination->name(),
+                             d.combination->delta_bic, d.combination->rms_after_um);
+  if (d.hypotheses.empty()) return;
+  std::cout << "Beyond the library (the chain's error components and each wheel flank; docs/diagnosis.md):\n";
+  int k = 1;
+  for (const auto& c : d.hypotheses)
+    std::cout << fmt::format("  {:<4} {:<34} {:>9.1f} {:>9.1f}%  {}{}\n", k++, c.name(), c.delta_bic,
+                             100.0 * c.explained_fraction, c.description,
+                             c.rejection ? " (rejected: " + diagnosis::to_text(*c.rejection) + ")" : std::string());
+}
+
+} // namespace
+
+int run_diagnose(const DiagnoseFlags& opt) {
+  JsonSummary json(opt.json);
+  const output::RunFiles files{{opt.scene, opt.measured}, {"diagnosis.json", "scene_with_effect.yaml"}};
+  output::OutputFolder folder(opt.out, files); // locked and staged before any work: a second run is refused now
+  const LoadedScene scene = load_scene_for(opt);
+  const auto pts = read_measured_points(*scene.wb, opt.measured, opt.mka);
+  commands::DiagnoseRequest request;
+  request.noise_um = opt.noise;
+  request.candidates = opt.candidates;
+  request.scene_uncertainty = opt.scene_uncertainty;
+  Progress progress("diagnose", 0, "candidate fits");
+  request.on_candidate_fitted = progress.callback();
+  const std::filesystem::path out(opt.out);
+  const auto r = commands::diagnose(scene.input(), {pts, opt.measured, {}}, request, out, cli_argument_names());
+  progress.finish();
+  const auto& d = r.diagnosis;
+  output::write_text_atomically(out / "diagnosis.json", r.json.dump(2) + "\n");
+  print_ranked(d, diagnosis::mean_allowance_offset_um(scene.wb->setup.geometry()));
+  std::cout << d.verdict << "\n";
+  if (d.chosen && d.withheld) std::cout << "scene_with_effect.yaml not written: " << diagnosis::to_text(*d.withheld) << "\n";
+  if (r.scene_with_effect) {
+    output::write_text_atomically(out / "scene_with_effect.yaml", *r.scene_with_effect);
+    std::cout << "wrote " << (out / "diagnosis.json").string() << " and " << (out / "scene_with_effect.yaml").string() << "\n";
+  } else {
+    std::cout << "wrote " << (out / "diagnosis.json").string() << "\n";
+  }
+  finish_output_folder(folder);
+  json.emit(r.json);
+  return 0;
+}
+
+} // namespace geartopo::app

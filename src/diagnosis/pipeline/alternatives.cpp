@@ -1,0 +1,138 @@
+// geartopo diagnosis — stage 5 (stages.hpp): what competes with the named explanation. Units: µm, unit-free ΔBIC.
+#include "stages.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace geartopo::diagnosis::stages {
+namespace {
+
+using Outcome = BeyondLibrary::Outcome;
+
+/// Whether the effect `bigger` adds to `smaller` (nested in it) is indicated but confounded: one of its fitted
+/// parameters lies 2σ or more from zero, and one correlates with one of smaller's by |ρ| ≥ √¾ ≈ 0.866 (linearised
+/// covariance: its variance at least 4× what it would be alone, the usual sign of collinearity). Then the pair's ΔBIC
+/// cannot accept it — the smaller explanation takes its part (wheel wear on two teeth half a turn apart is a thickness
+/// difference eccentricity makes too) — yet the data point to it: the pair is a rival, not a partner nobody asked for.
+bool confounded_partner(const Candidate& bigger, const Candidate& smaller) {
+  std::vector<bool> added; // per fitted parameter of `bigger`, effect by effect: does it belong to the added effect
+  bool indicated = false;  // a parameter of the added effect at least 2σ from zero: the data point to it
+  for (size_t e = 0; e < bigger.effects.size(); ++e) {
+    const bool extra = std::none_of(smaller.effects.begin(), smaller.effects.end(),
+                                    [&](const scene::EffectSpec& s) { return s.type == bigger.effects[e].type; });
+    for (const auto& p : bigger.parameters[e])
+      if (p.fitted) {
+        added.push_back(extra);
+        indicated = indicated || (extra && std::abs(p.value) >= 2.0 * p.uncertainty);
+      }
+  }
+  const auto& r = bigger.correlation;
+  if (!indicated || r.rows() != static_cast<Eigen::Index>(added.size())) return false;
+  for (Eigen::Index i = 0; i < r.rows(); ++i)
+    for (Eigen::Index j = 0; j < r.cols(); ++j)
+      if (added[static_cast<size_t>(i)] && !added[static_cast<size_t>(j)] && std::abs(r(i, j)) >= std::sqrt(0.75)) return true;
+  return false;
+}
+
+/// Ambiguity: a plausible explanation whose ΔBIC is within the threshold of the pick's is not told apart from it by
+/// these data (the same rule that makes an effect significant against none). A nested explanation (the pick with one
+/// more effect, or the picked pair's half) is a rival only when it is the better fit without being better by the
+/// threshold: a worse superset is just the pick plus a partner the data do not ask for, and the smaller half of a taken
+/// pair lost by the threshold already. Another physics that loses only on BIC's parameter count is not told apart either:
+/// when AIC (the fit plus 2 per parameter, what the extra parameters buy on noise alone) does not prefer the pick, the
+/// penalty is Occam's, not the measurement's (a true thermal drift at 1.5 µm noise on two teeth fits better than wear,
+/// yet pays 2 ln n for a Z growth and a time constant they cannot fix). Not significant alone is no reason to drop a
+/// rival: within the threshold of the pick, the data do not prefer the pick either.
+std::vector<Candidate> library_rivals(const Context& ctx, const LibraryFits& library, const PairFits& pairs,
+                                      const Candidate& pick) {
+  const double threshold = ctx.options.bic_threshold, ln_n = ctx.ln_n();
+  const auto nested = [&](const Candidate& c) { return c.nested_in(pick) || pick.nested_in(c); };
+  const auto aic = [&](const Candidate& x) { return x.delta_bic - x.fitted_parameters() * (ln_n - 2.0); };
+  const auto rival = [&](const Candidate& c) {
+    if (c.is_rejected() || c.name() == pick.name()) return false;
+    if (nested(c))
+      return c.effects.size() > pick.effects.size() &&
+             (c.delta_bic < pick.delta_bic ||
+              (c.delta_bic < pick.delta_bic + threshold && confounded_partner(c, pick)));
+    return c.delta_bic < pick.delta_bic + threshold || aic(c) <= aic(pick);
+  };
+  std::vector<Candidate> rivals;
+  for (const auto& c : library.ranked)
+    if (rival(c)) rivals.push_back(c);
+  for (const auto& c : pairs.pairs)
+    if (rival(c)) rivals.push_back(c);
+  std::stable_sort(rivals.begin(), rivals.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.delta_bic < b.delta_bic; });
+  // The plan separates the pick from its best rival of other physics first; whether a partner comes with it (a nested
+  // rival) is the second question, asked when no other rival is left.
+  std::stable_partition(rivals.begin(), rivals.end(), [&](const Candidate& c) { return !nested(c); });
+  return rivals;
+}
+
+/// How much of A's columns lies in B's span (0 … 1, unit-free): ‖Q_Bᵀ A‖_F / ‖A‖_F.
+double share_in_span(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(B);
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(B.rows(), B.cols());
+  const double a = A.norm();
+  return a > 0.0 ? (Q.transpose() * A).norm() / a : 0.0;
+}
+
+/// The best hypothesis' equivalence class: its own aliases (a periodic order's the measured teeth cannot tell from
+/// it), and the plausible hypotheses within the threshold whose fields are alike both ways (set-up terms removed).
+std::vector<std::string> equivalence_class(const Context& ctx, const BeyondLibrary& b) {
+  const auto& hyps = b.hypotheses;
+  const Candidate& best = hyps.front();
+  std::vector<std::string> names = best.equivalent;
+  const Eigen::MatrixXd best_columns = b.states->judged(best.family->columns(best, *b.states));
+  for (size_t a = 1; a < hyps.size(); ++a) {
+    const Candidate& c = hyps[a];
+    if (c.is_rejected() || c.delta_bic >= best.delta_bic + ctx.options.bic_threshold) continue;
+    const Eigen::MatrixXd other = b.states->judged(c.family->columns(c, *b.states));
+    const double alike = std::min(share_in_span(other, best_columns), share_in_span(best_columns, other));
+    if (alike >= ctx.options.alike_share) names.push_back(c.name());
+  }
+  return names;
+}
+
+/// The library's explanations that can leave a named element's field on these flanks: at least alike_share of it
+/// (set-up terms removed) lies in the span of the explanation's parameter columns at its fitted values.
+std::vector<std::string> library_look_alikes(const Context& ctx, const LibraryFits& library, const Candidate& h,
+                                             const ContactStates& states) {
+  std::vector<std::string> names;
+  const Eigen::VectorXd mine = ctx.setup_terms.remove(hypothesis_field(h, states));
+  for (const auto& c : library.ranked)
+    if (!c.effects.empty() && mine.norm() > 0.0 &&
+        share_of_field_in_span(mine, library_columns(ctx, c)) >= ctx.options.alike_share)
+      names.push_back(c.name());
+  return names;
+}
+
+} // namespace
+
+Alternatives find_alternatives(const Context& ctx, const LibraryFits& library, const PairFits& pairs,
+                               const LibraryJudgement& judgement, const BeyondLibrary& beyond) {
+  Alternatives a;
+  if (judgement.pick) a.rivals = library_rivals(ctx, library, pairs, *judgement.pick);
+  if (!beyond.tried() || beyond.hypotheses.empty()) return a;
+  a.equivalent = equivalence_class(ctx, beyond);
+  if (beyond.outcome == Outcome::rival) a.rivals.insert(a.rivals.begin(), *beyond.best);
+  if (beyond.outcome != Outcome::named) return a;
+  // A named element: the library look-alikes, and rivals only beyond the library — within the threshold with a
+  // different field (the verdict says "ambiguous between", the plan what separates them). An equivalent one is not:
+  // one class, said as such.
+  const Candidate& h = *beyond.best;
+  a.library_equivalent = library_look_alikes(ctx, library, h, *beyond.states);
+  a.rivals.clear();
+  for (size_t k = 1; k < beyond.hypotheses.size(); ++k) {
+    const Candidate& c = beyond.hypotheses[k];
+    if (c.is_rejected() || c.delta_bic >= h.delta_bic + ctx.options.bic_threshold) continue;
+    if (std::find(a.equivalent.begin(), a.equivalent.end(), c.name()) != a.equivalent.end()) {
+      if (!a.equivalent_member) a.equivalent_member = c;
+      continue;
+    }
+    a.rivals.push_back(c);
+  }
+  return a;
+}
+
+} // namespace geartopo::diagnosis::stages
