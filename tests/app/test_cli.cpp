@@ -602,6 +602,66 @@ TEST(Cli, ACrownedGearIsMeasuredAgainstItsDesign) {
   std::filesystem::remove_all(dir);
 }
 
+// A measuring machine that evaluates against the drawing writes deviations from the design; written without a design_um
+// column, the file is read as against the bare involute and its residual is minus the drawing (issue 39: "Unexplained
+// … profile crowning −10.40 µm"). diagnose says so first, with the numbers and how to declare it; with
+// --measured-against design the same file diagnoses as the file with its design column ("nothing missing", the same
+// residual); declared involute, the doubt is not raised; declared for a file that has the column, refused.
+TEST(Cli, AFileEvaluatedAgainstTheDrawingWithoutItsDesignColumnIsRecognised) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_against_drawing");
+  std::filesystem::create_directories(dir);
+  const std::string crowned = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35-crowned.yaml";
+  const std::string with_column = (dir / "with_column.csv").string(), without = (dir / "without.csv").string();
+  ASSERT_EQ(run("synth " + crowned + " --out " + with_column + " --teeth 1,18 --noise-um 0.5 --seed 4").code, 0);
+  { // the same deviations (from the design), the design column dropped
+    std::ifstream in(with_column);
+    std::ofstream out(without);
+    for (std::string line; std::getline(in, line);)
+      out << (line.empty() || line[0] == '#' ? line : line.substr(0, line.rfind(','))) << "\n";
+  }
+  const auto diagnose = [&](const std::string& measured, const std::string& flags, const std::string& name) {
+    const CliResult r = run("diagnose " + crowned + " --measured " + measured + " --out " + (dir / name).string() +
+                            " --noise-um 0.5 " + flags);
+    EXPECT_EQ(r.code, 0) << r.err;
+    std::ifstream in(dir / name / "diagnosis.json");
+    return nlohmann::json::parse(in);
+  };
+  const auto doubt = [](const nlohmann::json& j) {
+    for (const auto& d : j["decisions"])
+      if (d["reason"] == "reference_in_doubt") return d;
+    return nlohmann::json(nullptr);
+  };
+  const auto reference = diagnose(with_column, "", "with_column");
+  EXPECT_TRUE(reference["chosen"].is_null()) << reference["verdict"];
+  EXPECT_TRUE(doubt(reference).is_null());
+
+  const auto undeclared = diagnose(without, "", "undeclared");
+  const auto d = doubt(undeclared);
+  ASSERT_FALSE(d.is_null()) << undeclared["verdict"];
+  const std::string verdict = undeclared["verdict"];
+  EXPECT_EQ(verdict.rfind("The measurement looks evaluated against the drawing", 0), 0u) << verdict;
+  EXPECT_NE(verdict.find("--measured-against design"), std::string::npos) << verdict;
+  // The drawing (C_α 4, tip relief 8, C_β 6 µm) is far above the noise; against it, what is left is the noise.
+  EXPECT_GT(d["numbers"]["design_rms_um"].get<double>(), 4 * 0.5);
+  EXPECT_GT(d["numbers"]["residual_rms_um"].get<double>(), 4 * 0.5);
+  EXPECT_LT(d["numbers"]["against_drawing_rms_um"].get<double>(), 0.6);
+  EXPECT_NEAR(d["numbers"]["against_drawing_rms_um"].get<double>(), reference["rms_before_setup_removed_um"].get<double>(), 1e-3);
+
+  const auto declared = diagnose(without, "--measured-against design", "declared");
+  EXPECT_TRUE(doubt(declared).is_null()) << declared["verdict"];
+  EXPECT_TRUE(declared["chosen"].is_null()) << declared["verdict"];
+  EXPECT_NEAR(declared["rms_before_um"].get<double>(), reference["rms_before_um"].get<double>(), 1e-4); // file's digits
+  EXPECT_EQ(declared["verdict"].get<std::string>().rfind("Set-up", 0), 0u) << declared["verdict"];
+
+  EXPECT_TRUE(doubt(diagnose(without, "--measured-against involute", "involute")).is_null());
+  const CliResult twice = run("diagnose " + crowned + " --measured " + with_column + " --measured-against design --out " +
+                              (dir / "twice").string() + " --noise-um 0.5");
+  EXPECT_EQ(twice.code, 1);
+  EXPECT_NE(twice.err.find("design_um"), std::string::npos) << twice.err;
+  EXPECT_NE(twice.err.find(with_column), std::string::npos) << twice.err;
+  std::filesystem::remove_all(dir);
+}
+
 // The paper method drives the wheel to its nominal pose and would grind away the drawing's helix crowning: refused on
 // a scene that has one (docs/modifications.md); the flank method keeps it.
 TEST(Cli, ThePaperMethodIsRefusedOnADesignedHelix) {

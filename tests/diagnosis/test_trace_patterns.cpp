@@ -313,3 +313,35 @@ TEST(TraceAllowance, TheDesignedAllowanceIsSubtractedOnEveryFlank) {
   for (const auto& p : pts) flanks.insert({p.tooth, static_cast<int>(p.flank)});
   EXPECT_EQ(flanks.size(), 4u); // both flanks of both teeth
 }
+
+// A Klingelnberg export carries no design line (issue 39, part 2): read as it is, its values are the flank from the bare
+// involute and nobody said so (reference_declared false); declared "against: design" each point keeps its value as the
+// deviation from the scene's drawing — the two readings differ by exactly the design at the point — and declared
+// "involute" it reads as before, but declared.
+TEST(TraceReference, AnExportDeclaredAgainstTheDesignKeepsItsValuesAsDeviationsFromTheDrawing) {
+  const workbench::Workbench wb(scene::parse_scene(
+      ideal_scene_text("  modifications:\n    both: {profile_crowning_um: 4, helix_crowning_um: 6}\n"), kDefaultScene));
+  const auto e = write_export(wb.setup.geometry(), three_profiles_two_helices(), [](Flank, int, double, double) { return 0.3; });
+  TempFile f("measured.mka", e.text);
+  const auto read = [&](measurement::MeasuredAgainst against) {
+    return measurement::read_any_measurement(f.path.string(), wb.setup, nullptr, {}, nullptr, against);
+  };
+  const auto as_file = read(measurement::MeasuredAgainst::as_file);
+  const auto design = read(measurement::MeasuredAgainst::design);
+  const auto involute = read(measurement::MeasuredAgainst::involute);
+  ASSERT_EQ(as_file.size(), design.size());
+  ASSERT_EQ(as_file.size(), involute.size());
+  double largest_design_um = 0.0;
+  for (std::size_t i = 0; i < as_file.size(); ++i) {
+    const auto& p = as_file[i];
+    const double d = wb.setup.design().at_um(p.flank, p.roll_length_mm, p.z_mm); // the drawing there, computed anew
+    largest_design_um = std::max(largest_design_um, std::abs(d));
+    EXPECT_NEAR(design[i].deviation_um - p.deviation_um, d, 1e-9);
+    EXPECT_NEAR(design[i].deviation_um, 0.3, 1e-3); // the export's value (4 decimals, transverse → normal)
+    EXPECT_EQ(involute[i].deviation_um, p.deviation_um);
+    EXPECT_FALSE(p.reference_declared);
+    EXPECT_TRUE(design[i].reference_declared);
+    EXPECT_TRUE(involute[i].reference_declared);
+  }
+  EXPECT_GT(largest_design_um, 2.0); // the crownings show (C_α 4, C_β 6 µm)
+}

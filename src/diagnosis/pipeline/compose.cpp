@@ -145,9 +145,11 @@ std::vector<Candidate> hypotheses_as_listed(const Context& ctx, const BeyondLibr
 
 } // namespace
 
-Diagnosis compose(const Context& ctx, const LibraryFits& library, const PairFits& pairs, const LibraryJudgement& j,
-                  const BeyondLibrary& b, const Alternatives& a, Plans plans, std::optional<PosteriorDraws> draws) {
+Diagnosis compose(const Context& ctx, std::optional<Decision> reference, const LibraryFits& library,
+                  const PairFits& pairs, const LibraryJudgement& j, const BeyondLibrary& b, const Alternatives& a,
+                  Plans plans, std::optional<PosteriorDraws> draws) {
   Diagnosis d;
+  d.reference_in_doubt = std::move(reference);
   d.points = static_cast<int>(ctx.points.size());
   d.noise_um = ctx.noise_um, d.noise_estimated = ctx.noise_estimated;
   d.rms_before_um = ctx.rms_before_um, d.rms_before_setup_um = ctx.rms_before_setup_um;
@@ -185,6 +187,8 @@ Diagnosis compose(const Context& ctx, const LibraryFits& library, const PairFits
     d.withheld = Decision{Reason::ambiguous, d.chosen->name(), {d.chosen->name(), d.rivals.front().name()}, {}};
   else if (d.chosen)
     d.withheld = at_the_end_of_its_range(*d.chosen);
+  // An explanation of a residual that may be the drawing read as a fault is not added until the reference is said.
+  if (d.chosen && !d.withheld) d.withheld = d.reference_in_doubt;
   d.assumed = assumed_values(d);
   if (d.chosen) d.determined = thermal_growth_determined(*d.chosen, ctx.first_time_s, ctx.last_time_s);
   d.draws = std::move(draws);
