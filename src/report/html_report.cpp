@@ -9,6 +9,7 @@
 #include "geartopo/evaluation/crowning.hpp"
 #include "geartopo/evaluation/tolerances.hpp"
 #include "geartopo/report/gear_report.hpp"
+#include "geartopo/diagnosis/hypothesis_rows.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -503,10 +504,14 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
            "<div class=scroll><table><thead><tr><th>rank</th><th>machine element and law</th><th>ΔBIC</th>"
            "<th>explained</th><th>finding</th></tr></thead>";
       int k = 1;
-      for (const auto& c : m.diagnosis.hypotheses)
-        h += fmt::format("<tr><td>{}</td><td>{}</td><td>{:.1f}</td><td>{:.1f} %</td><td>{}{}</td></tr>", k++, esc(c.name()),
-                         c.delta_bic, 100 * c.explained_fraction, esc(c.description),
+      for (const auto& row : diagnosis::hypothesis_rows(m.diagnosis)) { // an equivalence class is one row
+        const auto& c = *row.hypothesis;
+        const std::string members =
+            row.members.empty() ? std::string() : "<br><small>" + esc(diagnosis::members_text(row)) + "</small>";
+        h += fmt::format("<tr><td>{}</td><td>{}{}</td><td>{:.1f}</td><td>{:.1f} %</td><td>{}{}</td></tr>", k++,
+                         esc(c.name()), members, c.delta_bic, 100 * c.explained_fraction, esc(c.description),
                          c.rejection ? esc(" (rejected: " + diagnosis::to_text(*c.rejection) + ")") : std::string());
+      }
       h += "</table></div>\n";
     }
     h += "<p><b>Verdict.</b> " + esc(m.diagnosis.verdict) + "</p>\n";

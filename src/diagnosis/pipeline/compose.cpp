@@ -138,6 +138,8 @@ std::vector<Candidate> hypotheses_as_listed(const Context& ctx, const BeyondLibr
   if (hyps.empty()) return hyps;
   if (b.best) hyps.front() = *b.best;
   hyps.front().equivalent = a.equivalent;
+  for (std::size_t k = 1; k < hyps.size() && k < a.listed_classes.size(); ++k)
+    if (!a.listed_classes[k].empty()) hyps[k].equivalent = a.listed_classes[k]; // its aliases included
   if (b.outcome == Outcome::named) hyps.front().library_equivalent = a.library_equivalent;
   if (hyps.size() > ctx.options.hypotheses_listed) hyps.resize(ctx.options.hypotheses_listed);
   return hyps;

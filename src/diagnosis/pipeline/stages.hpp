@@ -165,6 +165,9 @@ std::vector<Candidate> fit_hypotheses(const Context& ctx, const ContactStates& s
 struct Alternatives {
   std::vector<Candidate> rivals;                ///< best ΔBIC first, another physics before a nested one
   std::vector<std::string> equivalent;          ///< the best hypothesis' equivalence class (names)
+  /// The equivalence class of each listed hypothesis after the best (index as in BeyondLibrary::hypotheses, [0]
+  /// empty), among the listed ones; empty for one that is in an earlier one's class: one row each (hypothesis_rows).
+  std::vector<std::vector<std::string>> listed_classes;
   std::optional<Candidate> equivalent_member;   ///< its best other member, for the plan that would separate them
   std::vector<std::string> library_equivalent;  ///< a named element's library look-alikes (names)
 };
