@@ -662,6 +662,21 @@ TEST(Cli, AFileEvaluatedAgainstTheDrawingWithoutItsDesignColumnIsRecognised) {
   std::filesystem::remove_all(dir);
 }
 
+// An unknown command is an error whatever flags follow it (issue 39: `geartopo series --help` printed the main help
+// and exited 0); a command's own --help still answers.
+TEST(Cli, AnUnknownCommandIsAnErrorEvenWithHelp) {
+  for (const char* args : {"series --help", "series", "--quiet series --help", "series --version"}) {
+    const CliResult r = run(args);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_NE(r.err.find("'series' is not a command"), std::string::npos) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("diagnose"), std::string::npos) << r.err; // the commands there are
+  }
+  const CliResult help = run("diagnose --help");
+  EXPECT_EQ(help.code, 0) << help.err;
+  EXPECT_NE(help.out.find("--measured-against"), std::string::npos) << help.out;
+  EXPECT_EQ(run("--help").code, 0);
+}
+
 // The paper method drives the wheel to its nominal pose and would grind away the drawing's helix crowning: refused on
 // a scene that has one (docs/modifications.md); the flank method keeps it.
 TEST(Cli, ThePaperMethodIsRefusedOnADesignedHelix) {
