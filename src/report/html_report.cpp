@@ -343,10 +343,17 @@ std::string first_page(const workbench::Workbench& wb, const pipeline::PipelineR
     h += fmt::format("<p class=note>Median [95 % interval] of {} Monte Carlo samples, each a machine drawn within the "
                      "scene's uncertainties grinding the gear before and after the corrections (docs/monte-carlo.md); worst "
                      "flank, slopes as |value|. Improvement: 100 (B − A)/B, B and A the medians before and after; its "
-                     "interval: A at the ends of the after-interval.</p>\n",
+                     "interval: A at the ends of the after-interval.",
                      p.samples);
-    for (const auto& w : predicted_worsening(p))
-      h += "<p class=note><b>Worse after compensation:</b> " + esc(worsening_text(w)) + ".</p>\n";
+    // A size predicted worse, in the same paragraph (page 1 keeps room for its figure): the cause measured, and for the
+    // command resolution its mechanism in brief (in full on the console, in iso1328.json and docs/compensation.md).
+    for (const auto& w : predicted_worsening(p)) {
+      std::string text = worsening_text(w);
+      if (w.source == "resolution_rounding")
+        text = text.substr(0, text.find(" — ")) + " — the held axes' whole command units (docs/compensation.md)";
+      h += " <b>Worse after compensation:</b> " + esc(text) + ".";
+    }
+    h += "</p>\n";
     const int cls = p.find("overall_class");
     if (cls >= 0 && p.after[static_cast<size_t>(cls)].median > p.before[static_cast<size_t>(cls)].median)
       h += "<p class=warn><b>The predicted gear is worse after compensation</b> (overall class, medians): do not apply "
