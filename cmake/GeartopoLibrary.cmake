@@ -13,6 +13,12 @@ if(GEARTOPO_PCH)
   target_precompile_headers(geartopo_pch_library PRIVATE ${GEARTOPO_PCH_HEADERS} <fmt/format.h>)
 endif()
 
+# Unity builds: each library compiled as one translation unit, its files' common templates (Eigen, fmt, the standard
+# library) instantiated once instead of once per file (docs/performance.md, "Build"). In such a unit GCC counts every
+# included source file as a header, so a type of an anonymous namespace held by a class trips -Wsubobject-linkage, a
+# warning meant for real headers: off for unity targets only.
+option(GEARTOPO_UNITY "Compile each library as one translation unit (faster clean builds)" ON)
+
 # geartopo_reuse_pch(<target> library|program): the shared precompiled headers for a library or a program.
 function(geartopo_reuse_pch target kind)
   if(GEARTOPO_PCH)
@@ -21,6 +27,7 @@ function(geartopo_reuse_pch target kind)
 endfunction()
 
 # geartopo_add_library(<name> SOURCES … [PUBLIC …] [PRIVATE …] [PCH <header> …] [UNITY])
+# UNITY: one translation unit even with -DGEARTOPO_UNITY=OFF.
 # One library of geartopo: target geartopo_<name>, alias geartopo::<name>, public headers included as
 # "geartopo/<name>/x.hpp". Two shapes (docs/architecture.md):
 #   - under src/: public headers in include/geartopo/<name>/, sources and private headers in src/<name>/;
@@ -47,15 +54,24 @@ function(geartopo_add_library name)
     PRIVATE ${private_dir})
   target_compile_features(${target} PUBLIC cxx_std_20)
   target_link_libraries(${target} PUBLIC ${arg_PUBLIC} PRIVATE ${arg_PRIVATE})
-  # Precompiled headers: the library's own list (PCH …) when it has heavier ones, else the shared set.
+  # Precompiled headers: the shared set; a library with its own list (PCH …: heavier headers, or flags the shared set
+  # was not made with) precompiles it only when its files are compiled one by one — for one unity unit the header
+  # would be compiled once to be read once, 10–14 CPU-s more than parsing it in the unit.
+  set(unity OFF)
+  if(arg_UNITY OR GEARTOPO_UNITY)
+    set(unity ON)
+  endif()
   if(GEARTOPO_PCH AND arg_PCH)
-    target_precompile_headers(${target} PRIVATE ${arg_PCH})
+    if(NOT unity)
+      target_precompile_headers(${target} PRIVATE ${arg_PCH})
+    endif()
   else()
     geartopo_reuse_pch(${target} library)
   endif()
   # UNITY: the library's files compiled as one translation unit (many small files sharing heavy templates).
-  if(arg_UNITY)
+  if(unity)
     set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 0)
+    target_compile_options(${target} PRIVATE -Wno-subobject-linkage)
   endif()
   install(TARGETS ${target} EXPORT geartopoTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
   set_property(GLOBAL APPEND PROPERTY GEARTOPO_LIBRARIES ${target})

@@ -6,6 +6,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config
+  ccache                 # compiled objects kept across clean builds and clones (scripts/configure.sh)
   libeigen3-dev          # dense linear algebra, transforms
   libboost-dev           # header-only Boost.Math: χ², F and normal quantiles (src/core/statistics.cpp)
   libcgal-dev            # k-d tree neighbour search of scattered residual points (diagnosis)

@@ -7,6 +7,28 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <string>
+
+namespace {
+
+/// 2 with a usage message naming the commands when the first word that is not an option is not a command; 0 otherwise
+/// (no word, or a command: CLI11 parses the rest).
+int refuse_unknown_command(CLI::App& app, int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.empty() || word[0] == '-') continue;
+    std::string names;
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+      if (sub->check_name(word)) return 0;
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    std::cerr << "geartopo: usage: '" << word << "' is not a command (one of " << names << "; geartopo --help)\n";
+    return 2;
+  }
+  return 0;
+}
+
+} // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"geartopo — tooth-flank topology of profile-ground helical gears (units: mm, µm, deg)"};
@@ -34,6 +56,9 @@ int main(int argc, char** argv) {
   geartopo::app::register_merge_command(app, action);
   geartopo::app::register_series_command(app, action);
 
+  // An unknown command is an error whatever follows it: CLI11 answers `geartopo series --help` with the program's help
+  // and exit 0 (the help flag is handled before the unknown word), so the first word is checked first.
+  if (const int code = refuse_unknown_command(app, argc, argv); code != 0) return code;
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -20,21 +20,29 @@ namespace geartopo::app {
 struct KlingelnbergFlags {
   measurement::KlingelnbergOptions options;
   std::vector<std::string> given;
+  /// --measured-against design|involute (add_measurement_options): what a file without design_um is measured from,
+  /// for every format; as_file when not given.
+  measurement::MeasuredAgainst against = measurement::MeasuredAgainst::as_file;
 };
 
 /// The Klingelnberg reader's options as flags of a command that reads measurements (docs/measurement-formats.md):
 /// --mka-spacing roll-length|diameter, --mka-direction transverse|normal, --mka-signs raw|din.
 void add_klingelnberg_options(CLI::App* cmd, KlingelnbergFlags& flags);
 
-/// `--measured FILE` (every format the readers tell apart by content, docs/measurement-formats.md) and the
-/// Klingelnberg options: one text for compare, diagnose and plan (required) and run and report (optional: the
-/// scene's measurement.measured when not given).
+/// `--measured FILE` (every format the readers tell apart by content, docs/measurement-formats.md),
+/// `--measured-against design|involute` and the Klingelnberg options: one text for compare, diagnose and plan
+/// (required) and run and report (optional: the scene's measurement.measured when not given).
 void add_measurement_options(CLI::App* cmd, std::string& file, KlingelnbergFlags& flags, bool required = true);
 
 /// Throws CLI::ValidationError naming the first --mka-… flag given when `file` is not a Klingelnberg export
 /// (measurement::looks_like_klingelnberg): the flag would do nothing. Before the file is read; also when `file` is
 /// empty (nothing is read).
 void refuse_mka_flags_without_export(const std::string& file, const KlingelnbergFlags& flags);
+
+/// What `file` is measured from: the flag, else the scene's measurement.measured_against when `file` is the scene's
+/// measurement, else as the file says.
+measurement::MeasuredAgainst measured_against(const workbench::Workbench& wb, const std::string& file,
+                                              const KlingelnbergFlags& flags);
 
 /// The measured points of `file` on the workbench's gear (measurement::read_any_measurement); the reader's warnings
 /// (blocks of an export it did not use, …) on stderr. Throws InputError; refuse_mka_flags_without_export first.

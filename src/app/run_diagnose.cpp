@@ -6,6 +6,7 @@
 #include "app/run_measured.hpp"
 
 #include "geartopo/core/uncertain_value.hpp"
+#include "geartopo/diagnosis/hypothesis_rows.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/files/atomic_write.hpp"
 #include "geartopo/files/output_folder.hpp"
@@ -45,10 +46,13 @@ void print_ranked(const diagnosis::Diagnosis& d, double allowance_offset_um) {
   if (d.hypotheses.empty()) return;
   std::cout << "Beyond the library (the chain's error components and each wheel flank; docs/diagnosis.md):\n";
   int k = 1;
-  for (const auto& c : d.hypotheses)
-    std::cout << fmt::format("  {:<4} {:<34} {:>9.1f} {:>9.1f}%  {}{}\n", k++, c.name(), c.delta_bic,
+  for (const auto& row : diagnosis::hypothesis_rows(d)) { // an equivalence class is one row, its members in it
+    const auto& c = *row.hypothesis;
+    std::cout << fmt::format("  {:<4} {:<34} {:>9.1f} {:>9.1f}%  {}{}{}\n", k++, c.name(), c.delta_bic,
                              100.0 * c.explained_fraction, c.description,
+                             row.members.empty() ? std::string() : "; " + diagnosis::members_text(row, 8),
                              c.rejection ? " (rejected: " + diagnosis::to_text(*c.rejection) + ")" : std::string());
+  }
 }
 
 } // namespace

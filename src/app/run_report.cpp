@@ -23,6 +23,7 @@ int run_report(const ReportOptions& opt) {
   po.measured_file = measured_of(wb, opt.measured);
   refuse_mka_flags_without_export(po.measured_file, opt.mka);
   po.measurement_format = opt.mka.options;
+  po.measured_against = measured_against(wb, po.measured_file, opt.mka);
   po.iso = opt.iso;
   po.prediction = prediction_options(opt.mc);
   print_pipeline_estimate(wb, po);

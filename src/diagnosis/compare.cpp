@@ -101,6 +101,16 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
                                f.tooth, to_string(f.side), a.mean_difference_um, a.max_abs_difference_um, a.crossings);
     c.line_agreement.push_back(std::move(a));
   }
+  // Patterns and regions of a flank whose lines disagree are made by that disagreement as much as by the gear (an
+  // export's helix lines read with the wrong sign show as a 5 µm "waviness along the profile"): each says so.
+  c.disputed_sign.assign(nf, false);
+  for (std::size_t k = 0; k < nf; ++k)
+    for (const auto& a : c.line_agreement)
+      if (a.disagree && a.tooth == c.flanks[k].tooth && a.side == c.flanks[k].side) c.disputed_sign[k] = true;
+  for (auto& reg : c.regions)
+    for (std::size_t k = 0; k < nf; ++k)
+      if (c.disputed_sign[k] && reg.tooth == c.flanks[k].tooth && reg.side == c.flanks[k].side)
+        reg.sentence += kDisputedSignNote;
   c.counts.read = pts.size();
   c.counts.used = c.summary.overall.points;
   for (const auto& f : c.summary.flanks) c.counts.outside_evaluation_range += f.points_outside_range;

@@ -64,6 +64,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
                    const std::vector<MeasuredPoint>& points, const std::vector<std::string>& in_scene,
                    const DiagnoseOptions& options) {
   const stages::Context ctx(setup, model, points, in_scene, options);
+  std::optional<Decision> reference = stages::reference_in_doubt(ctx);
   stages::FitProgress progress{options};
   const stages::LibraryFits library = stages::fit_library(ctx, progress);
   const stages::PairFits pairs = stages::fit_pairs(ctx, library, progress);
@@ -75,7 +76,7 @@ Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::Grindin
                                                : judgement.pick;
   stages::Plans plans = stages::make_plans(ctx, chosen, alternatives);
   auto draws = stages::posterior_draws(ctx, chosen);
-  Diagnosis d = stages::compose(ctx, library, pairs, judgement, beyond, alternatives, std::move(plans), std::move(draws));
+  Diagnosis d = stages::compose(ctx, std::move(reference), library, pairs, judgement, beyond, alternatives, std::move(plans), std::move(draws));
   dump_if_asked(d);
   return d;
 }

@@ -242,6 +242,21 @@ bool starts_like_traces_csv(std::istream& in) {
   return traces;
 }
 
+int design_column_line(std::istream& in) {
+  std::string line;
+  int header_line = 0;
+  for (int lineno = 1; std::getline(in, line); ++lineno) {
+    line = clean_line(std::move(line), lineno);
+    if (line.empty() || line[0] == '#') continue;
+    const auto f = text::split_fields(line); // the fields as check_header sees them
+    if (f.size() == 8 && f[7].text == kDesignColumn) header_line = lineno;
+    break;
+  }
+  in.clear();
+  in.seekg(0);
+  return header_line;
+}
+
 std::vector<FlankTopology> read_traces_csv(const std::filesystem::path& file, int teeth) {
   auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "traces file");
   return read_traces_csv(in, file.string(), teeth);

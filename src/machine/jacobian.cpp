@@ -16,7 +16,7 @@ Vector6d twist(const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
   return t;
 }
 
-Eigen::Vector3d v3(const ErrorVector& e, ComponentId a, ComponentId b, ComponentId c) {
+Eigen::Vector3d triple(const ErrorVector& e, ComponentId a, ComponentId b, ComponentId c) {
   return {e(index(a)), e(index(b)), e(index(c))};
 }
 
@@ -57,41 +57,41 @@ void actual_jacobians(const MachineModel& model, MachineData& data, const AxisPo
   // C: M = FMC = S_C·Rz(γ+E_COC)·E_C, wMF = M⁻¹. vee(M⁻¹dM) = Ad(E_C⁻¹)·e_ωz + rate(E_C); the spatial rate of
   // M⁻¹ in w is −vee(M⁻¹dM) (w is M's child frame).
   {
-    const Eigen::Vector3d eps = v3(e, epsilon_xc, epsilon_yc, epsilon_zc);
-    const Pose Ec = error_htm(v3(e, delta_xc, delta_yc, delta_zc), eps);
+    const Eigen::Vector3d eps = triple(e, epsilon_xc, epsilon_yc, epsilon_zc);
+    const Pose Ec = error_htm(triple(e, delta_xc, delta_yc, delta_zc), eps);
     const Vector6d rate = adjoint(Ec.inverse(Eigen::Isometry)).col(5) +
-                          error_body_rate(eps, v3(d, delta_xc, delta_yc, delta_zc), v3(d, epsilon_xc, epsilon_yc, epsilon_zc));
+                          error_body_rate(eps, triple(d, delta_xc, delta_yc, delta_zc), triple(d, epsilon_xc, epsilon_yc, epsilon_zc));
     J.col(static_cast<int>(Axis::C)) = -rate;
   }
   // X: FMX = [R(ε_x) | (x + δ_xx, δ_yx, δ_zx)].
   {
-    const Eigen::Vector3d eps = v3(e, epsilon_xx, epsilon_yx, epsilon_zx);
+    const Eigen::Vector3d eps = triple(e, epsilon_xx, epsilon_yx, epsilon_zx);
     const Eigen::Vector3d dp(1.0 + D(delta_xx), D(delta_yx), D(delta_zx));
     J.col(static_cast<int>(Axis::X)) =
-        adjoint(data.wMX) * error_body_rate(eps, dp, v3(d, epsilon_xx, epsilon_yx, epsilon_zx));
+        adjoint(data.wMX) * error_body_rate(eps, dp, triple(d, epsilon_xx, epsilon_yx, epsilon_zx));
   }
   // Z: XMZ = [R(ε_z) | (δ_xz − z·S_xz, δ_yz, z + δ_zz)].
   {
-    const Eigen::Vector3d eps = v3(e, epsilon_xz, epsilon_yz, epsilon_zz);
+    const Eigen::Vector3d eps = triple(e, epsilon_xz, epsilon_yz, epsilon_zz);
     const Eigen::Vector3d dp(D(delta_xz) - E(S_xz), D(delta_yz), 1.0 + D(delta_zz));
     J.col(static_cast<int>(Axis::Z)) =
-        adjoint(data.wMZ) * error_body_rate(eps, dp, v3(d, epsilon_xz, epsilon_yz, epsilon_zz));
+        adjoint(data.wMZ) * error_body_rate(eps, dp, triple(d, epsilon_xz, epsilon_yz, epsilon_zz));
   }
   // A: ZMA = S_A·Rx(α+E_AOA)·E_A·S_A⁻¹: vee(ZMA⁻¹ dZMA) = Ad(S_A)·(Ad(E_A⁻¹)·e_ωx + rate(E_A)).
   {
-    const Eigen::Vector3d eps = v3(e, epsilon_xa, epsilon_ya, epsilon_za);
-    const Pose Ea = error_htm(v3(e, delta_xa, delta_ya, delta_za), eps);
+    const Eigen::Vector3d eps = triple(e, epsilon_xa, epsilon_ya, epsilon_za);
+    const Pose Ea = error_htm(triple(e, delta_xa, delta_ya, delta_za), eps);
     const Pose S_A = translation(0.0, E(E_YOA), E(E_ZOA)) * Ry(E(E_BOA)) * Rz(E(E_COA));
     const Vector6d rate = adjoint(Ea.inverse(Eigen::Isometry)).col(3) +
-                          error_body_rate(eps, v3(d, delta_xa, delta_ya, delta_za), v3(d, epsilon_xa, epsilon_ya, epsilon_za));
+                          error_body_rate(eps, triple(d, delta_xa, delta_ya, delta_za), triple(d, epsilon_xa, epsilon_ya, epsilon_za));
     J.col(static_cast<int>(Axis::A)) = adjoint(data.wMA) * (adjoint(S_A) * rate);
   }
   // Y: AMY = [R(ε_y) | (δ_xy − y·S_xy, y + δ_yy, δ_zy − y·S_zy)].
   {
-    const Eigen::Vector3d eps = v3(e, epsilon_xy, epsilon_yy, epsilon_zy);
+    const Eigen::Vector3d eps = triple(e, epsilon_xy, epsilon_yy, epsilon_zy);
     const Eigen::Vector3d dp(D(delta_xy) - E(S_xy), 1.0 + D(delta_yy), D(delta_zy) - E(S_zy));
     J.col(static_cast<int>(Axis::Y)) =
-        adjoint(data.wMg) * error_body_rate(eps, dp, v3(d, epsilon_xy, epsilon_yy, epsilon_zy));
+        adjoint(data.wMg) * error_body_rate(eps, dp, triple(d, epsilon_xy, epsilon_yy, epsilon_zy));
   }
   data.J_twistg_q = adjoint(data.wMg.inverse(Eigen::Isometry)) * J;
 }

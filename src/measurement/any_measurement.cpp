@@ -1,9 +1,12 @@
 #include "geartopo/measurement/any_measurement.hpp"
 
 #include "geartopo/files/input_file.hpp"
+#include "geartopo/core/input_error.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 #include "geartopo/surfaces/point_cloud.hpp"
+
+#include <fmt/format.h>
 
 #include <filesystem>
 
@@ -45,12 +48,25 @@ void refuse_utf16_stream(std::istream& in, const std::string& file) {
 
 } // namespace
 
+void declare_reference(std::vector<MeasuredPoint>& points, MeasuredAgainst against, const gears::FlankDesign& design) {
+  for (auto& p : points) {
+    if (against == MeasuredAgainst::design) p.design_um = design.at_um(p.flank, p.roll_length_mm, p.z_mm);
+    p.reference_declared = against != MeasuredAgainst::as_file;
+  }
+}
+
 std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
                                                 std::vector<std::string>* warnings, const KlingelnbergOptions& mka,
-                                                ReadCounts* counts) {
+                                                ReadCounts* counts, MeasuredAgainst against) {
   auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "measurement");
   if (counts) *counts = {};
   refuse_utf16_stream(in, file);
+  const int design_header = grinding::design_column_line(in);
+  if (design_header > 0 && against != MeasuredAgainst::as_file)
+    throw InputError(file, design_header, 0, grinding::kDesignColumn,
+                     fmt::format("the file says what its deviations are measured from (its {} column): \"measured "
+                                 "against: {}\" is for a file without one",
+                                 grinding::kDesignColumn, to_string(against)));
   std::vector<MeasuredPoint> points;
   // First: an export's header lines and trace heads are not numbers, so neither other reader would take it anyway.
   if (looks_like_klingelnberg(in)) {
@@ -65,6 +81,7 @@ std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const g
   } else {
     points = read_measurement(file, setup.geometry());
   }
+  if (design_header == 0) declare_reference(points, against, setup.design());
   refer_to_design(points, setup.design()); // the model's deviations are from the scene's drawing too
   return points;
 }

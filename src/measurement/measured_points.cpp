@@ -45,6 +45,21 @@ std::vector<MeasuredPoint> measured_points(const std::vector<grinding::TopologyR
   return out;
 }
 
+std::string_view to_string(MeasuredAgainst against) {
+  switch (against) {
+  case MeasuredAgainst::as_file: return "file";
+  case MeasuredAgainst::design: return "design";
+  case MeasuredAgainst::involute: return "involute";
+  }
+  return "file";
+}
+
+std::optional<MeasuredAgainst> parse_measured_against(std::string_view word) {
+  if (word == "design") return MeasuredAgainst::design;
+  if (word == "involute") return MeasuredAgainst::involute;
+  return std::nullopt;
+}
+
 void refer_to_design(std::vector<MeasuredPoint>& points, const gears::FlankDesign& design) {
   for (auto& p : points) {
     const double d = design.at_um(p.flank, p.roll_length_mm, p.z_mm);

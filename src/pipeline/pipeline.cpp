@@ -54,7 +54,8 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
     MeasurementResult m;
     m.file = o.measured_file;
     measurement::ReadCounts read;
-    m.points = measurement::read_any_measurement(o.measured_file, wb.setup, &m.warnings, o.measurement_format, &read);
+    m.points = measurement::read_any_measurement(o.measured_file, wb.setup, &m.warnings, o.measurement_format, &read,
+                                                  o.measured_against);
     stage("compare", 0);
     m.before = diagnosis::compare(wb.setup, wb.process(), m.points, o.noise_um, read);
     stage(kDiagnoseStage, 0);

@@ -9,6 +9,7 @@
 #include "geartopo/evaluation/crowning.hpp"
 #include "geartopo/evaluation/tolerances.hpp"
 #include "geartopo/report/gear_report.hpp"
+#include "geartopo/diagnosis/hypothesis_rows.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -342,8 +343,17 @@ std::string first_page(const workbench::Workbench& wb, const pipeline::PipelineR
     h += fmt::format("<p class=note>Median [95 % interval] of {} Monte Carlo samples, each a machine drawn within the "
                      "scene's uncertainties grinding the gear before and after the corrections (docs/monte-carlo.md); worst "
                      "flank, slopes as |value|. Improvement: 100 (B − A)/B, B and A the medians before and after; its "
-                     "interval: A at the ends of the after-interval.</p>\n",
+                     "interval: A at the ends of the after-interval.",
                      p.samples);
+    // A size predicted worse, in the same paragraph (page 1 keeps room for its figure): the cause measured, and for the
+    // command resolution its mechanism in brief (in full on the console, in iso1328.json and docs/compensation.md).
+    for (const auto& w : predicted_worsening(p)) {
+      std::string text = worsening_text(w);
+      if (w.source == "resolution_rounding")
+        text = text.substr(0, text.find(" — ")) + " — the held axes' whole command units (docs/compensation.md)";
+      h += " <b>Worse after compensation:</b> " + esc(text) + ".";
+    }
+    h += "</p>\n";
     const int cls = p.find("overall_class");
     if (cls >= 0 && p.after[static_cast<size_t>(cls)].median > p.before[static_cast<size_t>(cls)].median)
       h += "<p class=warn><b>The predicted gear is worse after compensation</b> (overall class, medians): do not apply "
@@ -501,10 +511,14 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
            "<div class=scroll><table><thead><tr><th>rank</th><th>machine element and law</th><th>ΔBIC</th>"
            "<th>explained</th><th>finding</th></tr></thead>";
       int k = 1;
-      for (const auto& c : m.diagnosis.hypotheses)
-        h += fmt::format("<tr><td>{}</td><td>{}</td><td>{:.1f}</td><td>{:.1f} %</td><td>{}{}</td></tr>", k++, esc(c.name()),
-                         c.delta_bic, 100 * c.explained_fraction, esc(c.description),
+      for (const auto& row : diagnosis::hypothesis_rows(m.diagnosis)) { // an equivalence class is one row
+        const auto& c = *row.hypothesis;
+        const std::string members =
+            row.members.empty() ? std::string() : "<br><small>" + esc(diagnosis::members_text(row)) + "</small>";
+        h += fmt::format("<tr><td>{}</td><td>{}{}</td><td>{:.1f}</td><td>{:.1f} %</td><td>{}{}</td></tr>", k++,
+                         esc(c.name()), members, c.delta_bic, 100 * c.explained_fraction, esc(c.description),
                          c.rejection ? esc(" (rejected: " + diagnosis::to_text(*c.rejection) + ")") : std::string());
+      }
       h += "</table></div>\n";
     }
     h += "<p><b>Verdict.</b> " + esc(m.diagnosis.verdict) + "</p>\n";

@@ -30,6 +30,43 @@ std::vector<Improvement> predicted_improvement(const pipeline::MonteCarloSummary
   return out;
 }
 
+std::vector<Worsening> predicted_worsening(const pipeline::MonteCarloSummary& p) {
+  std::vector<Worsening> out;
+  for (const auto& i : predicted_improvement(p)) {
+    if (!(i.after_um.median > i.before_median_um)) continue;
+    Worsening w{i.name, i.before_median_um, i.after_um.median, {}, 0.0};
+    const int k = p.find(i.name);
+    for (size_t s = 0; s < p.without.size() && s < p.after_without.size(); ++s) {
+      const double m = p.after_without[s][static_cast<size_t>(k)].median;
+      if (w.source.empty() || m < w.without_source_median_um) w.source = p.without[s], w.without_source_median_um = m;
+    }
+    out.push_back(std::move(w));
+  }
+  return out;
+}
+
+namespace {
+/// What a source does to the gear after compensation, where it is not plain from its name.
+std::string mechanism(const std::string& source) {
+  if (source == "resolution_rounding")
+    return " — the corrections of the axes a stroke holds still (X, Y, A) step by whole command units along it, and "
+           "a helical flank's inclined contact line carries each step across the profile (docs/compensation.md, "
+           "\"Command resolution\")";
+  if (source == "repeatability") return " — each stroke's scatter, which no correction removes";
+  return {};
+}
+} // namespace
+
+std::string worsening_text(const Worsening& w) {
+  const std::string head =
+      fmt::format("{} {:.2f} → {:.2f} µm", quantity_label(w.name), w.before_median_um, w.after_median_um);
+  if (w.source.empty()) return head + ": the cause was not measured (exact samples carry no decomposition by source)";
+  const std::string verdict = w.without_source_median_um <= w.before_median_um ? "" : " (still above before: no single "
+                                                                                       "source explains it)";
+  return fmt::format("{}: without {} {:.2f} µm{}{}", head, source_label(w.source), w.without_source_median_um, verdict,
+                     mechanism(w.source));
+}
+
 nlohmann::json improvement_json(const pipeline::MonteCarloSummary& p) {
   nlohmann::json q = nlohmann::json::object();
   for (const auto& i : predicted_improvement(p))
@@ -37,6 +74,10 @@ nlohmann::json improvement_json(const pipeline::MonteCarloSummary& p) {
                  {"after_low_um", i.after_um.low},         {"after_high_um", i.after_um.high},
                  {"improvement_percent", i.percent},       {"improvement_low_percent", i.low_percent},
                  {"improvement_high_percent", i.high_percent}};
+  for (const auto& w : predicted_worsening(p)) {
+    q[w.name]["worse"] = {{"source", w.source}, {"text", worsening_text(w)}};
+    if (!w.source.empty()) q[w.name]["worse"]["after_median_without_source_um"] = w.without_source_median_um;
+  }
   return {{"definition", kImprovementDefinition}, {"samples", p.samples}, {"quantities", q}};
 }
 
@@ -61,6 +102,7 @@ std::vector<std::string> improvement_lines(const pipeline::MonteCarloSummary& p)
                             p.samples));
   for (const auto& i : predicted_improvement(p))
     out.push_back(fmt::format("  {:<22} {}", quantity_label(i.name), improvement_text(i)));
+  for (const auto& w : predicted_worsening(p)) out.push_back("  worse after compensation: " + worsening_text(w));
   return out;
 }
 

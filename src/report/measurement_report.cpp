@@ -67,6 +67,7 @@ nlohmann::json compare_json(const std::string& scene, const std::string& measure
     fj["stats"] = stats_json(comparison.summary.flanks[f].stats);
     fj["points_outside_evaluation_range"] = comparison.summary.flanks[f].points_outside_range;
     fj["duplicates"] = comparison.flank_duplicates.empty() ? 0 : comparison.flank_duplicates[f];
+    const bool disputed = f < comparison.disputed_sign.size() && comparison.disputed_sign[f];
     if (comparison.has_patterns[f]) {
       const auto& p = comparison.patterns[f];
       fj["patterns"] = {{"offset_um", estimate_json(p.offset_um)},
@@ -79,8 +80,9 @@ nlohmann::json compare_json(const std::string& scene, const std::string& measure
                         {"waviness_along_helix", wave_json(p.waviness_helix)},
                         {"waviness_scanned", {{"along_profile", p.waviness_profile.scanned}, {"along_helix", p.waviness_helix.scanned}}},
                         {"rms_unexplained_um", p.rms_unexplained_um}};
-      fj["description"] = diagnosis::describe_patterns(p);
+      fj["description"] = diagnosis::describe_patterns(p) + (disputed ? diagnosis::kDisputedSignNote : "");
     }
+    fj["rests_on_disputed_sign"] = disputed;
     flanks.push_back(fj);
   }
   j["flanks"] = flanks;
@@ -152,7 +154,9 @@ std::string compare_summary_text(const diagnosis::Comparison& c) {
     if (a.disagree) s += "Warning: " + a.sentence + "\n";
   s += "Patterns of the residual:\n";
   for (size_t f = 0; f < c.flanks.size(); ++f)
-    if (c.has_patterns[f]) s += "  " + diagnosis::describe_patterns(c.patterns[f]) + "\n";
+    if (c.has_patterns[f])
+      s += "  " + diagnosis::describe_patterns(c.patterns[f]) +
+           (f < c.disputed_sign.size() && c.disputed_sign[f] ? diagnosis::kDisputedSignNote : "") + "\n";
   for (const auto& side : c.trends)
     for (const auto& t : side.trends)
       if (!t.sentence.empty()) s += "  " + t.sentence + "\n";

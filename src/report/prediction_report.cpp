@@ -103,7 +103,8 @@ nlohmann::json prediction_json(const pipeline::MonteCarloSummary& s) {
   j["coverage_probability"] = 0.95;
   j["interval"] = "probabilistically symmetric (JCGM 101:2008 7.7); median of the samples";
   j["model"] = "corrections from the nominal scene; the true machine drawn within machine.uncertainty, repeatability per "
-               "stroke, corrections rounded to machine.resolution (docs/monte-carlo.md)";
+               "stroke, corrections as the controller takes them at machine.resolution (its setpoints rounded: "
+               "docs/compensation.md, \"Command resolution\"; docs/monte-carlo.md)";
   if (s.iso)
     j["iso_options"] = {{"iso_direction", std::string(evaluation::to_string(s.iso->direction))},
                         {"helix_slope_sign", std::string(evaluation::to_string(s.iso->helix_slope_sign))}};

@@ -578,6 +578,10 @@ MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& 
     if (f->empty()) m.context().fail_field(m.field("measured"), "an empty file name");
     g.measured_file = (base / *f).lexically_normal().string();
   }
+  if (auto a = m.optional_choice("measured_against", {"design", "involute"})) {
+    if (g.measured_file.empty()) m.context().fail_field(m.field("measured_against"), "says nothing without measured");
+    g.measured_against = *a;
+  }
   m.finish();
   return g;
 }

@@ -6,6 +6,7 @@
 // (P' − P)·n with P' = wMg(e + δe)·wMg(e)⁻¹·P. A dressing error of one wheel flank is a profile crowning on the gear
 // flanks that wheel flank grinds, written from the definition (plus material in the middle of the measured profile).
 // Units: µm (deviations, noise), mm, s, rad (µrad in the case names).
+#include "geartopo/diagnosis/hypothesis_rows.hpp"
 #include "independent_truth.hpp"
 
 #include "geartopo/effects/registry.hpp"
@@ -98,6 +99,17 @@ TEST(BeyondLibrary, ASwivelAxisDriftIsNamedAsTheAAxisWithItsRate) {
     const auto names = named_class(d);
     EXPECT_TRUE(lists(names, "E_AOA linear_in_time") || lists(names, "epsilon_xa linear_in_time"));
     EXPECT_NE(d.verdict.find("Not an effect of the library"), std::string::npos);
+    // As listed (console, report): the class is the chosen one's row, its members in it and nowhere else; every
+    // listed hypothesis is a row or a member of exactly one row.
+    const auto rows = diagnosis::hypothesis_rows(d);
+    ASSERT_FALSE(rows.empty());
+    EXPECT_EQ(rows.front().hypothesis->name(), d.chosen->name());
+    EXPECT_EQ(rows.front().members, d.chosen->equivalent);
+    for (const auto& h : d.hypotheses) {
+      int places = 0;
+      for (const auto& r : rows) places += (r.hypothesis->name() == h.name()) + lists(r.members, h.name());
+      EXPECT_EQ(places, 1) << h.name();
+    }
     // The rate, in the chosen component's own law: E_AOA and ε_xa turn the head about the same line, so either carries
     // the truth's rate (µrad/min) within 2σ plus the first-order model's 1 % (docs/error-components.md).
     const auto& ch = d.chosen->changes.front();

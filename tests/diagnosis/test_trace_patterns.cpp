@@ -313,3 +313,75 @@ TEST(TraceAllowance, TheDesignedAllowanceIsSubtractedOnEveryFlank) {
   for (const auto& p : pts) flanks.insert({p.tooth, static_cast<int>(p.flank)});
   EXPECT_EQ(flanks.size(), 4u); // both flanks of both teeth
 }
+
+// Findings on a flank whose profile and helix lines disagree where they cross rest on a disputed sign (issue 39): an
+// export read with the wrong sign rule (din for a raw export: the right flanks' helix lines flipped, their profiles
+// not) gives the right flanks' lines +1.2 and −1.2 µm where they cross. Each of those flanks' patterns (console and
+// compare.json) and failing regions says it rests on the disputed sign; the left flanks (both lines flipped alike:
+// they agree) say nothing of the kind.
+TEST(TracePatterns, FindingsOnAFlankWhoseLinesDisagreeSayTheyRestOnADisputedSign) {
+  const auto& wb = ideal_workbench();
+  const auto e = write_export(wb.setup.geometry(), three_profiles_two_helices(), [](Flank, int, double xi, double) {
+    return 1.2 + 0.05 * (xi - 100.0); // a profile slope, so that the right flanks' regions grow along the profile
+  });
+  TempFile f("measured.mka", e.text);
+  measurement::KlingelnbergOptions din;
+  din.signs = measurement::SignConvention::Din;
+  measurement::ReadCounts counts;
+  const auto pts = measurement::read_any_measurement(f.path.string(), wb.setup, nullptr, din, &counts);
+  const auto c = diagnosis::compare(wb.setup, wb.process(), pts, 0.05, counts);
+  ASSERT_EQ(c.disputed_sign.size(), c.flanks.size());
+  const auto j = report::compare_json("scene.yaml", "measured.mka", pts, c);
+  const auto text = report::compare_summary_text(c);
+  const std::string note = diagnosis::kDisputedSignNote;
+  std::size_t disputed = 0;
+  for (std::size_t k = 0; k < c.flanks.size(); ++k) {
+    const bool right = c.flanks[k].side == Flank::Right;
+    SCOPED_TRACE(fmt::format("tooth {} {}", c.flanks[k].tooth, diagnosis::to_string(c.flanks[k].side)));
+    EXPECT_EQ(c.disputed_sign[k], right);
+    disputed += c.disputed_sign[k];
+    EXPECT_EQ(j["flanks"][k]["rests_on_disputed_sign"].get<bool>(), right);
+    ASSERT_TRUE(c.has_patterns[k]);
+    const std::string line = diagnosis::describe_patterns(c.patterns[k]);
+    EXPECT_EQ(text.find(line + note) != std::string::npos, right) << text;
+    EXPECT_EQ(j["flanks"][k]["description"].get<std::string>(), line + (right ? note : ""));
+  }
+  EXPECT_EQ(disputed, 2u); // the right flanks of teeth 1 and 18
+  ASSERT_FALSE(c.regions.empty());
+  for (const auto& r : c.regions) {
+    const bool ends_with_note = r.sentence.size() > note.size() && r.sentence.ends_with(note);
+    EXPECT_EQ(ends_with_note, r.side == Flank::Right) << r.sentence;
+  }
+}
+
+// A Klingelnberg export carries no design line (issue 39, part 2): read as it is, its values are the flank from the bare
+// involute and nobody said so (reference_declared false); declared "against: design" each point keeps its value as the
+// deviation from the scene's drawing — the two readings differ by exactly the design at the point — and declared
+// "involute" it reads as before, but declared.
+TEST(TraceReference, AnExportDeclaredAgainstTheDesignKeepsItsValuesAsDeviationsFromTheDrawing) {
+  const workbench::Workbench wb(scene::parse_scene(
+      ideal_scene_text("  modifications:\n    both: {profile_crowning_um: 4, helix_crowning_um: 6}\n"), kDefaultScene));
+  const auto e = write_export(wb.setup.geometry(), three_profiles_two_helices(), [](Flank, int, double, double) { return 0.3; });
+  TempFile f("measured.mka", e.text);
+  const auto read = [&](measurement::MeasuredAgainst against) {
+    return measurement::read_any_measurement(f.path.string(), wb.setup, nullptr, {}, nullptr, against);
+  };
+  const auto as_file = read(measurement::MeasuredAgainst::as_file);
+  const auto design = read(measurement::MeasuredAgainst::design);
+  const auto involute = read(measurement::MeasuredAgainst::involute);
+  ASSERT_EQ(as_file.size(), design.size());
+  ASSERT_EQ(as_file.size(), involute.size());
+  double largest_design_um = 0.0;
+  for (std::size_t i = 0; i < as_file.size(); ++i) {
+    const auto& p = as_file[i];
+    const double d = wb.setup.design().at_um(p.flank, p.roll_length_mm, p.z_mm); // the drawing there, computed anew
+    largest_design_um = std::max(largest_design_um, std::abs(d));
+    EXPECT_NEAR(design[i].deviation_um - p.deviation_um, d, 1e-9);
+    EXPECT_NEAR(design[i].deviation_um, 0.3, 1e-3); // the export's value (4 decimals, transverse → normal)
+    EXPECT_EQ(involute[i].deviation_um, p.deviation_um);
+    EXPECT_FALSE(p.reference_declared);
+    EXPECT_TRUE(design[i].reference_declared);
+    EXPECT_TRUE(involute[i].reference_declared);
+  }
+  EXPECT_GT(largest_design_um, 2.0); // the crownings show (C_α 4, C_β 6 µm)
+}

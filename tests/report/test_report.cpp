@@ -115,6 +115,28 @@ TEST_F(ReportTest, FirstPageShowsThePredictionNeverTheNominalAfterState) {
       << html.substr(topology_after, 200);
 }
 
+// An equivalence class is one row of the "beyond the library" table (issue 39: the default scene's class was five rows
+// with the same ΔBIC and finding, and a reader counted five findings): no two rows fit equally well, and the class's
+// members are listed in its row.
+TEST_F(ReportTest, AnEquivalenceClassIsOneRowOfTheBeyondTheLibraryTable) {
+  ASSERT_EQ(code_, 0);
+  std::stringstream s;
+  s << std::ifstream(*dir_ / "index.html").rdbuf();
+  const std::string html = s.str();
+  const auto begin = html.find("<th>machine element and law</th>");
+  ASSERT_NE(begin, std::string::npos) << "no beyond-the-library table on the default scene";
+  const std::string table = html.substr(begin, html.find("</table>", begin) - begin);
+  const std::regex row("<tr><td>(\\d+)</td><td>(.*?)</td><td>(-?[0-9.]+)</td><td>([0-9.]+) %</td><td>(.*?)</td></tr>");
+  std::set<std::pair<std::string, std::string>> fits; // (ΔBIC, explained) as printed
+  int rows = 0, classes = 0;
+  for (auto it = std::sregex_iterator(table.begin(), table.end(), row); it != std::sregex_iterator(); ++it, ++rows) {
+    EXPECT_TRUE(fits.insert({(*it)[3].str(), (*it)[4].str()}).second) << "two rows fit alike: " << it->str();
+    classes += (*it)[2].str().find("one class with") != std::string::npos;
+  }
+  EXPECT_GT(rows, 1);
+  EXPECT_GE(classes, 1) << table; // the default scene: X's steady state and its linear drift, five components each
+}
+
 // A measured grid with a whole row missing on one flank (accepted by the topology reader) cannot be drawn as heat
 // maps (that row has no position); the report leaves that figure out instead of failing, and still diagnoses.
 TEST(ReportIncompleteGrid, LeavesOutTheHeatMapsAndStillDiagnoses) {

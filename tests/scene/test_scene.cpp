@@ -653,3 +653,16 @@ TEST(SceneMachineChanges, BadChangesAreLocated) {
             std::string::npos);
   EXPECT_NE(err("{component: E_XOC, change_um: 3, uncertainty: {change_urad: 1}}").find("uncertainty"), std::string::npos);
 }
+
+// measurement.measured_against (issue 39): what the scene's measurement is measured from when it has no design_um
+// column — design or involute, and only beside measured (alone it would say nothing).
+TEST(Scene, MeasuredAgainstTakesDesignOrInvoluteBesideMeasured) {
+  const auto sc = scene::parse_scene(kGood + "measurement:\n  measured: m.csv\n  measured_against: design\n", "mem");
+  EXPECT_EQ(sc.grid.measured_against, "design");
+  EXPECT_TRUE(scene::parse_scene(kGood + "measurement:\n  measured: m.csv\n", "mem").grid.measured_against.empty());
+  EXPECT_EQ(error_of(kGood + "measurement:\n  measured: m.csv\n  measured_against: drawing\n"),
+            "scenes/x.yaml:12:21: measurement.measured_against: 'drawing' is not one of: design, involute");
+  EXPECT_NE(error_of(kGood + "measurement:\n  measured_against: design\n")
+                .find("measurement.measured_against: says nothing without measured"),
+            std::string::npos);
+}

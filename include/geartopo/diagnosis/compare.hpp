@@ -45,6 +45,10 @@ struct LineAgreement {
   std::string sentence;  ///< set when they disagree
 };
 
+/// What a finding on a flank whose lines disagree says of itself (Comparison::disputed_sign).
+inline constexpr const char* kDisputedSignNote =
+    " — rests on a disputed sign: this flank's profile and helix lines disagree where they cross (the warning)";
+
 struct Comparison {
   std::vector<double> model_um, residual_um;             ///< per measured point (model at the mean allowance)
   double allowance_offset_um = 0.0;                      ///< the model's nominal flank: mean_allowance_offset_um
@@ -63,6 +67,10 @@ struct Comparison {
   ResidualFollows follows;
   PointCounts counts;
   std::vector<LineAgreement> line_agreement;             ///< flanks with crossing dense profile and helix lines
+  /// Per flank: its profile and helix lines disagree where they cross (LineAgreement::disagree), so its patterns and
+  /// failing regions rest on a disputed sign rule or registration; its regions' sentences and the printed patterns
+  /// end with kDisputedSignNote.
+  std::vector<bool> disputed_sign;
   std::vector<std::size_t> flank_duplicates;             ///< per flank: duplicate positions left out
 };
 

@@ -29,6 +29,9 @@ enum class Reason {
   ambiguous,            ///< names: [chosen, best rival]
   // What the machine elements decided beside the library's explanation (names[0]).
   element_kept_out,     ///< subject: the element's description; delta_bic, threshold
+  // What the measurement is measured from (before any fit).
+  reference_in_doubt,   ///< subject "measurement": read as against the bare involute (nobody said), its residual minus
+                        ///< the design: residual_rms_um, against_drawing_rms_um, design_rms_um, noise_um, share_limit
 };
 
 /// "implausible_value", "more_than_noise", … (diagnosis.json's "reason").

@@ -332,10 +332,14 @@ struct Diagnosis {
   /// The chosen library explanation drawn from its posterior when its single values are not all determined: what
   /// scene_with_effect.yaml carries instead of a standard uncertainty. None otherwise.
   std::optional<PosteriorDraws> draws;
-  /// Why `chosen` is not to be added to the scene (scene_with_effect.yaml is then not written): ambiguous, or a fitted
-  /// parameter at the end of its allowed range (the fit pushed against its box: the value is no measurement). None:
-  /// accepted, add it.
+  /// Why `chosen` is not to be added to the scene (scene_with_effect.yaml is then not written): ambiguous, a fitted
+  /// parameter at the end of its allowed range (the fit pushed against its box: the value is no measurement), or the
+  /// measurement's reference in doubt (reference_in_doubt). None: accepted, add it.
   std::optional<Decision> withheld;
+  /// A measurement nobody said the reference of (no design_um column, no --measured-against), read as against the bare
+  /// involute, whose residual is largely minus the scene's design: it looks evaluated against the drawing. The verdict
+  /// opens with it; every finding rests on the file as read. None otherwise.
+  std::optional<Decision> reference_in_doubt;
   /// True when nothing explains the residual although it is more than noise (the χ² tests of
   /// DiagnoseOptions::unexplained_false_alarm): `chosen` is then empty, `nearest` says what came closest and why it is
   /// no explanation, `residual_pattern` what is left.
@@ -375,9 +379,10 @@ struct Diagnosis {
   std::vector<Candidate> hypotheses;
   /// True when `chosen` is one of `hypotheses`: the verdict names a machine element and its law.
   bool beyond_library = false;
-  /// Every decision record of this diagnosis, in the order the pipeline took them: the nearest's rejection, why the
-  /// families were tried, the machine element kept out or rejected, what is left more than noise, why withheld
-  /// (diagnosis.json's "decisions").
+  /// Every decision record of this diagnosis, in the order the pipeline took them: the reference in doubt, the
+  /// nearest's rejection, why the families were tried, the machine element kept out or rejected, what is left more than
+  /// noise, why withheld (once: a withheld that is the reference in doubt is not listed twice; diagnosis.json's
+  /// "decisions").
   std::vector<Decision> decisions() const;
 };
 

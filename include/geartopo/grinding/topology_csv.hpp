@@ -66,6 +66,10 @@ std::vector<FlankTopology> read_traces_csv(const std::filesystem::path& file, in
 /// CRLF are allowed). Reads from the stream's start and rewinds it.
 bool starts_like_traces_csv(std::istream& in);
 
+/// The line of the header when it ends with kDesignColumn (a topology or traces file that says what its deviations
+/// are measured from), 0 otherwise. Reads from the stream's start and rewinds it.
+int design_column_line(std::istream& in);
+
 /// Topology rows of simulated flanks (the 7×9 grid), for comparison and files.
 std::vector<TopologyRow> topology_rows(const std::vector<FlankTopology>& topo, GridKind kind = GridKind::Topology);
 

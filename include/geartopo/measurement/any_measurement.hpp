@@ -31,13 +31,21 @@ struct ReadCounts {
 };
 
 /// Topology CSV, traces CSV, point cloud or Klingelnberg export (read with `mka`), told apart by their content, with
-/// the deviations referred to the set-up's design (refer_to_design: a file without a design column is read as measured
-/// against the bare involute).
+/// the deviations referred to the set-up's design (refer_to_design). What a file without a design column is measured
+/// from is `against`: as_file, the bare involute, undeclared (MeasuredPoint::reference_declared false); design, the
+/// scene's drawing; involute, declared. `against` other than as_file for a file with a design column is an InputError
+/// naming its header (the file says it already).
 /// Findings that are not errors (blocks a reader skipped, undefined points) go to `warnings` when given; what was left
 /// out, counted, to `counts` when given.
 std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const grinding::GrindingSetup& setup,
                                                 std::vector<std::string>* warnings = nullptr,
-                                                const KlingelnbergOptions& mka = {}, ReadCounts* counts = nullptr);
+                                                const KlingelnbergOptions& mka = {}, ReadCounts* counts = nullptr,
+                                                MeasuredAgainst against = MeasuredAgainst::as_file);
+
+/// Points read from a file without a design column (their design_um 0), told what they are measured from: design gives
+/// each the set-up's design there, so that refer_to_design keeps its deviation; every point's reference_declared is
+/// `against` != as_file.
+void declare_reference(std::vector<MeasuredPoint>& points, MeasuredAgainst against, const gears::FlankDesign& design);
 
 /// Measured traces for the ISO 1328-1 evaluator (`geartopo evaluate --traces`).
 struct MeasuredTraces {

@@ -9,7 +9,9 @@
 #include "geartopo/grinding/topology_csv.hpp"
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace geartopo::measurement {
@@ -26,7 +28,24 @@ struct MeasuredPoint {
                                  ///< it has none: the bare involute), the scene's after read_any_measurement
   int line = 0;                  ///< line in the measurement file
   std::int64_t id = -1;          ///< a point cloud's id column (the measuring machine's point number); −1: none
+  /// Whether anybody said what the deviation is measured from: a design_um column, or MeasuredAgainst::design or
+  /// ::involute. False: a file without the column read as against the bare involute by default, which a machine that
+  /// evaluates against the drawing also writes (diagnose checks for it: Reason::reference_in_doubt).
+  bool reference_declared = true;
 };
+
+/// What a measurement's deviations are measured from (docs/modifications.md, "Measurements against the design"), for a
+/// file that does not say it with a design_um column (`--measured-against`, `measurement.measured_against`).
+enum class MeasuredAgainst {
+  as_file,  ///< as the file says: its design_um column; without one the bare involute, undeclared
+  design,   ///< the scene's drawing: a measuring machine that evaluates against the design (an export too)
+  involute, ///< the bare involute, declared
+};
+
+/// "design", "involute" (as_file: "file"); the word a flag or scene key takes.
+std::string_view to_string(MeasuredAgainst against);
+/// The value of a word of to_string (design, involute), none for another word.
+std::optional<MeasuredAgainst> parse_measured_against(std::string_view word);
 
 /// Refers measured deviations to `design` (the scene's drawing): the measured flank is deviation_um + design_um of
 /// the file; from the scene's design d it deviates by that less d. Files without a design column (design 0) are so

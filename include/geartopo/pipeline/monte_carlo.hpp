@@ -165,8 +165,13 @@ std::string scene_fingerprint(const workbench::Workbench& wb, const std::string&
 /// 1/(2 sin α_n) times a thickness change).
 inline constexpr double kMaxQuantityUm = 10'000.0;
 
-/// The corrections a controller applies: each one rounded to the nearest multiple of the axis' command resolution
-/// (X, Y, Z mm; A, C rad; 0 leaves the axis as it is).
+/// The corrections a controller applies, at the scale of the table's rows: the controller rounds the setpoint, command
+/// plus correction, to the axis' command resolution (X, Y, Z mm; A, C rad; 0 leaves the axis as it is), and each row
+/// gets that rounding error averaged over its stretch of the stroke (midpoint to midpoint of its neighbours), with the
+/// command moving as the rows' `machine_axes` say. An axis standing still along the stroke (X, Y, A of a plain gear)
+/// is rounded to the nearest multiple, round(δq/q)·q; an axis the stroke sweeps through n units (C, Z) errs by at
+/// most q/(8n) on average — a sawtooth of sub-µm period in Z that no wheel pass resolves (docs/compensation.md,
+/// "Command resolution").
 compensation::CorrectionTable rounded_to_resolution(const compensation::CorrectionTable& table,
                                                     const machine::Vector5d& resolution);
 

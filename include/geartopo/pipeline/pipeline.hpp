@@ -55,6 +55,8 @@ struct PipelineOptions {
   double noise_um = 0.0;                             ///< probe noise σ of the measurement; 0: estimated
   std::string measured_file;                         ///< empty: no comparison or diagnosis
   measurement::KlingelnbergOptions measurement_format; ///< how a Klingelnberg export is read (--mka-*)
+  /// What a measured file without design_um is measured from (--measured-against, measurement.measured_against).
+  measurement::MeasuredAgainst measured_against = measurement::MeasuredAgainst::as_file;
   /// How the ISO 1328-1 values are reported (default: the standard's transverse direction, docs/iso1328.md).
   workbench::IsoOptions iso;
   /// With it (samples ≥ 1, one shard), the compensated gear is also predicted by Monte Carlo (monte_carlo.hpp).

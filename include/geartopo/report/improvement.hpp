@@ -38,11 +38,30 @@ struct Improvement {
 /// the prediction's order; a quantity whose before-median is ≤ 0.01 µm is left out (a percentage of nothing).
 std::vector<Improvement> predicted_improvement(const pipeline::MonteCarloSummary& prediction);
 
+/// Why a size is predicted worse after compensation (after-median above before-median), from the prediction's
+/// decomposition by source (docs/monte-carlo.md, "What limits the gear after"): the source without which its
+/// after-median falls most. `source` is empty when the samples carry no decomposition (exact samples).
+struct Worsening {
+  std::string name; ///< as the prediction names it ("f_falpha_um")
+  double before_median_um = 0.0, after_median_um = 0.0;
+  std::string source;                  ///< pipeline::limit_sources name, or "" (not measured)
+  double without_source_median_um = 0.0; ///< the after-median without it
+};
+
+/// Every size of predicted_improvement whose after-median exceeds its before-median, in the prediction's order.
+std::vector<Worsening> predicted_worsening(const pipeline::MonteCarloSummary& prediction);
+
+/// "f_fα 0.13 → 0.15 µm: without the rounding to machine.resolution 0.07 µm — <what that source does>" (report,
+/// console and iso1328.json say the same).
+std::string worsening_text(const Worsening& w);
+
 /// {"definition", "samples", "quantities": {name: {"before_median_um", "after_median_um", "after_low_um",
-/// "after_high_um", "improvement_percent", "improvement_low_percent", "improvement_high_percent"}}}.
+/// "after_high_um", "improvement_percent", "improvement_low_percent", "improvement_high_percent"[, "worse":
+/// {"source", "after_median_without_source_um", "text"}]}}} — "worse" for a size predicted worse (predicted_worsening).
 nlohmann::json improvement_json(const pipeline::MonteCarloSummary& prediction);
 
-/// "F_β  −6 % [−33, +5]": a header naming the definition, then one line per quantity.
+/// "F_β  −6 % [−33, +5]": a header naming the definition, then one line per quantity, then a line per size predicted
+/// worse (worsening_text).
 std::vector<std::string> improvement_lines(const pipeline::MonteCarloSummary& prediction);
 
 /// "27 % [−33, 52]" (whole percent; the interval in brackets).

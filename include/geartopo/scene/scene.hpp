@@ -30,6 +30,9 @@ struct MeasurementGrid {
   int dense_rows = 0, dense_cols = 0;        ///< optional dense grid (0: none)
   std::vector<int> teeth;                    ///< empty: all teeth
   std::string measured_file;                 ///< optional measurement (topology CSV), resolved against the scene file
+  /// What measured_file's deviations are measured from when it has no design_um column: "design" (the drawing) or
+  /// "involute"; empty: not said (measurement::MeasuredAgainst).
+  std::string measured_against;
 };
 
 /// A physical effect the scene models: its type and its parameter values in file units, in the order of the

@@ -77,21 +77,38 @@ double share_in_span(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
   return a > 0.0 ? (Q.transpose() * A).norm() / a : 0.0;
 }
 
-/// The best hypothesis' equivalence class: its own aliases (a periodic order's the measured teeth cannot tell from
-/// it), and the plausible hypotheses within the threshold whose fields are alike both ways (set-up terms removed).
-std::vector<std::string> equivalence_class(const Context& ctx, const BeyondLibrary& b) {
+/// Hypothesis k's equivalence class among hypotheses k+1 … end−1: its own aliases (a periodic order's the measured
+/// teeth cannot tell from it), and the hypotheses as plausible as it (both rejected or neither) within the threshold
+/// whose fields are alike both ways (set-up terms removed).
+std::vector<std::string> equivalence_class(const Context& ctx, const BeyondLibrary& b, std::size_t k, std::size_t end) {
   const auto& hyps = b.hypotheses;
-  const Candidate& best = hyps.front();
+  const Candidate& best = hyps[k];
   std::vector<std::string> names = best.equivalent;
   const Eigen::MatrixXd best_columns = b.states->judged(best.family->columns(best, *b.states));
-  for (size_t a = 1; a < hyps.size(); ++a) {
+  for (size_t a = k + 1; a < end; ++a) {
     const Candidate& c = hyps[a];
-    if (c.is_rejected() || c.delta_bic >= best.delta_bic + ctx.options.bic_threshold) continue;
+    if (c.is_rejected() != best.is_rejected() || c.delta_bic >= best.delta_bic + ctx.options.bic_threshold) continue;
     const Eigen::MatrixXd other = b.states->judged(c.family->columns(c, *b.states));
     const double alike = std::min(share_in_span(other, best_columns), share_in_span(best_columns, other));
     if (alike >= ctx.options.alike_share) names.push_back(c.name());
   }
   return names;
+}
+
+/// The classes of the listed hypotheses after the best (DiagnoseOptions::hypotheses_listed), each among the listed
+/// ones: a hypothesis already in an earlier one's class has none of its own (it is listed in that row).
+std::vector<std::vector<std::string>> listed_classes(const Context& ctx, const BeyondLibrary& b,
+                                                     const std::vector<std::string>& best_class) {
+  const std::size_t listed = std::min(b.hypotheses.size(), ctx.options.hypotheses_listed);
+  std::vector<std::vector<std::string>> classes(listed);
+  std::vector<std::string> placed = best_class;
+  for (std::size_t k = 1; k < listed; ++k) {
+    if (std::find(placed.begin(), placed.end(), b.hypotheses[k].name()) != placed.end()) continue;
+    for (auto& name : equivalence_class(ctx, b, k, listed)) // a member of an earlier row stays there
+      if (std::find(placed.begin(), placed.end(), name) == placed.end()) classes[k].push_back(std::move(name));
+    placed.insert(placed.end(), classes[k].begin(), classes[k].end());
+  }
+  return classes;
 }
 
 /// The library's explanations that can leave a named element's field on these flanks: at least alike_share of it
@@ -114,7 +131,8 @@ Alternatives find_alternatives(const Context& ctx, const LibraryFits& library, c
   Alternatives a;
   if (judgement.pick) a.rivals = library_rivals(ctx, library, pairs, *judgement.pick);
   if (!beyond.tried() || beyond.hypotheses.empty()) return a;
-  a.equivalent = equivalence_class(ctx, beyond);
+  a.equivalent = equivalence_class(ctx, beyond, 0, beyond.hypotheses.size());
+  a.listed_classes = listed_classes(ctx, beyond, a.equivalent);
   if (beyond.outcome == Outcome::rival) a.rivals.insert(a.rivals.begin(), *beyond.best);
   if (beyond.outcome != Outcome::named) return a;
   // A named element: the library look-alikes, and rivals only beyond the library — within the threshold with a

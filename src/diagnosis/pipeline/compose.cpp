@@ -138,6 +138,8 @@ std::vector<Candidate> hypotheses_as_listed(const Context& ctx, const BeyondLibr
   if (hyps.empty()) return hyps;
   if (b.best) hyps.front() = *b.best;
   hyps.front().equivalent = a.equivalent;
+  for (std::size_t k = 1; k < hyps.size() && k < a.listed_classes.size(); ++k)
+    if (!a.listed_classes[k].empty()) hyps[k].equivalent = a.listed_classes[k]; // its aliases included
   if (b.outcome == Outcome::named) hyps.front().library_equivalent = a.library_equivalent;
   if (hyps.size() > ctx.options.hypotheses_listed) hyps.resize(ctx.options.hypotheses_listed);
   return hyps;
@@ -145,9 +147,11 @@ std::vector<Candidate> hypotheses_as_listed(const Context& ctx, const BeyondLibr
 
 } // namespace
 
-Diagnosis compose(const Context& ctx, const LibraryFits& library, const PairFits& pairs, const LibraryJudgement& j,
-                  const BeyondLibrary& b, const Alternatives& a, Plans plans, std::optional<PosteriorDraws> draws) {
+Diagnosis compose(const Context& ctx, std::optional<Decision> reference, const LibraryFits& library,
+                  const PairFits& pairs, const LibraryJudgement& j, const BeyondLibrary& b, const Alternatives& a,
+                  Plans plans, std::optional<PosteriorDraws> draws) {
   Diagnosis d;
+  d.reference_in_doubt = std::move(reference);
   d.points = static_cast<int>(ctx.points.size());
   d.noise_um = ctx.noise_um, d.noise_estimated = ctx.noise_estimated;
   d.rms_before_um = ctx.rms_before_um, d.rms_before_setup_um = ctx.rms_before_setup_um;
@@ -185,6 +189,8 @@ Diagnosis compose(const Context& ctx, const LibraryFits& library, const PairFits
     d.withheld = Decision{Reason::ambiguous, d.chosen->name(), {d.chosen->name(), d.rivals.front().name()}, {}};
   else if (d.chosen)
     d.withheld = at_the_end_of_its_range(*d.chosen);
+  // An explanation of a residual that may be the drawing read as a fault is not added until the reference is said.
+  if (d.chosen && !d.withheld) d.withheld = d.reference_in_doubt;
   d.assumed = assumed_values(d);
   if (d.chosen) d.determined = thermal_growth_determined(*d.chosen, ctx.first_time_s, ctx.last_time_s);
   d.draws = std::move(draws);

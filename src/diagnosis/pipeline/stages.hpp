@@ -3,9 +3,9 @@
 // value; none changes another's result. The outcome (compose.cpp) assembles the Diagnosis from them and the verdict's
 // sentences are composed from its records in one place (verdict_text.cpp).
 //
-//   Context ─► fit_library ─► fit_pairs ─► judge_library ─► try_families ─► find_alternatives ─► make_plans ─►
-//   (residual,   (each effect   (pairs of    (the pick        (the families    (rivals, look-alikes, (what to
-//    noise,       alone)         favoured     against the      beyond the       equivalence          measure)
+//   Context ─► reference_in_doubt ─► fit_library ─► fit_pairs ─► judge_library ─► try_families ─► find_alternatives ─► make_plans ─►
+//   (residual,   (read against     (each effect   (pairs of    (the pick        (the families    (rivals, look-alikes, (what to
+//    noise,       the drawing?)     alone)         favoured     against the      beyond the       equivalence          measure)
 //    set-up                      effects)     noise)           library)         classes)
 //    terms)
 //   ─► posterior_draws ─► compose
@@ -71,6 +71,11 @@ public:
   /// ln n: BIC's charge per parameter.
   double ln_n() const;
 };
+
+/// Stage 0: a measurement nobody said the reference of (MeasuredPoint::reference_declared false: no design_um column,
+/// no --measured-against) read as against the bare involute, whose residual is largely minus the scene's design: it
+/// looks evaluated against the drawing (reference.cpp). None otherwise.
+std::optional<Decision> reference_in_doubt(const Context& ctx);
 
 /// The progress callback's counts (DiagnoseOptions::on_candidate_fitted): fits done and known so far.
 struct FitProgress {
@@ -160,6 +165,9 @@ std::vector<Candidate> fit_hypotheses(const Context& ctx, const ContactStates& s
 struct Alternatives {
   std::vector<Candidate> rivals;                ///< best ΔBIC first, another physics before a nested one
   std::vector<std::string> equivalent;          ///< the best hypothesis' equivalence class (names)
+  /// The equivalence class of each listed hypothesis after the best (index as in BeyondLibrary::hypotheses, [0]
+  /// empty), among the listed ones; empty for one that is in an earlier one's class: one row each (hypothesis_rows).
+  std::vector<std::vector<std::string>> listed_classes;
   std::optional<Candidate> equivalent_member;   ///< its best other member, for the plan that would separate them
   std::vector<std::string> library_equivalent;  ///< a named element's library look-alikes (names)
 };
@@ -177,9 +185,9 @@ Plans make_plans(const Context& ctx, const std::optional<Candidate>& chosen, con
 std::optional<PosteriorDraws> posterior_draws(const Context& ctx, const std::optional<Candidate>& chosen);
 
 /// Stage 8: the Diagnosis with its records, from every stage's result; the verdict composed from them.
-Diagnosis compose(const Context& ctx, const LibraryFits& library, const PairFits& pairs,
-                  const LibraryJudgement& judgement, const BeyondLibrary& beyond, const Alternatives& alternatives,
-                  Plans plans, std::optional<PosteriorDraws> draws);
+Diagnosis compose(const Context& ctx, std::optional<Decision> reference, const LibraryFits& library,
+                  const PairFits& pairs, const LibraryJudgement& judgement, const BeyondLibrary& beyond,
+                  const Alternatives& alternatives, Plans plans, std::optional<PosteriorDraws> draws);
 
 /// The verdict paragraph from a Diagnosis' records (verdict_text.cpp), the one place the sentences are made.
 std::string verdict_text(const Diagnosis& d, const DiagnoseOptions& options);

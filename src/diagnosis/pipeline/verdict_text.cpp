@@ -26,6 +26,7 @@ std::string_view to_string(Reason r) {
   case Reason::parts_cancel: return "parts_cancel";
   case Reason::ambiguous: return "ambiguous";
   case Reason::element_kept_out: return "element_kept_out";
+  case Reason::reference_in_doubt: return "reference_in_doubt";
   }
   return "unknown";
 }
@@ -89,6 +90,16 @@ std::string to_text(const Decision& d) {
     return fmt::format("The best machine element, {} (ΔBIC {:.1f}), leaves a field {} can leave too, within {:g} of it: "
                        "{} stays named.",
                        d.subject, d.number("delta_bic"), d.names.at(0), d.number("threshold"), d.names.at(0));
+  case Reason::reference_in_doubt:
+    return fmt::format(
+        "The measurement looks evaluated against the drawing: it has no design_um column and nobody said what it is "
+        "measured from, so it was read as measured against the bare involute, and its residual is largely minus the "
+        "scene's design ({:.2f} µm RMS as read, {:.2f} µm against the drawing; the design {:.2f} µm RMS, set-up terms "
+        "removed, noise {:.2f} µm). If the measuring machine evaluated against the drawing, say so: "
+        "--measured-against design (measurement.measured_against: design in the scene, or a design_um column), and "
+        "diagnose again; if the values are from the bare involute, the gear lacks its drawing's modifications: "
+        "--measured-against involute. What follows rests on the file as read.",
+        d.number("residual_rms_um"), d.number("against_drawing_rms_um"), d.number("design_rms_um"), d.number("noise_um"));
   }
   return {};
 }
@@ -119,12 +130,13 @@ std::string to_text(const ResidualPattern& p) {
 
 std::vector<Decision> Diagnosis::decisions() const {
   std::vector<Decision> out;
+  if (reference_in_doubt) out.push_back(*reference_in_doubt);
   for (const auto* d : {&nearest_rejection, &beyond_trigger})
     if (*d) out.push_back(**d);
   if (element_kept_out) out.push_back(*element_kept_out);
   if (nearest_element && nearest_element->rejection) out.push_back(*nearest_element->rejection);
   if (remainder_excess) out.push_back(*remainder_excess);
-  if (withheld) out.push_back(*withheld);
+  if (withheld && withheld->reason != Reason::reference_in_doubt) out.push_back(*withheld);
   return out;
 }
 
@@ -282,11 +294,11 @@ std::string better_but_rejected(const Diagnosis& d) {
 } // namespace
 
 std::string verdict_text(const Diagnosis& d, const DiagnoseOptions& o) {
-  std::string v;
+  std::string v = d.reference_in_doubt ? to_text(*d.reference_in_doubt) + " " : std::string();
   if (d.chosen && d.beyond_library) {
-    v = setup_text(d) + element_verdict(d, o);
+    v += setup_text(d) + element_verdict(d, o);
   } else if (!d.chosen && d.unexplained) {
-    v = setup_text(d) +
+    v += setup_text(d) +
         fmt::format("Unexplained: no effect of the library, alone or in a pair, explains the residual ({:.2f} µm RMS "
                     "with the set-up removed, against {:.2f} µm noise: {}). What is left unexplained: {} Nearest library "
                     "explanation: {}.{} Nothing is added to the scene.",
@@ -298,15 +310,18 @@ std::string verdict_text(const Diagnosis& d, const DiagnoseOptions& o) {
                                                     d.nearest_element->rms_after_um, to_text(*d.nearest_element->rejection))
                                       : "");
   } else if (!d.chosen) {
-    v = setup_text(d) + fmt::format("No effect of the library is needed: with the set-up terms removed, the residual "
+    v += setup_text(d) + fmt::format("No effect of the library is needed: with the set-up terms removed, the residual "
                                     "({:.2f} µm RMS) is noise ({:.2f} µm{}). Nearest library explanation: {}.",
                                     d.rms_before_setup_um, d.noise_um, d.noise_estimated ? ", estimated" : "",
                                     nearest_text(d));
   } else {
-    v = library_verdict(d, o);
+    v += library_verdict(d, o);
   }
   v += better_but_rejected(d);
-  if (d.withheld && d.rivals.empty()) v += " Not added to the scene: " + to_text(*d.withheld) + ".";
+  if (d.withheld && d.rivals.empty())
+    v += d.withheld->reason == Reason::reference_in_doubt
+             ? std::string(" Not added to the scene until the measurement's reference is said.")
+             : " Not added to the scene: " + to_text(*d.withheld) + ".";
   if (!d.determined.empty()) {
     std::vector<std::string> fixed;
     for (const auto& g : d.determined) fixed.push_back(to_text(g));

@@ -1,0 +1,36 @@
+// geartopo diagnosis — stage 0 (stages.hpp): a measurement read as against the bare involute because nobody said what
+// it is measured from, whose residual is minus the scene's design. Units: µm.
+#include "stages.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace geartopo::diagnosis::stages {
+
+// A file without a design_um column is read as measured against the bare involute (docs/modifications.md). A measuring
+// machine that evaluates against the drawing writes the same columns, and then the flank as read lacks its design: the
+// residual is minus the design, plus what the machine really did. Said when the design shows above the noise
+// (kDesignVisibleSigma) and referring the file to the drawing leaves at most kAgainstDrawingShare of the residual's RMS
+// (three quarters of its sum of squares explained by the design alone, with no parameter fitted) — both with the
+// set-up terms removed, which absorb the design's mean.
+std::optional<Decision> reference_in_doubt(const Context& ctx) {
+  constexpr double kDesignVisibleSigma = 3.0, kAgainstDrawingShare = 0.5;
+  const auto& pts = ctx.points;
+  if (std::all_of(pts.begin(), pts.end(), [](const MeasuredPoint& p) { return p.reference_declared; })) return {};
+  Eigen::VectorXd design(static_cast<Eigen::Index>(pts.size())); // n: the scene's design at the points
+  for (size_t i = 0; i < pts.size(); ++i) design(static_cast<Eigen::Index>(i)) = pts[i].design_um;
+  const Eigen::VectorXd d = ctx.setup_terms.remove_shown(design), r = ctx.setup_terms.remove_shown(ctx.before);
+  const auto rms = [&](const Eigen::VectorXd& v) { return std::sqrt(v.squaredNorm() / ctx.n); };
+  const double design_rms = rms(d), as_read = rms(r), against_drawing = rms(r + d);
+  if (design_rms < kDesignVisibleSigma * ctx.noise_um || against_drawing > kAgainstDrawingShare * as_read) return {};
+  return Decision{Reason::reference_in_doubt,
+                  "measurement",
+                  {},
+                  {{"residual_rms_um", as_read},
+                   {"against_drawing_rms_um", against_drawing},
+                   {"design_rms_um", design_rms},
+                   {"noise_um", ctx.noise_um},
+                   {"share_limit", kAgainstDrawingShare}}};
+}
+
+} // namespace geartopo::diagnosis::stages
