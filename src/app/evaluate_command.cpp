@@ -33,6 +33,11 @@ void register_evaluate_command(CLI::App& app, Action& action) {
   cmd->add_option("--prediction-side", opt->side,
                   "after (default: the gear ground with the corrections) or before (without them)")
       ->check(CLI::IsMember({"before", "after"}));
+  cmd->add_option("--before-traces", opt->before_traces,
+                  "With --prediction and --traces (gear 2, ground with the corrections): the traces of gear 1, ground "
+                  "without them, evaluated alike and checked against the prediction's before band; "
+                  "against_prediction.png marks both gears")
+      ->check(non_empty_path());
   add_iso_options(cmd, opt->iso);
   add_klingelnberg_options(cmd, opt->mka);
   const CLI::Option* direction_flag = cmd->get_option("--iso-direction");
