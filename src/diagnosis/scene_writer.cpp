@@ -15,14 +15,17 @@ namespace geartopo::diagnosis {
 
 namespace {
 
-/// The `draws` block of an effect (docs/scene-format.md, "Effects drawn from a posterior"): the keys of its fitted
-/// values and one flow list per set, 6 significant digits.
-std::string draws_yaml(const effects::Effect& e, const Eigen::MatrixXd& sets) {
+/// The `draws` block of an effect (docs/scene-format.md, "Effects drawn from a posterior"): the keys of the values the
+/// sets move (a value held at the item's own in every set is left out: the reader puts it back) and one flow list per
+/// set, 6 significant digits.
+std::string draws_yaml(const effects::Effect& e, const std::vector<double>& values, const Eigen::MatrixXd& sets) {
   const auto& params = e.parameters();
   std::vector<size_t> column;
   std::vector<std::string> keys;
-  for (size_t k = 0; k < params.size() && static_cast<Eigen::Index>(k) < sets.cols(); ++k)
-    if (params[k].fitted && !params[k].whole) column.push_back(k), keys.push_back(params[k].key);
+  for (size_t k = 0; k < params.size() && k < values.size() && static_cast<Eigen::Index>(k) < sets.cols(); ++k)
+    if (params[k].fitted && !params[k].whole && (sets.col(static_cast<Eigen::Index>(k)).array() != values[k]).any())
+      column.push_back(k), keys.push_back(params[k].key);
+  if (column.empty()) return {}; // every set is the item itself: the effect is exact
   std::string out = fmt::format("    # {} equally likely value sets of the fit's posterior: its single values are not "
                                 "determined (docs/diagnosis.md)\n", sets.rows());
   out += fmt::format("    draws:\n      keys: [{}]\n      sets:\n", fmt::join(keys, ", "));
@@ -58,7 +61,7 @@ std::string effects_yaml_items(const std::vector<scene::EffectSpec>& effects, co
     out += "  - type: " + effects[i].type + "\n";
     for (size_t k = 0; k < params.size(); ++k) out += fmt::format("    {}: {:.6g}\n", params[k].key, effects[i].values[k]);
     if (has_sets(draws, i)) { // the sets are its whole distribution: no uncertainty, no correlation of its own
-      out += draws_yaml(*e, draws[i]);
+      out += draws_yaml(*e, effects[i].values, draws[i]);
       at += static_cast<Eigen::Index>(params.size());
       continue;
     }
