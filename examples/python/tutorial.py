@@ -14,7 +14,7 @@ png = Path(sys.argv[1]) if len(sys.argv) > 1 else Path("residual_before_after.pn
 scene = geartopo.load_scene(root / "scenes/skmc1200w-mn14-z35.yaml")
 topo = geartopo.simulate(scene, teeth=[1, 18])                      # the model's topology, µm
 print(f"simulated {len(topo['deviation_um'])} grid points, {topo['deviation_um'].min():.2f} … {topo['deviation_um'].max():.2f} µm")
-measured = root / "scenes" / scene.measured                         # the scene's demo CMM measurement
+measured = scene.measured                                           # the scene's demo CMM measurement (a path from here)
 before = geartopo.compare(scene, measured)
 diagnosis = geartopo.diagnose(scene, measured)
 print(diagnosis["verdict"])

@@ -39,10 +39,18 @@ void bind_scene(py::module_& m) {
       .def_property_readonly("measured", [](const PyScene& s) -> py::object {
             if (s.wb->scene.grid.measured_file.empty()) return py::none();
             return py::str(s.wb->scene.grid.measured_file);
-          }, "The scene's demo measurement (measurement.measured, a path), or None")
+          }, "The scene's demo measurement (measurement.measured) as a path usable from the working folder — resolved "
+             "against the scene file's folder — or None")
       .def_property_readonly(
-          "gear", [](const PyScene& s) { return to_python(report::gear_json(s.wb->scene, s.wb->setup.geometry())); },
-          "The gear's geometry (ISO 21771) as `geartopo gear --json` prints it: a dict, units in the keys")
+          "gear",
+          [](const PyScene& s) {
+            // Read-only: a scene is built and checked once, so an assignment to a copy would be silently lost.
+            const py::object types = py::module_::import("types");
+            return types.attr("MappingProxyType")(to_python(report::gear_json(s.wb->scene, s.wb->setup.geometry())));
+          },
+          "The gear's geometry (ISO 21771) as `geartopo gear --json` prints it: a read-only mapping, units in the keys. "
+          "To change a scene, edit its YAML text (Scene.yaml) and read it again with scene_from_yaml(text, "
+          "source=scene.source) (docs/python.md, \"Changing a scene\")")
       .def_property_readonly("notes", [](const PyScene& s) { return s.wb->notes; },
                              "What was chosen for the user (e.g. a wheel diameter), as the CLI prints as notes")
       .def("__repr__", [](const PyScene& s) { return "<geartopo.Scene '" + s.wb->scene.name + "' from " + s.source + ">"; })

@@ -67,6 +67,18 @@ std::string prediction_made_worse(const pipeline::MonteCarloSummary& p) {
   return {};
 }
 
+std::string error_free_machine_note(const workbench::Workbench& wb) {
+  const auto& s = wb.scene;
+  if (!s.machine.sources.empty()) return {};
+  const bool nothing = s.effects.empty() && s.machine_changes.empty() && !wb.design_motion;
+  return fmt::format("note: the scene's machine has no error map (no machine.tables, constants or polynomials: an "
+                     "error-free machine){}; the prediction's spread comes only from the uncertainties (machine."
+                     "uncertainty, repeatability, resolution: the defaults where the scene gives none, "
+                     "docs/scene-format.md)",
+                     nothing ? ", and no effects: its nominal deviations and its corrections are 0"
+                             : ": the nominal deviations and corrections come only from its effects, changes and design");
+}
+
 void add_warning(nlohmann::json& iso, const std::string& warning) {
   if (warning.empty()) return;
   say("geartopo: warning: " + warning);

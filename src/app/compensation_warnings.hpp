@@ -32,6 +32,12 @@ std::string prediction_made_worse(const pipeline::MonteCarloSummary& prediction)
 /// (CLI::ValidationError naming --method, exit 2). The flank and cycle methods correct towards the design.
 void refuse_paper_on_a_designed_helix(const std::string& method, const workbench::Workbench& wb);
 
+/// When the scene's machine has no error map (no machine.tables, constants or polynomials: docs/scene-format.md calls
+/// it an error-free machine), the note `compensate` prints before its numbers: the nominal deviations come only from
+/// the effects and changes the scene lists (none: they and the corrections are 0), and a prediction's spread only from
+/// the uncertainties — the defaults unless the scene states them. Empty when the scene has a map.
+std::string error_free_machine_note(const workbench::Workbench& wb);
+
 /// `warning`, when there is one, on stderr and in iso1328.json's "warnings" (`iso`).
 void add_warning(nlohmann::json& iso, const std::string& warning);
 

@@ -36,6 +36,11 @@ void register_evaluate_command(CLI::App& app, Action& action) {
   cmd->add_option("--aqdef", opt->aqdef, "Also write the ISO 1328-1 values per tooth and flank as an AQDEF file (.dfq, "
                                          "docs/aqdef.md) for the quality system")
       ->check(non_empty_path());
+  cmd->add_option("--before-traces", opt->before_traces,
+                  "With --prediction and --traces (gear 2, ground with the corrections): the traces of gear 1, ground "
+                  "without them, evaluated alike and checked against the prediction's before band; "
+                  "against_prediction.png marks both gears")
+      ->check(non_empty_path());
   add_iso_options(cmd, opt->iso);
   add_klingelnberg_options(cmd, opt->mka);
   const CLI::Option* direction_flag = cmd->get_option("--iso-direction");

@@ -1,5 +1,5 @@
 // geartopo evaluate SCENE --out DIR [--method exact|linear] [--traces FILE [--machine-values FILE]]
-// [--prediction FILE [--prediction-side before|after]]: ISO 1328-1:2013 deviations and classes of the simulated gear
+// [--prediction FILE [--prediction-side before|after] [--before-traces FILE]]: ISO 1328-1:2013 deviations and classes of the simulated gear
 // or of measured traces, beside a measuring machine's own values or a prediction.
 #pragma once
 
@@ -13,6 +13,7 @@ namespace geartopo::app {
 
 struct EvaluateOptions {
   std::string scene, out, method = "exact", traces, machine_values, prediction, side = "after", aqdef;
+  std::string before_traces; ///< gear 1's traces (ground without the corrections), checked against the before band
   workbench::IsoOptions iso;
   KlingelnbergFlags mka;
   bool iso_direction_given = false, helix_slope_sign_given = false; ///< the ISO flags on the command line

@@ -5,6 +5,7 @@
 #include "app/monte_carlo_flags.hpp"
 
 #include "geartopo/diagnosis/diagnosis_json.hpp"
+#include "geartopo/diagnosis/identified_effects.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
 #include "geartopo/files/atomic_write.hpp"
@@ -74,12 +75,16 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
         diagnosis::diagnosis_json(scene_file, m.file, m.diagnosis, diagnosis::mean_allowance_offset_um(wb.setup.geometry())).dump(2) + "\n");
   }
   // Only an accepted explanation is added (docs/diagnosis.md: not ambiguous, no value at the end of its range).
+  // As `diagnose` writes it (commands/measured.cpp): the fit's uncertainty, or its posterior's value sets.
   if (r.measurement && r.measurement->diagnosis.chosen && !r.measurement->diagnosis.withheld) {
-    std::vector<std::string> comments;
-    for (const auto& e : r.measurement->diagnosis.chosen->effects)
-      comments.push_back(e.type + ": identified by geartopo from " + r.measurement->file);
-    diagnosis::write_scene_with_effects(scene_file, r.measurement->diagnosis.chosen->effects, comments,
-                                        dir / "scene_with_effect.yaml");
+    const auto& d = r.measurement->diagnosis;
+    const auto identified = diagnosis::identified_effects(d, *d.chosen);
+    diagnosis::write_scene_with_effects(scene_file, identified.effects,
+                                        diagnosis::identification_comments(*d.chosen, r.measurement->file),
+                                        dir / "scene_with_effect.yaml", identified.uncertainties, identified.correlation,
+                                        d.chosen->changes, d.chosen->change_sd,
+                                        diagnosis::change_identification_comments(*d.chosen, r.measurement->file),
+                                        identified.draws);
   }
   return iso;
 }

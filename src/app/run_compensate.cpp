@@ -262,8 +262,12 @@ int run_compensate(const CompensateOptions& opt) {
       add_warning(j, prediction_made_worse(*prediction));
     }
   }
+  // An error-free machine's numbers come from nothing but the defaults: said before them, and in the file.
+  const std::string note = error_free_machine_note(wb);
+  if (!note.empty()) j["notes"].push_back(note);
   output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
 
+  if (!note.empty()) std::cout << note << "\n";
   print_compensation(opt, c, iso_b, iso_a, prediction, so);
   if (isg)
     std::cout << fmt::format("  ISG volumetric table (isg_compensation.csv, {} records; corrects the wheel position, "

@@ -119,7 +119,12 @@ Flanks simulated_flanks(const EvaluateOptions& opt, const Workbench& wb) {
 } // namespace
 
 int run_evaluate(const EvaluateOptions& opt) {
-  const output::RunFiles files{{opt.scene, opt.traces, opt.machine_values, opt.prediction}, {"iso1328.json"}};
+  if (!opt.before_traces.empty() && (opt.prediction.empty() || opt.traces.empty() || opt.side != "after"))
+    throw CLI::ValidationError("--before-traces", "needs --prediction and --traces (gear 2, the after side): gear 1's "
+                                                  "traces are checked against the prediction's before band");
+  std::vector<std::filesystem::path> outputs{"iso1328.json"};
+  if (!opt.prediction.empty()) outputs.push_back("against_prediction.png");
+  const output::RunFiles files{{opt.scene, opt.traces, opt.machine_values, opt.prediction, opt.before_traces}, outputs};
   output::OutputFolder folder(opt.out, files); // locked and staged before any work: a second run is refused now
   const Workbench wb(opt.scene);
   std::optional<pipeline::MonteCarloSummary> prediction;
@@ -151,6 +156,20 @@ int run_evaluate(const EvaluateOptions& opt) {
     j["against_prediction"] = report::prediction_check_json(checks, *prediction, opt.side);
     j["against_prediction"]["file"] = opt.prediction;
   }
+  // Gear 1, ground without the corrections, against the before band: the error falling from gear 1 to gear 2.
+  std::vector<report::PredictionCheck> gear1_checks;
+  if (!opt.before_traces.empty()) {
+    auto gear1 = measurement::read_any_traces(opt.before_traces, wb.setup, opt.mka.options);
+    for (const auto& w : gear1.warnings) say("geartopo: warning: " + w);
+    const auto iso1 = workbench::evaluate_iso(g, wb.setup.ranges(), gear1.flanks, iso_options);
+    gear1_checks = report::check_against_prediction(pipeline::gear_quantities(iso1, gear1.flanks), *prediction, "before", false);
+    j["before_against_prediction"] = report::prediction_check_json(gear1_checks, *prediction, "before");
+    j["before_against_prediction"]["traces"] = opt.before_traces;
+  }
+  if (prediction)
+    report::prediction_check_figure(*prediction, opt.side == "before" ? checks : gear1_checks,
+                                    opt.side == "after" ? checks : std::vector<report::PredictionCheck>{},
+                                    std::filesystem::path(opt.out) / "against_prediction.png");
   const std::filesystem::path out(opt.out);
   output::write_text_atomically(out / "iso1328.json", j.dump(2) + "\n");
   std::cout << "Source: " << f.source << "\n" << report::iso_table(iso);
@@ -171,7 +190,11 @@ int run_evaluate(const EvaluateOptions& opt) {
     std::cout << "Against " << opt.prediction << ":\n";
     for (const auto& l : report::prediction_check_lines(checks, *prediction, opt.side)) std::cout << "  " << l << "\n";
   }
-  std::cout << "wrote " << (out / "iso1328.json").string() << "\n";
+  if (!gear1_checks.empty()) {
+    std::cout << "Gear 1 (" << opt.before_traces << ", without the corrections) against the before band:\n";
+    for (const auto& l : report::prediction_check_lines(gear1_checks, *prediction, "before")) std::cout << "  " << l << "\n";
+  }
+  std::cout << "wrote " << (out / "iso1328.json").string() << (prediction ? " and against_prediction.png" : "") << "\n";
   if (!opt.aqdef.empty()) {
     const auto part = series::iso_aqdef({{&iso.evaluation, std::nullopt}}, iso.parameters, wb.scene.report.tolerance_class,
                                         aqdef_header(wb, "", ""));

@@ -11,6 +11,32 @@
 
 namespace geartopo::diagnosis {
 
+namespace {
+
+/// The posterior's value sets in place of the Gaussian of the effects they draw (Diagnosis::draws): the fit's σ of a
+/// value that is not determined spans far beyond anything physical (±491 µm, ±64 633 s on the demo), and a Gaussian
+/// held in the allowed range then predicts gears the measurement excludes.
+void with_posterior_sets(const Diagnosis& d, const Candidate& candidate, IdentifiedEffects& out) {
+  if (!d.draws || !d.chosen || d.chosen->effects.size() != candidate.effects.size()) return;
+  for (size_t e = 0; e < candidate.effects.size(); ++e)
+    if (d.chosen->effects[e].type != candidate.effects[e].type || d.chosen->effects[e].values != candidate.effects[e].values)
+      return; // another candidate than the one drawn
+  out.draws = d.draws->values;
+  Eigen::Index first = 0;
+  for (size_t e = 0; e < out.effects.size(); ++e) {
+    const auto n = static_cast<Eigen::Index>(out.effects[e].values.size());
+    if (e < out.draws.size() && out.draws[e].rows() > 0) {
+      std::fill(out.uncertainties[e].begin(), out.uncertainties[e].end(), 0.0);
+      out.correlation.middleRows(first, n).setZero();
+      out.correlation.middleCols(first, n).setZero();
+      out.correlation.block(first, first, n, n).setIdentity();
+    }
+    first += n;
+  }
+}
+
+} // namespace
+
 IdentifiedEffects identified_effects(const Diagnosis& d, const Candidate& candidate) {
   IdentifiedEffects out;
   out.effects = candidate.effects;
@@ -43,6 +69,7 @@ IdentifiedEffects identified_effects(const Diagnosis& d, const Candidate& candid
         if (a != b)
           out.correlation(fitted_slot[a], fitted_slot[b]) =
               candidate.correlation(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
+  with_posterior_sets(d, candidate, out);
   return out;
 }
 

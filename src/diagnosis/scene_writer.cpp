@@ -13,8 +13,39 @@
 
 namespace geartopo::diagnosis {
 
+namespace {
+
+/// The `draws` block of an effect (docs/scene-format.md, "Effects drawn from a posterior"): the keys of the values the
+/// sets move (a value held at the item's own in every set is left out: the reader puts it back) and one flow list per
+/// set, 6 significant digits.
+std::string draws_yaml(const effects::Effect& e, const std::vector<double>& values, const Eigen::MatrixXd& sets) {
+  const auto& params = e.parameters();
+  std::vector<size_t> column;
+  std::vector<std::string> keys;
+  for (size_t k = 0; k < params.size() && k < values.size() && static_cast<Eigen::Index>(k) < sets.cols(); ++k)
+    if (params[k].fitted && !params[k].whole && (sets.col(static_cast<Eigen::Index>(k)).array() != values[k]).any())
+      column.push_back(k), keys.push_back(params[k].key);
+  if (column.empty()) return {}; // every set is the item itself: the effect is exact
+  std::string out = fmt::format("    # {} equally likely value sets of the fit's posterior: its single values are not "
+                                "determined (docs/diagnosis.md)\n", sets.rows());
+  out += fmt::format("    draws:\n      keys: [{}]\n      sets:\n", fmt::join(keys, ", "));
+  for (Eigen::Index i = 0; i < sets.rows(); ++i) {
+    std::vector<std::string> row;
+    for (const size_t k : column) row.push_back(fmt::format("{:.6g}", sets(i, static_cast<Eigen::Index>(k))));
+    out += fmt::format("        - [{}]\n", fmt::join(row, ", "));
+  }
+  return out;
+}
+
+bool has_sets(const std::vector<Eigen::MatrixXd>& draws, size_t effect) {
+  return effect < draws.size() && draws[effect].rows() > 0;
+}
+
+} // namespace
+
 std::string effects_yaml_items(const std::vector<scene::EffectSpec>& effects, const std::vector<std::string>& comments,
-                               const std::vector<std::vector<double>>& uncertainties, const Eigen::MatrixXd& correlation) {
+                               const std::vector<std::vector<double>>& uncertainties, const Eigen::MatrixXd& correlation,
+                               const std::vector<Eigen::MatrixXd>& draws) {
   // Every value's effect and key, in order: the correlation's rows and columns.
   std::vector<std::pair<size_t, std::string>> slots;
   for (size_t i = 0; i < effects.size(); ++i)
@@ -29,6 +60,11 @@ std::string effects_yaml_items(const std::vector<scene::EffectSpec>& effects, co
     if (i < comments.size() && !comments[i].empty()) out += "  # " + comments[i] + "\n";
     out += "  - type: " + effects[i].type + "\n";
     for (size_t k = 0; k < params.size(); ++k) out += fmt::format("    {}: {:.6g}\n", params[k].key, effects[i].values[k]);
+    if (has_sets(draws, i)) { // the sets are its whole distribution: no uncertainty, no correlation of its own
+      out += draws_yaml(*e, effects[i].values, draws[i]);
+      at += static_cast<Eigen::Index>(params.size());
+      continue;
+    }
     std::vector<std::string> us;
     for (size_t k = 0; i < uncertainties.size() && k < uncertainties[i].size() && k < params.size(); ++k)
       if (uncertainties[i][k] > 0.0) us.push_back(fmt::format("{}: {:.6g}", params[k].key, uncertainties[i][k]));
@@ -38,6 +74,7 @@ std::string effects_yaml_items(const std::vector<scene::EffectSpec>& effects, co
       for (Eigen::Index b = a + 1; b < n; ++b) {
         if (correlation(a, b) == 0.0) continue;
         const auto& [eb, key_b] = slots[static_cast<size_t>(b)];
+        if (has_sets(draws, eb)) continue;
         pairs.push_back(fmt::format("[{}, {}, {:.6g}]", slots[static_cast<size_t>(a)].second,
                                     eb == i ? key_b : effects[eb].type + "." + key_b, correlation(a, b)));
       }
@@ -87,8 +124,9 @@ std::string with_list_items(const std::string& text, const std::string& key, con
 
 std::string scene_with_effects(const std::string& text, const std::vector<scene::EffectSpec>& effects,
                                const std::vector<std::string>& comments,
-                               const std::vector<std::vector<double>>& uncertainties, const Eigen::MatrixXd& correlation) {
-  return with_list_items(text, "effects", effects_yaml_items(effects, comments, uncertainties, correlation));
+                               const std::vector<std::vector<double>>& uncertainties, const Eigen::MatrixXd& correlation,
+                               const std::vector<Eigen::MatrixXd>& draws) {
+  return with_list_items(text, "effects", effects_yaml_items(effects, comments, uncertainties, correlation, draws));
 }
 
 std::string machine_changes_yaml_items(const std::vector<machine::ComponentChange>& changes,
@@ -177,12 +215,13 @@ void write_scene_with_effects(const std::filesystem::path& scene_file, const std
                               const std::vector<std::vector<double>>& uncertainties, const Eigen::MatrixXd& correlation,
                               const std::vector<machine::ComponentChange>& changes,
                               const std::vector<double>& change_uncertainties,
-                              const std::vector<std::string>& change_comments) {
+                              const std::vector<std::string>& change_comments,
+                              const std::vector<Eigen::MatrixXd>& draws) {
   output::write_text_atomically(out_file, scene_text_with_effects(input::read_input_file(scene_file, input::kMaxSceneBytes,
                                                                                          "scene file"),
                                                                   scene_file.parent_path(), out_file.parent_path(),
                                                                   effects, comments, uncertainties, correlation, changes,
-                                                                  change_uncertainties, change_comments));
+                                                                  change_uncertainties, change_comments, draws));
 }
 
 std::string scene_text_with_effects(const std::string& scene_text, const std::filesystem::path& from_dir,
@@ -192,9 +231,10 @@ std::string scene_text_with_effects(const std::string& scene_text, const std::fi
                                     const Eigen::MatrixXd& correlation,
                                     const std::vector<machine::ComponentChange>& changes,
                                     const std::vector<double>& change_uncertainties,
-                                    const std::vector<std::string>& change_comments) {
+                                    const std::vector<std::string>& change_comments,
+                                    const std::vector<Eigen::MatrixXd>& draws) {
   std::string completed = scene_text;
-  if (!effects.empty()) completed = scene_with_effects(completed, effects, comments, uncertainties, correlation);
+  if (!effects.empty()) completed = scene_with_effects(completed, effects, comments, uncertainties, correlation, draws);
   if (!changes.empty()) completed = scene_with_machine_changes(completed, changes, change_uncertainties, change_comments);
   return rebase_scene_paths(completed, from_dir, to_dir);
 }

@@ -75,6 +75,7 @@ SampleModel::SampleModel(const workbench::Workbench& wb, const compensation::Cor
   for (const auto& r : nominal.rows()) spaces_.insert(r.space);
   effect_factor_ = correlation_factor(wb.scene);
   effect_values_ = uncertain_effect_values(wb.scene);
+  effects_uncertain_ = any_uncertain(effect_values_) || !wb.scene.effect_draws.empty();
 
   so_.rows = wb.scene.grid.rows;
   so_.cols = wb.scene.grid.cols;
@@ -103,7 +104,7 @@ SampleModel::SampleModel(const workbench::Workbench& wb, const compensation::Cor
     space_slot_.push_back(it->second);
   }
 
-  if (any_uncertain(effect_values_)) {
+  if (effects_uncertain_) {
     std::vector<diagnosis::MeasuredPoint> points;
     for (const auto& ft : layout_) {
       for (const auto& p : ft.grid) points.push_back({ft.tooth, ft.flank, p.row, p.col, p.roll_length_mm, p.diameter_mm, p.z_mm});
@@ -121,7 +122,7 @@ SampleModel::SampleModel(const workbench::Workbench& wb, const compensation::Cor
   if (!after_->map_um.isZero(0.0)) without_.push_back("map_uncertainty");
   if (!unc.repeatability.isZero(0.0)) without_.push_back("repeatability");
   if ((unc.resolution.array() > 0.0).any()) without_.push_back("resolution_rounding");
-  if (any_uncertain(effect_values_)) without_.push_back("effect_uncertainty");
+  if (effects_uncertain_) without_.push_back("effect_uncertainty");
   if (options.probe_noise_um > 0.0) without_.push_back("probe_noise");
 }
 
@@ -133,23 +134,59 @@ SampleDraw SampleModel::draw(long long k) const {
   const auto& rep = wb_.scene.machine.uncertainty.repeatability;
   d.off_before = draw_stroke_offsets(spaces_, rep, standard_normal);
   d.off_after = draw_stroke_offsets(spaces_, rep, standard_normal);
-  // Effects with uncertain values: drawn last, jointly with the scene's correlation of them when it has one.
+  // Effects with uncertain values: drawn last, jointly with the scene's correlation of them when it has one, and
+  // truncated to the allowed ranges by drawing the whole vector again (a time constant stays above its bound, the
+  // correlation holds inside the box); held at the bounds only when a thousand draws in a row leave them.
   if (any_uncertain(effect_values_)) {
     d.z_effects.resize(static_cast<Eigen::Index>(effect_values_.size()));
-    for (auto& z : d.z_effects) z = rng.normal();
-    // The effects' values are correlated as the scene says; the machine changes' sizes after them independently.
-    const Eigen::Index m = effect_factor_.rows();
-    if (m > 0 && m <= d.z_effects.size()) d.z_effects.head(m) = effect_factor_ * d.z_effects.head(m);
+    for (int attempt = 0; attempt < 1000; ++attempt) {
+      for (auto& z : d.z_effects) z = rng.normal();
+      // The effects' values are correlated as the scene says; the machine changes' sizes after them independently.
+      const Eigen::Index m = effect_factor_.rows();
+      if (m > 0 && m <= d.z_effects.size()) d.z_effects.head(m) = effect_factor_ * d.z_effects.head(m);
+      if (inside_ranges(d.z_effects)) break;
+    }
+  }
+  // One of the scene's equally likely value sets, the same for every effect that has them (they are joint).
+  if (!wb_.scene.effect_draws.empty()) {
+    Eigen::Index sets = 0;
+    for (const auto& m : wb_.scene.effect_draws) sets = std::max(sets, m.rows());
+    d.effect_set = static_cast<int>(std::min<Eigen::Index>(static_cast<Eigen::Index>(rng.uniform() * static_cast<double>(sets)), sets - 1));
   }
   return d;
 }
 
+bool SampleModel::inside_ranges(const Eigen::VectorXd& z) const {
+  for (size_t j = 0; j < effect_values_.size(); ++j) {
+    const auto& v = effect_values_[j];
+    if (!(v.u > 0.0)) continue;
+    double value = 0.0;
+    if (v.change) {
+      const auto& ch = wb_.scene.machine_changes[v.effect];
+      value = ch.size * machine::file_per_internal(ch.law, machine::info(ch.component).quantity);
+    } else {
+      value = wb_.scene.effects[v.effect].values[v.value];
+    }
+    const double drawn = value + v.u * z(static_cast<Eigen::Index>(j));
+    if (!(drawn >= v.lo && drawn <= v.hi)) return false;
+  }
+  return true;
+}
+
 std::vector<std::unique_ptr<effects::Effect>> SampleModel::drawn_effects(const SampleDraw& d) const {
-  if (d.z_effects.size() == 0) return {};
-  // Each uncertain value within its standard uncertainty, held inside the effect's range.
+  if (!d.effects_drawn()) return {};
   std::vector<scene::EffectSpec> specs = wb_.scene.effects;
   std::vector<machine::ComponentChange> changes = wb_.scene.machine_changes;
-  for (size_t j = 0; j < effect_values_.size(); ++j) {
+  // The sample's value set of every effect that has sets (Scene::effect_draws: row j of each belongs together).
+  for (size_t e = 0; d.effect_set >= 0 && e < specs.size() && e < wb_.scene.effect_draws.size(); ++e) {
+    const auto& sets = wb_.scene.effect_draws[e];
+    if (d.effect_set >= sets.rows()) continue;
+    for (size_t v = 0; v < specs[e].values.size(); ++v)
+      specs[e].values[v] = sets(d.effect_set, static_cast<Eigen::Index>(v));
+  }
+  // Each uncertain value within its standard uncertainty (draw() kept it inside the effect's range; the clamp holds
+  // the rare draw that a thousand attempts did not bring inside).
+  for (size_t j = 0; j < effect_values_.size() && d.z_effects.size() > 0; ++j) {
     const auto& v = effect_values_[j];
     const double z = d.z_effects(static_cast<Eigen::Index>(j));
     if (v.change) { // file units of the change's key, held inside what the scene reader accepts
@@ -172,7 +209,7 @@ SampleGears SampleModel::exact(const SampleDraw& d) const {
   for (size_t c = 0; c < nominal_map_.size(); ++c)
     truth.push_back(nominal_map_[c].drawn(d.z_map(static_cast<Eigen::Index>(c)), unc.component_u[c]));
   const auto drawn = drawn_effects(d);
-  const auto& sample_effects = d.z_effects.size() > 0 ? drawn : wb_.effects;
+  const auto& sample_effects = d.effects_drawn() ? drawn : wb_.effects;
 
   const machine::MachineModel model(wb_.machine.strokes(), std::move(truth));
   const grinding::MachineProcess machine_process(model, wb_.scene.machine.datum_face_z_mm);
@@ -211,7 +248,7 @@ LinearGears SampleModel::linear(const SampleDraw& d, bool decompose) const {
   // draw), first order in the µm they move the wheel; the same at both gears' points (µm of correction do not change
   // where and when a point is ground).
   Eigen::VectorXd eff = Eigen::VectorXd::Zero(n);
-  if (d.z_effects.size() > 0 && effect_points_) {
+  if (d.effects_drawn() && effect_points_) {
     const auto drawn = drawn_effects(d);
     std::vector<const effects::Effect*> ptrs;
     for (const auto& e : drawn) ptrs.push_back(e.get());

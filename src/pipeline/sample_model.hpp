@@ -18,11 +18,14 @@
 namespace geartopo::pipeline::detail {
 
 /// Everything sample k draws, in the order it draws it from sample_stream(seed, k): 43 map deviates, 5 axes per space
-/// for gear 1, 5 per space for gear 2, then the effects' deviates (correlated by the scene's factor).
+/// for gear 1, 5 per space for gear 2, then the effects' deviates (correlated by the scene's factor; the whole vector
+/// drawn again while a value leaves its allowed range), then the index of the effects' value set.
 struct SampleDraw {
   machine::ErrorVector z_map;
   std::map<int, machine::Vector5d> off_before, off_after;
   Eigen::VectorXd z_effects;
+  int effect_set = -1; ///< row of Scene::effect_draws this sample grinds with; −1: the scene has no value sets
+  bool effects_drawn() const { return z_effects.size() > 0 || effect_set >= 0; }
 };
 
 /// Both gears of a sample as topologies (exact samples).
@@ -69,6 +72,9 @@ private:
   std::set<int> spaces_;
   Eigen::MatrixXd effect_factor_;
   std::vector<UncertainEffectValue> effect_values_;
+  bool effects_uncertain_ = false; ///< some effect value is drawn: Gaussian (effect_values_) or from value sets
+  /// Whether z (the correlated deviates of effect_values_) keeps every drawn value inside its allowed range.
+  bool inside_ranges(const Eigen::VectorXd& z) const;
   grinding::SimulationOptions so_;
   std::unique_ptr<grinding::TopologyPlan> plan_;
   // Linear samples: the sensitivities of gear 1 (uncorrected) and gear 2 (rounded corrections); the nominal gear 2
@@ -76,7 +82,7 @@ private:
   std::optional<TopologySensitivities> before_, after_;
   Eigen::VectorXd after_unrounded_um_;
   std::vector<grinding::FlankTopology> layout_;
-  /// The effects with sample d's drawn values (held inside their ranges).
+  /// The effects with sample d's drawn values: its value set, its Gaussian values (inside their ranges).
   std::vector<std::unique_ptr<effects::Effect>> drawn_effects(const SampleDraw& d) const;
   std::vector<int> space_slot_; // per point: index of its space in spaces_
   // Uncertain effects: their first-order deviation at the points for any values (a sample's drawn ones), and at the

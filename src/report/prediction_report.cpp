@@ -333,7 +333,11 @@ nlohmann::json prediction_check_json(const std::vector<PredictionCheck>& checks,
           {"quantities", q}};
 }
 
-Figure prediction_figure(const pipeline::MonteCarloSummary& s, const std::filesystem::path& dir) {
+namespace {
+
+/// The chart of prediction.png: per ISO deviation the before median (grey bar) and 95 % interval (grey whisker), the
+/// after median (blue ◆) and interval (blue whisker); `positions` gets each drawn quantity's name → x.
+render::BarChart prediction_chart(const pipeline::MonteCarloSummary& s, std::map<std::string, double>& positions) {
   render::BarChart c;
   c.title = fmt::format("Predicted ISO 1328-1 deviations, before and after: median and 95 % interval ({} samples)",
                         s.samples);
@@ -359,6 +363,7 @@ Figure prediction_figure(const pipeline::MonteCarloSummary& s, const std::filesy
     const auto& n = s.names[i];
     if (is_class(n) || (n.front() != 'f' && n.front() != 'F')) continue; // ISO deviations only
     x += 1.0;
+    positions[n] = x;
     c.categories.push_back(quantity_label(n));
     before_bar.values.push_back(s.before[i].median);
     // Whiskers: vertical segments, NaN between them; before left of centre, after right.
@@ -374,6 +379,14 @@ Figure prediction_figure(const pipeline::MonteCarloSummary& s, const std::filesy
   c.lines = {before_whisker, after_whisker, after_median};
   c.ref_lines.push_back({render::Orientation::horizontal, 0.0, render::colours::black, 1.0, false, ""});
   c.legend = render::LegendPlace::above;
+  return c;
+}
+
+} // namespace
+
+Figure prediction_figure(const pipeline::MonteCarloSummary& s, const std::filesystem::path& dir) {
+  std::map<std::string, double> positions;
+  const render::BarChart c = prediction_chart(s, positions);
   render::render_bar_chart(c, dir / "prediction.png");
   return {"prediction.png", "compensation", c.title,
           "Grey bars: median of the uncompensated gear over the samples; grey whiskers its 95 % interval. Blue: the gear "
@@ -381,6 +394,34 @@ Figure prediction_figure(const pipeline::MonteCarloSummary& s, const std::filesy
           "sample draws the machine's error map within the scene's uncertainties and the axes' repeatability per stroke "
           "(docs/monte-carlo.md).",
           c.size.width, c.size.height, std::nullopt, std::nullopt};
+}
+
+void prediction_check_figure(const pipeline::MonteCarloSummary& s, const std::vector<PredictionCheck>& before,
+                             const std::vector<PredictionCheck>& after, const std::filesystem::path& png) {
+  std::map<std::string, double> positions;
+  render::BarChart c = prediction_chart(s, positions);
+  c.title = fmt::format("Measured gears against the prediction ({} samples): median and 95 % interval", s.samples);
+  const double nan = std::nan("");
+  // A gear's measured values as markers on its side's whisker: gear 1 (without corrections) on the grey one, gear 2
+  // on the blue one.
+  for (const auto& [checks, dx, name, colour, marker] :
+       {std::tuple{&before, -0.18, "gear 1 (without corrections), measured", render::Rgb{214, 39, 40}, render::Marker::cross},
+        std::tuple{&after, 0.18, "gear 2 (with the corrections), measured", render::Rgb{214, 39, 40}, render::Marker::circle}}) {
+    render::Series m;
+    m.name = name;
+    m.colour = colour;
+    m.width = 0.0;
+    m.marker = marker;
+    m.marker_size = 12.0;
+    for (const auto& k : *checks) {
+      const auto it = positions.find(k.name);
+      if (it == positions.end()) continue;
+      m.x.insert(m.x.end(), {it->second + dx, nan});
+      m.y.insert(m.y.end(), {k.measured_um, nan});
+    }
+    if (!m.x.empty()) c.lines.push_back(std::move(m));
+  }
+  render::render_bar_chart(c, png);
 }
 
 } // namespace geartopo::report

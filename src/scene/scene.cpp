@@ -271,6 +271,15 @@ MachineSection read_machine(MapReader& m, const std::filesystem::path& base, dou
     // saying that the file is simply listed twice).
     if (std::find(s.table_files.begin(), s.table_files.end(), path.string()) != s.table_files.end())
       m.fail_item("tables", i, fmt::format("table {} is listed twice", text::excerpt(tables[i])));
+    // A scene copied to another folder, or read from text without its file's name, names a table that is not
+    // there: say where it was looked for and why there (the table reader's message would name only the path).
+    if (std::error_code ec; !std::filesystem::exists(path, ec))
+      m.fail_item("tables", i, fmt::format("table {} not found: {} does not exist (a table's path is relative to the "
+                                           "scene file{})", text::excerpt(tables[i]),
+                                           std::filesystem::absolute(path).lexically_normal().string(),
+                                           base.empty() ? "; this scene has no file name (read from text), so relative "
+                                                          "to the working folder"
+                                                        : ", in " + base.string()));
     try {
       for (auto& src : machine::load_error_tables(path)) s.sources.push_back(std::move(src));
     } catch (const InputError&) {
@@ -407,10 +416,60 @@ std::vector<double> read_effect_uncertainty(MapReader& m, const std::string& typ
   return us;
 }
 
+// The effect's equally likely value sets (`draws: {keys: [k, …], sets: [[v, …], …]}`, docs/scene-format.md): sets ×
+// all of the effect's values (parameter order, file units), the keys not listed at the effect's value. Each set has one
+// number per key, each inside its parameter's allowed range: a set is a whole explanation the prediction grinds with.
+Eigen::MatrixXd read_effect_draws(MapReader& m, const std::string& type, const effects::Effect& effect,
+                                  const std::vector<double>& values) {
+  auto& ctx = m.context();
+  auto d = m.optional_map("draws");
+  if (!d) return {};
+  (void)d->has("keys"), (void)d->has("sets"); // a misspelled key is named as unknown before anything is missing
+  d->finish();
+  const auto& params = effect.parameters();
+  std::vector<std::string> all;
+  for (const auto& p : params) all.push_back(p.key);
+  const auto keys = d->optional_text_list("keys");
+  if (keys.empty()) ctx.fail_field(d->field("keys"), fmt::format("missing: the keys each set gives, of {} ({})", type, fmt::join(all, ", ")));
+  std::vector<size_t> column;
+  for (size_t j = 0; j < keys.size(); ++j) {
+    const auto it = std::find(all.begin(), all.end(), keys[j]);
+    if (it == all.end()) d->fail_item("keys", j, fmt::format("'{}' is not a parameter of {} ({})", text::excerpt(keys[j]), type, fmt::join(all, ", ")));
+    const auto k = static_cast<size_t>(it - all.begin());
+    if (params[k].whole) d->fail_item("keys", j, fmt::format("'{}' is a count set up on the machine, not a drawn value", keys[j]));
+    if (std::find(column.begin(), column.end(), k) != column.end()) d->fail_item("keys", j, fmt::format("'{}' is listed twice", keys[j]));
+    column.push_back(k);
+  }
+  const YAML::Node sets = d->raw("sets");
+  const std::string sets_field = d->field("sets");
+  if (!sets.IsDefined()) ctx.fail(d->mark(), sets_field, "missing: a list of value sets, [v, …] in the order of keys");
+  constexpr size_t kMaxSets = 100000;
+  if (!sets.IsSequence() || sets.size() < 2 || sets.size() > kMaxSets)
+    ctx.fail(sets.Mark(), sets_field, fmt::format("expected a list of 2 … {} value sets [v, …]", kMaxSets));
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(sets.size()), static_cast<Eigen::Index>(values.size()));
+  for (size_t i = 0; i < sets.size(); ++i) {
+    const YAML::Node row = sets[i];
+    const std::string field = fmt::format("{}[{}]", sets_field, i);
+    if (!row.IsSequence() || row.size() != keys.size())
+      ctx.fail(row.Mark(), field, fmt::format("expected [{}]: one number per key", fmt::join(keys, ", ")));
+    for (size_t v = 0; v < values.size(); ++v) out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(v)) = values[v];
+    for (size_t j = 0; j < keys.size(); ++j) {
+      const auto& p = params[column[j]];
+      double x = 0.0;
+      if (!row[j].IsScalar() || text::parse_number(row[j].Scalar(), x) != std::errc() || !std::isfinite(x))
+        ctx.fail(row[j].Mark(), field, fmt::format("{}: '{}' is not a number", keys[j], row[j].IsScalar() ? text::excerpt(row[j].Scalar()) : "a list or map"));
+      if (x < p.lo || x > p.hi)
+        ctx.fail(row[j].Mark(), field, fmt::format("{} {} is outside its allowed range [{}, {}]", keys[j], text::excerpt(row[j].Scalar()), p.lo, p.hi));
+      out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(column[j])) = x;
+    }
+  }
+  return out;
+}
+
 // The N × N correlation over all effects' values (scene order) from the entries; validated: keys that exist, a pair
 // once, not a value with itself, positive semidefinite (within the rounding of written coefficients).
 Eigen::MatrixXd resolve_correlation(const std::vector<EffectSpec>& specs, const std::vector<PendingCorrelation>& pending,
-                                    const ReadContext& ctx) {
+                                    const std::vector<Eigen::MatrixXd>& draws, const ReadContext& ctx) {
   std::vector<Eigen::Index> first(specs.size() + 1, 0);
   for (size_t e = 0; e < specs.size(); ++e) first[e + 1] = first[e] + static_cast<Eigen::Index>(specs[e].values.size());
   const Eigen::Index n = first.back();
@@ -424,6 +483,9 @@ Eigen::MatrixXd resolve_correlation(const std::vector<EffectSpec>& specs, const 
       e = static_cast<size_t>(it - specs.begin());
       name = key.substr(dot + 1);
     }
+    if (e < draws.size() && draws[e].rows() > 0)
+      ctx.fail(c.mark, c.field, fmt::format("'{}': {} is drawn from its value sets (draws), which carry its correlations",
+                                            text::excerpt(key), specs[e].type));
     const auto params = effects::make_effect(specs[e].type)->parameters();
     for (size_t k = 0; k < params.size(); ++k)
       if (params[k].key == name) return first[e] + static_cast<Eigen::Index>(k);
@@ -453,6 +515,8 @@ void read_effects(MapReader& top, ReadContext& ctx, Scene& scene) {
   std::vector<EffectSpec>& out = scene.effects;
   std::vector<std::vector<double>> uncertainties;
   std::vector<PendingCorrelation> pending;
+  std::vector<Eigen::MatrixXd> draws;
+  std::optional<size_t> drawn_from; // the first effect with value sets
   bool any_uncertainty = false;
   const YAML::Node list = top.raw("effects");
   if (!list.IsDefined()) return;
@@ -478,14 +542,29 @@ void read_effects(MapReader& top, ReadContext& ctx, Scene& scene) {
         spec.values[k] = *v;
       }
     }
+    const size_t pending_before = pending.size();
     uncertainties.push_back(read_effect_uncertainty(m, type, *effect, i, pending));
-    for (double u : uncertainties.back()) any_uncertainty = any_uncertainty || u > 0.0;
+    const bool uncertain = std::any_of(uncertainties.back().begin(), uncertainties.back().end(), [](double u) { return u > 0.0; });
+    any_uncertainty = any_uncertainty || uncertain;
+    draws.push_back(read_effect_draws(m, type, *effect, spec.values));
+    if (draws.back().rows() > 0) {
+      // Two descriptions of one distribution: the sets are the whole of it (a Gaussian would add what they exclude).
+      if (uncertain || pending.size() > pending_before)
+        ctx.fail_field(m.field("draws"), fmt::format("{} has value sets and an {}: give one or the other",
+                                                     type, uncertain ? "uncertainty" : "own correlation"));
+      if (drawn_from && draws.back().rows() != draws[*drawn_from].rows())
+        ctx.fail_field(m.field("draws"), fmt::format("{} value sets here, {} in effects[{}].draws: the sets of all effects "
+                                                     "are drawn together, set j of each with set j of the others",
+                                                     draws.back().rows(), draws[*drawn_from].rows(), *drawn_from));
+      if (!drawn_from) drawn_from = i;
+    }
     m.finish();
     out.push_back(std::move(spec));
   }
   // Empty when nothing is uncertain: the effects are then exact (Scene::effect_uncertainties).
   if (any_uncertainty) scene.effect_uncertainties = std::move(uncertainties);
-  if (!pending.empty()) scene.effect_correlation = resolve_correlation(out, pending, ctx);
+  if (drawn_from) scene.effect_draws = std::move(draws);
+  if (!pending.empty()) scene.effect_correlation = resolve_correlation(out, pending, scene.effect_draws, ctx);
 }
 
 /// `machine_changes`: error components changed since the map was measured (docs/scene-format.md), each

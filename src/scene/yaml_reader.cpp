@@ -3,7 +3,9 @@
 #include "geartopo/core/text_field.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace geartopo::scene {
@@ -103,7 +105,46 @@ YAML::Node MapReader::value(const std::string& key) {
   return YAML::Node(YAML::NodeType::Undefined);
 }
 
+namespace {
+
+/// Levenshtein distance of two keys (bytes): the edits a typing slip takes.
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+/// A key that is probably `wanted` misspelled: one holds the other (module_mm, normal_module_mm), or a few edits
+/// apart (a quarter of the longer, at least 2).
+bool looks_like(const std::string& key, const std::string& wanted) {
+  if (key.empty()) return false;
+  if (wanted.find(key) != std::string::npos || key.find(wanted) != std::string::npos) return true;
+  return edit_distance(key, wanted) <= std::max<size_t>(2, std::max(key.size(), wanted.size()) / 4);
+}
+
+} // namespace
+
 void MapReader::missing(const std::string& key, const std::string& what) const {
+  // A key of this map that no reader asked for and that looks like the missing one is the user's spelling of it: say
+  // that first, where it stands, with the keys read here (the unknown-key message it would get once the rest is read).
+  for (const auto& kv : node_) {
+    const std::string k = scalar_of(kv.first);
+    if (known_.count(k) || !looks_like(k, key)) continue;
+    std::set<std::string> known = known_;
+    known.insert(key);
+    ctx_.fail(kv.first.Mark(), field(k),
+              fmt::format("unknown key (known here, among others: {}); did you mean {}? It is missing ({})",
+                          fmt::join(known, ", "), key, what));
+  }
   ctx_.fail(mark_, field(key), "missing (" + what + ")");
 }
 

@@ -407,6 +407,35 @@ TEST(Cli, CompensateNamesTheScenesGrid) {
   std::filesystem::remove_all(dir);
 }
 
+// Issue 44: a user's own scene without machine.tables (an error-free machine) printed a "before" of class 4 [3, 5] and
+// an improvement with nothing saying that the spread comes only from the default uncertainties and that the nominal
+// deviations and corrections are 0. The console and iso1328.json say so; a scene with a map does not get the note.
+TEST(Cli, CompensateSaysWhenTheMachineHasNoErrorMap) {
+  const std::string gear = "gear:\n  normal_module_mm: 4\n  teeth: 20\n  normal_pressure_angle_deg: 20\n"
+                           "  helix_angle_deg: 20\n  face_width_mm: 30\n  profile_shift: 0\n";
+  const std::string rest = "wheel: {outer_diameter_mm: 300}\nmeasurement: {rows: 5, cols: 5, profile_points: 15, helix_points: 15}\n";
+  const auto bare = write_temp("bare.yaml", gear + "machine: {datum_face_z_mm: 300}\n" + rest);
+  const auto mapped = write_temp("mapped.yaml", gear + "machine: {datum_face_z_mm: 300, constants: {delta_xx_um: 3}}\n" + rest);
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_bare");
+  const CliResult r = run("compensate " + bare.string() + " --out " + dir.string() + " --step 5 --samples 4");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string note = "note: the scene's machine has no error map (no machine.tables, constants or polynomials: an "
+                           "error-free machine), and no effects: its nominal deviations and its corrections are 0; the "
+                           "prediction's spread comes only from the uncertainties";
+  EXPECT_NE(r.out.find(note), std::string::npos) << r.out;
+  EXPECT_LT(r.out.find(note), r.out.find("before")) << "the note comes before the numbers";
+  std::ifstream iso(dir / "iso1328.json");
+  const auto j = nlohmann::json::parse(iso);
+  ASSERT_TRUE(j.contains("notes"));
+  EXPECT_EQ(j["notes"][0].get<std::string>().rfind(note, 0), 0u);
+  const CliResult m = run("compensate " + mapped.string() + " --out " + dir.string() + " --step 5 --samples 0");
+  ASSERT_EQ(m.code, 0) << m.err;
+  EXPECT_EQ(m.out.find("no error map"), std::string::npos) << m.out;
+  std::filesystem::remove(bare);
+  std::filesystem::remove(mapped);
+  std::filesystem::remove_all(dir);
+}
+
 // Issue 14: the truth scene's thermal drift at 1.5 µm noise on teeth 1 and 18 cannot be told from wheel wear; `plan`
 // says so and names teeth to measure (truth: the ΔBIC gap is within 10, and the plan's teeth are not measured ones).
 TEST(Cli, PlanNamesTheTeethThatSeparateAmbiguousExplanations) {

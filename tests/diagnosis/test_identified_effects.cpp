@@ -105,3 +105,39 @@ TEST(IdentifiedEffects, WrittenIntoTheSceneAndReadBackEqual) {
   }
   EXPECT_TRUE(back.effect_correlation.isApprox(id.correlation, 1e-6)) << back.effect_correlation;
 }
+
+// A choice whose single values are not determined goes into the scene as its posterior's value sets
+// (Diagnosis::draws; docs/diagnosis.md, "What the data determine goes into the scene"): no Gaussian uncertainty and no
+// correlation of its values — the fit's σ of an open value spans far beyond anything physical — and the sets read back
+// equal to the 6 written digits, every value of a set in its effect's parameter order.
+TEST(IdentifiedEffects, OpenValuesGoIntoTheSceneAsThePosteriorsValueSets) {
+  auto d = identified_pair();
+  diagnosis::PosteriorDraws draws;
+  Eigen::MatrixXd drift(3, 3), wear(3, 2);
+  drift << 8.1234567, 0.0, 412.5, 12.25, 0.0, 977.0, 31.5, 0.0, 3012.0;
+  wear << 0.041, 0.0, 0.0512, 0.0, 0.0633, 0.0;
+  draws.values = {drift, wear};
+  draws.grid_points = 64;
+  d.draws = draws;
+  const auto id = diagnosis::identified_effects(d, *d.chosen);
+  ASSERT_EQ(id.draws.size(), 2u);
+  EXPECT_EQ(id.uncertainties[0], (std::vector<double>{0.0, 0.0, 0.0}));
+  EXPECT_EQ(id.uncertainties[1], (std::vector<double>{0.0, 0.0}));
+  EXPECT_TRUE(id.correlation.isIdentity(0.0)) << id.correlation;
+  const std::string text = diagnosis::scene_with_effects(kIdentifiedSceneText, id.effects, {"found", "found too"},
+                                                         id.uncertainties, id.correlation, id.draws);
+  EXPECT_EQ(text.find("uncertainty:"), std::string::npos) << text;
+  EXPECT_EQ(text.find("correlation:"), std::string::npos) << text;
+  // The fitted values only: z_growth is held, the dressing interval a set-up count.
+  EXPECT_NE(text.find("      keys: [x_growth_um, time_constant_s]\n      sets:\n        - [8.12346, 412.5]\n"), std::string::npos)
+      << text;
+  const auto back = scene::parse_scene(text, "scene_with_effect.yaml");
+  ASSERT_EQ(back.effect_draws.size(), 2u);
+  EXPECT_TRUE(back.effect_draws[0].isApprox(drift, 1e-6)) << back.effect_draws[0];
+  EXPECT_TRUE(back.effect_draws[1].isApprox(wear, 1e-6)) << back.effect_draws[1];
+  // Another candidate than the one drawn keeps the fit's Gaussian.
+  auto other = *d.chosen;
+  other.effects[0].values[0] = 5.0;
+  EXPECT_TRUE(diagnosis::identified_effects(d, other).draws.empty());
+  EXPECT_EQ(diagnosis::identified_effects(d, other).uncertainties[0][0], 4.1);
+}

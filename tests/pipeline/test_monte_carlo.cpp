@@ -218,6 +218,91 @@ TEST(MonteCarlo, AnUncertainMachineChangeIsDrawnWithinItsSigma) {
   expect_normal_rotation(pipeline::summarise(pipeline::run_monte_carlo(wb, nominal_corrections(wb), o)), sigma_um);
 }
 
+namespace {
+
+/// Gear 1 (no corrections) and gear 2 (with `table`) of the small gear on the map kMapErrors, nothing uncertain, with a
+/// thermal drift of x growth `x_um` and time constant `tau_s` (z growth 0), simulated here.
+std::pair<pipeline::GearQuantities, pipeline::GearQuantities> gears_with_drift(double x_um, double tau_s,
+                                                                              const compensation::CorrectionTable& table) {
+  const workbench::Workbench wb(scene::parse_scene(
+      mc_scene_text(kMapErrors + kNothingUncertain) +
+          fmt::format("effects:\n  - {{type: thermal_drift, x_growth_um: {}, time_constant_s: {}}}\n", x_um, tau_s),
+      "mem"));
+  const auto so = grid_of(wb);
+  const auto& g = wb.setup.geometry();
+  const auto before = grinding::simulate_topology(wb.setup, wb.process(), so);
+  const compensation::CompensatedProcess corrected(wb.process(), table);
+  const auto after = grinding::simulate_topology(wb.setup, corrected, so);
+  return {pipeline::gear_quantities(workbench::evaluate_iso(g, wb.setup.ranges(), before), before),
+          pipeline::gear_quantities(workbench::evaluate_iso(g, wb.setup.ranges(), after), after)};
+}
+
+bool same_gear(const std::vector<double>& sample, const pipeline::GearQuantities& q) {
+  for (size_t i = 0; i < q.values.size(); ++i)
+    if (!(std::abs(sample[i] - q.values[i]) <= 1e-6)) return false; // the plan's search agreement (above)
+  return true;
+}
+
+} // namespace
+
+// An effect drawn from value sets (Scene::effect_draws; docs/monte-carlo.md): each sample grinds both its gears with
+// one whole set — nothing between, nothing outside — picked with equal probability, the same set for gear 1 and gear 2.
+// Two sets (x growth 0 and 20 µm, τ 120 s) on a machine with nothing else uncertain: every sample's gears are those
+// simulated here with one of the two drifts (exact samples, within the search agreement 1e-6 µm), and set 2's count in
+// 80 samples is Binomial(80, 1/2): within 4σ = 17.9 of 40. The samples are the same at 1 and 2 threads, bit for bit.
+TEST(MonteCarloEffectSets, EachSampleGrindsBothGearsWithOneWholeSet) {
+  const workbench::Workbench wb(scene::parse_scene(
+      mc_scene_text(kMapErrors + kNothingUncertain) +
+          "effects:\n  - type: thermal_drift\n    x_growth_um: 10\n    time_constant_s: 120\n"
+          "    draws: {keys: [x_growth_um], sets: [[0], [20]]}\n",
+      "mem"));
+  ASSERT_EQ(wb.scene.effect_draws.size(), 1u);
+  const auto table = nominal_corrections(wb); // from the scene's own value, x growth 10 µm
+  const auto [cold1, cold2] = gears_with_drift(0.0, 120.0, table);
+  const auto [warm1, warm2] = gears_with_drift(20.0, 120.0, table);
+  ASSERT_GT(std::abs(value_of(warm1, "thickness_um") - value_of(cold1, "thickness_um")), 1.0); // the sets differ
+  pipeline::MonteCarloOptions o;
+  o.samples = 80;
+  o.seed = 5;
+  o.sampling = pipeline::Sampling::Exact;
+  o.threads = 1;
+  const auto run = pipeline::run_monte_carlo(wb, table, o);
+  int warm = 0;
+  for (const auto& s : run.samples) {
+    const bool is_cold = same_gear(s.before, cold1), is_warm = same_gear(s.before, warm1);
+    ASSERT_NE(is_cold, is_warm) << "sample " << s.index << " ground gear 1 with neither set (or both)";
+    EXPECT_TRUE(same_gear(s.after, is_warm ? warm2 : cold2)) << "sample " << s.index << ": gear 2 with another set";
+    warm += is_warm ? 1 : 0;
+  }
+  EXPECT_NEAR(warm, 40, 4.0 * std::sqrt(80 * 0.25));
+  o.threads = 2;
+  const auto again = pipeline::run_monte_carlo(wb, table, o);
+  for (size_t k = 0; k < run.samples.size(); ++k) {
+    EXPECT_EQ(run.samples[k].before, again.samples[k].before) << k;
+    EXPECT_EQ(run.samples[k].after, again.samples[k].after) << k;
+  }
+}
+
+// A Gaussian effect value is truncated to its allowed range by drawing again, never held at the bound: a time
+// constant of 20 ± 40 s (allowed: ≥ 10 s) held at its bound would make 40 % of the samples (z < −0.25) grind with
+// exactly τ = 10 s (P(none of 60) = 0.6⁶⁰ ≈ 5e-14). Drawn again, no sample does (exact samples: gear 1 with τ = 10 s
+// simulated here, within 1e-6 µm).
+TEST(MonteCarloEffectDraws, AGaussianValueOutsideItsRangeIsDrawnAgainNotHeldAtTheBound) {
+  const workbench::Workbench wb(scene::parse_scene(
+      mc_scene_text(kMapErrors + kNothingUncertain) +
+          "effects:\n  - type: thermal_drift\n    x_growth_um: 20\n    time_constant_s: 20\n"
+          "    uncertainty: {time_constant_s: 40}\n",
+      "mem"));
+  const auto table = nominal_corrections(wb);
+  const auto at_bound = gears_with_drift(20.0, 10.0, table).first;
+  pipeline::MonteCarloOptions o;
+  o.samples = 60;
+  o.seed = 9;
+  o.sampling = pipeline::Sampling::Exact;
+  const auto run = pipeline::run_monte_carlo(wb, table, o);
+  for (const auto& s : run.samples) EXPECT_FALSE(same_gear(s.before, at_bound)) << "sample " << s.index << " held at τ = 10 s";
+}
+
 // Rounding to a step q leaves an error uniform on [−q/2, q/2]: standard deviation q/√12 (GUM 4.3.7), never more than
 // q/2. Checked on the corrections of a gear whose corrections spread over many steps, for the axes whose command
 // stands still along a stroke (X, Y, A): the controller rounds the setpoint, and on the axes a stroke sweeps (Z, C:
@@ -660,8 +745,8 @@ TEST(MonteCarloCli, TheMainJobNamesWhatLimitsTheClassAfterCompensation) {
 // carried with their standard uncertainties and correlation; Monte Carlo predicts gear 2; gear 2 ground on the truth
 // machine with those corrections (rounded to the resolution, as the controller takes them) lies inside the predicted
 // 95 % intervals and is better than gear 1. Measured (gear 1's probe noise from synth's SplitMix64, seed 4):
-// x_growth 26.0 ± 7.4 µm, z_growth 1.2 ± 3.0 µm, τ 124 ± 77 s (truth 25, 0, 120); gear 2 f_p 2.61 µm in [2.50, 6.32],
-// F_p 4.91 in [4.47, 17.9], largest 11.6 in [4.0, 16.3] µm; gear 1 largest 24.1 µm. One truth, one measurement: with
+// x_growth 26.0 ± 7.4 µm, z_growth 1.2 ± 3.0 µm, τ 124 ± 77 s (truth 25, 0, 120); gear 2 f_p 2.61 µm in [2.30, 5.70],
+// F_p 4.91 in [4.47, 17.9], largest 11.6 in [4.0, 15.9] µm; gear 1 largest 24.1 µm. One truth, one measurement: with
 // seed 3 (the seed before synth's generator was SplitMix64) gear 2's f_p, 2.43 µm, lies 0.03 µm below its band
 // [2.46, 6.47] — five 95 % intervals all hold for about 4 in 5 such truths, so a seed is a draw, not a proof.
 TEST(MonteCarloClosedLoop, Gear2FromTheTruthFallsInsideThePredictionAndIsBetter) {

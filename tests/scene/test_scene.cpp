@@ -37,6 +37,15 @@ std::string with_line(const std::string& text, const std::string& key, const std
   return text.substr(0, start) + replacement + (replacement.empty() ? "" : "\n") + text.substr(end + 1);
 }
 
+std::string error_of_source(const std::string& text, const std::string& source) {
+  try {
+    scene::parse_scene(text, source);
+  } catch (const geartopo::InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
 std::string error_of(const std::string& text) {
   try {
     scene::parse_scene(text, "scenes/x.yaml");
@@ -84,6 +93,21 @@ TEST(Scene, MissingFieldIsLocatedAtItsSection) {
   EXPECT_EQ(error_of(with_line(kGood, "teeth", "")),
             "scenes/x.yaml:3:3: gear.teeth: missing (a whole number in [5, 10000])");
   EXPECT_EQ(error_of("name: x\n"), "scenes/x.yaml:1:1: gear: missing (a map)");
+}
+
+// Issue 44: a misspelled required key was reported as the required key missing ("gear.normal_module_mm: missing"),
+// which hides the user's own line. A key no reader asked for that looks like the missing one (holds it or is held by
+// it, or a few edits away) is reported where it stands, as unknown, with the keys known and the one it should be; an
+// unrelated missing key is still "missing".
+TEST(Scene, AMisspelledRequiredKeyIsNamedAsUnknownWhereItStands) {
+  const auto msg = error_of(with_line(kGood, "normal_module_mm", "  module_mm: 14"));
+  EXPECT_EQ(msg.rfind("scenes/x.yaml:3:3: gear.module_mm: unknown key (known here, among others: ", 0), 0u) << msg;
+  EXPECT_NE(msg.find("did you mean normal_module_mm? It is missing (a number in "), std::string::npos) << msg;
+  const auto typo = error_of(with_line(kGood, "teeth", "  teth: 35"));
+  EXPECT_EQ(typo.rfind("scenes/x.yaml:4:3: gear.teth: unknown key (known here, among others: ", 0), 0u) << typo;
+  EXPECT_NE(typo.find("normal_module_mm, teeth); did you mean teeth?"), std::string::npos) << typo;
+  EXPECT_EQ(error_of(with_line(kGood, "teeth", "  colour: red")),
+            "scenes/x.yaml:3:3: gear.teeth: missing (a whole number in [5, 10000])");
 }
 
 TEST(Scene, WrongTypesAreNamed) {
@@ -269,6 +293,41 @@ TEST(SceneMachine, BadErrorTableIsLocatedInTheTableFile) {
   std::filesystem::remove_all(dir);
 }
 
+// Issue 44: the default scene copied to another folder names tables that are not there. The error names the scene
+// file, the line and column of the table's entry, the path looked for and that it is relative to the scene file; read
+// from text without a file name (Python's scene_from_yaml without source=), that it was the working folder.
+TEST(SceneMachine, ATableNotBesideACopiedSceneIsLocatedInTheSceneWithTheResolvedPath) {
+  const auto dir = std::filesystem::temp_directory_path() / ("geartopo_scene_copy_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string text = default_text();
+  const auto scene_file = dir / "copy.yaml";
+  std::ofstream(scene_file) << text;
+  // The tables line, and the column of its first entry (1-based).
+  const auto at = text.find("tables: [machine/x_axis.csv");
+  ASSERT_NE(at, std::string::npos);
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+  const int column = static_cast<int>(at - text.rfind('\n', at)) + static_cast<int>(std::string("tables: [").size());
+  try {
+    scene::load_scene(scene_file);
+    ADD_FAILURE() << "a table that does not exist was accepted";
+  } catch (const geartopo::InputError& e) {
+    EXPECT_EQ(e.file(), scene_file.string());
+    EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_EQ(std::string(e.what()),
+              fmt::format("{}:{}:{}: machine.tables: table machine/x_axis.csv not found: {} does not exist (a table's "
+                          "path is relative to the scene file, in {})",
+                          scene_file.string(), line, column, (dir / "machine" / "x_axis.csv").string(), dir.string()));
+  }
+  std::filesystem::remove_all(dir);
+  const auto from_text = error_of_source(text, "");
+  EXPECT_NE(from_text.find("machine.tables: table machine/x_axis.csv not found: " +
+                           (std::filesystem::current_path() / "machine" / "x_axis.csv").string() +
+                           " does not exist (a table's path is relative to the scene file; this scene has no file "
+                           "name (read from text), so relative to the working folder)"),
+            std::string::npos)
+      << from_text;
+}
+
 TEST(SceneSections, WheelProcessAndMeasurementAreChecked) {
   const std::string text = default_text();
   EXPECT_NE(error_as_default(replace(text, "outer_diameter_mm: 350", "outer_diameter_mm: 60"))
@@ -419,6 +478,86 @@ TEST(SceneEffects, BadUncertaintiesAndCorrelationsAreLocated) {
   EXPECT_EQ(error_of(drift_only),
             "scenes/x.yaml:12:19: effects[0].correlation[0]: the effects' correlation coefficients are not a "
             "correlation matrix (not positive semidefinite: smallest eigenvalue -0.8); no joint distribution has them");
+}
+
+namespace {
+
+// Two effects drawn from value sets, jointly (kGood has 9 lines: `effects:` is line 10, the drift's second set line 18,
+// the wear's `keys` line 23). The drift's sets give two of its three values; z_growth stays at the effect's value in
+// every set. A message about the whole `draws` map stands at its first key (column 7).
+const std::string kDrawnEffects = kGood + R"(effects:
+  - type: thermal_drift
+    x_growth_um: 9
+    time_constant_s: 540
+    draws:
+      keys: [x_growth_um, time_constant_s]
+      sets:
+        - [8, 400]
+        - [12, 900]
+        - [30, 3000]
+  - type: wheel_wear
+    wear_um_per_stroke: 0.05
+    draws:
+      keys: [wear_um_per_stroke]
+      sets: [[0.04], [0.05], [0.06]]
+)";
+
+} // namespace
+
+// docs/scene-format.md, "Effects drawn from a posterior": sets × every value of the effect (parameter order), the keys
+// not listed at the effect's own value; set j of every effect belongs together.
+TEST(SceneEffects, ValueSetsAreReadAsWholeValueVectors) {
+  const auto sc = scene::parse_scene(kDrawnEffects, "mem");
+  ASSERT_EQ(sc.effect_draws.size(), 2u);
+  Eigen::MatrixXd drift(3, 3), wear(3, 2);
+  drift << 8, 0, 400, 12, 0, 900, 30, 0, 3000; // x_growth, z_growth (the effect's 0), τ
+  wear << 0.04, 25, 0.05, 25, 0.06, 25;        // wear, dressing interval (its default, 25 strokes)
+  EXPECT_EQ(sc.effect_draws[0], drift);
+  EXPECT_EQ(sc.effect_draws[1].col(0), wear.col(0));
+  EXPECT_TRUE((sc.effect_draws[1].col(1).array() == sc.effects[1].values[1]).all());
+  EXPECT_TRUE(sc.effect_uncertainties.empty());
+  EXPECT_EQ(sc.effect_correlation.size(), 0);
+  // Without sets: none.
+  EXPECT_TRUE(scene::parse_scene(kUncertainEffects, "mem").effect_draws.empty());
+}
+
+TEST(SceneEffects, BadValueSetsAreLocated) {
+  const auto with = [](const std::string& part, const std::string& line) {
+    const auto pos = kDrawnEffects.find(part);
+    EXPECT_NE(pos, std::string::npos) << part;
+    const auto start = kDrawnEffects.rfind('\n', pos) + 1, end = kDrawnEffects.find('\n', pos);
+    return kDrawnEffects.substr(0, start) + line + kDrawnEffects.substr(end);
+  };
+  EXPECT_EQ(error_of(with("- [12, 900]", "        - [12, 5]")),
+            "scenes/x.yaml:18:16: effects[0].draws.sets[1]: time_constant_s 5 is outside its allowed range [10, 1000000]");
+  EXPECT_EQ(error_of(with("- [12, 900]", "        - [12]")),
+            "scenes/x.yaml:18:11: effects[0].draws.sets[1]: expected [x_growth_um, time_constant_s]: one number per key");
+  EXPECT_EQ(error_of(with("- [12, 900]", "        - [12, fast]")),
+            "scenes/x.yaml:18:16: effects[0].draws.sets[1]: time_constant_s: 'fast' is not a number");
+  EXPECT_EQ(error_of(with("keys: [x_growth_um, time", "      keys: [x_growth_um, tau_s]")),
+            "scenes/x.yaml:15:27: effects[0].draws.keys: 'tau_s' is not a parameter of thermal_drift (x_growth_um, "
+            "z_growth_um, time_constant_s)");
+  EXPECT_EQ(error_of(with("keys: [wear", "      keys: [dressing_interval_strokes]")),
+            "scenes/x.yaml:23:14: effects[1].draws.keys: 'dressing_interval_strokes' is a count set up on the machine, "
+            "not a drawn value");
+  EXPECT_EQ(error_of(with("sets: [[0.04]", "      sets: [[0.04], [0.05]]")),
+            "scenes/x.yaml:23:7: effects[1].draws: 2 value sets here, 3 in effects[0].draws: the sets of all effects are "
+            "drawn together, set j of each with set j of the others");
+  EXPECT_EQ(error_of(with("sets: [[0.04]", "      sets: [[0.04]]")),
+            "scenes/x.yaml:24:13: effects[1].draws.sets: expected a list of 2 … 100000 value sets [v, …]");
+  EXPECT_EQ(error_of(with("wear_um_per_stroke: 0.05", "    wear_um_per_stroke: 0.05\n    uncertainty: {wear_um_per_stroke: 0.01}")),
+            "scenes/x.yaml:24:7: effects[1].draws: wheel_wear has value sets and an uncertainty: give one or the other");
+  EXPECT_EQ(error_of(with("wear_um_per_stroke: 0.05", "    wear_um_per_stroke: 0.05\n    correlation: [[wear_um_per_stroke, thermal_drift.x_growth_um, 0.1]]")),
+            "scenes/x.yaml:24:7: effects[1].draws: wheel_wear has value sets and an own correlation: give one or the other");
+  EXPECT_EQ(error_of(kGood + "effects:\n  - type: wheel_wear\n    uncertainty: {wear_um_per_stroke: 0.01}\n"
+                             "    correlation: [[wear_um_per_stroke, thermal_drift.x_growth_um, 0.1]]\n"
+                             "  - type: thermal_drift\n    draws: {keys: [x_growth_um], sets: [[1], [2]]}\n"),
+            "scenes/x.yaml:13:19: effects[0].correlation[0]: 'thermal_drift.x_growth_um': thermal_drift is drawn from its "
+            "value sets (draws), which carry its correlations");
+  EXPECT_EQ(error_of(with("keys: [wear", "      key: [wear_um_per_stroke]")),
+            "scenes/x.yaml:23:7: effects[1].draws.key: unknown key (known here: keys, sets)");
+  EXPECT_EQ(error_of(with("keys: [wear", "      sets_: []")),
+            "scenes/x.yaml:23:7: effects[1].draws.sets_: unknown key (known here: keys, sets)");
 }
 
 // Standard-uncertainty columns in the scene's tables (docs/error-components.md, "Uncertainty columns"): the example

@@ -23,6 +23,10 @@ struct IdentifiedEffects {
   /// N × N over all the effects' values in order (unit-free): the fit's p × p correlation at the fitted values'
   /// slots, identity elsewhere.
   Eigen::MatrixXd correlation;
+  /// Per effect: the posterior's equally likely value sets (sets × values, file units; Diagnosis::draws) when the
+  /// candidate is the diagnosis's choice and its single values are not determined; 0 rows otherwise. An effect with
+  /// sets has no uncertainty and no correlation here: the sets are its whole distribution (Scene::effect_draws).
+  std::vector<Eigen::MatrixXd> draws;
   /// √max(1, χ²/ν) of the whitened residual after the fit (Diagnosis::chi2_after, chi2_dof), for the reader: how much
   /// more the residual is than the noise, scatter and map the fit was told of (Birge 1932). The uncertainties
   /// already contain it (σ̂² = RSS/ν), so it is not applied again.

@@ -18,16 +18,20 @@ namespace geartopo::diagnosis {
 /// `uncertainties` (parallel to the effects' values, file units; 0: exact) each item gets an `uncertainty` map of its
 /// uncertain values, and with `correlation` (N × N over all the effects' values in order) a `correlation` list of
 /// [key_a, key_b, r] for every non-zero pair, in the item of its first value (another effect's key as type.key):
-/// docs/scene-format.md, "Uncertain effects".
+/// docs/scene-format.md, "Uncertain effects". An effect with value sets in `draws` (parallel to the effects, sets ×
+/// values, file units; 0 rows: none) gets a `draws` block of its fitted values instead of an uncertainty and its
+/// correlations (docs/scene-format.md, "Effects drawn from a posterior").
 std::string effects_yaml_items(const std::vector<scene::EffectSpec>& effects, const std::vector<std::string>& comments,
                                const std::vector<std::vector<double>>& uncertainties = {},
-                               const Eigen::MatrixXd& correlation = Eigen::MatrixXd());
+                               const Eigen::MatrixXd& correlation = Eigen::MatrixXd(),
+                               const std::vector<Eigen::MatrixXd>& draws = {});
 
 /// `scene_text` with the items added to its top-level `effects:` list (created if absent).
 std::string scene_with_effects(const std::string& scene_text, const std::vector<scene::EffectSpec>& effects,
                                const std::vector<std::string>& comments,
                                const std::vector<std::vector<double>>& uncertainties = {},
-                               const Eigen::MatrixXd& correlation = Eigen::MatrixXd());
+                               const Eigen::MatrixXd& correlation = Eigen::MatrixXd(),
+                               const std::vector<Eigen::MatrixXd>& draws = {});
 
 /// `scene_text` (a scene file read from `from_dir`) with its relative file references — `machine.tables` and
 /// `measurement.measured` — rewritten relative to `to_dir`, so that the text can be saved there. Absolute paths stay.
@@ -55,7 +59,8 @@ std::string scene_text_with_effects(const std::string& scene_text, const std::fi
                                     const Eigen::MatrixXd& correlation = Eigen::MatrixXd(),
                                     const std::vector<machine::ComponentChange>& changes = {},
                                     const std::vector<double>& change_uncertainties = {},
-                                    const std::vector<std::string>& change_comments = {});
+                                    const std::vector<std::string>& change_comments = {},
+                                    const std::vector<Eigen::MatrixXd>& draws = {});
 
 /// Reads `scene_file`, adds the effects and the changed components (scene_text_with_effects), rebases its paths to
 /// `out_file`'s folder and writes it there. Throws std::runtime_error naming the file that cannot be read or written.
@@ -65,6 +70,7 @@ void write_scene_with_effects(const std::filesystem::path& scene_file, const std
                               const Eigen::MatrixXd& correlation = Eigen::MatrixXd(),
                               const std::vector<machine::ComponentChange>& changes = {},
                               const std::vector<double>& change_uncertainties = {},
-                              const std::vector<std::string>& change_comments = {});
+                              const std::vector<std::string>& change_comments = {},
+                              const std::vector<Eigen::MatrixXd>& draws = {});
 
 } // namespace geartopo::diagnosis

@@ -77,4 +77,9 @@ nlohmann::json prediction_check_json(const std::vector<PredictionCheck>& checks,
 /// prediction.png: per ISO quantity the before and after medians with their 95 % intervals, µm (section "compensation").
 Figure prediction_figure(const pipeline::MonteCarloSummary& s, const std::filesystem::path& dir);
 
+/// `png`: prediction.png's chart with measured gears marked on it — `before` (gear 1, ground without the corrections)
+/// on the before whiskers, `after` (gear 2) on the after ones; either may be empty. Throws as render_bar_chart.
+void prediction_check_figure(const pipeline::MonteCarloSummary& s, const std::vector<PredictionCheck>& before,
+                             const std::vector<PredictionCheck>& after, const std::filesystem::path& png);
+
 } // namespace geartopo::report

@@ -115,6 +115,12 @@ struct Scene {
   /// exclude. Empty: independent. From the effects' `correlation` lists of [key_a, key_b, r] (docs/scene-format.md);
   /// pairs not given are uncorrelated.
   Eigen::MatrixXd effect_correlation;
+  /// Equally likely value sets of each effect (sets × the effect's values in parameter order, file units), e.g. the
+  /// posterior a diagnosis drew when the single values are not determined (docs/scene-format.md, "Effects drawn from
+  /// a posterior"); parallel to `effects`, 0 rows: none. Every effect with sets has the same number of them, and set j
+  /// of each belongs together (one joint draw): a prediction picks one j per sample. An effect with sets has no
+  /// standard uncertainty and no correlation. Empty when no effect has sets.
+  std::vector<Eigen::MatrixXd> effect_draws;
 
   /// Where each field's value stands in the scene file (dotted path → position): errors found after reading, when
   /// the scene is built into a set-up (workbench), are located with it.
