@@ -9,6 +9,7 @@
 #include "geartopo/gears/flank_modifications.hpp"
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/core/text_field.hpp"
+#include "custom_law_reader.hpp"
 #include "design_table.hpp"
 #include "yaml_reader.hpp"
 #include "geartopo/grinding/topology.hpp"
@@ -449,21 +450,27 @@ Eigen::MatrixXd resolve_correlation(const std::vector<EffectSpec>& specs, const 
   return C;
 }
 
-void read_effects(MapReader& top, ReadContext& ctx, Scene& scene) {
-  std::vector<EffectSpec>& out = scene.effects;
-  std::vector<std::vector<double>> uncertainties;
+/// What the effect lists (`effects`, `custom_effects`) leave for the end: each value's uncertainty and the
+/// correlation entries, resolved once every effect of both lists is known.
+struct EffectUncertainties {
+  std::vector<std::vector<double>> values;
   std::vector<PendingCorrelation> pending;
-  bool any_uncertainty = false;
+  bool any = false;
+};
+
+void read_effects(MapReader& top, ReadContext& ctx, Scene& scene, EffectUncertainties& u) {
+  std::vector<EffectSpec>& out = scene.effects;
   const YAML::Node list = top.raw("effects");
   if (!list.IsDefined()) return;
   if (!list.IsSequence()) ctx.fail(list.Mark(), "effects", "expected a list of effects (- type: …)");
   for (size_t i = 0; i < list.size(); ++i) {
     MapReader m(list[i], fmt::format("effects[{}]", i), ctx);
     const std::string type = m.text("type");
-    const auto effect = effects::make_effect(type);
+    const auto effect = effects::is_custom_effect(type) ? nullptr : effects::make_effect(type);
     if (!effect)
-      ctx.fail_field(m.field("type"), fmt::format("'{}' is not an effect of the library ({})", type,
-                                                  fmt::join(effects::effect_types(), ", ")));
+      ctx.fail_field(m.field("type"), fmt::format("'{}' is not an effect of the library ({}); an effect of your own is "
+                                                  "declared under custom_effects",
+                                                  type, fmt::join(effects::effect_types(), ", ")));
     for (const auto& other : out)
       if (other.type == type) ctx.fail_field(m.field("type"), fmt::format("'{}' is listed twice", type));
     EffectSpec spec{type, effect->values()};
@@ -478,14 +485,37 @@ void read_effects(MapReader& top, ReadContext& ctx, Scene& scene) {
         spec.values[k] = *v;
       }
     }
-    uncertainties.push_back(read_effect_uncertainty(m, type, *effect, i, pending));
-    for (double u : uncertainties.back()) any_uncertainty = any_uncertainty || u > 0.0;
+    u.values.push_back(read_effect_uncertainty(m, type, *effect, out.size(), u.pending));
+    for (double x : u.values.back()) u.any = u.any || x > 0.0;
     m.finish();
     out.push_back(std::move(spec));
   }
+}
+
+void read_custom_effects(MapReader& top, ReadContext& ctx, Scene& scene, EffectUncertainties& u) {
+  const YAML::Node list = top.raw("custom_effects");
+  if (!list.IsDefined()) return;
+  if (!list.IsSequence()) ctx.fail(list.Mark(), "custom_effects", "expected a list of your effects (- name: …)");
+  for (size_t i = 0; i < list.size(); ++i) {
+    MapReader m(list[i], fmt::format("custom_effects[{}]", i), ctx);
+    const auto law = read_custom_law(m, scene);
+    const auto effect = effects::make_custom_effect(law);
+    EffectSpec spec{law->name(), effect->values()};
+    u.values.push_back(read_effect_uncertainty(m, law->name(), *effect, scene.effects.size(), u.pending));
+    for (double x : u.values.back()) u.any = u.any || x > 0.0;
+    m.finish();
+    scene.custom_effects.push_back(law->name());
+    scene.effects.push_back(std::move(spec));
+  }
+}
+
+void read_all_effects(MapReader& top, ReadContext& ctx, Scene& scene) {
+  EffectUncertainties u;
+  read_effects(top, ctx, scene, u);
+  read_custom_effects(top, ctx, scene, u);
   // Empty when nothing is uncertain: the effects are then exact (Scene::effect_uncertainties).
-  if (any_uncertainty) scene.effect_uncertainties = std::move(uncertainties);
-  if (!pending.empty()) scene.effect_correlation = resolve_correlation(out, pending, ctx);
+  if (u.any) scene.effect_uncertainties = std::move(u.values);
+  if (!u.pending.empty()) scene.effect_correlation = resolve_correlation(scene.effects, u.pending, ctx);
 }
 
 /// `machine_changes`: error components changed since the map was measured (docs/scene-format.md), each
@@ -706,7 +736,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   if (auto p = top.optional_map("process")) scene.process = read_process(*p);
   if (auto m = top.optional_map("measurement"))
     scene.grid = read_grid(*m, scene.gear.teeth, std::filesystem::path(source).parent_path());
-  read_effects(top, ctx, scene);
+  read_all_effects(top, ctx, scene);
   read_machine_changes(top, ctx, scene);
   if (auto r = top.optional_map("report")) {
     scene.report.part = r->optional_text("part").value_or("");
