@@ -93,12 +93,21 @@ std::atomic<std::uint64_t> next_law_id{1};
 
 double typical_of(const CustomParameter& p) { return std::max(std::abs(p.max), std::abs(p.min)) / 10.0; }
 
-/// Fitting starts: the declared value, and for a positive range spanning more than a decade (a time constant) three
-/// points spread evenly in its logarithm, so a fit does not stay in the first local minimum.
+/// Where diagnose's fit starts, from the bounds alone (the declared `value` is the truth simulate uses, not a start: a
+/// law registered by another scene with other values then fits the same): 0 when the range holds it (an amplitude),
+/// else the range's middle — in the logarithm for a positive range over more than a decade (a time constant).
+double neutral_start(const CustomParameter& p) {
+  if (p.min <= 0.0 && p.max >= 0.0) return 0.0;
+  if (p.min > 0.0 && p.max > 10.0 * p.min) return std::sqrt(p.min * p.max);
+  return 0.5 * (p.min + p.max);
+}
+
+/// Fitting starts: the neutral start, and for a positive range spanning more than a decade three more points spread
+/// evenly in its logarithm, so that a fit does not stay in the first local minimum.
 std::vector<double> starts_of(const CustomParameter& p) {
-  std::vector<double> s{p.value};
+  std::vector<double> s{neutral_start(p)};
   if (p.min > 0.0 && p.max > 10.0 * p.min)
-    for (double f : {1.0 / 6.0, 0.5, 5.0 / 6.0}) s.push_back(p.min * std::pow(p.max / p.min, f));
+    for (double f : {1.0 / 6.0, 1.0 / 3.0, 5.0 / 6.0}) s.push_back(p.min * std::pow(p.max / p.min, f));
   return s;
 }
 
@@ -209,8 +218,8 @@ CustomLaw::CustomLaw(std::string name, std::vector<CustomParameter> parameters, 
       throw std::invalid_argument(fmt::format("'{}': min {} must be below max {}", p.key, p.min, p.max));
     if (!(p.value >= p.min && p.value <= p.max))
       throw std::invalid_argument(fmt::format("'{}': value {} outside [min, max] = [{}, {}]", p.key, p.value, p.min, p.max));
-    specs_.push_back(ParameterSpec{p.key, fmt::format("{} ({})", p.key, p.unit), p.value, p.min, p.max, typical_of(p),
-                                   true, starts_of(p)});
+    specs_.push_back(ParameterSpec{p.key, fmt::format("{} ({})", p.key, p.unit), neutral_start(p), p.min, p.max,
+                                   typical_of(p), true, starts_of(p)});
   }
   (void)compile(declared_, expression_); // throws ExpressionError
   explanation_ = fmt::format("your effect (custom_effects): deviation_um = {}", expression_);
@@ -251,6 +260,12 @@ std::string non_finite_message(const CustomLaw& law, double value, const Contact
 
 std::unique_ptr<Effect> make_custom_effect(std::shared_ptr<const CustomLaw> law) {
   return std::make_unique<CustomEffect>(std::move(law));
+}
+
+std::vector<double> declared_values(const CustomLaw& law) {
+  std::vector<double> v;
+  for (const auto& p : law.declared()) v.push_back(p.value);
+  return v;
 }
 
 void register_custom_law(std::shared_ptr<const CustomLaw> law) {

@@ -500,7 +500,7 @@ void read_custom_effects(MapReader& top, ReadContext& ctx, Scene& scene, EffectU
     MapReader m(list[i], fmt::format("custom_effects[{}]", i), ctx);
     const auto law = read_custom_law(m, scene);
     const auto effect = effects::make_custom_effect(law);
-    EffectSpec spec{law->name(), effect->values()};
+    EffectSpec spec{law->name(), effects::declared_values(*law)};
     u.values.push_back(read_effect_uncertainty(m, law->name(), *effect, scene.effects.size(), u.pending));
     for (double x : u.values.back()) u.any = u.any || x > 0.0;
     m.finish();

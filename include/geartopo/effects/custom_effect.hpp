@@ -124,8 +124,11 @@ public:
 std::string non_finite_message(const CustomLaw& law, double value, const ContactVariables& at,
                                const std::vector<double>& values);
 
-/// An effect of the user's law with its values (default: the declared `value`s).
+/// An effect of the user's law. Its default values are the fit's neutral starts (0, or the middle of the range), not
+/// the declared ones: set those with set_values(declared_values(law)).
 std::unique_ptr<Effect> make_custom_effect(std::shared_ptr<const CustomLaw> law);
+/// The `value`s the scene declared, in parameter order (file units).
+std::vector<double> declared_values(const CustomLaw& law);
 
 /// Custom laws known by name in this process, for effects::make_effect (registry.hpp): a scene that declares one
 /// registers it. A name may be registered again only with the same law (same_law): another law under a name already
