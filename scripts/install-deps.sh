@@ -14,6 +14,7 @@ packages=(
   libvtk9-dev libegl-dev # off-screen rendering (surfaceless EGL + VTK)
   libpng-dev             # the figures' PNG files (src/render/image.cpp)
   libyaml-cpp-dev        # scene files, with line/column marks for error messages
+  libmuparser-dev        # the expressions of a scene's custom_effects (src/effects/custom_effect.cpp)
   libcli11-dev           # command-line parsing
   libfmt-dev             # formatting
   nlohmann-json3-dev     # JSON output

@@ -8,6 +8,7 @@
 #include "geartopo/core/uncertain_value.hpp"
 #include "geartopo/diagnosis/hypothesis_rows.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
+#include "geartopo/effects/registry.hpp"
 #include "geartopo/files/atomic_write.hpp"
 #include "geartopo/files/output_folder.hpp"
 
@@ -87,6 +88,10 @@ int run_diagnose(const DiagnoseFlags& opt) {
   output::write_text_atomically(out / "diagnosis.json", r.json.dump(2) + "\n");
   print_ranked(d, diagnosis::mean_allowance_offset_um(scene.wb->setup.geometry()), opt.scene_uncertainty);
   std::cout << d.verdict << "\n";
+  // The user's own effects are named as theirs, with the law they declared (the library's need no introduction).
+  for (size_t e = 0; d.chosen && e < d.chosen->effects.size() && e < d.chosen->explanations.size(); ++e)
+    if (effects::is_custom_effect(d.chosen->effects[e].type))
+      std::cout << d.chosen->effects[e].type << " is " << d.chosen->explanations[e] << "\n";
   if (d.chosen && d.withheld) std::cout << "scene_with_effect.yaml not written: " << diagnosis::to_text(*d.withheld) << "\n";
   if (r.scene_with_effect) {
     output::write_text_atomically(out / "scene_with_effect.yaml", *r.scene_with_effect);

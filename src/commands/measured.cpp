@@ -21,19 +21,21 @@ diagnosis::Diagnosis run_diagnosis(const SceneInput& scene, const MeasuredInput&
   check_noise_um(r.noise_um, names.noise);
   for (const auto& c : r.candidates)
     if (!effects::make_effect(c))
-      throw ArgumentError(names.candidates, fmt::format("'{}' is not an effect of the library ({})", c,
-                                                        fmt::join(effects::effect_types(), ", ")));
+      throw ArgumentError(names.candidates, fmt::format("'{}' is not an effect of the library ({}) nor one of the "
+                                                        "scene's custom_effects",
+                                                        c, fmt::join(effects::effect_types(), ", ")));
   const auto& wb = scene.wb;
   diagnosis::DiagnoseOptions o;
   o.noise_um = r.noise_um;
   o.candidates = r.candidates;
+  o.own_effects = wb.scene.custom_effects;
   o.plan_layout = r.layout;
   o.on_candidate_fitted = r.on_candidate_fitted;
   if (r.scene_uncertainty) {
     o.stroke_repeatability_sd = wb.scene.machine.uncertainty.repeatability;
     o.model_uncertainty_um = diagnosis::map_sensitivity(wb, measured.points);
   }
-  return diagnosis::diagnose(wb.setup, wb.process(), measured.points, wb.effect_types(), o);
+  return diagnosis::diagnose(wb.setup, wb.diagnosis_model(), measured.points, wb.effect_types(), o);
 }
 
 } // namespace

@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "geartopo/effects/registry.hpp"
+#include "custom_entry_writer.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -126,7 +127,46 @@ std::string scene_with_effects(const std::string& text, const std::vector<scene:
                                const std::vector<std::string>& comments,
                                const std::vector<std::vector<double>>& uncertainties, const Eigen::MatrixXd& correlation,
                                const std::vector<Eigen::MatrixXd>& draws) {
-  return with_list_items(text, "effects", effects_yaml_items(effects, comments, uncertainties, correlation, draws));
+  // The user's own effects go back into their entries; the library's are appended, with the correlation among their
+  // values and value sets (the correlation between a library effect's value and a custom effect's is not written, nor
+  // value sets for a custom effect: docs/scene-format.md).
+  std::vector<Eigen::Index> first(effects.size() + 1, 0);
+  for (size_t i = 0; i < effects.size(); ++i) first[i + 1] = first[i] + static_cast<Eigen::Index>(effects[i].values.size());
+  const bool correlated = correlation.rows() == first.back() && correlation.cols() == first.back() && first.back() > 0;
+  std::string out = text;
+  std::vector<scene::EffectSpec> library;
+  std::vector<std::string> library_comments;
+  std::vector<std::vector<double>> library_u;
+  std::vector<Eigen::Index> library_slots;
+  std::vector<Eigen::MatrixXd> library_draws;
+  for (size_t i = 0; i < effects.size(); ++i) {
+    const auto& u = i < uncertainties.size() ? uncertainties[i] : std::vector<double>{};
+    const std::string comment = i < comments.size() ? comments[i] : "";
+    if (!effects::is_custom_effect(effects[i].type)) {
+      library.push_back(effects[i]);
+      library_comments.push_back(comment);
+      library_u.push_back(u);
+      library_draws.push_back(i < draws.size() ? draws[i] : Eigen::MatrixXd());
+      for (Eigen::Index k = first[i]; k < first[i + 1]; ++k) library_slots.push_back(k);
+      continue;
+    }
+    std::vector<std::string> keys, pairs;
+    for (const auto& p : effects::make_effect(effects[i].type)->parameters()) keys.push_back(p.key);
+    for (Eigen::Index a = 0; correlated && a < first[i + 1] - first[i]; ++a)
+      for (Eigen::Index b = a + 1; b < first[i + 1] - first[i]; ++b)
+        if (const double r = correlation(first[i] + a, first[i] + b); r != 0.0)
+          pairs.push_back(fmt::format("[{}, {}, {:.6g}]", keys[static_cast<size_t>(a)], keys[static_cast<size_t>(b)], r));
+    out = with_custom_entry_values(out, effects[i].type, keys, effects[i].values, u, pairs, comment);
+  }
+  if (library.empty()) return out;
+  Eigen::MatrixXd library_correlation;
+  if (correlated) {
+    const auto n = static_cast<Eigen::Index>(library_slots.size());
+    library_correlation.resize(n, n);
+    for (Eigen::Index a = 0; a < n; ++a)
+      for (Eigen::Index b = 0; b < n; ++b) library_correlation(a, b) = correlation(library_slots[a], library_slots[b]);
+  }
+  return with_list_items(out, "effects", effects_yaml_items(library, library_comments, library_u, library_correlation, library_draws));
 }
 
 std::string machine_changes_yaml_items(const std::vector<machine::ComponentChange>& changes,

@@ -2,6 +2,8 @@
 
 #include "effect_list.hpp"
 
+#include "geartopo/effects/custom_effect.hpp"
+
 #include <stdexcept>
 
 namespace geartopo::effects {
@@ -35,6 +37,7 @@ const std::vector<std::string>& effect_types() {
 std::unique_ptr<Effect> make_effect(std::string_view type) {
   for (const auto& e : entries())
     if (e.type == type) return e.make();
+  if (auto law = find_custom_law(type)) return make_custom_effect(std::move(law));
   return nullptr;
 }
 
@@ -44,6 +47,12 @@ std::unique_ptr<Effect> make_effect(std::string_view type, std::vector<double> v
   e->set_values(std::move(values));
   e->bind(setup);
   return e;
+}
+
+bool is_custom_effect(std::string_view type) {
+  for (const auto& e : entries())
+    if (e.type == type) return false;
+  return find_custom_law(type) != nullptr;
 }
 
 } // namespace geartopo::effects

@@ -62,10 +62,11 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
     diagnosis::DiagnoseOptions d;
     d.noise_um = m.before.noise_um;
     d.on_candidate_fitted = o.progress;
-    m.diagnosis = diagnosis::diagnose(wb.setup, wb.process(), m.points, wb.effect_types(), d);
+    d.own_effects = wb.scene.custom_effects;
+    m.diagnosis = diagnosis::diagnose(wb.setup, wb.diagnosis_model(), m.points, wb.effect_types(), d);
     if (m.diagnosis.chosen) {
       const auto effs = workbench::make_effects(m.diagnosis.chosen->effects, m.diagnosis.chosen->changes, wb.setup);
-      const effects::EffectsProcess with(wb.process(), effs);
+      const effects::EffectsProcess with(wb.diagnosis_model(), effs);
       m.after = diagnosis::compare(wb.setup, with, m.points, m.before.noise_um, read);
     }
     r.measurement = std::move(m);

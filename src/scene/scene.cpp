@@ -9,6 +9,7 @@
 #include "geartopo/gears/flank_modifications.hpp"
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/core/text_field.hpp"
+#include "custom_law_reader.hpp"
 #include "design_table.hpp"
 #include "yaml_reader.hpp"
 #include "geartopo/grinding/topology.hpp"
@@ -511,23 +512,29 @@ Eigen::MatrixXd resolve_correlation(const std::vector<EffectSpec>& specs, const 
   return C;
 }
 
-void read_effects(MapReader& top, ReadContext& ctx, Scene& scene) {
-  std::vector<EffectSpec>& out = scene.effects;
-  std::vector<std::vector<double>> uncertainties;
+/// What the effect lists (`effects`, `custom_effects`) leave for the end: each value's uncertainty and the
+/// correlation entries, resolved once every effect of both lists is known.
+struct EffectUncertainties {
+  std::vector<std::vector<double>> values;
   std::vector<PendingCorrelation> pending;
-  std::vector<Eigen::MatrixXd> draws;
-  std::optional<size_t> drawn_from; // the first effect with value sets
-  bool any_uncertainty = false;
+  std::vector<Eigen::MatrixXd> draws; // per effect its value sets (0 rows: none)
+  std::optional<size_t> drawn_from;   // the first effect with value sets
+  bool any = false;
+};
+
+void read_effects(MapReader& top, ReadContext& ctx, Scene& scene, EffectUncertainties& u) {
+  std::vector<EffectSpec>& out = scene.effects;
   const YAML::Node list = top.raw("effects");
   if (!list.IsDefined()) return;
   if (!list.IsSequence()) ctx.fail(list.Mark(), "effects", "expected a list of effects (- type: …)");
   for (size_t i = 0; i < list.size(); ++i) {
     MapReader m(list[i], fmt::format("effects[{}]", i), ctx);
     const std::string type = m.text("type");
-    const auto effect = effects::make_effect(type);
+    const auto effect = effects::is_custom_effect(type) ? nullptr : effects::make_effect(type);
     if (!effect)
-      ctx.fail_field(m.field("type"), fmt::format("'{}' is not an effect of the library ({})", type,
-                                                  fmt::join(effects::effect_types(), ", ")));
+      ctx.fail_field(m.field("type"), fmt::format("'{}' is not an effect of the library ({}); an effect of your own is "
+                                                  "declared under custom_effects",
+                                                  type, fmt::join(effects::effect_types(), ", ")));
     for (const auto& other : out)
       if (other.type == type) ctx.fail_field(m.field("type"), fmt::format("'{}' is listed twice", type));
     EffectSpec spec{type, effect->values()};
@@ -542,29 +549,54 @@ void read_effects(MapReader& top, ReadContext& ctx, Scene& scene) {
         spec.values[k] = *v;
       }
     }
-    const size_t pending_before = pending.size();
-    uncertainties.push_back(read_effect_uncertainty(m, type, *effect, i, pending));
-    const bool uncertain = std::any_of(uncertainties.back().begin(), uncertainties.back().end(), [](double u) { return u > 0.0; });
-    any_uncertainty = any_uncertainty || uncertain;
-    draws.push_back(read_effect_draws(m, type, *effect, spec.values));
-    if (draws.back().rows() > 0) {
+    const size_t pending_before = u.pending.size();
+    u.values.push_back(read_effect_uncertainty(m, type, *effect, out.size(), u.pending));
+    const bool uncertain = std::any_of(u.values.back().begin(), u.values.back().end(), [](double x) { return x > 0.0; });
+    u.any = u.any || uncertain;
+    u.draws.push_back(read_effect_draws(m, type, *effect, spec.values));
+    if (u.draws.back().rows() > 0) {
       // Two descriptions of one distribution: the sets are the whole of it (a Gaussian would add what they exclude).
-      if (uncertain || pending.size() > pending_before)
+      if (uncertain || u.pending.size() > pending_before)
         ctx.fail_field(m.field("draws"), fmt::format("{} has value sets and an {}: give one or the other",
                                                      type, uncertain ? "uncertainty" : "own correlation"));
-      if (drawn_from && draws.back().rows() != draws[*drawn_from].rows())
+      if (u.drawn_from && u.draws.back().rows() != u.draws[*u.drawn_from].rows())
         ctx.fail_field(m.field("draws"), fmt::format("{} value sets here, {} in effects[{}].draws: the sets of all effects "
                                                      "are drawn together, set j of each with set j of the others",
-                                                     draws.back().rows(), draws[*drawn_from].rows(), *drawn_from));
-      if (!drawn_from) drawn_from = i;
+                                                     u.draws.back().rows(), u.draws[*u.drawn_from].rows(), *u.drawn_from));
+      if (!u.drawn_from) u.drawn_from = i;
     }
     m.finish();
     out.push_back(std::move(spec));
   }
+}
+
+void read_custom_effects(MapReader& top, ReadContext& ctx, Scene& scene, EffectUncertainties& u) {
+  const YAML::Node list = top.raw("custom_effects");
+  if (!list.IsDefined()) return;
+  if (!list.IsSequence()) ctx.fail(list.Mark(), "custom_effects", "expected a list of your effects (- name: …)");
+  for (size_t i = 0; i < list.size(); ++i) {
+    MapReader m(list[i], fmt::format("custom_effects[{}]", i), ctx);
+    const auto law = read_custom_law(m, scene);
+    const auto effect = effects::make_custom_effect(law);
+    EffectSpec spec{law->name(), effects::declared_values(*law)};
+    u.values.push_back(read_effect_uncertainty(m, law->name(), *effect, scene.effects.size(), u.pending));
+    for (double x : u.values.back()) u.any = u.any || x > 0.0;
+    u.draws.emplace_back(); // a law of the user's carries no value sets (docs/scene-format.md)
+    m.finish();
+    scene.custom_effects.push_back(law->name());
+    scene.effects.push_back(std::move(spec));
+  }
+}
+
+void read_all_effects(MapReader& top, ReadContext& ctx, Scene& scene) {
+  EffectUncertainties u;
+  read_effects(top, ctx, scene, u);
+  read_custom_effects(top, ctx, scene, u);
   // Empty when nothing is uncertain: the effects are then exact (Scene::effect_uncertainties).
-  if (any_uncertainty) scene.effect_uncertainties = std::move(uncertainties);
-  if (drawn_from) scene.effect_draws = std::move(draws);
-  if (!pending.empty()) scene.effect_correlation = resolve_correlation(out, pending, scene.effect_draws, ctx);
+  if (u.any) scene.effect_uncertainties = std::move(u.values);
+  if (u.drawn_from) scene.effect_draws = std::move(u.draws);
+  if (!u.pending.empty())
+    scene.effect_correlation = resolve_correlation(scene.effects, u.pending, scene.effect_draws, ctx);
 }
 
 /// `machine_changes`: error components changed since the map was measured (docs/scene-format.md), each
@@ -795,7 +827,7 @@ Scene parse_scene(const std::string& text, const std::string& source) {
   if (auto p = top.optional_map("process")) scene.process = read_process(*p);
   if (auto m = top.optional_map("measurement"))
     scene.grid = read_grid(*m, scene.gear.teeth, std::filesystem::path(source).parent_path());
-  read_effects(top, ctx, scene);
+  read_all_effects(top, ctx, scene);
   read_machine_changes(top, ctx, scene);
   if (auto r = top.optional_map("report")) {
     scene.report.part = r->optional_text("part").value_or("");

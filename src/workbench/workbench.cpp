@@ -5,7 +5,9 @@
 
 #include "geartopo/core/field_error.hpp"
 #include "geartopo/core/units.hpp"
+#include "geartopo/effects/custom_effect.hpp"
 #include "geartopo/effects/registry.hpp"
+#include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/grinding/wheel_setting.hpp"
 
@@ -117,13 +119,66 @@ Workbench::Workbench(scene::Scene s)
                                 outside, design_motion->rows().size()));
     design_process = std::make_unique<compensation::CompensatedProcess>(machine_and_effects(), *design_motion);
   }
+  if (!scene.custom_effects.empty()) {
+    check_custom_effects_finite();
+    build_diagnosis_model();
+  }
+}
+
+void Workbench::build_diagnosis_model() {
+  std::vector<scene::EffectSpec> known;
+  for (const auto& e : scene.effects)
+    if (std::find(scene.custom_effects.begin(), scene.custom_effects.end(), e.type) == scene.custom_effects.end())
+      known.push_back(e);
+  known_effects_ = make_effects(known, scene.machine_changes, setup);
+  const grinding::GrindingProcess* base = &machine_process;
+  if (!known_effects_.empty()) {
+    known_effects_process_ = std::make_unique<effects::EffectsProcess>(machine_process, known_effects_);
+    base = known_effects_process_.get();
+  }
+  diagnosis_model_ = base;
+  if (design_motion) {
+    known_design_process_ = std::make_unique<compensation::CompensatedProcess>(*base, *design_motion);
+    diagnosis_model_ = known_design_process_.get();
+  }
+}
+
+void Workbench::check_custom_effects_finite() const {
+  // The scene's grid on every tooth it measures (all when it names none), both flanks, at the generating contact:
+  // the first point in this fixed order whose value is not finite is named, whatever the thread count later.
+  const grinding::IdealProcess ideal;
+  const grinding::FlankDeviation generating(setup.flanks(), setup.wheel(), setup.path(), ideal);
+  std::vector<int> teeth = scene.grid.teeth;
+  if (teeth.empty())
+    for (int t = 1; t <= setup.geometry().teeth(); ++t) teeth.push_back(t);
+  const auto& r = setup.ranges();
+  for (std::size_t i = 0; i < scene.effects.size(); ++i) {
+    const auto named = std::find(scene.custom_effects.begin(), scene.custom_effects.end(), scene.effects[i].type);
+    if (named == scene.custom_effects.end()) continue;
+    const std::string field = fmt::format("custom_effects[{}].deviation_um", named - scene.custom_effects.begin());
+    for (int tooth : teeth)
+      for (const auto flank : {Flank::Left, Flank::Right})
+        for (int a = 0; a < scene.grid.rows; ++a)
+          for (int b = 0; b < scene.grid.cols; ++b) {
+            const double xi = r.xi_eval_start_mm + (r.xi_eval_end_mm - r.xi_eval_start_mm) * b / (scene.grid.cols - 1);
+            const double z = r.z_eval_start_mm + (r.z_eval_end_mm - r.z_eval_start_mm) * a / (scene.grid.rows - 1);
+            const auto c = generating.linear_contact(tooth, flank, xi, z);
+            try {
+              (void)effects[i]->wheel_radius_error_mm(c.v, c.pp);
+            } catch (const effects::NonFiniteDeviation& e) {
+              scene.fail_at(field, e.what());
+            }
+          }
+  }
 }
 
 Workbench::Workbench(const std::filesystem::path& scene_file) : Workbench(scene::load_scene(scene_file)) {}
 
 std::vector<std::string> Workbench::effect_types() const {
   std::vector<std::string> out;
-  for (const auto& e : scene.effects) out.push_back(e.type);
+  for (const auto& e : scene.effects)
+    if (std::find(scene.custom_effects.begin(), scene.custom_effects.end(), e.type) == scene.custom_effects.end())
+      out.push_back(e.type);
   for (const auto& c : scene.machine_changes)
     out.push_back(std::string(machine::info(c.component).name) + " " + c.law_name());
   return out;

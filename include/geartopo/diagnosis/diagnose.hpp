@@ -186,6 +186,9 @@ struct DiagnoseOptions {
   /// a library effect is not named on data that only mildly prefer it.
   double bic_threshold = 10.0;
   std::vector<std::string> candidates; ///< effect types to try; empty: every library effect not in the scene
+  /// The user's own effects (a scene's custom_effects, effects/custom_effect.hpp, by name): tried beside the library's
+  /// whenever `candidates` is empty (the names must be registered laws).
+  std::vector<std::string> own_effects;
   int threads = 0;                  ///< threads of the predictions; 0: all hardware threads
   /// Called after each candidate explanation is fitted (single effects, then pairs) with (candidates fitted, candidates
   /// known so far): the total grows by the pairs once the single effects are ranked. From the calling thread; for

@@ -26,7 +26,8 @@ std::string effects_yaml_items(const std::vector<scene::EffectSpec>& effects, co
                                const Eigen::MatrixXd& correlation = Eigen::MatrixXd(),
                                const std::vector<Eigen::MatrixXd>& draws = {});
 
-/// `scene_text` with the items added to its top-level `effects:` list (created if absent).
+/// `scene_text` with the items added to its top-level `effects:` list (created if absent); an effect of the user's own
+/// (a scene's custom_effects) instead has its values, uncertainties and correlation written into its own entry.
 std::string scene_with_effects(const std::string& scene_text, const std::vector<scene::EffectSpec>& effects,
                                const std::vector<std::string>& comments,
                                const std::vector<std::vector<double>>& uncertainties = {},

@@ -98,6 +98,11 @@ struct Scene {
   grinding::ProcessSpec process;
   MeasurementGrid grid;
   std::vector<EffectSpec> effects;
+  /// The names of the user's own effects (`custom_effects`, docs/scene-format.md), in file order: each is an entry of
+  /// `effects` too (after the library's), its law registered under its name (effects/custom_effect.hpp). Simulate,
+  /// synth, compensate and the Monte Carlo use their values like any effect's; diagnose fits them afresh as candidates
+  /// beside the library's (their values are not part of the model it explains the measurement with).
+  std::vector<std::string> custom_effects;
   /// Error components changed since the map in `machine` was measured, with their laws in time (scene key
   /// `machine_changes`, docs/scene-format.md): what diagnosis finds beyond the library. Empty: none.
   std::vector<machine::ComponentChange> machine_changes;

@@ -53,9 +53,25 @@ struct Workbench {
   const grinding::GrindingProcess& machine_and_effects() const {
     return effects_process ? static_cast<const grinding::GrindingProcess&>(*effects_process) : machine_process;
   }
-  /// The types of the scene's effects, in scene order ("thermal_drift", …), then its machine changes by name and law
-  /// ("E_AOA linear_in_time", diagnosis::Candidate::name's form): what diagnosis must not propose again.
+  /// What diagnose explains a measurement with: process() without the user's own effects (scene.custom_effects), which
+  /// diagnose fits afresh as candidates (DiagnoseOptions::own_effects). process() when the scene declares none.
+  const grinding::GrindingProcess& diagnosis_model() const { return diagnosis_model_ ? *diagnosis_model_ : process(); }
+  /// The types of the scene's library effects, in scene order ("thermal_drift", …), then its machine changes by name
+  /// and law ("E_AOA linear_in_time", diagnosis::Candidate::name's form): what diagnosis must not propose again. The
+  /// user's own effects are not among them: diagnose tries them.
   std::vector<std::string> effect_types() const;
+
+private:
+  /// diagnosis_model()'s parts when the scene has custom effects: the library effects and changes alone, that process,
+  /// and the same running the design motions (null when not needed).
+  std::vector<std::unique_ptr<effects::Effect>> known_effects_;
+  std::unique_ptr<effects::EffectsProcess> known_effects_process_;
+  std::unique_ptr<compensation::CompensatedProcess> known_design_process_;
+  const grinding::GrindingProcess* diagnosis_model_ = nullptr;
+  void build_diagnosis_model();
+  /// Every custom effect finite at the scene's measurement grid on every tooth and flank, at its values; else the
+  /// InputError at its deviation_um naming the point and the variables.
+  void check_custom_effects_finite() const;
 };
 
 /// A process built on top of the scene's machine (a Monte Carlo sample's drawn machine, the nominal one of a

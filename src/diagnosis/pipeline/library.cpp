@@ -21,13 +21,14 @@ bool family_effect(const Context& ctx, const std::string& type) {
                      [&](const auto& f) { return f->effect_type() == type; });
 }
 
-/// The candidates: the ones asked for, or every library effect; never one the scene already models (fitting it again
-/// would stack two copies and write a scene that lists it twice), never one twice.
+/// The candidates: the ones asked for, or every library effect and the user's own; never one the scene already models
+/// (fitting it again would stack two copies and write a scene that lists it twice), never one twice.
 std::vector<std::string> candidate_types(const Context& ctx) {
   const auto& o = ctx.options;
   const bool asked = !o.candidates.empty();
-  std::vector<std::string> types;
-  for (const auto& t : asked ? o.candidates : effects::effect_types()) {
+  std::vector<std::string> types, all = effects::effect_types();
+  all.insert(all.end(), o.own_effects.begin(), o.own_effects.end());
+  for (const auto& t : asked ? o.candidates : all) {
     if (!asked && family_effect(ctx, t)) continue;
     const bool modelled = std::find(ctx.in_scene.begin(), ctx.in_scene.end(), t) != ctx.in_scene.end();
     if (modelled && asked)
