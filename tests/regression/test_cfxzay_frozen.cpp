@@ -9,7 +9,8 @@
 // measurement and its diagnosis), the diagnosis of a hidden constant E_AOA (as it stands: at the freeze the families
 // beyond the library were not tried on it), and the crowned scene (design motions). The physics of each is tested where it is computed; this file only says that the chain as data reproduces
 // the chain as code. The JSON file must never be regenerated to make this test pass: its git history shows when it
-// was written. To write it (only ever at that commit): GEARTOPO_FREEZE_OUT=<path> test_frozen.
+// was written, and each rewrite names the intended change that moved which values (GEARTOPO_FREEZE_OUT=<path>
+// test_frozen writes it).
 //
 // Every number is stored in µm or µrad (poses: rotation entries × 10⁶, translations in µm; Jacobian entries as µm or
 // µrad per µm or µrad of their input), or as the library's JSON writes it (ISO values in µm, ΔBIC, …); the comparison
