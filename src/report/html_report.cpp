@@ -417,7 +417,7 @@ const char* kStyle =
     "figure{break-inside:avoid;margin:.5em 0}img{width:auto;max-height:135mm}img[src=\"topology_after.png\"]{max-height:80mm}img[src=\"measured_vs_model.png\"]{max-height:120mm}"
     "img[src=\"diagnosis.png\"]{max-height:100mm}figcaption{font-size:8.5pt}"
     ".scroll{overflow:visible}.first{break-after:page;border:none;background:none;padding:0}"
-    ".first figure{display:flex;gap:1em;align-items:flex-end}.first figure img{max-height:66mm;max-width:62%}"
+    ".first figure{display:flex;gap:1em;align-items:flex-end}.first figure img{max-height:50mm;max-width:62%}"
     ".row{flex-wrap:nowrap;gap:.8em}.row figure{flex:0 0 52%}.row figure img{max-height:90mm}.row figcaption{font-size:7.5pt}.row .side{flex:1 1 auto}"
     ".row table.values{font-size:8pt}}</style>";
 
