@@ -191,11 +191,38 @@ struct LegendEntry {
   double opacity = 1.0;
 };
 
+const std::string& label_of(const LegendEntry& e) { return e.label; }
+const std::string& label_of(const std::string& label) { return label; }
+
 void draw_hatch(vtkContext2D* p, float x0, float y0, float x1, float y1, float step) {
   for (float k = std::floor((x0 - y1) / step) * step; k <= x1 - y0; k += step) {
     const float ya = std::max(y0, x0 - k), yb = std::min(y1, x1 - k);
     if (yb > ya) p->DrawLine(ya + k, ya, yb + k, yb);
   }
+}
+
+constexpr float kLegendGap = 1.2F;      // between entries of a row above the plot (× px)
+constexpr float kLegendRowPitch = 1.5F; // between rows above the plot (× px)
+
+/// An entry's width in a legend row above the plot: symbol, gap, label (px).
+float legend_entry_width(const std::string& label, int px) {
+  const int lpx = static_cast<int>(std::lround(0.9 * px));
+  return 2.2F * static_cast<float>(px) + 0.5F * static_cast<float>(lpx) + static_cast<float>(text_size(label, lpx).first);
+}
+
+template <class Entries> float legend_row_width(const Entries& entries, std::size_t begin, std::size_t end, int px) {
+  float w = 0.0F;
+  for (std::size_t i = begin; i < end; ++i) w += legend_entry_width(label_of(entries[i]), px);
+  return w + static_cast<float>(end - begin - 1) * kLegendGap * static_cast<float>(px);
+}
+
+/// The first entry of each row of a legend above the plot whose rows may be `width` px wide: entries in order,
+/// a new row when the next would not fit (a single entry wider than `width` gets a row of its own).
+template <class Entries> std::vector<std::size_t> legend_row_starts(const Entries& entries, int px, float width) {
+  std::vector<std::size_t> starts{0};
+  for (std::size_t i = 1; i < entries.size(); ++i)
+    if (legend_row_width(entries, starts.back(), i + 1, px) > width) starts.push_back(i);
+  return starts;
 }
 
 /// The legend box at `corner` of the plot area, `offset` px further inwards vertically (below / above a text
@@ -214,19 +241,18 @@ void draw_legend(vtkContext2D* p, const PixelMap& m, const std::vector<LegendEnt
   std::vector<float> xs;
   std::vector<float> ys;
   if (place == LegendPlace::above) {
-    // One row right-aligned over the plot area's top edge, no box.
-    float total = 0.0F;
-    std::vector<float> widths;
-    for (const LegendEntry& e : entries) {
-      widths.push_back(symbol + 0.5F * static_cast<float>(lpx) + static_cast<float>(text_size(e.label, lpx).first));
-      total += widths.back();
-    }
-    total += static_cast<float>(entries.size() - 1) * 1.2F * static_cast<float>(px);
-    float x = m.right() - total;
-    for (float w : widths) {
-      xs.push_back(x);
-      ys.push_back(m.top() + 0.9F * static_cast<float>(px));
-      x += w + 1.2F * static_cast<float>(px);
+    // Rows right-aligned over the plot area's top edge, no box; the first row highest.
+    const std::vector<std::size_t> starts = legend_row_starts(entries, px, m.right() - 0.5F * static_cast<float>(px));
+    for (std::size_t r = 0; r < starts.size(); ++r) {
+      const std::size_t end = r + 1 < starts.size() ? starts[r + 1] : entries.size();
+      float x = m.right() - legend_row_width(entries, starts[r], end, px);
+      const float y = m.top() + 0.9F * static_cast<float>(px) +
+                      static_cast<float>(starts.size() - 1 - r) * kLegendRowPitch * static_cast<float>(px);
+      for (std::size_t i = starts[r]; i < end; ++i) {
+        xs.push_back(x);
+        ys.push_back(y);
+        x += legend_entry_width(entries[i].label, px) + kLegendGap * static_cast<float>(px);
+      }
     }
   } else {
     const float w = pad + symbol + 0.5F * static_cast<float>(lpx) + text_w + pad;
@@ -374,16 +400,22 @@ struct ChartBuilder::Impl {
     // The plot area is placed explicitly (AXES_TO_RECT): margins from the fonts and the tick labels, so that
     // nothing is clipped at the image edges whatever the labels are.
     const float reserve = frame.colour_bar ? colour_bar_reserve(*frame.colour_bar, frame.colour_bar_label, px) : 0.0F;
-    const double top =
-        (frame.title.empty() ? 1.2 * px : 2.9 * px) + (frame.legend == LegendPlace::above ? 1.6 * px : 0.0);
     const double bottom = 0.35 * px + 0.3 * px + 1.25 * label_px + (frame.x_label.empty() ? 0.6 : 2.1) * px;
     const double first_guess_w = W - reserve - 8.0 * px;
     const Ticks x_ticks = make_ticks(frame.x_range, px, first_guess_w, frame.x_ticks, frame.x_tick_labels);
+    const std::string last_x_label = x_ticks.labels.empty() ? std::string() : x_ticks.labels.back();
+    const double right = std::max(reserve + 0.6 * px, 0.5 * text_width_estimate(last_x_label, label_px) + 0.9 * px);
+    // A legend above the plot: its rows as draw_legend() breaks them at the plot area's right edge.
+    const std::size_t legend_rows =
+        frame.legend != LegendPlace::above ? 0
+        : frame.legend_labels.empty()      ? 1
+                                           : legend_row_starts(frame.legend_labels, px,
+                                                               static_cast<float>(W - right - 0.5 * px)).size();
+    const double top = (frame.title.empty() ? 1.2 * px : 2.9 * px) +
+                       (legend_rows == 0 ? 0.0 : 1.6 * px + (legend_rows - 1) * kLegendRowPitch * px);
     const Ticks y_ticks = make_ticks(frame.y_range, px, H - top - bottom, {}, {});
     const double left =
         0.35 * px + 0.3 * px + widest(y_ticks.labels, label_px) + 0.4 * px + (frame.y_label.empty() ? 0.4 : 2.0) * px;
-    const std::string last_x_label = x_ticks.labels.empty() ? std::string() : x_ticks.labels.back();
-    const double right = std::max(reserve + 0.6 * px, 0.5 * text_width_estimate(last_x_label, label_px) + 0.9 * px);
     chart->SetLayoutStrategy(vtkChart::AXES_TO_RECT);
     chart->SetSize(vtkRectf(static_cast<float>(left), static_cast<float>(bottom), static_cast<float>(W - left - right),
                             static_cast<float>(H - bottom - top)));

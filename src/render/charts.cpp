@@ -47,6 +47,19 @@ void add_decorations(const std::vector<Band>& bands, const std::vector<RefLine>&
   for (const RefLine& l : lines) (l.orientation == Orientation::horizontal ? y : x).add(l.at);
 }
 
+/// The legend's labels in the order the chart builder adds its entries: bands, bars, lines (named ones only).
+std::vector<std::string> legend_labels(const std::vector<Band>& bands, const std::vector<BarSeries>& bars,
+                                       const std::vector<Series>& lines) {
+  std::vector<std::string> labels;
+  for (const Band& b : bands)
+    if (!b.label.empty()) labels.push_back(b.label);
+  for (const BarSeries& b : bars)
+    if (!b.name.empty()) labels.push_back(b.name);
+  for (const Series& l : lines)
+    if (!l.name.empty()) labels.push_back(l.name);
+  return labels;
+}
+
 void check_series(const Series& s, const std::string& chart) {
   require(s.x.size() == s.y.size(), chart + ": series '" + s.name + "' has " + std::to_string(s.x.size()) +
                                         " x values but " + std::to_string(s.y.size()) + " y values");
@@ -82,6 +95,7 @@ RenderResult render_line_chart(const LineChart& chart, const std::filesystem::pa
               std::to_string(chart.x_ticks.size()) + " ticks");
   frame.x_ticks = chart.x_ticks;
   frame.x_tick_labels = chart.x_tick_labels;
+  frame.legend_labels = legend_labels(chart.bands, {}, chart.series);
 
   detail::ChartBuilder builder(frame);
   for (const Band& b : chart.bands) builder.add_band(b);
@@ -163,6 +177,8 @@ RenderResult render_bar_chart(const BarChart& chart, const std::filesystem::path
       frame.x_tick_labels.push_back(chart.categories.empty() ? std::to_string(i + 1) : chart.categories[i]);
     }
   }
+
+  frame.legend_labels = legend_labels(chart.bands, chart.bars, chart.lines);
 
   detail::ChartBuilder builder(frame);
   for (const Band& b : chart.bands) builder.add_band(b);

@@ -137,5 +137,29 @@ TEST(BarChart, CategoriesAndTwoSeriesSideBySide) {
   EXPECT_TRUE(contains_colour(img, {255, 127, 14}, 6, 1000));
 }
 
+TEST(BarChart, ALegendAboveTooWideForOneRowWrapsInsideTheImage) {
+  // Six entries with long labels at 800 px: one row would run off the image's left edge (the first entries lost);
+  // wrapped, every entry's symbol is drawn above the plot area.
+  BarChart c;
+  c.title = "Legend above, wrapped";
+  c.y = {"deviation", "µm", 0.0, 10.0};
+  c.categories = {"A", "B", "C"};
+  c.bars = {{"the bars' median over every sample", {1.0, 1.5, 1.2}, Rgb{200, 200, 200}}};
+  const std::vector<Rgb> colours{{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {148, 103, 189}, {255, 127, 14}};
+  for (std::size_t i = 0; i < colours.size(); ++i)
+    c.lines.push_back({"series number " + std::to_string(i + 1) + " with a long legend label", {1.0, 3.0}, {0.5, 1.0},
+                       colours[i], 3.0, Marker::none, 7.0, false});
+  c.legend = LegendPlace::above;
+  c.size = {800, 500};
+  const auto png = test::output("bar_chart_wrapped_legend.png");
+  render_bar_chart(c, png);
+  test::expect_figure(png, c.size);
+  const Image img = read_png(png);
+  // The top quarter holds the title and the legend only (the data stay below y = 1.5 of 0 … 10).
+  Image top{img.width, img.height / 4, {img.pixels.begin(), img.pixels.begin() + img.width * (img.height / 4)}};
+  for (const Rgb& colour : colours) EXPECT_TRUE(contains_colour(top, colour, 6, 20)) << int(colour.r);
+  EXPECT_TRUE(contains_colour(top, {200, 200, 200}, 6, 100)); // the bars' entry, first in the legend
+}
+
 } // namespace
 } // namespace geartopo::render

@@ -22,6 +22,9 @@ struct ChartFrame {
   ImageSize size;
   int px = 18;
   LegendPlace legend = LegendPlace::top_right;
+  /// The legend's labels in drawing order, known before the series are added: with LegendPlace::above the layout
+  /// reserves as many rows above the plot as they need at the image's width (empty: one row).
+  std::vector<std::string> legend_labels;
   bool grid = true;
   /// Custom x tick positions and labels (categories); empty → nice ticks.
   std::vector<double> x_ticks;
