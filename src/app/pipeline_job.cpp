@@ -10,6 +10,7 @@
 #include "geartopo/diagnosis/scene_writer.hpp"
 #include "geartopo/files/atomic_write.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
+#include "geartopo/report/html_report.hpp"
 #include "geartopo/report/improvement.hpp"
 #include "geartopo/report/iso_report.hpp"
 #include "geartopo/report/measurement_report.hpp"
@@ -87,6 +88,29 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
                                         identified.draws);
   }
   return iso;
+}
+
+void set_measurement(pipeline::PipelineOptions& po, const workbench::Workbench& wb, const std::string& measured,
+                     const KlingelnbergFlags& mka) {
+  po.measured_file = measured_of(wb, measured);
+  refuse_mka_flags_without_export(po.measured_file, mka);
+  po.measurement_format = mka.options;
+  po.measured_against = measured_against(wb, po.measured_file, mka);
+}
+
+ReportJob run_report_job(const workbench::Workbench& wb, pipeline::PipelineOptions po, const std::string& scene_file,
+                         const fs::path& dir, double max_time_s) {
+  print_pipeline_estimate(wb, po);
+  StageProgress progress(po, max_time_s);
+  BeforeFigures before(po, wb, dir);
+  ReportJob job;
+  job.result = pipeline::run_pipeline(wb, po);
+  progress.finish();
+  if (job.result.measurement)
+    for (const auto& w : job.result.measurement->warnings) say("geartopo: warning: " + w);
+  job.iso = write_data_files(dir, scene_file, wb, job.result); // the page names them (corrections.csv …)
+  job.figures = report::write_report(dir, wb, job.result, {}, before.take());
+  return job;
 }
 
 void print_pipeline_estimate(const workbench::Workbench& wb, const pipeline::PipelineOptions& po) {

@@ -3,6 +3,7 @@
 // its stages.
 #pragma once
 
+#include "app/measurement_options.hpp"
 #include "app/work_estimates.hpp"
 
 #include "geartopo/files/output_folder.hpp"
@@ -34,6 +35,25 @@ output::RunFiles report_files(const std::string& scene, const std::string& measu
 /// Writes the data files and returns iso1328.json's content (run --json prints it with the measurement's verdict).
 nlohmann::json write_data_files(const std::filesystem::path& dir, const std::string& scene_file,
                                 const workbench::Workbench& wb, const pipeline::PipelineResult& r);
+
+/// The measurement options of a whole-pipeline job into `po`: the file (--measured, else the scene's), the
+/// Klingelnberg reader's options (refused without an export) and what the file is measured against.
+void set_measurement(pipeline::PipelineOptions& po, const workbench::Workbench& wb, const std::string& measured,
+                     const KlingelnbergFlags& mka);
+
+/// What a report job wrote: the pipeline's result, iso1328.json's content and the report's figures.
+struct ReportJob {
+  pipeline::PipelineResult result;
+  nlohmann::json iso;
+  std::vector<report::Figure> figures;
+};
+
+/// The job `run` and `report` share, into `dir` (an open OutputFolder's): the work estimate, the stages' progress,
+/// the figures of the gear before compensation drawn while the pipeline goes on, the pipeline, the measurement's
+/// warnings on stderr, the data files and the report. `po` is a copy: the job installs its progress and figure
+/// callbacks into it.
+ReportJob run_report_job(const workbench::Workbench& wb, pipeline::PipelineOptions po, const std::string& scene_file,
+                         const std::filesystem::path& dir, double max_time_s);
 
 /// Before the job: its two simulations (the gear before and after compensation) at the calibrated rate, when large
 /// (print_work_estimate).

@@ -62,10 +62,7 @@ pipeline::PipelineOptions pipeline_options(const RunOptions& opt, const Workbenc
                                             : compensation::Method::Flank;
   po.step_mm = opt.step;
   po.noise_um = opt.noise;
-  po.measured_file = measured_of(wb, opt.measured);
-  refuse_mka_flags_without_export(po.measured_file, opt.mka);
-  po.measurement_format = opt.mka.options;
-  po.measured_against = measured_against(wb, po.measured_file, opt.mka);
+  set_measurement(po, wb, opt.measured, opt.mka);
   po.iso = opt.iso;
   po.prediction = prediction_options(opt.mc);
   return po;
@@ -86,15 +83,9 @@ int run_main_job(const RunOptions& opt) {
   output::OutputFolder folder(dir, files);
   if (!quiet()) say("geartopo run: " + (wb.scene.name.empty() ? opt.scene : wb.scene.name));
   print_notes(wb);
-  print_pipeline_estimate(wb, po);
-  StageProgress progress(po, opt.mc.max_time_s);
-  BeforeFigures before(po, wb, dir);
-  const auto r = pipeline::run_pipeline(wb, po);
-  progress.finish();
-  if (r.measurement)
-    for (const auto& w : r.measurement->warnings) say("geartopo: warning: " + w);
-  nlohmann::json summary = write_data_files(dir, opt.scene, wb, r);
-  report::write_report(dir, wb, r, {}, before.take());
+  ReportJob job = run_report_job(wb, po, opt.scene, dir, opt.mc.max_time_s);
+  const pipeline::PipelineResult& r = job.result;
+  nlohmann::json& summary = job.iso;
   print_job_summary(dir, r);
   finish_output_folder(folder);
   summary["report"] = (dir / "index.html").string();

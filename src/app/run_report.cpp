@@ -4,7 +4,6 @@
 #include "app/messages.hpp"
 #include "app/pipeline_job.hpp"
 
-#include "geartopo/report/html_report.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
 #include <fmt/format.h>
@@ -20,22 +19,11 @@ int run_report(const ReportOptions& opt) {
   const std::filesystem::path dir(opt.out);
   output::OutputFolder folder(dir, files);
   pipeline::PipelineOptions po;
-  po.measured_file = measured_of(wb, opt.measured);
-  refuse_mka_flags_without_export(po.measured_file, opt.mka);
-  po.measurement_format = opt.mka.options;
-  po.measured_against = measured_against(wb, po.measured_file, opt.mka);
+  set_measurement(po, wb, opt.measured, opt.mka);
   po.iso = opt.iso;
   po.prediction = prediction_options(opt.mc);
-  print_pipeline_estimate(wb, po);
-  StageProgress progress(po, opt.mc.max_time_s);
-  BeforeFigures before(po, wb, dir);
-  const auto r = pipeline::run_pipeline(wb, po);
-  progress.finish();
-  if (r.measurement)
-    for (const auto& w : r.measurement->warnings) say("geartopo: warning: " + w);
-  write_data_files(dir, opt.scene, wb, r); // the page names them (corrections.csv, scene_with_effect.yaml …)
-  const auto figs = report::write_report(dir, wb, r, {}, before.take());
-  std::cout << fmt::format("wrote {} figures and {}\n", figs.size(), (dir / "index.html").string());
+  const ReportJob job = run_report_job(wb, po, opt.scene, dir, opt.mc.max_time_s);
+  std::cout << fmt::format("wrote {} figures and {}\n", job.figures.size(), (dir / "index.html").string());
   finish_output_folder(folder);
   return 0;
 }
