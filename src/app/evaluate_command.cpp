@@ -42,6 +42,7 @@ void register_evaluate_command(CLI::App& app, Action& action) {
                   "against_prediction.png marks both gears")
       ->check(non_empty_path());
   add_iso_options(cmd, opt->iso);
+  add_measured_against_option(cmd, opt->mka); // --traces and --before-traces
   add_klingelnberg_options(cmd, opt->mka);
   const CLI::Option* direction_flag = cmd->get_option("--iso-direction");
   const CLI::Option* sign_flag = cmd->get_option("--helix-slope-sign");

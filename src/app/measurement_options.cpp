@@ -70,6 +70,11 @@ void add_measurement_options(CLI::App* cmd, std::string& file, KlingelnbergFlags
                               "export (docs/measurement-formats.md); told apart by content") +
                       (required ? "" : "; default: the scene's measurement.measured (none: no comparison)"))
       ->required(required);
+  add_measured_against_option(cmd, flags);
+  add_klingelnberg_options(cmd, flags);
+}
+
+void add_measured_against_option(CLI::App* cmd, KlingelnbergFlags& flags) {
   add_word_option<measurement::MeasuredAgainst>(
       cmd, "--measured-against", flags.against,
       {{"design", measurement::MeasuredAgainst::design}, {"involute", measurement::MeasuredAgainst::involute}},
@@ -77,7 +82,6 @@ void add_measurement_options(CLI::App* cmd, std::string& file, KlingelnbergFlags
       "machine that evaluates against it writes) or involute (the bare involute); not given: the bare involute, and "
       "diagnose says when the residual looks like minus the design (docs/modifications.md)",
       nullptr); // for every format: not one of the --mka-… flags refused without an export
-  add_klingelnberg_options(cmd, flags);
 }
 
 measurement::MeasuredAgainst measured_against(const workbench::Workbench& wb, const std::string& file,

@@ -34,6 +34,9 @@ void add_klingelnberg_options(CLI::App* cmd, KlingelnbergFlags& flags);
 /// (required) and run and report (optional: the scene's measurement.measured when not given).
 void add_measurement_options(CLI::App* cmd, std::string& file, KlingelnbergFlags& flags, bool required = true);
 
+/// `--measured-against design|involute` alone, for a command that reads measured traces (evaluate --traces).
+void add_measured_against_option(CLI::App* cmd, KlingelnbergFlags& flags);
+
 /// Throws CLI::ValidationError naming the first --mka-… flag given when `file` is not a Klingelnberg export
 /// (measurement::looks_like_klingelnberg): the flag would do nothing. Before the file is read; also when `file` is
 /// empty (nothing is read).

@@ -97,7 +97,7 @@ Flanks measured_flanks(const EvaluateOptions& opt, const Workbench& wb) {
   Flanks f;
   refuse_mka_flags_without_export(opt.traces, opt.mka);
   auto read = commands::read_traces_with_machine_values(wb, opt.traces, opt.machine_values, opt.mka.options,
-                                                        {"--machine-values", "--machine-values {}"});
+                                                        {"--machine-values", "--machine-values {}"}, opt.mka.against);
   for (const auto& w : read.warnings) say("geartopo: warning: " + w);
   f.topo = read.traces.flanks;
   f.source = (read.traces.klingelnberg ? "measured traces (Klingelnberg export) " : "measured traces ") + opt.traces;
@@ -122,6 +122,9 @@ int run_evaluate(const EvaluateOptions& opt) {
   if (!opt.before_traces.empty() && (opt.prediction.empty() || opt.traces.empty() || opt.side != "after"))
     throw CLI::ValidationError("--before-traces", "needs --prediction and --traces (gear 2, the after side): gear 1's "
                                                   "traces are checked against the prediction's before band");
+  if (opt.mka.against != measurement::MeasuredAgainst::as_file && opt.traces.empty())
+    throw CLI::ValidationError("--measured-against", "needs --traces: it says what measured traces without a design_um "
+                                                     "column are measured from");
   std::vector<std::filesystem::path> outputs{"iso1328.json"};
   if (!opt.prediction.empty()) outputs.push_back("against_prediction.png");
   const output::RunFiles files{{opt.scene, opt.traces, opt.machine_values, opt.prediction, opt.before_traces}, outputs};
@@ -159,7 +162,7 @@ int run_evaluate(const EvaluateOptions& opt) {
   // Gear 1, ground without the corrections, against the before band: the error falling from gear 1 to gear 2.
   std::vector<report::PredictionCheck> gear1_checks;
   if (!opt.before_traces.empty()) {
-    auto gear1 = measurement::read_any_traces(opt.before_traces, wb.setup, opt.mka.options);
+    auto gear1 = measurement::read_any_traces(opt.before_traces, wb.setup, opt.mka.options, opt.mka.against);
     for (const auto& w : gear1.warnings) say("geartopo: warning: " + w);
     const auto iso1 = workbench::evaluate_iso(g, wb.setup.ranges(), gear1.flanks, iso_options);
     gear1_checks = report::check_against_prediction(pipeline::gear_quantities(iso1, gear1.flanks), *prediction, "before", false);

@@ -11,9 +11,10 @@ namespace geartopo::commands {
 TracesWithMachineValues read_traces_with_machine_values(const workbench::Workbench& wb, const std::string& traces,
                                                         const std::string& values_file,
                                                         const measurement::KlingelnbergOptions& mka,
-                                                        const ValuesArgument& argument) {
+                                                        const ValuesArgument& argument,
+                                                        measurement::MeasuredAgainst against) {
   TracesWithMachineValues r;
-  r.traces = measurement::read_any_traces(traces, wb.setup, mka);
+  r.traces = measurement::read_any_traces(traces, wb.setup, mka, against);
   r.warnings = std::move(r.traces.warnings);
   r.traces.warnings.clear();
   if (!values_file.empty()) {

@@ -48,6 +48,22 @@ void refuse_utf16_stream(std::istream& in, const std::string& file) {
 
 } // namespace
 
+namespace {
+
+/// The line of the file's header with a design column (0: none). Such a file says what its deviations are measured
+/// from: a declaration besides is refused.
+int design_header_line(std::istream& in, const std::string& file, MeasuredAgainst against) {
+  const int design_header = grinding::design_column_line(in);
+  if (design_header > 0 && against != MeasuredAgainst::as_file)
+    throw InputError(file, design_header, 0, grinding::kDesignColumn,
+                     fmt::format("the file says what its deviations are measured from (its {} column): \"measured "
+                                 "against: {}\" is for a file without one",
+                                 grinding::kDesignColumn, to_string(against)));
+  return design_header;
+}
+
+} // namespace
+
 void declare_reference(std::vector<MeasuredPoint>& points, MeasuredAgainst against, const gears::FlankDesign& design) {
   for (auto& p : points) {
     if (against == MeasuredAgainst::design) p.design_um = design.at_um(p.flank, p.roll_length_mm, p.z_mm);
@@ -61,12 +77,7 @@ std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const g
   auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "measurement");
   if (counts) *counts = {};
   refuse_utf16_stream(in, file);
-  const int design_header = grinding::design_column_line(in);
-  if (design_header > 0 && against != MeasuredAgainst::as_file)
-    throw InputError(file, design_header, 0, grinding::kDesignColumn,
-                     fmt::format("the file says what its deviations are measured from (its {} column): \"measured "
-                                 "against: {}\" is for a file without one",
-                                 grinding::kDesignColumn, to_string(against)));
+  const int design_header = design_header_line(in, file, against);
   std::vector<MeasuredPoint> points;
   // First: an export's header lines and trace heads are not numbers, so neither other reader would take it anyway.
   if (looks_like_klingelnberg(in)) {
@@ -86,11 +97,19 @@ std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const g
   return points;
 }
 
-MeasuredTraces read_any_traces(const std::string& file, const grinding::GrindingSetup& setup, const KlingelnbergOptions& mka) {
+MeasuredTraces read_any_traces(const std::string& file, const grinding::GrindingSetup& setup, const KlingelnbergOptions& mka,
+                               MeasuredAgainst against) {
   MeasuredTraces t;
   const auto& g = setup.geometry();
   auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "traces file");
   refuse_utf16_stream(in, file);
+  const int design_header = design_header_line(in, file, against); // refuses a declaration for a file with the column
+  if (design_header == 0 && against == MeasuredAgainst::as_file && !setup.design().empty())
+    t.warnings.push_back(fmt::format(
+        "{} has no {} column: its deviations are read as measured against the bare involute, while the scene's "
+        "drawing has modifications; if the measuring machine evaluated against the drawing, say so "
+        "(--measured-against design; Python: measured_against=\"design\"), else declare involute to silence this",
+        file, grinding::kDesignColumn));
   t.klingelnberg = looks_like_klingelnberg(in);
   if (t.klingelnberg) {
     t.export_file = read_klingelnberg(file);
@@ -98,6 +117,10 @@ MeasuredTraces read_any_traces(const std::string& file, const grinding::Grinding
   } else {
     t.flanks = grinding::read_traces_csv(file, g.teeth());
   }
+  if (against == MeasuredAgainst::design) // the file's deviations are from the drawing: keep them
+    for (auto& ft : t.flanks)
+      for (auto* trace : {&ft.profile, &ft.helix})
+        for (auto& p : *trace) p.design_um = setup.design().at_um(ft.flank, p.roll_length_mm, p.z_mm);
   refer_to_design(t.flanks, setup.design());
   return t;
 }

@@ -691,6 +691,58 @@ TEST(Cli, AFileEvaluatedAgainstTheDrawingWithoutItsDesignColumnIsRecognised) {
   std::filesystem::remove_all(dir);
 }
 
+// evaluate --traces reads measured traces as diagnose reads a measurement: a file of deviations from the drawing
+// without its design_um column is evaluated like the file with it once declared (--measured-against design), is
+// warned about when not (on a designed gear its F_α holds the drawing's profile crowning), and a declaration for a
+// file with the column, or without --traces, is refused.
+TEST(Cli, EvaluateTracesMeasuredAgainstTheDrawingWithoutTheColumn) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_traces_against");
+  std::filesystem::create_directories(dir);
+  const std::string crowned = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35-crowned.yaml";
+  const std::string with_column = (dir / "with_column.csv").string(), without = (dir / "without.csv").string();
+  ASSERT_EQ(run("synth " + crowned + " --out " + with_column + " --format traces --teeth all --noise-um 0 --seed 4").code, 0);
+  { // the same deviations (from the design), the design column dropped
+    std::ifstream in(with_column);
+    std::ofstream out(without);
+    for (std::string line; std::getline(in, line);)
+      out << (line.empty() || line[0] == '#' ? line : line.substr(0, line.rfind(','))) << "\n";
+  }
+  const auto evaluate = [&](const std::string& traces, const std::string& flags, const std::string& name) {
+    const CliResult r = run("evaluate " + crowned + " --traces " + traces + " --out " + (dir / name).string() + " " + flags);
+    EXPECT_EQ(r.code, 0) << r.err;
+    std::ifstream in(dir / name / "iso1328.json");
+    return std::pair{nlohmann::json::parse(in), r.err};
+  };
+  const auto [reference, reference_err] = evaluate(with_column, "", "with_column");
+  const auto [declared, declared_err] = evaluate(without, "--measured-against design", "declared");
+  const auto [undeclared, undeclared_err] = evaluate(without, "", "undeclared");
+  EXPECT_EQ(reference_err.find("no design_um column"), std::string::npos) << reference_err;
+  EXPECT_EQ(declared_err.find("no design_um column"), std::string::npos) << declared_err;
+  EXPECT_NE(undeclared_err.find("no design_um column"), std::string::npos) << undeclared_err;
+  EXPECT_NE(undeclared_err.find("--measured-against design"), std::string::npos) << undeclared_err;
+  // Per tooth and flank: equal to the file's 4 decimals when declared; the drawing's C_α 4 µm + tip relief 8 µm in
+  // F_α when not.
+  const auto& ref_flanks = reference["before"]["flanks"];
+  ASSERT_EQ(ref_flanks.size(), 70u);
+  for (std::size_t i = 0; i < ref_flanks.size(); ++i) {
+    for (const char* q : {"F_alpha_um", "f_falpha_um", "f_Halpha_um", "F_beta_um", "f_fbeta_um", "f_Hbeta_um"}) {
+      const double ref = ref_flanks[i][q], dec = declared["before"]["flanks"][i][q];
+      EXPECT_NEAR(dec, ref, 0.02) << i << " " << q;
+    }
+    const double undeclared_F_alpha = undeclared["before"]["flanks"][i]["F_alpha_um"];
+    EXPECT_GT(undeclared_F_alpha - ref_flanks[i]["F_alpha_um"].get<double>(), 4.0) << i;
+  }
+  EXPECT_NEAR(declared["before"]["gear"]["F_r_um"].get<double>(), reference["before"]["gear"]["F_r_um"].get<double>(), 0.02);
+  const CliResult twice = run("evaluate " + crowned + " --traces " + with_column + " --measured-against design --out " +
+                              (dir / "twice").string());
+  EXPECT_EQ(twice.code, 1);
+  EXPECT_NE(twice.err.find(with_column + ":1: design_um"), std::string::npos) << twice.err;
+  const CliResult no_traces = run("evaluate " + crowned + " --measured-against design --out " + (dir / "sim").string());
+  EXPECT_EQ(no_traces.code, 2);
+  EXPECT_NE(no_traces.err.find("--measured-against: needs --traces"), std::string::npos) << no_traces.err;
+  std::filesystem::remove_all(dir);
+}
+
 // An unknown command is an error whatever flags follow it (issue 39: `geartopo series --help`, before `series`
 // existed, printed the main help and exited 0); a command's own --help still answers.
 TEST(Cli, AnUnknownCommandIsAnErrorEvenWithHelp) {

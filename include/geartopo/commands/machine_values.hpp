@@ -35,13 +35,14 @@ struct TracesWithMachineValues {
   std::vector<std::string> warnings; ///< the reader's and the value file's findings that are not errors
 };
 
-/// Reads `traces` (with the Klingelnberg reader's options `mka`) and, when `values_file` is not empty, the machine's
-/// value file, which needs an export: otherwise ArgumentError naming `argument.name`. Throws InputError for a file
-/// that cannot be read.
-TracesWithMachineValues read_traces_with_machine_values(const workbench::Workbench& wb, const std::string& traces,
-                                                        const std::string& values_file,
-                                                        const measurement::KlingelnbergOptions& mka = {},
-                                                        const ValuesArgument& argument = {});
+/// Reads `traces` (with the Klingelnberg reader's options `mka`; what a file without a design column is measured
+/// from: `against`, measurement::read_any_traces) and, when `values_file` is not empty, the machine's value file,
+/// which needs an export: otherwise ArgumentError naming `argument.name`. Throws InputError for a file that cannot be
+/// read.
+TracesWithMachineValues read_traces_with_machine_values(
+    const workbench::Workbench& wb, const std::string& traces, const std::string& values_file,
+    const measurement::KlingelnbergOptions& mka = {}, const ValuesArgument& argument = {},
+    measurement::MeasuredAgainst against = measurement::MeasuredAgainst::as_file);
 
 /// The machine's evaluation beside geartopo's `iso` of the same traces.
 struct MachineValuesResult {

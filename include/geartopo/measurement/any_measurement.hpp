@@ -59,7 +59,10 @@ struct MeasuredTraces {
 
 /// A traces CSV (grinding/topology_csv.hpp) or a Klingelnberg export (klingelnberg_traces, read with `mka`), told
 /// apart by their content, with the deviations referred to the set-up's design (refer_to_design).
+/// What a file without a design column is measured from is `against`, as for read_any_measurement: design gives each
+/// point the set-up's design, so that its deviation is kept as the deviation from the drawing; `against` other than
+/// as_file for a file with a design column is an InputError naming its header.
 MeasuredTraces read_any_traces(const std::string& file, const grinding::GrindingSetup& setup,
-                               const KlingelnbergOptions& mka = {});
+                               const KlingelnbergOptions& mka = {}, MeasuredAgainst against = MeasuredAgainst::as_file);
 
 } // namespace geartopo::measurement
