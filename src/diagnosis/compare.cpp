@@ -78,6 +78,7 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
   for (const auto& [side, list] : by_side)
     if (list.size() >= 2) c.trends.push_back(fit_tooth_trends(list, setup.geometry().teeth()));
   c.summary = summarize_residuals(c.flanks);
+  c.reference_in_doubt = reference_in_doubt(setup.geometry(), pts, c.residual_um, c.noise_um);
   if (pts.size() >= 4) c.follows = residual_dependence(setup, pts, c.residual_um);
   for (const auto& f : c.flanks) {
     const auto crossings = line_crossings(f);

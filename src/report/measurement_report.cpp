@@ -57,6 +57,14 @@ nlohmann::json compare_json(const std::string& scene, const std::string& measure
                        {"sentence", diagnosis::describe_point_counts(n)}};
   j["noise_um"] = comparison.noise_um;
   j["noise_estimated"] = comparison.noise_estimated;
+  // diagnosis.json's record of the same name (docs/diagnosis.md, "The verdict as data"), with its sentence.
+  if (const auto& d = comparison.reference_in_doubt) {
+    nlohmann::json numbers = nlohmann::json::object();
+    for (const auto& [key, value] : d->numbers) numbers[key] = value;
+    j["reference_in_doubt"] = {{"numbers", numbers}, {"sentence", diagnosis::to_text(*d)}};
+  } else {
+    j["reference_in_doubt"] = nullptr;
+  }
   j["noise_source"] = comparison.noise_source.empty() ? nlohmann::json(nullptr) : nlohmann::json(comparison.noise_source);
   j["overall"] = stats_json(comparison.summary.overall);
   nlohmann::json flanks = nlohmann::json::array();
@@ -131,6 +139,8 @@ nlohmann::json compare_json(const std::string& scene, const std::string& measure
 
 std::string compare_summary_text(const diagnosis::Comparison& c) {
   std::string s = diagnosis::describe_point_counts(c.counts) + "\n";
+  // First, as diagnose's verdict opens with it: everything below rests on the reference as read.
+  if (c.reference_in_doubt) s += "Warning: " + diagnosis::to_text(*c.reference_in_doubt) + "\n";
   const auto& o = c.summary.overall;
   s += fmt::format("Residual (measured − model) over the {} used points on {} flanks: {:.2f} µm RMS, extreme {:+.2f} µm "
                    "(tooth {} {}, L_y {:.2f} mm, z {:.2f} mm); noise {:.{}f} µm{}\n",

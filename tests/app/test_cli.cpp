@@ -683,6 +683,22 @@ TEST(Cli, AFileEvaluatedAgainstTheDrawingWithoutItsDesignColumnIsRecognised) {
   EXPECT_EQ(declared["verdict"].get<std::string>().rfind("Set-up", 0), 0u) << declared["verdict"];
 
   EXPECT_TRUE(doubt(diagnose(without, "--measured-against involute", "involute")).is_null());
+  // compare says it too, first, with diagnose's numbers; not once declared.
+  for (const auto& [flags, name, in_doubt] : {std::tuple{"", "compare_undeclared", true},
+                                               std::tuple{"--measured-against design", "compare_declared", false}}) {
+    const CliResult r = run("compare " + crowned + " --measured " + without + " --out " + (dir / name).string() +
+                            " --noise-um 0.5 " + flags);
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::ifstream in(dir / name / "compare.json");
+    const auto c = nlohmann::json::parse(in);
+    EXPECT_EQ(!c["reference_in_doubt"].is_null(), in_doubt) << name;
+    EXPECT_EQ(r.out.find("Warning: The measurement looks evaluated against the drawing") != std::string::npos, in_doubt)
+        << r.out;
+    if (in_doubt) {
+      EXPECT_NEAR(c["reference_in_doubt"]["numbers"]["design_rms_um"].get<double>(),
+                  d["numbers"]["design_rms_um"].get<double>(), 1e-9);
+    }
+  }
   const CliResult twice = run("diagnose " + crowned + " --measured " + with_column + " --measured-against design --out " +
                               (dir / "twice").string() + " --noise-um 0.5");
   EXPECT_EQ(twice.code, 1);

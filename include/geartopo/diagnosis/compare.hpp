@@ -3,6 +3,8 @@
 // Units: µm, mm.
 #pragma once
 
+#include "geartopo/diagnosis/decision.hpp"
+
 #include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/diagnosis/residuals/failing_regions.hpp"
@@ -72,7 +74,16 @@ struct Comparison {
   /// end with kDisputedSignNote.
   std::vector<bool> disputed_sign;
   std::vector<std::size_t> flank_duplicates;             ///< per flank: duplicate positions left out
+  /// The measurement looks evaluated against the drawing though read as against the bare involute: diagnose's first
+  /// record (Reason::reference_in_doubt), said by compare too. None otherwise.
+  std::optional<Decision> reference_in_doubt;
 };
+
+/// A measurement nobody said the reference of (MeasuredPoint::reference_declared false) whose residual (µm, one per
+/// point) is largely minus the scene's design: the record diagnose's verdict opens with (docs/modifications.md,
+/// "Measurements against the design"). None when the reference was said, or the design does not explain it.
+std::optional<Decision> reference_in_doubt(const gears::GearGeometry& g, const std::vector<MeasuredPoint>& points,
+                                           const std::vector<double>& residual_um, double noise_um);
 
 /// The residual (µm, one per point) grouped by measured flank, ordered by tooth then left before right, each with the
 /// ISO evaluation ranges; point_index (when given) receives each flank's indices into `points`. A point at the position

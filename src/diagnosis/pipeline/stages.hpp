@@ -76,6 +76,9 @@ public:
 /// no --measured-against) read as against the bare involute, whose residual is largely minus the scene's design: it
 /// looks evaluated against the drawing (reference.cpp). None otherwise.
 std::optional<Decision> reference_in_doubt(const Context& ctx);
+/// The same for any residual (n, µm) with its set-up terms: compare's check (diagnosis::reference_in_doubt).
+std::optional<Decision> reference_in_doubt(const std::vector<MeasuredPoint>& points, const Eigen::VectorXd& residual,
+                                           const SetupTermModel& setup_terms, double noise_um);
 
 /// The progress callback's counts (DiagnoseOptions::on_candidate_fitted): fits done and known so far.
 struct FitProgress {
