@@ -40,7 +40,7 @@ int run_series(const SeriesOptions& opt) {
   if (!opt.aqdef.empty()) {
     std::vector<series::AqdefGear> gears;
     for (const auto& g : result.gears)
-      if (g.iso) gears.push_back({&g.iso->evaluation, g.gear.start_epoch_s});
+      if (g.iso) gears.push_back({&g.iso->evaluation, g.gear.start_epoch_s, g.gear.id});
     if (gears.empty())
       say(fmt::format("geartopo: warning: no gear of {} holds traces: {} holds no values", opt.series, opt.aqdef));
     const auto params = workbench::gear_parameters(wb.setup.geometry());
