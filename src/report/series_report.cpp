@@ -166,7 +166,7 @@ const char* kSeriesStyle =
     "table.findings td:nth-child(3),table.findings td:nth-child(4),table.findings td:nth-child(5){white-space:nowrap}"
     "table.pergear td{white-space:nowrap}"
     ".charts{display:grid;grid-template-columns:1fr 1fr;gap:.6em 1.2em}.charts figure{margin:0}"
-    "@media print{.charts img{max-height:62mm}table.findings{font-size:8pt}}</style>";
+    "@media print{.charts img{max-height:62mm}table.findings,table.pergear{font-size:8pt}table.pergear td{padding:.1em .25em}}</style>";
 
 } // namespace
 
