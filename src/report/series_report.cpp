@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace geartopo::report {
@@ -104,6 +105,7 @@ std::string loss_text(const series::SeriesQuantity& q) {
 
 /// The findings: per quantity its law with σ, the scatter left, the next gear and the class loss.
 std::string findings_table(const series::SeriesResult& r) {
+  if (std::none_of(r.quantities.begin(), r.quantities.end(), [](const auto& q) { return q.fit.has_value(); })) return "";
   std::string h = "<div class=scroll><table class=findings><thead><tr><th>quantity (µm)</th><th>law across the series "
                   "(scatter left)</th><th>parameters (±1σ)</th><th>next gear: median [95 %]</th><th>limit</th>"
                   "<th>limit expected left</th></tr></thead>\n";
@@ -126,6 +128,9 @@ std::string interval_text(const series::SeriesResult& r) {
   const series::SeriesQuantity* first = nullptr;
   for (const auto& q : r.quantities)
     if (q.loss && q.loss->gears_median && (!first || *q.loss->gears_median < *first->loss->gears_median)) first = &q;
+  if (r.gears.size() < 3)
+    return fmt::format("<p>{} gear(s) measured: the laws across the series need 3 or more; nothing is fitted or "
+                       "predicted yet.</p>\n", r.gears.size());
   if (!first)
     return "<p>No quantity is expected to leave its limit within the gears looked ahead: no re-dress or "
            "re-compensation is called for by the series.</p>\n";
