@@ -31,15 +31,13 @@ namespace {
 
 /// The series analysed and its files written into `out`: series.json, the run charts, the closed-loop figure.
 struct SeriesRun {
-  series::SeriesSpec spec;
-  series::SeriesResult result;
+  series::SeriesResult result; ///< its spec is the series file read
   report::SeriesFigures figures;
 };
 
 SeriesRun analyse_and_write(const std::string& series_file, const Workbench& wb, const std::filesystem::path& out) {
   SeriesRun run;
-  run.spec = series::load_series(series_file, series::strokes_per_gear(wb));
-  run.result = series::analyse_series(run.spec, wb);
+  run.result = series::analyse_series(series::load_series(series_file, series::strokes_per_gear(wb)), wb);
   output::write_text_atomically(out / "series.json", series::series_json(run.result).dump(2) + "\n");
   run.figures.run_charts = series::write_run_charts(run.result, out);
   run.figures.closed_loop = series::write_closed_loop_figure(run.result, out);
@@ -54,7 +52,7 @@ void write_aqdef(const std::string& file, const std::string& series_file, const 
   if (gears.empty()) say(fmt::format("geartopo: warning: no gear of {} holds traces: {} holds no values", series_file, file));
   const auto params = workbench::gear_parameters(wb.setup.geometry());
   aqdef::write_dfq(file, series::iso_aqdef(gears, params, run.result.drawing_class,
-                                           aqdef_header(wb, run.spec.name, run.spec.machine)));
+                                           aqdef_header(wb, run.result.spec.name, run.result.spec.machine)));
   std::cout << "wrote " << file << "\n";
 }
 
