@@ -13,8 +13,9 @@ namespace geartopo::app {
 void register_report_command(CLI::App& app, Action& action) {
   auto opt = std::make_shared<ReportOptions>();
   CLI::App* cmd = app.add_subcommand("report", "Figures (PNG, rendered off-screen) and an offline index.html: topology, "
-                                               "traces, pitch, machine errors, before/after, measured vs model, diagnosis");
-  cmd->add_option("SCENE", opt->scene, "Scene file (YAML)")->required();
+                                               "traces, pitch, machine errors, before/after, measured vs model, diagnosis; "
+                                               "or, given a series file, the production series' page (docs/series.md)");
+  cmd->add_option("SCENE", opt->scene, "Scene file (YAML), or a series file (docs/scene-format.md \"Series files\")")->required();
   add_measurement_options(cmd, opt->measured, opt->mka, false);
   cmd->add_option("--out", opt->out, "Output directory")->required()->check(non_empty_path());
   add_iso_options(cmd, opt->iso);

@@ -199,7 +199,7 @@ int run_evaluate(const EvaluateOptions& opt) {
   }
   std::cout << "wrote " << (out / "iso1328.json").string() << (prediction ? " and against_prediction.png" : "") << "\n";
   if (!opt.aqdef.empty()) {
-    const auto part = series::iso_aqdef({{&iso.evaluation, std::nullopt}}, iso.parameters, wb.scene.report.tolerance_class,
+    const auto part = series::iso_aqdef({{&iso.evaluation, std::nullopt, ""}}, iso.parameters, wb.scene.report.tolerance_class,
                                         aqdef_header(wb, "", ""));
     aqdef::write_dfq(opt.aqdef, part);
     std::cout << "wrote " << opt.aqdef << "\n";

@@ -3,9 +3,12 @@
 #include "app/commands.hpp"
 #include "app/messages.hpp"
 #include "app/pipeline_job.hpp"
+#include "app/series_command.hpp"
 
+#include "geartopo/series/series_file.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
+#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include <iostream>
@@ -13,6 +16,12 @@
 namespace geartopo::app {
 
 int run_report(const ReportOptions& opt) {
+  if (series::is_series_file(opt.scene)) {
+    if (!opt.measured.empty())
+      throw CLI::ValidationError("--measured", fmt::format("has no effect: {} is a series file, whose gears name their "
+                                                           "measurements", opt.scene));
+    return run_series_report(opt.scene, opt.out);
+  }
   const output::RunFiles files = report_files(opt.scene, opt.measured);
   output::check_run_files(opt.out, files); // before any work: no input and no user's file is replaced
   const Workbench wb(opt.scene);

@@ -4,6 +4,7 @@
 
 #include "geartopo/files/atomic_write.hpp"
 #include "geartopo/files/output_folder.hpp"
+#include "geartopo/report/series_report.hpp"
 #include "geartopo/series/aqdef_export.hpp"
 #include "geartopo/series/run_charts.hpp"
 #include "geartopo/series/series_analysis.hpp"
@@ -26,28 +27,62 @@ series::AqdefHeader aqdef_header(const Workbench& wb, const std::string& batch, 
   return h;
 }
 
+namespace {
+
+/// The series analysed and its files written into `out`: series.json, the run charts, the closed-loop figure.
+struct SeriesRun {
+  series::SeriesResult result; ///< its spec is the series file read
+  report::SeriesFigures figures;
+};
+
+SeriesRun analyse_and_write(const std::string& series_file, const Workbench& wb, const std::filesystem::path& out) {
+  SeriesRun run;
+  run.result = series::analyse_series(series::load_series(series_file, series::strokes_per_gear(wb)), wb);
+  output::write_text_atomically(out / "series.json", series::series_json(run.result).dump(2) + "\n");
+  run.figures.run_charts = series::write_run_charts(run.result, out);
+  run.figures.closed_loop = series::write_closed_loop_figure(run.result, out);
+  std::cout << series::series_text(run.result);
+  return run;
+}
+
+void write_aqdef(const std::string& file, const std::string& series_file, const Workbench& wb, const SeriesRun& run) {
+  std::vector<series::AqdefGear> gears;
+  for (const auto& g : run.result.gears)
+    if (g.iso) gears.push_back({&g.iso->evaluation, g.gear.start_epoch_s, g.gear.id});
+  if (gears.empty()) say(fmt::format("geartopo: warning: no gear of {} holds traces: {} holds no values", series_file, file));
+  const auto params = workbench::gear_parameters(wb.setup.geometry());
+  aqdef::write_dfq(file, series::iso_aqdef(gears, params, run.result.drawing_class,
+                                           aqdef_header(wb, run.result.spec.name, run.result.spec.machine)));
+  std::cout << "wrote " << file << "\n";
+}
+
+} // namespace
+
 int run_series(const SeriesOptions& opt) {
   const std::filesystem::path scene = series::series_scene(opt.series);
   const output::RunFiles files{{opt.series, scene}, {"series.json"}};
   output::OutputFolder folder(opt.out, files);
   const Workbench wb(scene);
-  const auto spec = series::load_series(opt.series, series::strokes_per_gear(wb));
-  const auto result = series::analyse_series(spec, wb);
   const std::filesystem::path out(opt.out);
-  output::write_text_atomically(out / "series.json", series::series_json(result).dump(2) + "\n");
-  const auto charts = series::write_run_charts(result, out);
-  std::cout << series::series_text(result);
-  if (!opt.aqdef.empty()) {
-    std::vector<series::AqdefGear> gears;
-    for (const auto& g : result.gears)
-      if (g.iso) gears.push_back({&g.iso->evaluation, g.gear.start_epoch_s});
-    if (gears.empty())
-      say(fmt::format("geartopo: warning: no gear of {} holds traces: {} holds no values", opt.series, opt.aqdef));
-    const auto params = workbench::gear_parameters(wb.setup.geometry());
-    aqdef::write_dfq(opt.aqdef, series::iso_aqdef(gears, params, result.drawing_class, aqdef_header(wb, spec.name, spec.machine)));
-    std::cout << "wrote " << opt.aqdef << "\n";
-  }
-  std::cout << "wrote " << (out / "series.json").string() << " and " << charts.size() << " run charts\n";
+  const SeriesRun run = analyse_and_write(opt.series, wb, out);
+  if (!opt.aqdef.empty()) write_aqdef(opt.aqdef, opt.series, wb, run);
+  std::cout << "wrote " << (out / "series.json").string() << " and " << run.figures.run_charts.size() << " run charts"
+            << (run.figures.closed_loop ? " and " + run.figures.closed_loop->filename().string() + " (synthetic)" : std::string())
+            << "\n";
+  finish_output_folder(folder);
+  return 0;
+}
+
+int run_series_report(const std::string& series_file, const std::string& out_dir) {
+  const std::filesystem::path scene = series::series_scene(series_file);
+  const output::RunFiles files{{series_file, scene}, {"series.json", "index.html"}};
+  output::OutputFolder folder(out_dir, files);
+  const Workbench wb(scene);
+  const std::filesystem::path out(out_dir);
+  const SeriesRun run = analyse_and_write(series_file, wb, out);
+  report::write_series_report(out, wb, run.result, run.figures);
+  std::cout << "wrote " << (out / "index.html").string() << ", series.json and " << run.figures.run_charts.size()
+            << " run charts\n";
   finish_output_folder(folder);
   return 0;
 }

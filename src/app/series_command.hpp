@@ -18,6 +18,9 @@ struct SeriesOptions {
 /// The command's work once its flags are parsed (series_command.cpp); returns the exit code.
 int run_series(const SeriesOptions& opt);
 
+/// `geartopo report SERIES --out DIR`: the series' files and its report page (index.html, docs/series.md).
+int run_series_report(const std::string& series_file, const std::string& out_dir);
+
 /// An AQDEF file's header for this scene (docs/aqdef.md): part number its drawing (else its part, else its name),
 /// description its part (else its name), machine `machine` (else the scene's machine), every value's batch `batch`.
 series::AqdefHeader aqdef_header(const Workbench& wb, const std::string& batch, const std::string& machine);

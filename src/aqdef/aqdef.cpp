@@ -27,6 +27,13 @@ std::string checked_text(const std::string& key, const std::string& s) {
   return s;
 }
 
+/// K0014 holds at most 40 characters (diribet/aqdef-tools KKeyRepository: WV0014, String, 40).
+std::string part_ident(const std::string& s) {
+  if (s.size() > 40)
+    throw std::invalid_argument(fmt::format("AQDEF K0014: the part ident '{}' is longer than 40 characters", text::excerpt(s)));
+  return checked_text("K0014", s);
+}
+
 std::string number(const std::string& key, double v, int decimals) {
   if (!std::isfinite(v)) throw std::invalid_argument(fmt::format("AQDEF {}: value is not finite", key));
   if (std::abs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0.0; // never "-0.0000"
@@ -47,7 +54,7 @@ const std::map<std::string, KeySpec>& known_keys() {
       {"K2101", {Level::Characteristic, true}},  {"K2110", {Level::Characteristic, true}},
       {"K2111", {Level::Characteristic, true}},  {"K2142", {Level::Characteristic, false}},
       {"K0001", {Level::Value, true}},           {"K0004", {Level::Value, false}},
-      {"K0006", {Level::Value, false}}};
+      {"K0006", {Level::Value, false}},          {"K0014", {Level::Value, false}}};
   return k;
 }
 
@@ -82,7 +89,7 @@ void Reader::take(int line, std::string_view raw) {
   const auto spec = known_keys().find(key);
   if (spec == known_keys().end())
     fail(line, 1, text::excerpt(key), "not a key geartopo writes (K0100, K1001, K1002, K1082, K2001, K2002, K2101, "
-                                      "K2110, K2111, K2142, K0001, K0004, K0006)");
+                                      "K2110, K2111, K2142, K0001, K0004, K0006, K0014)");
   const int value_column = static_cast<int>(head.size()) + 2;
   if (spec->second.level == Level::Count) {
     if (head.size() != key.size()) fail(line, 1, key, "takes no index");
@@ -128,7 +135,7 @@ void Reader::take_characteristic(int line, int column, const std::string& key, l
 void Reader::take_value(int line, int column, const std::string& key, long long i, std::string_view value) {
   auto& c = part.characteristics[static_cast<size_t>(i - 1)];
   if (key == "K0001") {
-    c.values.push_back({parse(line, column, key, value), "", ""});
+    c.values.push_back({parse(line, column, key, value), "", "", ""});
     last_value_index = i;
     last_value_has.clear();
     return;
@@ -137,7 +144,8 @@ void Reader::take_value(int line, int column, const std::string& key, long long 
     fail(line, 1, key, fmt::format("not right after a K0001/{} (the value it belongs to)", i));
   if (last_value_has[key]) fail(line, 1, key, "given twice for one value");
   last_value_has[key] = true;
-  (key == "K0004" ? c.values.back().time : c.values.back().batch) = std::string(value);
+  auto& v = c.values.back();
+  (key == "K0004" ? v.time : key == "K0006" ? v.batch : v.part_ident) = std::string(value);
 }
 
 } // namespace
@@ -170,6 +178,7 @@ void write_dfq(std::ostream& out, const Part& part, int decimals) {
       s += fmt::format("K0001/{} {}\n", i, number("K0001", v.value, decimals));
       if (!v.time.empty()) s += fmt::format("K0004/{} {}\n", i, checked_text("K0004", v.time));
       if (!v.batch.empty()) s += fmt::format("K0006/{} {}\n", i, checked_text("K0006", v.batch));
+      if (!v.part_ident.empty()) s += fmt::format("K0014/{} {}\n", i, part_ident(v.part_ident));
     }
   }
   out << s;

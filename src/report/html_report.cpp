@@ -1,4 +1,5 @@
 #include "geartopo/report/html_report.hpp"
+#include "html_common.hpp"
 #include "geartopo/report/prediction_report.hpp"
 #include "geartopo/files/atomic_write.hpp"
 #include "geartopo/core/uncertain_value.hpp"
@@ -422,6 +423,12 @@ const char* kStyle =
     ".row table.values{font-size:8pt}}</style>";
 
 } // namespace
+
+namespace detail {
+const char* page_style() { return kStyle; }
+std::string html_escape(const std::string& s) { return esc(s); }
+std::string page_date() { return run_date(); }
+} // namespace detail
 
 void write_html_report(const std::filesystem::path& dir, const workbench::Workbench& wb, const pipeline::PipelineResult& r,
                        const std::vector<Figure>& figs, const ReportOptions& options) {

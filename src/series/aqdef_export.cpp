@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <functional>
 #include <map>
 #include <tuple>
 
@@ -36,6 +38,74 @@ const std::vector<Item>& items() {
 
 } // namespace
 
+namespace {
+
+/// A whole-gear value (pitch, runout): its code, description, quantity and where it is read.
+struct GearItem {
+  Quantity quantity;
+  const char* code;
+  const char* description;
+  std::function<std::optional<double>(const evaluation::GearEvaluation&)> value;
+};
+
+const std::vector<GearItem>& gear_items() {
+  using E = evaluation::GearEvaluation;
+  const auto pitch = [](bool left, bool single) {
+    return [left, single](const E& e) -> std::optional<double> {
+      const auto& p = left ? e.pitch_left : e.pitch_right;
+      if (!p) return std::nullopt;
+      return single ? p->f_p_um : p->F_p_um;
+    };
+  };
+  static const std::vector<GearItem> list{
+      {Quantity::SinglePitch, "fp_L", "f_p single pitch deviation, left flanks", pitch(true, true)},
+      {Quantity::CumulativePitch, "Fp_L", "F_p total cumulative pitch deviation, left flanks", pitch(true, false)},
+      {Quantity::SinglePitch, "fp_R", "f_p single pitch deviation, right flanks", pitch(false, true)},
+      {Quantity::CumulativePitch, "Fp_R", "F_p total cumulative pitch deviation, right flanks", pitch(false, false)},
+      {Quantity::Runout, "Fr", "F_r runout",
+       [](const E& e) { return e.runout ? std::optional<double>(e.runout->F_r_um) : std::nullopt; }}};
+  return list;
+}
+
+aqdef::Characteristic characteristic(std::string code, std::string description, Quantity q, bool signed_limits,
+                                     const evaluation::GearParameters& parameters, std::optional<int> drawing_class) {
+  aqdef::Characteristic c;
+  c.code = std::move(code);
+  c.description = std::move(description);
+  c.nominal = 0.0;
+  c.unit = "um";
+  if (drawing_class) {
+    const double t = evaluation::tolerance_um(q, parameters, *drawing_class);
+    c.upper_limit = t;
+    if (signed_limits) c.lower_limit = -t;
+  }
+  return c;
+}
+
+aqdef::Value value_of(double v, const AqdefGear& g, const AqdefHeader& header) {
+  aqdef::Value x;
+  x.value = v;
+  if (g.time_epoch_s) x.time = aqdef::format_time(*g.time_epoch_s);
+  x.batch = header.batch;
+  x.part_ident = g.id;
+  return x;
+}
+
+/// Appends the pitch and runout characteristics any gear has, with each gear's values.
+void add_gear_items(aqdef::Part& part, const std::vector<AqdefGear>& gears, const evaluation::GearParameters& parameters,
+                    std::optional<int> drawing_class, const AqdefHeader& header) {
+  for (const auto& it : gear_items()) {
+    const bool any = std::any_of(gears.begin(), gears.end(), [&](const AqdefGear& g) { return it.value(*g.evaluation).has_value(); });
+    if (!any) continue;
+    auto c = characteristic(it.code, fmt::format("{} (ISO 1328-1)", it.description), it.quantity, false, parameters, drawing_class);
+    for (const auto& g : gears)
+      if (const auto v = it.value(*g.evaluation)) c.values.push_back(value_of(*v, g, header));
+    part.characteristics.push_back(std::move(c));
+  }
+}
+
+} // namespace
+
 aqdef::Part iso_aqdef(const std::vector<AqdefGear>& gears, const evaluation::GearParameters& parameters,
                       std::optional<int> drawing_class, const AqdefHeader& header) {
   aqdef::Part part;
@@ -50,30 +120,21 @@ aqdef::Part iso_aqdef(const std::vector<AqdefGear>& gears, const evaluation::Gea
   for (auto& [key, at] : index) {
     const auto& [tooth, side, i] = key;
     const Item& it = items()[i];
-    aqdef::Characteristic c;
-    c.code = fmt::format("{}_T{:02}_{}", it.code, tooth, side == 0 ? "L" : "R");
-    c.description = fmt::format("{}, tooth {}, {} flank (ISO 1328-1)", it.description, tooth, side == 0 ? "left" : "right");
-    c.nominal = 0.0;
-    c.unit = "um";
-    if (drawing_class) {
-      const double t = evaluation::tolerance_um(it.quantity, parameters, *drawing_class);
-      c.upper_limit = t;
-      if (it.signed_limits) c.lower_limit = -t;
-    }
     at = part.characteristics.size();
-    part.characteristics.push_back(std::move(c));
+    part.characteristics.push_back(characteristic(
+        fmt::format("{}_T{:02}_{}", it.code, tooth, side == 0 ? "L" : "R"),
+        fmt::format("{}, tooth {}, {} flank (ISO 1328-1)", it.description, tooth, side == 0 ? "left" : "right"),
+        it.quantity, it.signed_limits, parameters, drawing_class));
   }
   for (const auto& g : gears)
     for (const auto& f : g.evaluation->flanks)
       for (size_t i = 0; i < items().size(); ++i) {
         const Item& it = items()[i];
         const auto& trace = it.profile ? f.profile : f.helix;
-        aqdef::Value v;
-        v.value = trace.*(it.member);
-        if (g.time_epoch_s) v.time = aqdef::format_time(*g.time_epoch_s);
-        v.batch = header.batch;
-        part.characteristics[index.at(std::make_tuple(f.tooth, f.side == Flank::Left ? 0 : 1, i))].values.push_back(v);
+        part.characteristics[index.at(std::make_tuple(f.tooth, f.side == Flank::Left ? 0 : 1, i))].values.push_back(
+            value_of(trace.*(it.member), g, header));
       }
+  add_gear_items(part, gears, parameters, drawing_class, header);
   return part;
 }
 

@@ -1,6 +1,8 @@
 // The run charts of a series (run_charts.hpp).
 #include "geartopo/series/run_charts.hpp"
 
+#include "run_charts_detail.hpp"
+
 #include "geartopo/render/charts.hpp"
 
 #include <fmt/format.h>
@@ -50,12 +52,7 @@ render::LineChart run_chart(const SeriesQuantity& q, const SeriesResult& r) {
     c.series.push_back({"next gear, 95 %", {x, x}, {q.next->lower95_um, q.next->upper95_um}, render::series_colour(3), 3.0,
                         render::Marker::plus});
   }
-  if (q.limit_um) {
-    const bool two_sided = !q.iso || *q.iso == evaluation::Quantity::ProfileSlope || *q.iso == evaluation::Quantity::HelixSlope;
-    c.bands.push_back({render::Orientation::horizontal, two_sided ? -*q.limit_um : 0.0, *q.limit_um,
-                       render::colours::tolerance, 0.22,
-                       q.iso ? fmt::format("class {} tolerance", *r.drawing_class) : std::string("allowance range")});
-  }
+  if (const auto band = tolerance_band(q, r)) c.bands.push_back(*band);
   if (q.fit)
     for (const auto& p : q.fit->chosen.parameters)
       c.text.lines.push_back(p.determined ? fmt::format("{} = {:.4g} ± {:.2g}", p.name, p.value, p.sigma)
@@ -69,6 +66,12 @@ render::LineChart run_chart(const SeriesQuantity& q, const SeriesResult& r) {
 }
 
 } // namespace
+
+std::optional<render::Band> tolerance_band(const SeriesQuantity& q, const SeriesResult& r) {
+  if (!q.limit_um) return std::nullopt;
+  return render::Band{render::Orientation::horizontal, two_sided_limit(q) ? -*q.limit_um : 0.0, *q.limit_um, render::colours::tolerance,
+                      0.22, q.iso ? fmt::format("class {} tolerance", *r.drawing_class) : std::string("allowance range")};
+}
 
 std::vector<std::filesystem::path> write_run_charts(const SeriesResult& r, const std::filesystem::path& dir) {
   std::vector<std::filesystem::path> files;

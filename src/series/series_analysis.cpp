@@ -25,6 +25,32 @@ std::optional<double> worst_of(const evaluation::GearEvaluation& e, const std::f
   return w;
 }
 
+/// f_p and F_p per flank side and F_r, each when every gear has it (every tooth of that side measured). Their floor:
+/// a pitch is the difference of two flanks' positions, each with the probe noise: √2 σ.
+void add_pitch_runout(std::vector<SeriesQuantity>& q, const std::vector<GearValues>& gears, double noise) {
+  using E = evaluation::GearEvaluation;
+  const auto add = [&](std::string key, std::string label, Quantity iso, double floor,
+                       const std::function<std::optional<double>(const E&)>& get) {
+    SeriesQuantity m;
+    m.key = std::move(key), m.label = std::move(label), m.iso = iso, m.floor_um = floor;
+    for (const auto& g : gears) {
+      const auto v = get(g.iso->evaluation);
+      if (!v) return;
+      m.values_um.push_back(*v);
+    }
+    q.push_back(std::move(m));
+  };
+  for (int s = 0; s < 2; ++s) {
+    const auto pitch = [s](const E& e) { return s == 0 ? e.pitch_left : e.pitch_right; };
+    add(fmt::format("f_p_{}_um", side_word(s)), fmt::format("f_p, {} flanks", side_word(s)), Quantity::SinglePitch,
+        noise * std::sqrt(2.0), [&](const E& e) { const auto p = pitch(e); return p ? std::optional(p->f_p_um) : std::nullopt; });
+    add(fmt::format("F_p_{}_um", side_word(s)), fmt::format("F_p, {} flanks", side_word(s)), Quantity::CumulativePitch,
+        noise * std::sqrt(2.0), [&](const E& e) { const auto p = pitch(e); return p ? std::optional(p->F_p_um) : std::nullopt; });
+  }
+  add("F_r_um", "F_r", Quantity::Runout, noise,
+      [](const E& e) { return e.runout ? std::optional(e.runout->F_r_um) : std::nullopt; });
+}
+
 /// The quantities every gear of the series has, in a fixed order: the residual's mean per side and the tooth thickness, then (when every
 /// gear holds traces) f_Hαm, f_Hβm per side and the worst F_α, f_fα, F_β, f_fβ.
 std::vector<SeriesQuantity> collect_quantities(const std::vector<GearValues>& gears, const gears::GearSpec& gear) {
@@ -82,6 +108,7 @@ std::vector<SeriesQuantity> collect_quantities(const std::vector<GearValues>& ge
     for (const auto& g : gears) m.values_um.push_back(worst_of(g.iso->evaluation, get).value_or(std::nan("")));
     q.push_back(std::move(m));
   }
+  add_pitch_runout(q, gears, noise);
   return q;
 }
 
@@ -110,6 +137,10 @@ void fit_quantity(SeriesQuantity& q, const SeriesResult& r, const SeriesOptions&
 }
 
 } // namespace
+
+bool two_sided_limit(const SeriesQuantity& q) {
+  return !q.iso || *q.iso == Quantity::ProfileSlope || *q.iso == Quantity::HelixSlope;
+}
 
 double strokes_per_gear(const workbench::Workbench& wb) { return static_cast<double>(wb.setup.path().strokes().size()); }
 
@@ -190,6 +221,10 @@ nlohmann::json series_json(const SeriesResult& r) {
     if (g.iso) {
       const auto& c = g.iso->evaluation.classification;
       e["iso_class"] = c.overall ? nlohmann::json(*c.overall) : nlohmann::json(nullptr);
+      const auto& ev = g.iso->evaluation;
+      for (const auto& [side, p] : {std::pair{"left", &ev.pitch_left}, std::pair{"right", &ev.pitch_right}})
+        if (*p) e[fmt::format("f_p_{}_um", side)] = (*p)->f_p_um, e[fmt::format("F_p_{}_um", side)] = (*p)->F_p_um;
+      if (ev.runout) e["F_r_um"] = ev.runout->F_r_um;
     } else e["iso_note"] = g.iso_note;
     j["gears"].push_back(e);
   }

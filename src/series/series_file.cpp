@@ -125,6 +125,17 @@ std::filesystem::path series_scene(const std::filesystem::path& file) {
   return resolved(file.parent_path(), scene.Scalar());
 }
 
+bool is_series_file(const std::filesystem::path& file) {
+  try {
+    const std::string text = input::read_input_file(file, input::kMaxSceneBytes, "series file");
+    const YAML::Node root = scene::load_one_document(text, ReadContext{file.string(), {}}, "series file");
+    return root.IsMap() && root["gears"].IsDefined() && root["gears"].IsSequence() && root["scene"].IsDefined() &&
+           root["scene"].IsScalar();
+  } catch (const std::exception&) {
+    return false; // not readable as YAML: the scene reader says why
+  }
+}
+
 SeriesSpec load_series(const std::filesystem::path& file, double strokes_per_gear) {
   return parse_series(input::read_input_file(file, input::kMaxSceneBytes, "series file"), file.string(), strokes_per_gear);
 }

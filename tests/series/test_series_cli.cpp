@@ -44,7 +44,17 @@ TEST(SeriesCli, EvaluateAqdefHoldsTheValuesOfIso1328Json) {
   std::map<std::string, const aqdef::Characteristic*> by_code;
   for (const auto& c : part.characteristics) by_code[c.code] = &c;
   const auto& flanks = iso["before"]["flanks"];
-  ASSERT_EQ(part.characteristics.size(), 6 * flanks.size());
+  // The evaluated gear has every tooth: f_p and F_p per side and F_r follow the flanks, each its one value.
+  const auto& gear = iso["before"]["gear"];
+  ASSERT_EQ(part.characteristics.size(), 6 * flanks.size() + 5);
+  for (const auto& [code, value] : std::map<std::string, double>{
+           {"fp_L", gear["pitch"]["left"]["f_p_um"].get<double>()}, {"Fp_L", gear["pitch"]["left"]["F_p_um"].get<double>()},
+           {"fp_R", gear["pitch"]["right"]["f_p_um"].get<double>()}, {"Fp_R", gear["pitch"]["right"]["F_p_um"].get<double>()},
+           {"Fr", gear["F_r_um"].get<double>()}}) {
+    ASSERT_EQ(by_code.at(code)->values.size(), 1u) << code;
+    EXPECT_NEAR(by_code.at(code)->values[0].value, value, 0.5e-4) << code;
+    EXPECT_EQ(by_code.at(code)->values[0].part_ident, "") << "evaluate names no gear";
+  }
   for (const auto& fl : flanks) {
     const std::string suffix = fmt::format("_T{:02}_{}", fl["tooth"].get<int>(), fl["flank"] == "left" ? "L" : "R");
     for (const auto& [code, key] : std::map<std::string, std::string>{{"Fa", "F_alpha_um"}, {"ffa", "f_falpha_um"},

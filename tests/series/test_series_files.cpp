@@ -4,13 +4,16 @@
 #include "geartopo/aqdef/aqdef.hpp"
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/core/random.hpp"
+#include "geartopo/evaluation/gear_evaluation.hpp"
 #include "geartopo/series/aqdef_export.hpp"
 #include "geartopo/series/drift_model.hpp"
 #include "geartopo/series/series_file.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 using namespace geartopo;
@@ -94,7 +97,9 @@ TEST(Aqdef, RoundTripKeepsEveryKeyAndValue) {
     c.lower_limit = -7.5;
     c.upper_limit = 7.5;
     c.unit = "um";
-    for (int k = 0; k < 4; ++k) c.values.push_back({0.1234 * (k + 1) - i, aqdef::format_time(1795759200 + 600 * k), "lot 7"});
+    for (int k = 0; k < 4; ++k)
+      c.values.push_back({0.1234 * (k + 1) - i, aqdef::format_time(1795759200 + 600 * k), "lot 7",
+                          k == 2 ? std::string() : "SN-2026-" + std::to_string(k + 1)});
     p.characteristics.push_back(c);
   }
   p.characteristics[1].lower_limit.reset();
@@ -103,6 +108,7 @@ TEST(Aqdef, RoundTripKeepsEveryKeyAndValue) {
   const std::string text = file.str();
   EXPECT_EQ(text.substr(0, 8), "K0100 3\n");
   EXPECT_NE(text.find("K0004/1 27.11.2026/06:00:00\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("K0006/1 lot 7\nK0014/1 SN-2026-1\n"), std::string::npos) << text;
   const aqdef::Part back = aqdef::read_dfq(file, "round.dfq");
   EXPECT_EQ(back.number, p.number);
   EXPECT_EQ(back.description, p.description);
@@ -119,6 +125,7 @@ TEST(Aqdef, RoundTripKeepsEveryKeyAndValue) {
       EXPECT_NEAR(b.values[k].value, a.values[k].value, 0.5e-4); // written with 4 decimals
       EXPECT_EQ(b.values[k].time, a.values[k].time);
       EXPECT_EQ(b.values[k].batch, "lot 7");
+      EXPECT_EQ(b.values[k].part_ident, a.values[k].part_ident);
     }
   }
 }
@@ -138,6 +145,14 @@ TEST(Aqdef, StrictReaderNamesLineAndKey) {
   EXPECT_NE(refused("K0100 1\nK2001/1 a\nK9999/1 x\n").find("bad.dfq:3:1: K9999: not a key"), std::string::npos);
   EXPECT_NE(refused("K0100 2\nK2001/1 a\n").find("K2001/2: characteristic without"), std::string::npos);
   EXPECT_NE(refused("").find("no K0100"), std::string::npos);
+  EXPECT_NE(refused("K0100 1\nK2001/1 a\nK0001/1 1\nK0014/1 a\nK0014/1 b\n").find("bad.dfq:5:1: K0014: given twice"),
+            std::string::npos);
+  EXPECT_NE(refused("K0100 1\nK2001/1 a\nK0014/1 SN1\n").find("bad.dfq:3:1: K0014: not right after"), std::string::npos);
+  // K0014 holds 40 characters at most: the writer refuses a longer id rather than have the quality system cut it.
+  aqdef::Part p;
+  p.characteristics.push_back({"a", "", {}, {}, {}, "", {{1.0, "", "", std::string(41, 'x')}}});
+  std::ostringstream out;
+  EXPECT_THROW(aqdef::write_dfq(out, p), std::invalid_argument);
 }
 
 // ISO values of two gears as characteristics: f_Hα of tooth 1 left carries its two values and ±f_HαT of class 5.
@@ -150,7 +165,8 @@ TEST(Aqdef, IsoValuesBecomeCharacteristicsPerToothAndFlank) {
   e2.flanks.push_back(f);
   evaluation::GearParameters p;
   p.teeth = 35, p.reference_diameter_mm = 565.8, p.normal_module_mm = 14.0, p.face_width_mm = 150.0;
-  const auto part = series::iso_aqdef({{&e1, 1795759200}, {&e2, std::nullopt}}, p, 5, {"DRW", "gear", "grinder", "lot"});
+  const auto part =
+      series::iso_aqdef({{&e1, 1795759200, "SN 1"}, {&e2, std::nullopt, "SN 2"}}, p, 5, {"DRW", "gear", "grinder", "lot"});
   ASSERT_EQ(part.characteristics.size(), 6u);
   const auto& fHa = part.characteristics[2];
   EXPECT_EQ(fHa.code, "fHa_T01_L");
@@ -158,6 +174,8 @@ TEST(Aqdef, IsoValuesBecomeCharacteristicsPerToothAndFlank) {
   EXPECT_EQ(fHa.values[0].value, 2.5);
   EXPECT_EQ(fHa.values[1].value, -1.25);
   EXPECT_EQ(fHa.values[1].time, "");
+  EXPECT_EQ(fHa.values[0].part_ident, "SN 1");
+  EXPECT_EQ(fHa.values[1].part_ident, "SN 2");
   const double t = evaluation::tolerance_um(evaluation::Quantity::ProfileSlope, p, 5);
   EXPECT_EQ(fHa.upper_limit, t);
   EXPECT_EQ(fHa.lower_limit, -t);
@@ -199,4 +217,70 @@ TEST(SeriesFile, BadEntriesRefusedAtTheirLine) {
                 .find("'x' is listed twice"), std::string::npos);
   EXPECT_NE(input_error_of([] { series::parse_series("scene: s.yaml\n", "series.yaml", 35.0); }).find("gears"),
             std::string::npos);
+}
+
+// Pitch per gear: flank positions on the measuring circle e_j = A sin(2π (j − 1)/z + 0.3), the same on both sides (a
+// gear whose teeth are displaced once round, like a wobbling index), given to the evaluator as the normal deviations
+// δn = ±e cos β_b cos α_yt (pitch.hpp). F_p is the spread of the positions, f_p the largest step between neighbours;
+// for a sinusoid F_p ≈ 2A and f_p ≈ 2A sin(π/z). Each gear adds one value with its id (K0014) to f_p and F_p of each
+// side and to F_r, each limited by the class's tolerance, and all of it survives the strict reader.
+TEST(Aqdef, PitchAndRunoutPerGearWithTheGearsId) {
+  constexpr int z = 35;
+  evaluation::PitchGeometry g;
+  g.base_helix_angle_rad = 0.3, g.transverse_pressure_angle_rad = 0.38, g.space_half_angle_rad = 0.05;
+  const double to_normal = std::cos(g.base_helix_angle_rad) * std::cos(g.transverse_pressure_angle_rad);
+  const auto gear = [&](double a_um) {
+    evaluation::GearEvaluation e;
+    std::vector<double> right, left;
+    for (int j = 0; j < z; ++j) {
+      const double pos = a_um * std::sin(2.0 * std::numbers::pi * j / z + 0.3);
+      right.push_back(pos * to_normal), left.push_back(-pos * to_normal);
+    }
+    e.pitch_left = evaluation::evaluate_pitch(left, Flank::Left, g);
+    e.pitch_right = evaluation::evaluate_pitch(right, Flank::Right, g);
+    e.runout = evaluation::evaluate_runout(right, left, g);
+    return e;
+  };
+  const auto truth = [&](double a_um) {
+    double lo = 1e9, hi = -1e9, step = 0.0;
+    for (int j = 0; j < z; ++j) {
+      const double p = a_um * std::sin(2.0 * std::numbers::pi * j / z + 0.3);
+      const double next = a_um * std::sin(2.0 * std::numbers::pi * (j + 1) / z + 0.3);
+      lo = std::min(lo, p), hi = std::max(hi, p), step = std::max(step, std::abs(next - p));
+    }
+    return std::pair{step, hi - lo};
+  };
+  const evaluation::GearEvaluation e1 = gear(6.0), e2 = gear(8.0);
+  evaluation::GearParameters p;
+  p.teeth = z, p.reference_diameter_mm = 565.8, p.normal_module_mm = 14.0, p.face_width_mm = 150.0;
+  const auto part = series::iso_aqdef({{&e1, 1795759200, "SN-0001"}, {&e2, 1795762800, "SN-0002"}}, p, 6,
+                                      {"DRW", "gear", "grinder", "lot"});
+  ASSERT_EQ(part.characteristics.size(), 5u); // no flank traces: pitch and runout only
+  std::stringstream file;
+  aqdef::write_dfq(file, part);
+  const auto back = aqdef::read_dfq(file, "pitch.dfq");
+  const std::vector<std::string> codes{"fp_L", "Fp_L", "fp_R", "Fp_R", "Fr"};
+  for (size_t i = 0; i < codes.size(); ++i) {
+    const auto& c = back.characteristics[i];
+    EXPECT_EQ(c.code, codes[i]);
+    ASSERT_EQ(c.values.size(), 2u) << codes[i];
+    EXPECT_EQ(c.values[0].part_ident, "SN-0001");
+    EXPECT_EQ(c.values[1].part_ident, "SN-0002");
+    EXPECT_EQ(c.values[1].time, "27.11.2026/07:00:00");
+    EXPECT_FALSE(c.lower_limit.has_value()) << codes[i];
+    const auto q = i == 4 ? evaluation::Quantity::Runout
+                          : i % 2 == 0 ? evaluation::Quantity::SinglePitch : evaluation::Quantity::CumulativePitch;
+    EXPECT_NEAR(*c.upper_limit, evaluation::tolerance_um(q, p, 6), 0.5e-4) << codes[i];
+    if (i == 4) {
+      EXPECT_NEAR(c.values[0].value, e1.runout->F_r_um, 0.5e-4);
+      continue;
+    }
+    for (int k = 0; k < 2; ++k) {
+      const double a = k == 0 ? 6.0 : 8.0;
+      const auto [f_p, F_p] = truth(a);
+      EXPECT_NEAR(c.values[k].value, i % 2 == 0 ? f_p : F_p, 1e-4) << codes[i] << " gear " << k + 1;
+      EXPECT_LE(c.values[k].value, i % 2 == 0 ? 2 * a * std::sin(std::numbers::pi / z) + 1e-4 : 2 * a + 1e-4);
+      EXPECT_GE(c.values[k].value, i % 2 == 0 ? 0.95 * 2 * a * std::sin(std::numbers::pi / z) : 2 * a * std::cos(std::numbers::pi / z));
+    }
+  }
 }

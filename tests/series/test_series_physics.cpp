@@ -10,12 +10,16 @@
 // - A form wheel worn evenly by e normal to its surface leaves every flank e thicker (plus material).
 // - Tooth thickness: s_n changes by (δ_L + δ_R) / cos α_n for normal flank offsets δ.
 // - Thermal drift from a cold start: Δz(t) = Δz_∞ (1 − e^(−t/τ)).
+#include "cli_run.hpp"
+
+#include "geartopo/aqdef/aqdef.hpp"
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/compensation/correction_table.hpp"
 #include "geartopo/core/random.hpp"
 #include "geartopo/grinding/topology.hpp"
 #include "geartopo/grinding/topology_csv.hpp"
 #include "geartopo/scene/scene.hpp"
+#include "geartopo/series/run_charts.hpp"
 #include "geartopo/series/series_analysis.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
@@ -189,6 +193,13 @@ TEST(SeriesPhysics, ThermalDriftSixGearsOverFourHours) {
   }
   // The thickness does not see an axial shift: +Δ on one side, −Δ on the other.
   EXPECT_EQ(quantity(r, "thickness_deviation_um").fit->chosen.name(), "noise only");
+  // The closed-loop figure follows a flank's mean (what the shift moves), not the thickness, and is written.
+  const auto which = series::closed_loop_quantity(r);
+  ASSERT_TRUE(which.has_value());
+  EXPECT_EQ(r.quantities[*which].key.rfind("mean_residual_", 0), 0u) << r.quantities[*which].key;
+  const auto png = series::write_closed_loop_figure(r, f.dir);
+  ASSERT_TRUE(png.has_value());
+  EXPECT_GT(std::filesystem::file_size(*png), 10000u);
 }
 
 // 8 gears, the wheel wearing 0.02 µm per stroke, re-dressed between gear 4 and gear 5.
@@ -228,6 +239,27 @@ TEST(SeriesPhysics, WheelWearWithRedressBetweenGearFourAndFive) {
   std::cout << fmt::format("thickness limit lost {} gears ahead (95 %: {} … {}; truth {}), at {:.0f} strokes since "
                            "dressing\n", *t.loss->gears_median, *t.loss->gears_early, t.loss->gears_late.value_or(-1),
                            expected, *t.loss->strokes_median);
+  // The same series through the CLI: the report page names the re-dress interval the physics gives, and the AQDEF
+  // file carries each gear's id (K0014) with its values, read back by the strict reader.
+  const auto report = test::run_geartopo(fmt::format("report {} --out {}", (f.dir / "series.yaml").string(),
+                                                     (f.dir / "rep").string()), f.dir);
+  ASSERT_EQ(report.code, 0) << report.err;
+  std::ifstream page_in(f.dir / "rep" / "index.html");
+  const std::string page((std::istreambuf_iterator<char>(page_in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(page.find(fmt::format("<b>Re-dress interval.</b> tooth thickness s_n − mean allowance is expected to leave "
+                                  "its limit first: {} gears after the last measured one", expected)),
+            std::string::npos);
+  EXPECT_NE(page.find("src=\"closed_loop_synthetic.png\""), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(f.dir / "rep" / "closed_loop_synthetic.png"));
+  const auto series = test::run_geartopo(fmt::format("series {} --out {} --aqdef {}", (f.dir / "series.yaml").string(),
+                                                     (f.dir / "out").string(), (f.dir / "gears.dfq").string()), f.dir);
+  ASSERT_EQ(series.code, 0) << series.err;
+  const auto dfq = aqdef::read_dfq(f.dir / "gears.dfq");
+  ASSERT_EQ(dfq.characteristics.size(), 24u); // teeth 1 and 18, both flanks, 6 values each; no pitch (2 teeth only)
+  for (const auto& c : dfq.characteristics) {
+    ASSERT_EQ(c.values.size(), 8u) << c.code;
+    for (size_t k = 0; k < 8; ++k) EXPECT_EQ(c.values[k].part_ident, fmt::format("gear {}", k + 1)) << c.code;
+  }
 }
 
 // 6 gears, the corrections changed before gear 4: a Z correction of 8 µm, ground by the simulator (not added here).

@@ -17,6 +17,7 @@ struct Value {
   double value = 0.0;
   std::string time;
   std::string batch; ///< K0006 (empty: none)
+  std::string part_ident; ///< K0014: the part's own identity, its serial number (empty: none; ≤ 40 characters)
 };
 
 /// One characteristic (K2xxx/i) and its values.
@@ -42,15 +43,15 @@ struct Part {
 std::string format_time(long long seconds_since_epoch);
 
 /// Writes the part: K0100, then K1001/1, K1002/1, K1082/1, then per characteristic i its K2001/i … K2142/i and its
-/// values, each K0001/i followed by its K0004/i and K0006/i. Numbers with `decimals` decimals. Throws
+/// values, each K0001/i followed by its K0004/i, K0006/i and K0014/i. Numbers with `decimals` decimals. Throws
 /// std::invalid_argument for a text holding a line break or a value that is not finite.
 void write_dfq(std::ostream& out, const Part& part, int decimals = 4);
 /// Atomically (files/atomic_write.hpp).
 void write_dfq(const std::filesystem::path& file, const Part& part, int decimals = 4);
 
 /// Reads what write_dfq writes, strictly: every line "Kdddd[/i] value" with a key of the list above, K0100 first, an
-/// index in 1 … K0100 (part keys /1), a number where the key holds one, K0004 and K0006 only right after a K0001 of the
-/// same index, no key of a characteristic given twice, every characteristic with a K2001. Blank lines are skipped; a
+/// index in 1 … K0100 (part keys /1), a number where the key holds one, K0004, K0006 and K0014 only right after a
+/// K0001 of the same index, no key of a characteristic given twice, every characteristic with a K2001. Blank lines are skipped; a
 /// UTF-8 BOM and CRLF are accepted. Throws InputError at file:line:column naming the key.
 Part read_dfq(std::istream& in, const std::string& source);
 Part read_dfq(const std::filesystem::path& file);

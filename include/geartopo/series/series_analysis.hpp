@@ -46,6 +46,10 @@ struct SeriesQuantity {
   std::optional<ClassLoss> loss;  ///< with a limit
 };
 
+/// Whether the quantity's limit holds on both sides (±limit: the slopes f_Hα, f_Hβ and the thickness allowance) rather
+/// than 0 … limit (the quantities compared by size).
+bool two_sided_limit(const SeriesQuantity& q);
+
 struct SeriesOptions {
   int max_gears_ahead = 500; ///< how far class_loss looks
 };

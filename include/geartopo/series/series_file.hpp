@@ -43,5 +43,8 @@ SeriesSpec parse_series(const std::string& text, const std::string& source, doub
 /// The scene a series file names, without reading the rest (to build the workbench that gives strokes_per_gear).
 std::filesystem::path series_scene(const std::filesystem::path& file);
 SeriesSpec load_series(const std::filesystem::path& file, double strokes_per_gear);
+/// Whether `file` reads as a series file (a YAML map with a `scene` and a list of `gears`) rather than a scene: how
+/// `geartopo report` tells the two apart. False for anything it cannot read (the scene reader then says why).
+bool is_series_file(const std::filesystem::path& file);
 
 } // namespace geartopo::series
