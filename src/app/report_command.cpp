@@ -20,7 +20,11 @@ void register_report_command(CLI::App& app, Action& action) {
   cmd->add_option("--out", opt->out, "Output directory")->required()->check(non_empty_path());
   add_iso_options(cmd, opt->iso);
   add_monte_carlo_options(cmd, opt->mc, false);
-  cmd->callback([&action, opt] { action = [opt] { return run_report(*opt); }; });
+  cmd->callback([&action, opt, cmd] {
+    for (const CLI::Option* o : cmd->get_options())
+      if (o->count() > 0 && o->get_name() != "SCENE" && o->get_name() != "--out") opt->other_flags_given.push_back(o->get_name());
+    action = [opt] { return run_report(*opt); };
+  });
 }
 
 } // namespace geartopo::app

@@ -8,6 +8,7 @@
 #include "geartopo/workbench/iso_evaluation.hpp"
 
 #include <string>
+#include <vector>
 
 namespace geartopo::app {
 
@@ -16,6 +17,9 @@ struct ReportOptions {
   KlingelnbergFlags mka;
   workbench::IsoOptions iso;
   MonteCarloFlags mc;
+  /// The flags given besides SCENE and --out, in order: a series file takes none (its gears name their measurements,
+  /// its spec the rest), so each is refused rather than ignored.
+  std::vector<std::string> other_flags_given;
 };
 
 /// The command's work once its flags are parsed (report_command.cpp); returns the exit code.

@@ -17,9 +17,11 @@ namespace geartopo::app {
 
 int run_report(const ReportOptions& opt) {
   if (series::is_series_file(opt.scene)) {
-    if (!opt.measured.empty())
-      throw CLI::ValidationError("--measured", fmt::format("has no effect: {} is a series file, whose gears name their "
-                                                           "measurements", opt.scene));
+    if (!opt.other_flags_given.empty())
+      throw CLI::ValidationError(opt.other_flags_given.front(),
+                                 fmt::format("has no effect: {} is a series file, whose gears name their measurements "
+                                             "and whose spec the rest (docs/series.md); give SCENE and --out only",
+                                             opt.scene));
     return run_series_report(opt.scene, opt.out);
   }
   const output::RunFiles files = report_files(opt.scene, opt.measured);

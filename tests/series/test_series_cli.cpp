@@ -80,3 +80,19 @@ TEST(SeriesCli, BadSeriesFileExitsOneNamingItsLine) {
   EXPECT_NE(run.err.find("colour"), std::string::npos) << run.err;
   EXPECT_FALSE(std::filesystem::exists(f.dir / "out" / "series.json"));
 }
+
+// `report SERIES` takes SCENE and --out only: the series file names the gears' measurements and its spec the rest, so
+// a flag of the scene's report (the measurement, the ISO options, the Monte Carlo) is refused, never ignored.
+TEST(SeriesCli, ReportOfASeriesRefusesTheSceneReportsFlags) {
+  CliFolder f;
+  std::ofstream(f.dir / "series.yaml") << "scene: " << GEARTOPO_SOURCE_DIR << "/scenes/skmc1200w-mn14-z35.yaml\n"
+                                       << "gears:\n  - measurement: a.csv\n    start_s: 0\n";
+  for (const std::string flag : {"--samples 10", "--iso-direction normal", "--measured a.csv", "--max-time-s 5"}) {
+    const auto run = test::run_geartopo(fmt::format("report {} --out {} {}", (f.dir / "series.yaml").string(),
+                                                    (f.dir / "out").string(), flag),
+                                        f.dir);
+    EXPECT_EQ(run.code, 2) << flag << ": " << run.err;
+    EXPECT_NE(run.err.find(flag.substr(0, flag.find(' ')) + ": has no effect"), std::string::npos) << run.err;
+    EXPECT_FALSE(std::filesystem::exists(f.dir / "out" / "index.html")) << flag;
+  }
+}
