@@ -24,9 +24,11 @@ namespace py = pybind11;
 namespace geartopo::python {
 namespace {
 
-/// What geartopo.custom_effect returns: the registered law.
+/// What geartopo.custom_effect returns: the registered law, and its values' standard uncertainties (the Monte Carlo
+/// of compensate draws them, as an entry's `uncertainty`), by key.
 struct PyCustomEffect {
   std::shared_ptr<const effects::CustomLaw> law;
+  std::map<std::string, double> uncertainty;
 };
 
 double number_of(const py::dict& spec, const char* field, const std::string& key) {
@@ -36,7 +38,8 @@ double number_of(const py::dict& spec, const char* field, const std::string& key
   return py::cast<double>(py::float_(spec[field]));
 }
 
-std::vector<effects::CustomParameter> parameters_of(const py::dict& parameters) {
+std::vector<effects::CustomParameter> parameters_of(const py::dict& parameters,
+                                                    std::map<std::string, double>& uncertainty) {
   std::vector<effects::CustomParameter> out;
   for (const auto& [key, spec] : parameters) {
     effects::CustomParameter p;
@@ -49,10 +52,12 @@ std::vector<effects::CustomParameter> parameters_of(const py::dict& parameters) 
     if (!s.contains("unit") || py::cast<std::string>(py::str(s["unit"])).empty())
       throw py::value_error(fmt::format("parameter '{}': say its unit (e.g. 'um_per_mm', 's')", p.key));
     p.unit = py::cast<std::string>(py::str(s["unit"]));
+    if (s.contains("uncertainty")) uncertainty[p.key] = number_of(s, "uncertainty", p.key);
     for (const auto& [field, _] : s) {
       const auto f = py::cast<std::string>(py::str(field));
-      if (f != "value" && f != "min" && f != "max" && f != "unit")
-        throw py::value_error(fmt::format("parameter '{}': unknown field '{}' (value, min, max, unit)", p.key, f));
+      if (f != "value" && f != "min" && f != "max" && f != "unit" && f != "uncertainty")
+        throw py::value_error(
+            fmt::format("parameter '{}': unknown field '{}' (value, min, max, unit, uncertainty)", p.key, f));
     }
     out.push_back(std::move(p));
   }
@@ -120,7 +125,8 @@ std::map<std::string, Made>& made() {
 }
 
 PyCustomEffect custom_effect(const std::string& name, const py::dict& parameters, const py::function& fn) {
-  auto params = parameters_of(parameters);
+  std::map<std::string, double> uncertainty;
+  auto params = parameters_of(parameters, uncertainty);
   const std::string function_name = qualified_name(fn);
   std::shared_ptr<const effects::BatchLaw> function;
   std::shared_ptr<const effects::CustomLaw>* self = nullptr;
@@ -135,11 +141,12 @@ PyCustomEffect custom_effect(const std::string& name, const py::dict& parameters
   if (self) *self = law;
   effects::register_custom_law(law); // std::invalid_argument (a library name, another law) → ValueError
   if (self) made()[name] = Made{new py::object(fn), function}; // NOLINT: kept for the process's life
-  return PyCustomEffect{law};
+  return PyCustomEffect{law, std::move(uncertainty)};
 }
 
 /// The scene's YAML with the effect's entry added to custom_effects (made when missing).
-std::string yaml_with(const std::string& text, const effects::CustomLaw& law) {
+std::string yaml_with(const std::string& text, const PyCustomEffect& effect) {
+  const effects::CustomLaw& law = *effect.law;
   YAML::Node root = YAML::Load(text);
   YAML::Node entry;
   entry["name"] = law.name();
@@ -153,6 +160,12 @@ std::string yaml_with(const std::string& text, const effects::CustomLaw& law) {
     params[p.key] = q;
   }
   entry["parameters"] = params;
+  if (!effect.uncertainty.empty()) {
+    YAML::Node u(YAML::NodeType::Map);
+    u.SetStyle(YAML::EmitterStyle::Flow);
+    for (const auto& [key, sigma] : effect.uncertainty) u[key] = fmt::format("{}", sigma);
+    entry["uncertainty"] = u;
+  }
   entry["python"] = law.expression();
   if (law.dressing_interval_strokes() > 0) entry["dressing_interval_strokes"] = law.dressing_interval_strokes();
   root["custom_effects"].push_back(entry);
@@ -163,7 +176,7 @@ std::string yaml_with(const std::string& text, const effects::CustomLaw& law) {
 
 PyScene with_effect(const PyScene& s, const PyCustomEffect& e) {
   PyScene out;
-  out.text = yaml_with(s.text, *e.law);
+  out.text = yaml_with(s.text, e);
   out.source = s.source;
   out.dir = s.dir;
   const LibraryWork work; // Ctrl-C caught, the GIL released (the scene's checks call the function: it takes it)
@@ -182,9 +195,11 @@ void bind_custom_effect(py::module_& m) {
       .def_property_readonly("explanation", [](const PyCustomEffect& e) { return e.law->explanation(); })
       .def_property_readonly("parameters", [](const PyCustomEffect& e) {
         py::dict d;
-        for (const auto& p : e.law->declared())
-          d[py::str(p.key)] = py::dict(py::arg("value") = p.value, py::arg("min") = p.min, py::arg("max") = p.max,
-                                       py::arg("unit") = p.unit);
+        for (const auto& p : e.law->declared()) {
+          py::dict q(py::arg("value") = p.value, py::arg("min") = p.min, py::arg("max") = p.max, py::arg("unit") = p.unit);
+          if (const auto u = e.uncertainty.find(p.key); u != e.uncertainty.end()) q["uncertainty"] = u->second;
+          d[py::str(p.key)] = q;
+        }
         return d;
       })
       .def("__repr__", [](const PyCustomEffect& e) {
@@ -195,7 +210,8 @@ void bind_custom_effect(py::module_& m) {
         "params maps each parameter to its value (float) and state each contact variable (t_s, stroke, "
         "strokes_since_dressing, tooth, side, x_mm, y_mm, z_mm, r_mm, roll_mm, nx, ny, nz, c_deg, X_mm, Y_mm, Z_mm, "
         "A_deg, wheel_r_mm; docs/scene-format.md) to a 1-D numpy array over a batch of points. parameters: "
-        "{key: {'value': …, 'min': …, 'max': …, 'unit': …}}. Registered under `name` for this process (a name is "
+        "{key: {'value': …, 'min': …, 'max': …, 'unit': …, 'uncertainty': σ (optional: the Monte Carlo draws it)}}. "
+        "Registered under `name` for this process (a name is "
         "given to one law only). docs/python.md.");
   py::object scene = m.attr("Scene");
   scene.attr("with_effect") = py::cpp_function(

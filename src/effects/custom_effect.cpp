@@ -135,7 +135,8 @@ public:
   /// from its stroke's table (stroke_table.hpp): one call per stroke, not per point.
   double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override {
     if (law_->function()) {
-      const double e_um = table(pp.space)->deviation_um(map_->side_of(v), v, pp.z_stroke_mm);
+      const int side = map_->side_of(v);
+      const double e_um = table(pp.space)->deviation_um(side, map_->roll_at(side, v), pp.z_stroke_mm);
       return -units::mm_from_um(e_um) / setup().wheel().normal_per_radial(v);
     }
     const ContactVariables at = map_->at(v, pp, law_->dressing_interval_strokes());
@@ -213,9 +214,20 @@ ContactMap::ContactMap(const grinding::GrindingSetup& setup) : setup_(setup) {
     std::vector<double> v, xi;
     for (const auto& [a, b] : v_xi)
       if (v.empty() || a > v.back()) v.push_back(a), xi.push_back(b);
-    sides_[s] = Side{flank, geartopo::CubicSpline(v, xi, geartopo::CubicSpline::Ends::NotAKnot), v.front(), v.back()};
+    // ξ runs one way along v on a wheel flank: the inverse from the same pairs, in increasing ξ.
+    std::vector<double> xi_up = xi, v_up = v;
+    if (xi_up.front() > xi_up.back()) std::reverse(xi_up.begin(), xi_up.end()), std::reverse(v_up.begin(), v_up.end());
+    sides_[s] = Side{flank, geartopo::CubicSpline(v, xi, geartopo::CubicSpline::Ends::NotAKnot),
+                     geartopo::CubicSpline(xi_up, v_up, geartopo::CubicSpline::Ends::NotAKnot), v.front(), v.back()};
   }
 }
+
+double ContactMap::roll_at(int side, double v) const {
+  const Side& s = sides_[static_cast<std::size_t>(side)];
+  return s.xi_of_v.value(std::clamp(v, s.v_lo, s.v_hi));
+}
+
+double ContactMap::v_at_roll(int side, double xi) const { return sides_[static_cast<std::size_t>(side)].v_of_xi.value(xi); }
 
 int ContactMap::side_of(double v) const {
   // Between the wheel flanks (the wheel's tip blend, below the root form circle) the nearer one.

@@ -67,11 +67,15 @@ public:
   /// The wheel coordinates (mm) wheel flank `side` grinds the flank over (its roll lengths ξ_Ff − 1 … ξ_a + 1 mm).
   double v_lo(int side) const { return sides_[static_cast<std::size_t>(side)].v_lo; }
   double v_hi(int side) const { return sides_[static_cast<std::size_t>(side)].v_hi; }
+  /// The roll length ξ (mm) wheel flank `side` grinds at v (v clamped into its range), and the inverse: the v at ξ.
+  double roll_at(int side, double v) const;
+  double v_at_roll(int side, double xi) const;
 
 private:
   struct Side {
     geartopo::Flank flank;
     geartopo::CubicSpline xi_of_v; ///< over the wheel flank's v range, increasing v
+    geartopo::CubicSpline v_of_xi; ///< its inverse, over increasing ξ
     double v_lo, v_hi;
   };
   const grinding::GrindingSetup& setup_;
