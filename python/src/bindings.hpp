@@ -14,5 +14,6 @@ void bind_measured(pybind11::module_& m);   ///< measured_binding.cpp: compare, 
 void bind_compensate(pybind11::module_& m); ///< compensate_binding.cpp: compensate
 void bind_synth(pybind11::module_& m);      ///< synth_binding.cpp: synth
 void bind_series(pybind11::module_& m);     ///< series_binding.cpp: series
+void bind_custom_effect(pybind11::module_& m); ///< custom_effect_binding.cpp: custom_effect, Scene.with_effect
 
 } // namespace geartopo::python

@@ -15,4 +15,5 @@ PYBIND11_MODULE(geartopo, m) {
   geartopo::python::bind_compensate(m);
   geartopo::python::bind_synth(m);
   geartopo::python::bind_series(m);
+  geartopo::python::bind_custom_effect(m);
 }

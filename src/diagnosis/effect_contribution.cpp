@@ -64,6 +64,11 @@ Eigen::VectorXd EffectContribution::deviation_um(std::span<const effects::Effect
     tables[k].identity = wMc.matrix().isIdentity(0.0);
     if (!tables[k].identity) tables[k].twist = machine::pose_error_twist(wMc);
   }
+  // An effect that evaluates in batches (a Python law: one call per batch) at every point first, chunk by chunk — the
+  // chunks are fixed by kChunk, not by the thread count, so each call sees the same points at any thread count.
+  std::vector<std::vector<double>> batched(effects.size());
+  for (std::size_t k = 0; k < effects.size(); ++k)
+    if (effects[k]->evaluates_in_batches()) batched[k] = batched_radius_mm(*effects[k], threads);
   Eigen::VectorXd out(static_cast<Eigen::Index>(points_.size()));
   for_chunks(points_.size(), threads, [&](std::size_t i) {
     const PointState& s = points_[i];
@@ -79,12 +84,25 @@ Eigen::VectorXd EffectContribution::deviation_um(std::span<const effects::Effect
         const machine::Pose wMc = e.table_in_gear(s.pp);
         if (!wMc.matrix().isIdentity(0.0)) table += machine::pose_error_twist(wMc); // identity: exactly zero
       }
-      radius_mm += e.wheel_radius_error_mm(s.v, s.pp);
+      radius_mm += batched[k].empty() ? e.wheel_radius_error_mm(s.v, s.pp) : batched[k][i];
     }
     // The commanded axes minus the nominal ones, as EffectsProcess forms them (the same rounding).
     const machine::Vector5d dq = (s.pp.q.vector() + offset) - s.pp.q.vector();
     const double deviation_mm = s.a_q.dot(dq) + s.w.dot(table) - radius_mm * s.normal_per_radial;
     out(static_cast<Eigen::Index>(i)) = units::um_from_mm(deviation_mm);
+  });
+  return out;
+}
+
+std::vector<double> EffectContribution::batched_radius_mm(const effects::Effect& e, int threads) const {
+  std::vector<double> out(points_.size());
+  const int count = static_cast<int>((points_.size() + kChunk - 1) / kChunk);
+  geartopo::parallel_for(count, threads, [&](int c) {
+    const std::size_t begin = static_cast<std::size_t>(c) * kChunk, end = std::min(points_.size(), begin + kChunk);
+    std::vector<double> v;
+    std::vector<grinding::PathPoint> pp;
+    for (std::size_t i = begin; i < end; ++i) v.push_back(points_[i].v), pp.push_back(points_[i].pp);
+    e.wheel_radius_errors_mm(v, pp, std::span<double>(out).subspan(begin, end - begin));
   });
   return out;
 }

@@ -5,6 +5,7 @@
 
 #include "geartopo/core/units.hpp"
 #include "geartopo/effects/registry.hpp"
+#include "stroke_table.hpp"
 #include "strokes_since_dressing.hpp"
 
 #include <fmt/format.h>
@@ -116,6 +117,9 @@ std::vector<double> starts_of(const CustomParameter& p) {
 class CustomEffect final : public Effect {
 public:
   explicit CustomEffect(std::shared_ptr<const CustomLaw> law) : law_(std::move(law)) { init_defaults(); }
+  /// A copy shares the law and the contact map, not the stroke tables: its values are its own.
+  CustomEffect(const CustomEffect& o) : Effect(o), law_(o.law_), map_(o.map_) {}
+  CustomEffect& operator=(const CustomEffect&) = delete;
   std::string_view type() const override { return law_->name(); }
   std::string_view explanation() const override { return law_->explanation(); }
   const std::vector<ParameterSpec>& parameters() const override { return law_->parameters(); }
@@ -124,19 +128,58 @@ public:
   void bind(const grinding::GrindingSetup& setup) override {
     Effect::bind(setup);
     map_ = std::make_shared<const ContactMap>(setup);
+    tables_ = std::make_shared<Tables>();
   }
   /// The law's value at the flank point v touches, as the wheel's radial change there: a normal deviation e (plus
-  /// material) is the wheel smaller by e along its normal, −e / normal_per_radial(v) radially.
+  /// material) is the wheel smaller by e along its normal, −e / normal_per_radial(v) radially. A function law is read
+  /// from its stroke's table (stroke_table.hpp): one call per stroke, not per point.
   double wheel_radius_error_mm(double v, const grinding::PathPoint& pp) const override {
+    if (law_->function()) {
+      const int side = map_->side_of(v);
+      const double e_um = table(pp.space)->deviation_um(side, map_->roll_at(side, v), pp.z_stroke_mm);
+      return -units::mm_from_um(e_um) / setup().wheel().normal_per_radial(v);
+    }
     const ContactVariables at = map_->at(v, pp, law_->dressing_interval_strokes());
     const double e_um = law_->deviation_um(values_, at);
     if (!std::isfinite(e_um)) throw NonFiniteDeviation(non_finite_message(*law_, e_um, at, values_));
     return -units::mm_from_um(e_um) / setup().wheel().normal_per_radial(v);
   }
+  bool evaluates_in_batches() const override { return law_->function() != nullptr; }
+  /// A function law at the contacts themselves, in one call (no table): what diagnosis and the scene's checks use.
+  void wheel_radius_errors_mm(std::span<const double> v, std::span<const grinding::PathPoint> pp,
+                              std::span<double> out) const override {
+    if (!law_->function()) return Effect::wheel_radius_errors_mm(v, pp, out);
+    std::vector<ContactVariables> at(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) at[i] = map_->at(v[i], pp[i], law_->dressing_interval_strokes());
+    law_->deviations_um(values_, at, out);
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (!std::isfinite(out[i])) throw NonFiniteDeviation(non_finite_message(*law_, out[i], at[i], values_));
+      out[i] = -units::mm_from_um(out[i]) / setup().wheel().normal_per_radial(v[i]);
+    }
+  }
 
 private:
+  /// The stroke tables of a function law at the values they were made with; made when first asked for, under the
+  /// lock (a table depends on the values and the stroke only, so whichever thread makes it, it is the same).
+  struct Tables {
+    std::mutex mutex;
+    std::vector<double> values;
+    std::vector<std::shared_ptr<const StrokeTable>> by_space; ///< [space − 1]
+  };
+  std::shared_ptr<const StrokeTable> table(int space) const {
+    const std::lock_guard lock(tables_->mutex);
+    if (tables_->by_space.empty() || tables_->values != values_) {
+      tables_->values = values_;
+      tables_->by_space.assign(static_cast<std::size_t>(setup().geometry().teeth()), nullptr);
+    }
+    auto& t = tables_->by_space.at(static_cast<std::size_t>(space - 1));
+    if (!t) t = std::make_shared<const StrokeTable>(*law_, values_, *map_, setup(), space);
+    return t;
+  }
+
   std::shared_ptr<const CustomLaw> law_;
   std::shared_ptr<const ContactMap> map_;
+  std::shared_ptr<Tables> tables_ = std::make_shared<Tables>();
 };
 
 std::mutex registry_mutex;
@@ -171,14 +214,30 @@ ContactMap::ContactMap(const grinding::GrindingSetup& setup) : setup_(setup) {
     std::vector<double> v, xi;
     for (const auto& [a, b] : v_xi)
       if (v.empty() || a > v.back()) v.push_back(a), xi.push_back(b);
-    sides_[s] = Side{flank, geartopo::CubicSpline(v, xi, geartopo::CubicSpline::Ends::NotAKnot), v.front(), v.back()};
+    // ξ runs one way along v on a wheel flank: the inverse from the same pairs, in increasing ξ.
+    std::vector<double> xi_up = xi, v_up = v;
+    if (xi_up.front() > xi_up.back()) std::reverse(xi_up.begin(), xi_up.end()), std::reverse(v_up.begin(), v_up.end());
+    sides_[s] = Side{flank, geartopo::CubicSpline(v, xi, geartopo::CubicSpline::Ends::NotAKnot),
+                     geartopo::CubicSpline(xi_up, v_up, geartopo::CubicSpline::Ends::NotAKnot), v.front(), v.back()};
   }
 }
 
-ContactVariables ContactMap::at(double v, const grinding::PathPoint& pp, int dressing_interval) const {
-  // The wheel flank v lies on; between them (the wheel's tip blend, below the root form circle) the nearer one.
+double ContactMap::roll_at(int side, double v) const {
+  const Side& s = sides_[static_cast<std::size_t>(side)];
+  return s.xi_of_v.value(std::clamp(v, s.v_lo, s.v_hi));
+}
+
+double ContactMap::v_at_roll(int side, double xi) const { return sides_[static_cast<std::size_t>(side)].v_of_xi.value(xi); }
+
+int ContactMap::side_of(double v) const {
+  // Between the wheel flanks (the wheel's tip blend, below the root form circle) the nearer one.
   const auto distance = [v](const Side& s) { return v < s.v_lo ? s.v_lo - v : (v > s.v_hi ? v - s.v_hi : 0.0); };
-  const Side& side = distance(sides_[0]) <= distance(sides_[1]) ? sides_[0] : sides_[1];
+  return distance(sides_[0]) <= distance(sides_[1]) ? 0 : 1;
+}
+
+ContactVariables ContactMap::at_side(int side_index, double v, const grinding::PathPoint& pp,
+                                     int dressing_interval) const {
+  const Side& side = sides_[static_cast<std::size_t>(side_index)];
   const double xi = side.xi_of_v.value(std::clamp(v, side.v_lo, side.v_hi));
   const auto& g = setup_.geometry();
   const auto& path = setup_.path();
@@ -210,6 +269,21 @@ CustomLaw::CustomLaw(std::string name, std::vector<CustomParameter> parameters, 
                      int dressing_interval_strokes)
     : name_(std::move(name)), expression_(std::move(expression)), declared_(std::move(parameters)),
       dressing_interval_(dressing_interval_strokes), id_(next_law_id++) {
+  check_parameters();
+  (void)compile(declared_, expression_); // throws ExpressionError
+  explanation_ = fmt::format("your effect (custom_effects): deviation_um = {}", expression_);
+}
+
+CustomLaw::CustomLaw(std::string name, std::vector<CustomParameter> parameters,
+                     std::shared_ptr<const BatchLaw> function, std::string description, int dressing_interval_strokes)
+    : name_(std::move(name)), expression_(std::move(description)), declared_(std::move(parameters)),
+      function_(std::move(function)), dressing_interval_(dressing_interval_strokes), id_(next_law_id++) {
+  if (!function_ || !*function_) throw std::invalid_argument(fmt::format("custom effect '{}': no function", name_));
+  check_parameters();
+  explanation_ = fmt::format("your effect (Python function {0}): deviation_um = {0}(params, state)", expression_);
+}
+
+void CustomLaw::check_parameters() {
   for (const auto& p : declared_) {
     if (!identifier(p.key)) throw std::invalid_argument(fmt::format("'{}' is not a name (letters, digits, _)", p.key));
     if (std::find(kContactVariableNames.begin(), kContactVariableNames.end(), p.key) != kContactVariableNames.end())
@@ -221,11 +295,14 @@ CustomLaw::CustomLaw(std::string name, std::vector<CustomParameter> parameters, 
     specs_.push_back(ParameterSpec{p.key, fmt::format("{} ({})", p.key, p.unit), neutral_start(p), p.min, p.max,
                                    typical_of(p), true, starts_of(p)});
   }
-  (void)compile(declared_, expression_); // throws ExpressionError
-  explanation_ = fmt::format("your effect (custom_effects): deviation_um = {}", expression_);
 }
 
 double CustomLaw::deviation_um(const std::vector<double>& values, const ContactVariables& at) const {
+  if (function_) {
+    double out = 0.0;
+    (*function_)(values, std::span<const ContactVariables>(&at, 1), std::span<double>(&out, 1));
+    return out;
+  }
   thread_local std::unordered_map<std::uint64_t, std::unique_ptr<Compiled>> compiled;
   auto& c = compiled[id_];
   if (!c) c = compile(declared_, expression_);
@@ -234,9 +311,15 @@ double CustomLaw::deviation_um(const std::vector<double>& values, const ContactV
   return c->parser.Eval();
 }
 
+void CustomLaw::deviations_um(const std::vector<double>& values, std::span<const ContactVariables> at,
+                              std::span<double> out) const {
+  if (function_) return (*function_)(values, at, out);
+  for (std::size_t i = 0; i < at.size(); ++i) out[i] = deviation_um(values, at[i]);
+}
+
 bool CustomLaw::same_law(const CustomLaw& o) const {
   if (name_ != o.name_ || expression_ != o.expression_ || dressing_interval_ != o.dressing_interval_ ||
-      declared_.size() != o.declared_.size())
+      function_ != o.function_ || declared_.size() != o.declared_.size())
     return false;
   for (std::size_t k = 0; k < declared_.size(); ++k) {
     const auto &a = declared_[k], &b = o.declared_[k];
@@ -245,17 +328,20 @@ bool CustomLaw::same_law(const CustomLaw& o) const {
   return true;
 }
 
-std::string non_finite_message(const CustomLaw& law, double value, const ContactVariables& at,
-                               const std::vector<double>& values) {
+std::string point_message(const CustomLaw& law, const ContactVariables& at, const std::vector<double>& values) {
   std::string vars;
   for (std::size_t k = 0; k < law.declared().size() && k < values.size(); ++k)
     vars += fmt::format("{} = {:.6g}, ", law.declared()[k].key, values[k]);
   for (std::size_t k = 0; k < kContactVariableCount; ++k)
     vars += fmt::format("{}{} = {:.6g}", k == 0 ? "" : ", ", kContactVariableNames[k], as_array(at)[k]);
-  return fmt::format("custom effect '{}': deviation_um = {} is not finite at tooth {}, {} flank, d = {:.3f} mm, "
-                     "z = {:.3f} mm, where {}",
-                     law.name(), value, static_cast<int>(at.tooth), at.side > 0 ? "right" : "left", 2.0 * at.r_mm,
-                     at.z_mm, vars);
+  return fmt::format("tooth {}, {} flank, d = {:.3f} mm, z = {:.3f} mm, where {}", static_cast<int>(at.tooth),
+                     at.side > 0 ? "right" : "left", 2.0 * at.r_mm, at.z_mm, vars);
+}
+
+std::string non_finite_message(const CustomLaw& law, double value, const ContactVariables& at,
+                               const std::vector<double>& values) {
+  return fmt::format("custom effect '{}': deviation_um = {} is not finite at {}", law.name(), value,
+                     point_message(law, at, values));
 }
 
 std::unique_ptr<Effect> make_custom_effect(std::shared_ptr<const CustomLaw> law) {

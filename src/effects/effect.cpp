@@ -12,6 +12,11 @@ void Effect::set_values(std::vector<double> v) {
   values_ = std::move(v);
 }
 
+void Effect::wheel_radius_errors_mm(std::span<const double> v, std::span<const grinding::PathPoint> pp,
+                                    std::span<double> out) const {
+  for (std::size_t i = 0; i < v.size(); ++i) out[i] = wheel_radius_error_mm(v[i], pp[i]);
+}
+
 size_t Effect::index_of(std::string_view key) const {
   const auto& p = parameters();
   for (size_t i = 0; i < p.size(); ++i)

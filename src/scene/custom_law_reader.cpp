@@ -66,9 +66,28 @@ std::shared_ptr<const effects::CustomLaw> read_custom_law(MapReader& m, const Sc
   pm.finish();
   int dressing = 0;
   if (m.has("dressing_interval_strokes")) dressing = static_cast<int>(m.integer("dressing_interval_strokes", 0, 100000));
+  std::shared_ptr<const effects::CustomLaw> law;
+  if (m.has("python")) {
+    // A law given as a Python function (geartopo.custom_effect, docs/python.md): registered under its name by the
+    // process that made it; the entry gives its parameters' values and bounds as any entry does.
+    const std::string function = m.text("python");
+    const auto registered = effects::find_custom_law(name);
+    if (!registered || !registered->function())
+      m.context().fail_field(m.field("python"),
+                             fmt::format("'{}' is a law given as the Python function {}: only the Python process that "
+                                         "made it by geartopo.custom_effect(...) can use this scene",
+                                         name, function));
+    try {
+      law = std::make_shared<const effects::CustomLaw>(name, std::move(params), registered->function(), function,
+                                                       dressing);
+      effects::register_custom_law(law);
+    } catch (const std::invalid_argument& e) {
+      m.context().fail_field(m.field("parameters"), e.what());
+    }
+    return law;
+  }
   const std::string expression = m.text("deviation_um");
   const YAML::Node node = m.raw("deviation_um");
-  std::shared_ptr<const effects::CustomLaw> law;
   try {
     law = std::make_shared<const effects::CustomLaw>(name, std::move(params), expression, dressing);
   } catch (const effects::ExpressionError& e) {

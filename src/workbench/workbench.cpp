@@ -156,6 +156,8 @@ void Workbench::check_custom_effects_finite() const {
     const auto named = std::find(scene.custom_effects.begin(), scene.custom_effects.end(), scene.effects[i].type);
     if (named == scene.custom_effects.end()) continue;
     const std::string field = fmt::format("custom_effects[{}].deviation_um", named - scene.custom_effects.begin());
+    std::vector<double> v;
+    std::vector<grinding::PathPoint> pp;
     for (int tooth : teeth)
       for (const auto flank : {Flank::Left, Flank::Right})
         for (int a = 0; a < scene.grid.rows; ++a)
@@ -163,12 +165,15 @@ void Workbench::check_custom_effects_finite() const {
             const double xi = r.xi_eval_start_mm + (r.xi_eval_end_mm - r.xi_eval_start_mm) * b / (scene.grid.cols - 1);
             const double z = r.z_eval_start_mm + (r.z_eval_end_mm - r.z_eval_start_mm) * a / (scene.grid.rows - 1);
             const auto c = generating.linear_contact(tooth, flank, xi, z);
-            try {
-              (void)effects[i]->wheel_radius_error_mm(c.v, c.pp);
-            } catch (const effects::NonFiniteDeviation& e) {
-              scene.fail_at(field, e.what());
-            }
+            v.push_back(c.v), pp.push_back(c.pp);
           }
+    // All points in one batch: a law given as a Python function is called once.
+    std::vector<double> out(v.size());
+    try {
+      effects[i]->wheel_radius_errors_mm(v, pp, out);
+    } catch (const effects::NonFiniteDeviation& e) {
+      scene.fail_at(field, e.what());
+    }
   }
 }
 

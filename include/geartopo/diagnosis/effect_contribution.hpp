@@ -66,6 +66,9 @@ private:
     double v = 0.0;                 ///< wheel axial coordinate of the contact (mm)
     double normal_per_radial = 0.0; ///< normal displacement of the wheel surface per radial change at v
   };
+  /// wheel_radius_errors_mm of an effect that evaluates in batches, at every point (mm), in chunks of fixed points.
+  std::vector<double> batched_radius_mm(const effects::Effect& e, int threads) const;
+
   std::vector<PointState> points_;
   double offset_um_ = 0.0; ///< mean_allowance_offset_um of the gear
 };

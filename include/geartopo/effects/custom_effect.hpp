@@ -14,7 +14,9 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -55,12 +57,25 @@ public:
   explicit ContactMap(const grinding::GrindingSetup& setup);
   /// The contact variables at wheel coordinate v (mm) at path point pp, strokes since dressing counted with
   /// `dressing_interval` (< 1: not dressed during the gear).
-  ContactVariables at(double v, const grinding::PathPoint& pp, int dressing_interval) const;
+  ContactVariables at(double v, const grinding::PathPoint& pp, int dressing_interval) const {
+    return at_side(side_of(v), v, pp, dressing_interval);
+  }
+  /// The wheel flank v lies on (0: the one grinding right flanks, 1: left); between them the nearer one.
+  int side_of(double v) const;
+  /// The contact variables at v on wheel flank `side`, v clamped into its range for the roll length.
+  ContactVariables at_side(int side, double v, const grinding::PathPoint& pp, int dressing_interval) const;
+  /// The wheel coordinates (mm) wheel flank `side` grinds the flank over (its roll lengths ξ_Ff − 1 … ξ_a + 1 mm).
+  double v_lo(int side) const { return sides_[static_cast<std::size_t>(side)].v_lo; }
+  double v_hi(int side) const { return sides_[static_cast<std::size_t>(side)].v_hi; }
+  /// The roll length ξ (mm) wheel flank `side` grinds at v (v clamped into its range), and the inverse: the v at ξ.
+  double roll_at(int side, double v) const;
+  double v_at_roll(int side, double xi) const;
 
 private:
   struct Side {
     geartopo::Flank flank;
     geartopo::CubicSpline xi_of_v; ///< over the wheel flank's v range, increasing v
+    geartopo::CubicSpline v_of_xi; ///< its inverse, over increasing ξ
     double v_lo, v_hi;
   };
   const grinding::GrindingSetup& setup_;
@@ -84,6 +99,13 @@ private:
   int position_;
 };
 
+/// A law given as a function evaluated on a batch of contacts (a Python function,
+/// python/src/custom_effect_binding.cpp): out[i] = the deviation (µm, plus material) with the parameter values
+/// `values` (file units, parameters() order) at at[i]. It may throw (the exception goes to the caller as it is);
+/// non-finite values are refused by the caller.
+using BatchLaw = std::function<void(const std::vector<double>& values, std::span<const ContactVariables> at,
+                                    std::span<double> out)>;
+
 /// The user's law: its name, parameters and expression, compiled once (the constructor checks it: syntax, unknown
 /// variables and functions) and evaluated thread-safely (each thread its own compiled copy, variables bound by
 /// pointer). Immutable.
@@ -93,17 +115,27 @@ public:
   /// std::invalid_argument (a parameter's bounds).
   CustomLaw(std::string name, std::vector<CustomParameter> parameters, std::string expression,
             int dressing_interval_strokes = 0);
+  /// A law given as a function; `description` names it where an expression would stand (e.g. the Python function's
+  /// qualified name). Throws std::invalid_argument (a parameter's name or bounds).
+  CustomLaw(std::string name, std::vector<CustomParameter> parameters, std::shared_ptr<const BatchLaw> function,
+            std::string description, int dressing_interval_strokes = 0);
 
   const std::string& name() const { return name_; }
   const std::string& expression() const { return expression_; }
   const std::vector<CustomParameter>& declared() const { return declared_; }
   const std::vector<ParameterSpec>& parameters() const { return specs_; }
   int dressing_interval_strokes() const { return dressing_interval_; }
-  /// "your effect (custom_effects): deviation_um = <expression>".
+  /// The function of a law given as one (null for an expression); its description is expression().
+  const std::shared_ptr<const BatchLaw>& function() const { return function_; }
+  /// "your effect (custom_effects): deviation_um = <expression>"; for a function "your effect (Python function
+  /// <description>): deviation_um = <description>(params, state)".
   const std::string& explanation() const { return explanation_; }
   /// The law's value (µm) with these parameter values (file units, parameters() order) at a contact; NaN or ±∞ as
   /// the expression gives it (callers refuse those).
   double deviation_um(const std::vector<double>& values, const ContactVariables& at) const;
+  /// The law at a batch of contacts: out[i] at at[i] (out.size() == at.size()); a function law is called once.
+  void deviations_um(const std::vector<double>& values, std::span<const ContactVariables> at,
+                     std::span<double> out) const;
   /// The same law: name, parameters with their bounds and units, expression, dressing interval (values aside).
   bool same_law(const CustomLaw& other) const;
 
@@ -111,6 +143,9 @@ private:
   std::string name_, expression_, explanation_;
   std::vector<CustomParameter> declared_;
   std::vector<ParameterSpec> specs_;
+
+  void check_parameters();
+  std::shared_ptr<const BatchLaw> function_;
   int dressing_interval_ = 0;
   std::uint64_t id_; ///< the key of each thread's compiled copy
 };
@@ -123,6 +158,8 @@ public:
 /// "custom effect '<name>' = <value> (not finite) at tooth …, right flank, d = … mm, z = … mm, where t_s = …, …".
 std::string non_finite_message(const CustomLaw& law, double value, const ContactVariables& at,
                                const std::vector<double>& values);
+/// "tooth …, right flank, d = … mm, z = … mm, where <parameter> = …, t_s = …, …": a point and the variables there.
+std::string point_message(const CustomLaw& law, const ContactVariables& at, const std::vector<double>& values);
 
 /// An effect of the user's law. Its default values are the fit's neutral starts (0, or the middle of the range), not
 /// the declared ones: set those with set_values(declared_values(law)).

@@ -12,6 +12,7 @@
 
 #include <limits>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -63,6 +64,12 @@ public:
   virtual bool table_in_gear_is_constant() const { return false; }
   /// Change of the wheel radius at wheel axial coordinate v (mm; positive: bigger wheel, deeper cut).
   virtual double wheel_radius_error_mm(double /*v*/, const grinding::PathPoint& /*pp*/) const { return 0.0; }
+  /// wheel_radius_error_mm at n contacts known up front: out[i] at (v[i], pp[i]). The default asks per point; an effect
+  /// whose law costs per call rather than per point (a Python function: one call per batch) says so by
+  /// evaluates_in_batches, and callers holding many contacts (diagnosis, the scene's checks) then call this instead.
+  virtual void wheel_radius_errors_mm(std::span<const double> v, std::span<const grinding::PathPoint> pp,
+                                      std::span<double> out) const;
+  virtual bool evaluates_in_batches() const { return false; }
 
   /// Parameter values, file units, in the order of parameters().
   const std::vector<double>& values() const { return values_; }
