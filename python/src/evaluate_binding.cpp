@@ -3,6 +3,7 @@
 #include "arguments.hpp"
 #include "bindings.hpp"
 #include "interrupt.hpp"
+#include "named_arguments.hpp"
 #include "json_to_python.hpp"
 #include "numpy_columns.hpp"
 #include "py_scene.hpp"
@@ -20,10 +21,12 @@ namespace geartopo::python {
 void bind_evaluate(py::module_& m) {
   m.def(
       "evaluate",
-      [](const PyScene& s, const py::object& topo, const std::string& method, const std::string& iso_direction,
-         const std::string& helix_slope_sign, const py::object& progress) {
-        const auto& wb = *s.wb;
-        const workbench::IsoOptions iso = iso_arguments(iso_direction, helix_slope_sign);
+      [](const SceneArg& scene, const py::object& topo, const TextArg& method_arg, const TextArg& direction,
+         const TextArg& slope_sign, const py::object& progress) {
+        const auto& wb = *scene_argument(scene, "scene").wb;
+        const std::string method = text_argument(method_arg, "method");
+        const workbench::IsoOptions iso =
+            iso_arguments(text_argument(direction, "iso_direction"), text_argument(slope_sign, "helix_slope_sign"));
         std::vector<grinding::FlankTopology> flanks;
         if (topo.is_none()) { // as `geartopo evaluate`: every tooth (pitch and runout need them), traces only
           grinding::SimulationOptions so;

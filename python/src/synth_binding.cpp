@@ -3,6 +3,7 @@
 #include "arguments.hpp"
 #include "bindings.hpp"
 #include "interrupt.hpp"
+#include "named_arguments.hpp"
 #include "numpy_columns.hpp"
 #include "py_scene.hpp"
 
@@ -23,9 +24,13 @@ namespace geartopo::python {
 void bind_synth(py::module_& m) {
   m.def(
       "synth",
-      [](const PyScene& truth, const py::object& teeth, double noise_um, std::uint64_t seed, const std::string& format,
-         bool stroke_scatter, const py::object& corrections) {
-        const auto& wb = *truth.wb;
+      [](const SceneArg& truth, const py::object& teeth, const RealArg& noise, const WholeArg& seed_arg,
+         const TextArg& format_arg, const FlagArg& scatter, const py::object& corrections) {
+        const auto& wb = *scene_argument(truth, "truth").wb;
+        const double noise_um = real_argument(noise, "noise_um");
+        const std::uint64_t seed = seed_argument(seed_arg, "seed");
+        const std::string format = text_argument(format_arg, "format");
+        const bool stroke_scatter = flag_argument(scatter, "stroke_scatter");
         if (format != "csv" && format != "traces")
           throw std::invalid_argument(fmt::format("format: '{}' is not csv or traces (a Klingelnberg export: the CLI's "
                                                   "--format klingelnberg)",
@@ -38,7 +43,7 @@ void bind_synth(py::module_& m) {
         so.cols = wb.scene.grid.cols;
         so.noise_um = noise_um;
         so.seed = seed;
-        const std::string corrections_file = corrections.is_none() ? std::string() : py::str(corrections).cast<std::string>();
+        const std::string corrections_file = corrections.is_none() ? std::string() : path_argument(corrections, "corrections");
         const LibraryWork work; // Ctrl-C caught, the GIL released
         const auto table = pipeline::synth_corrections(wb, corrections_file, stroke_scatter, seed);
         std::optional<compensation::CompensatedProcess> corrected;

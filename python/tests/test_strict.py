@@ -142,3 +142,80 @@ def test_measured_arrays_of_complex_or_strings_are_refused(scene, truth, bad):
     m["deviation_um"] = (m["deviation_um"] + 1j) if bad == "complex" else m["deviation_um"].astype(str)
     with pytest.raises(ValueError, match=r"deviation_um: an array of .* is not an array of real numbers"):
         geartopo.compare(scene, m)
+
+
+# --- every function × every argument with a wrong type ------------------------------------------------------------
+# The functions and their arguments are read from the module itself (its public names and each function's signature,
+# the first line of its docstring), so a function or an argument added later is walked without editing this test.
+
+class Wrong:
+    """An object no argument accepts."""
+
+    def __repr__(self):
+        return "<Wrong>"
+
+
+def public_functions():
+    return sorted(n for n in dir(geartopo) if not n.startswith("_") and callable(getattr(geartopo, n))
+                  and not isinstance(getattr(geartopo, n), type))
+
+
+def signature(name):
+    """[(argument, annotation, has_default)] of geartopo.<name>, from its pybind11 signature line."""
+    import re
+    first = getattr(geartopo, name).__doc__.split("\n")[0]
+    m = re.fullmatch(rf"{name}\((.*)\) -> .*", first)
+    assert m, f"{name}: no signature line in its docstring: {first!r}"
+    out, depth, part = [], 0, ""
+    for ch in m.group(1) + ",":  # split at the top level's commas (List[str] = [] holds none, a default might)
+        if ch == "," and depth == 0:
+            if part.strip():
+                arg, rest = part.strip().split(":", 1)
+                out.append((arg.strip(), rest.split("=")[0].strip(), "=" in rest))
+            part = ""
+            continue
+        depth += ch in "[({" and 1 or 0
+        depth -= ch in "])}" and 1 or 0
+        part += ch
+    return out
+
+
+# A value of the right type for each required argument, by name (a new function's required argument must be added
+# here: the test says which).
+REQUIRED = {
+    "scene": lambda s: s, "truth": lambda s: s, "measured": lambda s: str(MEASURED), "export": lambda s: str(MEASURED),
+    "path": lambda s: str(SCENE), "text": lambda s: SCENE.read_text(), "file": lambda s: str(SCENE),
+}
+# A second wrong value per annotation: the type a user most likely confuses it with.
+CONFUSED = {"float": "1.5", "int": 1.5, "str": 5, "bool": "yes", "List[str]": "effect", "geartopo.Scene": str(SCENE)}
+
+
+def walked():
+    cases = []
+    for name in public_functions():
+        args = signature(name)
+        for arg, annotation, _ in args:
+            wrongs = [Wrong()] + ([CONFUSED[annotation]] if annotation in CONFUSED else [])
+            cases += [pytest.param(name, arg, w, id=f"{name}-{arg}-{type(w).__name__}") for w in wrongs]
+    return cases
+
+
+def test_every_public_function_is_walked():
+    names = public_functions()
+    assert {"compare", "compensate", "diagnose", "evaluate", "load_scene", "machine_values", "plan", "scene_from_yaml",
+            "series", "simulate", "synth"} <= set(names), names
+    assert sum(len(signature(n)) for n in names) >= 53  # 11 functions, 53 arguments today
+
+
+@pytest.mark.parametrize("name, arg, wrong", walked())
+def test_a_wrong_type_is_refused_naming_its_argument(scene, name, arg, wrong):
+    kwargs = {}
+    for a, _, has_default in signature(name):
+        if not has_default and a != arg:
+            assert a in REQUIRED, f"{name}({a}): add a value of the right type for '{a}' to REQUIRED"
+            kwargs[a] = REQUIRED[a](scene)
+    kwargs[arg] = wrong
+    with pytest.raises((TypeError, ValueError)) as e:
+        getattr(geartopo, name)(**kwargs)
+    # no bare "incompatible function arguments": the refusal starts with the argument's name
+    assert str(e.value).startswith(f"{arg}: "), f"{name}({arg}={wrong!r}): {e.value}"
