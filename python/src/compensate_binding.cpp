@@ -91,16 +91,14 @@ void bind_compensate(py::module_& m) {
         const int threads = static_cast<int>(whole_argument(thread_count, "threads", 0, kMaxThreads));
         compensation::CompensationOptions co;
         co.method = compensation_method(method);
-        if (!(step_mm >= 0.05 && step_mm <= 50.0))
-          throw std::invalid_argument(fmt::format("step_mm: {} is outside [0.05, 50]", step_mm));
+        if (const auto refusal = limits::step_mm_refusal(step_mm)) throw std::invalid_argument("step_mm: " + *refusal);
         co.step_mm = step_mm;
         if (co.method == compensation::Method::Paper && wb.design_motion) // as the CLI's --method paper
           throw std::invalid_argument("method: paper drives the wheel to its nominal pose and would grind away the "
                                       "drawing's helix modifications (gear.modifications): use flank or cycle, which "
                                       "correct towards the design");
         commands::check_samples(samples, "samples"); // the CLI's --samples bound
-        if (!(probe_noise_um >= 0.0 && probe_noise_um <= 1000.0))
-          throw std::invalid_argument(fmt::format("probe_noise_um: {} is outside [0, 1000]", probe_noise_um));
+        commands::check_synthetic_noise_um(probe_noise_um, "probe_noise_um");
         grinding::SimulationOptions so;
         so.profile_points = wb.scene.grid.profile_points;
         so.helix_points = wb.scene.grid.helix_points;

@@ -7,6 +7,7 @@
 #include "numpy_columns.hpp"
 #include "py_scene.hpp"
 
+#include "geartopo/commands/limits.hpp"
 #include "geartopo/diagnosis/synth.hpp"
 #include "geartopo/pipeline/synth_corrections.hpp"
 
@@ -35,8 +36,7 @@ void bind_synth(py::module_& m) {
           throw std::invalid_argument(fmt::format("format: '{}' is not csv or traces (a Klingelnberg export: the CLI's "
                                                   "--format klingelnberg)",
                                                   format));
-        if (!(noise_um >= 0.0 && noise_um <= 1000.0))
-          throw std::invalid_argument(fmt::format("noise_um: {} is outside [0, 1000]", noise_um));
+        commands::check_synthetic_noise_um(noise_um, "noise_um");
         diagnosis::SynthOptions so;
         so.teeth = teeth_argument(teeth, wb.setup.geometry().teeth(), {1, 18});
         so.rows = wb.scene.grid.rows;

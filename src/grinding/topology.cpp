@@ -1,6 +1,7 @@
 #include "geartopo/grinding/topology.hpp"
 
 #include <mutex>
+#include "geartopo/core/limits.hpp"
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/core/parallel.hpp"
@@ -53,14 +54,18 @@ SimulationPoints simulation_points(const GrindingSetup& setup, const SimulationO
   pts.teeth = o.teeth;
   if (pts.teeth.empty())
     for (int t = 1; t <= g.teeth(); ++t) pts.teeth.push_back(t);
-  for (int t : pts.teeth)
-    if (t < 1 || t > g.teeth()) throw std::invalid_argument(fmt::format("tooth {} is not one of 1..{}", t, g.teeth()));
-  if (o.rows < 2 || o.cols < 2 || o.profile_points < 2 || o.helix_points < 2)
-    throw std::invalid_argument("grid and traces need at least 2 points each way");
+  // The bounds every caller is held to (core/limits.hpp), before anything is allocated.
+  limits::require(limits::teeth_refusal(pts.teeth, g.teeth()), "simulate_topology: teeth");
+  limits::require(limits::grid_refusal(o.rows, o.cols, 2), "simulate_topology: rows × cols");
+  limits::require(limits::trace_points_refusal(o.profile_points, o.helix_points), "simulate_topology: profile_points, helix_points");
+  if (o.dense_rows < 0 || o.dense_cols < 0 || (o.dense_rows > 0) != (o.dense_cols > 0))
+    throw std::invalid_argument(fmt::format("simulate_topology: dense_rows × dense_cols: {} × {} is not a grid: both 0 "
+                                            "(none) or both ≥ 1", o.dense_rows, o.dense_cols));
   const long long per_flank = static_cast<long long>(o.rows) * o.cols + static_cast<long long>(o.dense_rows) * o.dense_cols +
                               o.profile_points + o.helix_points;
   if (per_flank > kMaxPointsPerFlank || per_flank * 2 * static_cast<long long>(pts.teeth.size()) > kMaxPointsPerSimulation)
-    throw std::invalid_argument(fmt::format("{} points per flank on {} flanks is more than a simulation may hold ({} per "
+    throw std::invalid_argument(fmt::format("simulate_topology: points: {} per flank on {} flanks is more than a "
+                                            "simulation may hold ({} per "
                                             "flank, {} in all): choose a coarser grid",
                                             per_flank, 2 * pts.teeth.size(), kMaxPointsPerFlank, kMaxPointsPerSimulation));
 
