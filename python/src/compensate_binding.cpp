@@ -105,6 +105,7 @@ void bind_compensate(py::module_& m) {
         so.rows = wb.scene.grid.rows;
         so.cols = wb.scene.grid.cols;
         so.threads = threads;
+        so.keep_going = interrupt_check(); // the simulations before and after report no progress
         pipeline::MonteCarloOptions mc;
         mc.samples = samples;
         mc.seed = seed;

@@ -34,6 +34,7 @@ void bind_evaluate(py::module_& m) {
           so.profile_points = wb.scene.grid.profile_points;
           so.helix_points = wb.scene.grid.helix_points;
           so.progress = progress_function(progress);
+          so.keep_going = interrupt_check();
           const LibraryWork work; // Ctrl-C caught, the GIL released
           flanks = grinding::simulate_topology(wb.setup, wb.process(), so);
         } else if (py::isinstance<py::dict>(topo)) { // simulate()'s or synth()'s arrays

@@ -34,6 +34,7 @@ void bind_simulate(py::module_& m) {
         }
         so.threads = threads;
         so.progress = progress_function(progress);
+        so.keep_going = interrupt_check();
         std::vector<grinding::FlankTopology> topo;
         {
           const LibraryWork work; // Ctrl-C caught, the GIL released

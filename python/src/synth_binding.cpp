@@ -43,6 +43,7 @@ void bind_synth(py::module_& m) {
         so.cols = wb.scene.grid.cols;
         so.noise_um = noise_um;
         so.seed = seed;
+        so.keep_going = interrupt_check(); // a fine grid's flank takes minutes
         const std::string corrections_file = corrections.is_none() ? std::string() : path_argument(corrections, "corrections");
         const LibraryWork work; // Ctrl-C caught, the GIL released
         const auto table = pipeline::synth_corrections(wb, corrections_file, stroke_scatter, seed);

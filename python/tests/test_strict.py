@@ -85,6 +85,30 @@ def test_ctrl_c_stops_a_long_compensate(scene, with_callback):
     assert time.monotonic() - sent["at"] < 30.0
 
 
+@pytest.fixture(scope="module")
+def fine_scene():
+    """The default scene on a 1000 × 1000 grid per flank: a flank takes minutes, a progress report is a flank apart."""
+    text = SCENE.read_text().replace("  rows: 7\n  cols: 9\n", "  rows: 1000\n  cols: 1000\n")
+    assert "rows: 1000" in text
+    return geartopo.scene_from_yaml(text, source=str(SCENE))
+
+
+# Each stops from the work's inner loops (grinding::SimulationOptions::keep_going: before every grid row), not at the
+# next progress report (a flank of this grid) or when the call returns (minutes).
+@pytest.mark.parametrize("call", [
+    pytest.param(lambda s: geartopo.synth(s, teeth=[1], noise_um=0.0), id="synth"),
+    pytest.param(lambda s: geartopo.simulate(s, teeth=[1]), id="simulate"),
+    pytest.param(lambda s: geartopo.compensate(s, samples=0), id="compensate-without-samples"),
+])
+def test_ctrl_c_stops_a_long_call_within_a_second(fine_scene, call):
+    sent = interrupt_after(1.0)
+    with pytest.raises(KeyboardInterrupt):
+        call(fine_scene)
+    stopped = time.monotonic() - sent["at"]
+    # a grid row of 1000 points takes ~0.05 s on one core; 1 s leaves room for a machine shared with other work
+    assert stopped < 1.0, f"stopped {stopped:.2f} s after Ctrl-C"
+
+
 def test_after_an_interrupt_the_next_call_runs(scene):
     sent = interrupt_after(1.0)
     with pytest.raises(KeyboardInterrupt):

@@ -13,6 +13,7 @@ std::vector<grinding::TopologyRow> synthesize(const grinding::GrindingSetup& tru
   so.rows = o.rows;
   so.cols = o.cols;
   so.profile_points = so.helix_points = 2; // traces are not measured here
+  so.keep_going = o.keep_going;
   auto rows = grinding::topology_rows(grinding::simulate_topology(truth, process, so));
   // One engine drawn in file order: the same seed gives the same file whatever the thread count.
   random::SplitMix64 rng(o.seed); // core/random.hpp: the same file with every standard library
@@ -29,6 +30,7 @@ std::vector<grinding::FlankTopology> synthesize_traces(const grinding::GrindingS
   so.rows = so.cols = 2; // the grid is not measured here
   so.profile_points = profile_points;
   so.helix_points = helix_points;
+  so.keep_going = o.keep_going;
   auto topo = grinding::simulate_topology(truth, process, so);
   random::SplitMix64 rng(o.seed);
   for (auto& ft : topo) ft.grid.clear();

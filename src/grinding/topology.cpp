@@ -21,13 +21,16 @@ std::vector<double> evenly(double a, double b, int n) {
 }
 
 std::vector<GridPoint> grid(const FlankDeviation& dev, const gears::GearGeometry& g, int tooth, geartopo::Flank flank,
-                            const std::vector<double>& xis, const std::vector<double>& zs, Method m) {
+                            const std::vector<double>& xis, const std::vector<double>& zs, Method m,
+                            const std::function<void()>& keep_going) {
   std::vector<GridPoint> out;
   out.reserve(xis.size() * zs.size());
-  for (size_t r = 0; r < xis.size(); ++r)
+  for (size_t r = 0; r < xis.size(); ++r) {
+    if (keep_going) keep_going(); // once a row: a 1000 × 1000 flank takes minutes
     for (size_t c = 0; c < zs.size(); ++c)
       out.push_back({static_cast<int>(r + 1), static_cast<int>(c + 1), xis[r], g.diameter_at_roll_length(xis[r]), zs[c],
                      units::um_from_mm(dev.at(tooth, flank, xis[r], zs[c], m).deviation_mm)});
+  }
   return out;
 }
 
@@ -101,14 +104,17 @@ std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const G
     FlankTopology& ft = out[static_cast<size_t>(i)];
     ft.tooth = teeth[static_cast<size_t>(i / 2)];
     ft.flank = i % 2 == 0 ? geartopo::Flank::Left : geartopo::Flank::Right;
-    ft.grid = grid(dev, g, ft.tooth, ft.flank, rows, cols, o.method);
+    ft.grid = grid(dev, g, ft.tooth, ft.flank, rows, cols, o.method, o.keep_going);
+    if (o.keep_going) o.keep_going();
     for (double xi : prof_xi)
       ft.profile.push_back({xi, g.diameter_at_roll_length(xi), prof_z,
                             units::um_from_mm(dev.at(ft.tooth, ft.flank, xi, prof_z, o.method).deviation_mm)});
     for (double z : helix_z)
       ft.helix.push_back({helix_xi, g.diameter_at_roll_length(helix_xi), z,
                           units::um_from_mm(dev.at(ft.tooth, ft.flank, helix_xi, z, o.method).deviation_mm)});
-    if (!pts.dense_rows.empty()) ft.dense = grid(dev, g, ft.tooth, ft.flank, pts.dense_rows, pts.dense_cols, o.method);
+    if (o.keep_going) o.keep_going();
+    if (!pts.dense_rows.empty())
+      ft.dense = grid(dev, g, ft.tooth, ft.flank, pts.dense_rows, pts.dense_cols, o.method, o.keep_going);
     if (o.progress) {
       const std::lock_guard lock(report);
       o.progress(++flanks_done, static_cast<long long>(out.size()));
