@@ -9,6 +9,7 @@
 #include "py_scene.hpp"
 #include "python_progress.hpp"
 
+#include "geartopo/commands/machine_values.hpp"
 #include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/report/iso_report.hpp"
 
@@ -46,7 +47,12 @@ void bind_evaluate(py::module_& m) {
             const auto warn = py::module_::import("warnings").attr("warn");
             for (const auto& w : traces.warnings) warn(w);
           }
-          flanks = std::move(traces.flanks);
+          workbench::IsoResult from_file; // a trace the evaluation refuses is named with the file and its line
+          {
+            const LibraryWork work; // Ctrl-C caught, the GIL released
+            from_file = commands::evaluate_measured_traces(wb, traces, file, iso);
+          }
+          return to_python(report::iso_json(from_file));
         }
         workbench::IsoResult result;
         {

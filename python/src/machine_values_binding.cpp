@@ -44,8 +44,7 @@ void bind_machine_values(py::module_& m) {
           const LibraryWork work; // Ctrl-C caught, the GIL released
           const auto read = commands::read_traces_with_machine_values(wb, file, values_file, {}, {});
           warnings = read.warnings;
-          const workbench::IsoResult result = workbench::evaluate_iso(wb.setup.geometry(), wb.setup.ranges(),
-                                                                      read.traces.flanks, iso);
+          const workbench::IsoResult result = commands::evaluate_measured_traces(wb, read.traces, file, iso);
           compared = commands::machine_values(wb, read, result);
         }
         if (!warnings.empty()) {

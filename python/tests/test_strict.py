@@ -243,3 +243,44 @@ def test_a_wrong_type_is_refused_naming_its_argument(scene, name, arg, wrong):
         getattr(geartopo, name)(**kwargs)
     # no bare "incompatible function arguments": the refusal starts with the argument's name
     assert str(e.value).startswith(f"{arg}: "), f"{name}({arg}={wrong!r}): {e.value}"
+
+
+# --- a trace the ISO evaluation refuses, named with its file and line ----------------------------------------------
+GOOD_EXPORT = ROOT / "tests" / "robustness" / "corpus" / "exports" / "reference" / "good.mka"
+
+
+@pytest.fixture(scope="module")
+def z24_scene_file(tmp_path_factory):
+    """The default scene with the corpus export's gear (m_n 2, z 24, β 15°, b 20 mm), its tables found from anywhere."""
+    text = SCENE.read_text()
+    for old, new in [("normal_module_mm: 14", "normal_module_mm: 2"), ("teeth: 35", "teeth: 24"),
+                     ("helix_angle_deg: 30 ", "helix_angle_deg: 15 "), ("face_width_mm: 150", "face_width_mm: 20"),
+                     ("tip_diameter_mm: 601.4753", "tip_diameter_mm: 54"),
+                     ("root_diameter_mm: 538.4753", "root_diameter_mm: 44"), ("profile_shift: 0.274", "profile_shift: 0"),
+                     ("machine/", f"{ROOT}/scenes/machine/"), ("measured: demo/", f"measured: {ROOT}/scenes/demo/")]:
+        assert old in text, old
+        text = text.replace(old, new)
+    path = tmp_path_factory.mktemp("z24") / "z24.yaml"
+    path.write_text(text)
+    return path
+
+
+def test_a_trace_the_evaluation_refuses_is_named_with_its_file_and_line(z24_scene_file, tmp_path):
+    # The corpus export's head, then tooth 1's left profile (line 14) and helix: the profile starts above the
+    # evaluation range. Was a bare "tooth 1 left flank, profile: trace refused: …" naming no file, from the CLI and the
+    # module alike.
+    export = tmp_path / "short.mka"
+    export.write_text(GOOD_EXPORT.read_text(encoding="utf-8").split("Profil:")[0] +
+                      "Profil:  Zahn-Nr.: 1 links / 5 Werte / z= 10.0\n  .000  1.000  2.000  3.000  4.000\n"
+                      "Flankenlinie: Zahn-Nr.: 1 links / 4 Werte / d= 50.0\n  -1.000  -2.000  -3.000  -4.000\n",
+                      encoding="utf-8")
+    where = r"short\.mka:14: tooth 1 left profile: tooth 1 left flank, profile: trace refused: the trace starts at"
+    s = geartopo.load_scene(z24_scene_file)
+    with pytest.raises(geartopo.InputError, match=where):
+        geartopo.evaluate(s, topo=export)
+    with pytest.raises(geartopo.InputError, match=where):
+        geartopo.machine_values(s, export)
+    p = subprocess.run([cli_path(), "evaluate", str(z24_scene_file), "--traces", str(export), "--out",
+                        str(tmp_path / "e")], capture_output=True, text=True, cwd=ROOT)
+    assert p.returncode == 1 and "short.mka:14: tooth 1 left profile: " in p.stderr, p.stderr
+    assert not (tmp_path / "e").exists()
