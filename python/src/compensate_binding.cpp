@@ -4,6 +4,7 @@
 #include "arguments.hpp"
 #include "bindings.hpp"
 #include "interrupt.hpp"
+#include "named_arguments.hpp"
 #include "json_to_python.hpp"
 #include "numpy_columns.hpp"
 #include "py_scene.hpp"
@@ -19,6 +20,7 @@
 
 #include <fmt/format.h>
 
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
@@ -74,29 +76,36 @@ compensation::Method compensation_method(const std::string& method) {
 void bind_compensate(py::module_& m) {
   m.def(
       "compensate",
-      [](const PyScene& s, const std::string& method, double step_mm, long long samples, std::uint64_t seed,
-         const std::string& iso_direction, const std::string& helix_slope_sign, double probe_noise_um,
-         bool exact_samples, const py::object& progress, int threads) {
-        const auto& wb = *s.wb;
+      [](const SceneArg& scene, const TextArg& method_arg, const RealArg& step, const WholeArg& sample_count,
+         const WholeArg& seed_arg, const TextArg& direction, const TextArg& slope_sign, const RealArg& probe_noise,
+         const FlagArg& exact, const py::object& progress, const WholeArg& thread_count) {
+        const auto& wb = *scene_argument(scene, "scene").wb;
+        const std::string method = text_argument(method_arg, "method");
+        const double step_mm = real_argument(step, "step_mm");
+        const long long samples = whole_argument(sample_count, "samples", std::numeric_limits<long long>::min(), std::numeric_limits<long long>::max());
+        const std::uint64_t seed = seed_argument(seed_arg, "seed");
+        const std::string iso_direction = text_argument(direction, "iso_direction");
+        const std::string helix_slope_sign = text_argument(slope_sign, "helix_slope_sign");
+        const double probe_noise_um = real_argument(probe_noise, "probe_noise_um");
+        const bool exact_samples = flag_argument(exact, "exact_samples");
+        const int threads = static_cast<int>(whole_argument(thread_count, "threads", 0, kMaxThreads));
         compensation::CompensationOptions co;
         co.method = compensation_method(method);
-        if (!(step_mm >= 0.05 && step_mm <= 50.0))
-          throw std::invalid_argument(fmt::format("step_mm: {} is outside [0.05, 50]", step_mm));
+        if (const auto refusal = limits::step_mm_refusal(step_mm)) throw std::invalid_argument("step_mm: " + *refusal);
         co.step_mm = step_mm;
         if (co.method == compensation::Method::Paper && wb.design_motion) // as the CLI's --method paper
           throw std::invalid_argument("method: paper drives the wheel to its nominal pose and would grind away the "
                                       "drawing's helix modifications (gear.modifications): use flank or cycle, which "
                                       "correct towards the design");
         commands::check_samples(samples, "samples"); // the CLI's --samples bound
-        if (!(probe_noise_um >= 0.0 && probe_noise_um <= 1000.0))
-          throw std::invalid_argument(fmt::format("probe_noise_um: {} is outside [0, 1000]", probe_noise_um));
-        if (threads < 0) throw std::invalid_argument(fmt::format("threads: {} is negative (0: all hardware threads)", threads));
+        commands::check_synthetic_noise_um(probe_noise_um, "probe_noise_um");
         grinding::SimulationOptions so;
         so.profile_points = wb.scene.grid.profile_points;
         so.helix_points = wb.scene.grid.helix_points;
         so.rows = wb.scene.grid.rows;
         so.cols = wb.scene.grid.cols;
         so.threads = threads;
+        so.keep_going = interrupt_check(); // the simulations before and after report no progress
         pipeline::MonteCarloOptions mc;
         mc.samples = samples;
         mc.seed = seed;

@@ -3,11 +3,13 @@
 #include "arguments.hpp"
 #include "bindings.hpp"
 #include "interrupt.hpp"
+#include "named_arguments.hpp"
 #include "json_to_python.hpp"
 #include "numpy_columns.hpp"
 #include "py_scene.hpp"
 #include "python_progress.hpp"
 
+#include "geartopo/commands/machine_values.hpp"
 #include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/report/iso_report.hpp"
 
@@ -20,10 +22,12 @@ namespace geartopo::python {
 void bind_evaluate(py::module_& m) {
   m.def(
       "evaluate",
-      [](const PyScene& s, const py::object& topo, const std::string& method, const std::string& iso_direction,
-         const std::string& helix_slope_sign, const py::object& progress) {
-        const auto& wb = *s.wb;
-        const workbench::IsoOptions iso = iso_arguments(iso_direction, helix_slope_sign);
+      [](const SceneArg& scene, const py::object& topo, const TextArg& method_arg, const TextArg& direction,
+         const TextArg& slope_sign, const py::object& progress) {
+        const auto& wb = *scene_argument(scene, "scene").wb;
+        const std::string method = text_argument(method_arg, "method");
+        const workbench::IsoOptions iso =
+            iso_arguments(text_argument(direction, "iso_direction"), text_argument(slope_sign, "helix_slope_sign"));
         std::vector<grinding::FlankTopology> flanks;
         if (topo.is_none()) { // as `geartopo evaluate`: every tooth (pitch and runout need them), traces only
           grinding::SimulationOptions so;
@@ -31,6 +35,7 @@ void bind_evaluate(py::module_& m) {
           so.profile_points = wb.scene.grid.profile_points;
           so.helix_points = wb.scene.grid.helix_points;
           so.progress = progress_function(progress);
+          so.keep_going = interrupt_check();
           const LibraryWork work; // Ctrl-C caught, the GIL released
           flanks = grinding::simulate_topology(wb.setup, wb.process(), so);
         } else if (py::isinstance<py::dict>(topo)) { // simulate()'s or synth()'s arrays
@@ -42,7 +47,12 @@ void bind_evaluate(py::module_& m) {
             const auto warn = py::module_::import("warnings").attr("warn");
             for (const auto& w : traces.warnings) warn(w);
           }
-          flanks = std::move(traces.flanks);
+          workbench::IsoResult from_file; // a trace the evaluation refuses is named with the file and its line
+          {
+            const LibraryWork work; // Ctrl-C caught, the GIL released
+            from_file = commands::evaluate_measured_traces(wb, traces, file, iso);
+          }
+          return to_python(report::iso_json(from_file));
         }
         workbench::IsoResult result;
         {

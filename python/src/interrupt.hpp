@@ -10,6 +10,7 @@
 #include <pybind11/pybind11.h>
 
 #include <exception>
+#include <functional>
 
 namespace geartopo::python {
 
@@ -29,6 +30,12 @@ public:
 
 /// Throws Interrupted when Ctrl-C was pressed during the current call. Safe from any thread, without the GIL.
 void throw_if_interrupted();
+
+/// throw_if_interrupted as a library's keep_going check (grinding::SimulationOptions::keep_going): work that reports
+/// progress too seldom (a flank of a fine grid takes minutes) checks for Ctrl-C from its inner loops.
+inline std::function<void()> interrupt_check() {
+  return [] { throw_if_interrupted(); };
+}
 
 /// A long call's library work: SIGINT caught by geartopo, then the GIL released (destroyed in the reverse order: the
 /// GIL taken back before Python's handler returns).

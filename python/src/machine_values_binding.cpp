@@ -4,6 +4,7 @@
 #include "arguments.hpp"
 #include "bindings.hpp"
 #include "interrupt.hpp"
+#include "named_arguments.hpp"
 #include "json_to_python.hpp"
 #include "py_scene.hpp"
 
@@ -24,10 +25,11 @@ namespace geartopo::python {
 void bind_machine_values(py::module_& m) {
   m.def(
       "machine_values",
-      [](const PyScene& s, const py::object& export_path, const py::object& values_path, const std::string& iso_direction,
-         const std::string& helix_slope_sign) {
-        const auto& wb = *s.wb;
-        const workbench::IsoOptions iso = iso_arguments(iso_direction, helix_slope_sign);
+      [](const SceneArg& scene, const py::object& export_path, const py::object& values_path, const TextArg& direction,
+         const TextArg& slope_sign) {
+        const auto& wb = *scene_argument(scene, "scene").wb;
+        const workbench::IsoOptions iso =
+            iso_arguments(text_argument(direction, "iso_direction"), text_argument(slope_sign, "helix_slope_sign"));
         const std::string file = path_argument(export_path, "export");
         const std::string values_file = values_path.is_none() ? std::string() : path_argument(values_path, "values");
         {
@@ -42,8 +44,7 @@ void bind_machine_values(py::module_& m) {
           const LibraryWork work; // Ctrl-C caught, the GIL released
           const auto read = commands::read_traces_with_machine_values(wb, file, values_file, {}, {});
           warnings = read.warnings;
-          const workbench::IsoResult result = workbench::evaluate_iso(wb.setup.geometry(), wb.setup.ranges(),
-                                                                      read.traces.flanks, iso);
+          const workbench::IsoResult result = commands::evaluate_measured_traces(wb, read.traces, file, iso);
           compared = commands::machine_values(wb, read, result);
         }
         if (!warnings.empty()) {

@@ -5,6 +5,7 @@
 #include "interrupt.hpp"
 #include "json_to_python.hpp"
 #include "measured_input.hpp"
+#include "named_arguments.hpp"
 #include "numpy_columns.hpp"
 #include "py_scene.hpp"
 #include "python_progress.hpp"
@@ -85,7 +86,9 @@ commands::DiagnoseRequest request_of(double noise_um, const std::vector<std::str
 void bind_measured(py::module_& m) {
   m.def(
       "compare",
-      [](const PyScene& s, const py::object& measured, double noise_um) {
+      [](const SceneArg& scene, const py::object& measured, const RealArg& noise) {
+        const PyScene& s = scene_argument(scene, "scene");
+        const double noise_um = real_argument(noise, "noise_um");
         commands::check_noise_um(noise_um, "noise_um"); // before reading the measurement
         std::string name;
         const auto pts = measured_points(s, measured, name);
@@ -107,9 +110,14 @@ Returns compare.json's content, plus "residuals": residuals.csv's columns as arr
 
   m.def(
       "diagnose",
-      [](const PyScene& s, const py::object& measured, double noise_um, const std::vector<std::string>& candidates,
-         bool scene_uncertainty, const py::object& progress, const py::object& yaml_dir) {
+      [](const SceneArg& scene, const py::object& measured, const RealArg& noise,
+         const TextListArg& candidate_list, const FlagArg& uncertainty, const py::object& progress,
+         const py::object& yaml_dir) {
+        const PyScene& s = scene_argument(scene, "scene");
+        const double noise_um = real_argument(noise, "noise_um");
         commands::check_noise_um(noise_um, "noise_um");
+        const auto candidates = text_list_argument(candidate_list, "candidates");
+        const bool scene_uncertainty = flag_argument(uncertainty, "scene_uncertainty");
         std::string name;
         const auto pts = measured_points(s, measured, name);
         const auto request = request_of(noise_um, candidates, scene_uncertainty, progress);
@@ -138,7 +146,9 @@ file `geartopo diagnose` writes), or None when nothing is chosen or it is withhe
 
   m.def(
       "plan",
-      [](const PyScene& s, const py::object& measured, double noise_um, const py::object& progress) {
+      [](const SceneArg& scene, const py::object& measured, const RealArg& noise, const py::object& progress) {
+        const PyScene& s = scene_argument(scene, "scene");
+        const double noise_um = real_argument(noise, "noise_um");
         commands::check_noise_um(noise_um, "noise_um");
         std::string name;
         const auto pts = measured_points(s, measured, name);

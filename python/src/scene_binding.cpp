@@ -1,7 +1,9 @@
 // geartopo Python module — Scene, load_scene(path), scene_from_yaml(text): the scene read and built by the same
 // functions as every CLI command (scene::load_scene / parse_scene, workbench::Workbench).
 #include "bindings.hpp"
+#include "arguments.hpp"
 #include "interrupt.hpp"
+#include "named_arguments.hpp"
 #include "json_to_python.hpp"
 #include "py_scene.hpp"
 
@@ -63,7 +65,8 @@ void bind_scene(py::module_& m) {
 
   m.def(
       "load_scene",
-      [](const std::filesystem::path& file) {
+      [](const py::object& path) {
+        const std::filesystem::path file = path_argument(path, "path");
         std::string text = input::read_input_file(file, input::kMaxSceneBytes, "scene");
         const LibraryWork work; // Ctrl-C caught, the GIL released: the form wheel's synthesis takes a while
         return make_scene(scene::load_scene(file), file.string(), std::move(text));
@@ -72,7 +75,9 @@ void bind_scene(py::module_& m) {
       "Reads a scene file (YAML). Raises geartopo.InputError (a ValueError) located at file:line:column and field.");
   m.def(
       "scene_from_yaml",
-      [](const std::string& text, const std::string& source) {
+      [](const TextArg& text_arg, const TextArg& source_arg) {
+        const std::string text = text_argument(text_arg, "text");
+        const std::string source = text_argument(source_arg, "source");
         const LibraryWork work; // Ctrl-C caught, the GIL released
         return make_scene(scene::parse_scene(text, source), source, text);
       },

@@ -3,6 +3,7 @@
 #include "arguments.hpp"
 #include "bindings.hpp"
 #include "interrupt.hpp"
+#include "named_arguments.hpp"
 #include "numpy_columns.hpp"
 #include "py_scene.hpp"
 #include "python_progress.hpp"
@@ -20,18 +21,20 @@ namespace geartopo::python {
 void bind_simulate(py::module_& m) {
   m.def(
       "simulate",
-      [](const PyScene& s, const py::object& teeth, const std::string& method, const py::object& dense,
-         const py::object& progress, int threads) {
-        const auto& wb = *s.wb;
+      [](const SceneArg& scene, const py::object& teeth, const TextArg& method_arg, const py::object& dense,
+         const py::object& progress, const WholeArg& thread_count) {
+        const auto& wb = *scene_argument(scene, "scene").wb;
+        const std::string method = text_argument(method_arg, "method");
+        const int threads = static_cast<int>(whole_argument(thread_count, "threads", 0, kMaxThreads));
         grinding::SimulationOptions so = workbench::scene_simulation(wb.scene.grid);
         so.method = method_argument(method);
         so.teeth = teeth_argument(teeth, wb.setup.geometry().teeth(), wb.scene.grid.teeth);
         if (!dense.is_none()) {
           std::tie(so.dense_rows, so.dense_cols) = grid_argument(dense, "dense");
         }
-        if (threads < 0) throw std::invalid_argument(fmt::format("threads: {} is negative (0: all hardware threads)", threads));
         so.threads = threads;
         so.progress = progress_function(progress);
+        so.keep_going = interrupt_check();
         std::vector<grinding::FlankTopology> topo;
         {
           const LibraryWork work; // Ctrl-C caught, the GIL released

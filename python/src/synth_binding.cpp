@@ -3,9 +3,11 @@
 #include "arguments.hpp"
 #include "bindings.hpp"
 #include "interrupt.hpp"
+#include "named_arguments.hpp"
 #include "numpy_columns.hpp"
 #include "py_scene.hpp"
 
+#include "geartopo/commands/limits.hpp"
 #include "geartopo/diagnosis/synth.hpp"
 #include "geartopo/pipeline/synth_corrections.hpp"
 
@@ -23,22 +25,26 @@ namespace geartopo::python {
 void bind_synth(py::module_& m) {
   m.def(
       "synth",
-      [](const PyScene& truth, const py::object& teeth, double noise_um, std::uint64_t seed, const std::string& format,
-         bool stroke_scatter, const py::object& corrections) {
-        const auto& wb = *truth.wb;
+      [](const SceneArg& truth, const py::object& teeth, const RealArg& noise, const WholeArg& seed_arg,
+         const TextArg& format_arg, const FlagArg& scatter, const py::object& corrections) {
+        const auto& wb = *scene_argument(truth, "truth").wb;
+        const double noise_um = real_argument(noise, "noise_um");
+        const std::uint64_t seed = seed_argument(seed_arg, "seed");
+        const std::string format = text_argument(format_arg, "format");
+        const bool stroke_scatter = flag_argument(scatter, "stroke_scatter");
         if (format != "csv" && format != "traces")
           throw std::invalid_argument(fmt::format("format: '{}' is not csv or traces (a Klingelnberg export: the CLI's "
                                                   "--format klingelnberg)",
                                                   format));
-        if (!(noise_um >= 0.0 && noise_um <= 1000.0))
-          throw std::invalid_argument(fmt::format("noise_um: {} is outside [0, 1000]", noise_um));
+        commands::check_synthetic_noise_um(noise_um, "noise_um");
         diagnosis::SynthOptions so;
         so.teeth = teeth_argument(teeth, wb.setup.geometry().teeth(), {1, 18});
         so.rows = wb.scene.grid.rows;
         so.cols = wb.scene.grid.cols;
         so.noise_um = noise_um;
         so.seed = seed;
-        const std::string corrections_file = corrections.is_none() ? std::string() : py::str(corrections).cast<std::string>();
+        so.keep_going = interrupt_check(); // a fine grid's flank takes minutes
+        const std::string corrections_file = corrections.is_none() ? std::string() : path_argument(corrections, "corrections");
         const LibraryWork work; // Ctrl-C caught, the GIL released
         const auto table = pipeline::synth_corrections(wb, corrections_file, stroke_scatter, seed);
         std::optional<compensation::CompensatedProcess> corrected;

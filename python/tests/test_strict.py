@@ -85,6 +85,30 @@ def test_ctrl_c_stops_a_long_compensate(scene, with_callback):
     assert time.monotonic() - sent["at"] < 30.0
 
 
+@pytest.fixture(scope="module")
+def fine_scene():
+    """The default scene on a 1000 × 1000 grid per flank: a flank takes minutes, a progress report is a flank apart."""
+    text = SCENE.read_text().replace("  rows: 7\n  cols: 9\n", "  rows: 1000\n  cols: 1000\n")
+    assert "rows: 1000" in text
+    return geartopo.scene_from_yaml(text, source=str(SCENE))
+
+
+# Each stops from the work's inner loops (grinding::SimulationOptions::keep_going: before every grid row), not at the
+# next progress report (a flank of this grid) or when the call returns (minutes).
+@pytest.mark.parametrize("call", [
+    pytest.param(lambda s: geartopo.synth(s, teeth=[1], noise_um=0.0), id="synth"),
+    pytest.param(lambda s: geartopo.simulate(s, teeth=[1]), id="simulate"),
+    pytest.param(lambda s: geartopo.compensate(s, samples=0), id="compensate-without-samples"),
+])
+def test_ctrl_c_stops_a_long_call_within_a_second(fine_scene, call):
+    sent = interrupt_after(1.0)
+    with pytest.raises(KeyboardInterrupt):
+        call(fine_scene)
+    stopped = time.monotonic() - sent["at"]
+    # a grid row of 1000 points takes ~0.05 s on one core; 1 s leaves room for a machine shared with other work
+    assert stopped < 1.0, f"stopped {stopped:.2f} s after Ctrl-C"
+
+
 def test_after_an_interrupt_the_next_call_runs(scene):
     sent = interrupt_after(1.0)
     with pytest.raises(KeyboardInterrupt):
@@ -142,3 +166,121 @@ def test_measured_arrays_of_complex_or_strings_are_refused(scene, truth, bad):
     m["deviation_um"] = (m["deviation_um"] + 1j) if bad == "complex" else m["deviation_um"].astype(str)
     with pytest.raises(ValueError, match=r"deviation_um: an array of .* is not an array of real numbers"):
         geartopo.compare(scene, m)
+
+
+# --- every function × every argument with a wrong type ------------------------------------------------------------
+# The functions and their arguments are read from the module itself (its public names and each function's signature,
+# the first line of its docstring), so a function or an argument added later is walked without editing this test.
+
+class Wrong:
+    """An object no argument accepts."""
+
+    def __repr__(self):
+        return "<Wrong>"
+
+
+def public_functions():
+    return sorted(n for n in dir(geartopo) if not n.startswith("_") and callable(getattr(geartopo, n))
+                  and not isinstance(getattr(geartopo, n), type))
+
+
+def signature(name):
+    """[(argument, annotation, has_default)] of geartopo.<name>, from its pybind11 signature line."""
+    import re
+    first = getattr(geartopo, name).__doc__.split("\n")[0]
+    m = re.fullmatch(rf"{name}\((.*)\) -> .*", first)
+    assert m, f"{name}: no signature line in its docstring: {first!r}"
+    out, depth, part = [], 0, ""
+    for ch in m.group(1) + ",":  # split at the top level's commas (List[str] = [] holds none, a default might)
+        if ch == "," and depth == 0:
+            if part.strip():
+                arg, rest = part.strip().split(":", 1)
+                out.append((arg.strip(), rest.split("=")[0].strip(), "=" in rest))
+            part = ""
+            continue
+        depth += ch in "[({" and 1 or 0
+        depth -= ch in "])}" and 1 or 0
+        part += ch
+    return out
+
+
+# A value of the right type for each required argument, by name (a new function's required argument must be added
+# here: the test says which).
+REQUIRED = {
+    "scene": lambda s: s, "truth": lambda s: s, "measured": lambda s: str(MEASURED), "export": lambda s: str(MEASURED),
+    "path": lambda s: str(SCENE), "text": lambda s: SCENE.read_text(), "file": lambda s: str(SCENE),
+}
+# A second wrong value per annotation: the type a user most likely confuses it with.
+CONFUSED = {"float": "1.5", "int": 1.5, "str": 5, "bool": "yes", "List[str]": "effect", "geartopo.Scene": str(SCENE)}
+
+
+def walked():
+    cases = []
+    for name in public_functions():
+        args = signature(name)
+        for arg, annotation, _ in args:
+            wrongs = [Wrong()] + ([CONFUSED[annotation]] if annotation in CONFUSED else [])
+            cases += [pytest.param(name, arg, w, id=f"{name}-{arg}-{type(w).__name__}") for w in wrongs]
+    return cases
+
+
+def test_every_public_function_is_walked():
+    names = public_functions()
+    assert {"compare", "compensate", "diagnose", "evaluate", "load_scene", "machine_values", "plan", "scene_from_yaml",
+            "series", "simulate", "synth"} <= set(names), names
+    assert sum(len(signature(n)) for n in names) >= 53  # 11 functions, 53 arguments today
+
+
+@pytest.mark.parametrize("name, arg, wrong", walked())
+def test_a_wrong_type_is_refused_naming_its_argument(scene, name, arg, wrong):
+    kwargs = {}
+    for a, _, has_default in signature(name):
+        if not has_default and a != arg:
+            assert a in REQUIRED, f"{name}({a}): add a value of the right type for '{a}' to REQUIRED"
+            kwargs[a] = REQUIRED[a](scene)
+    kwargs[arg] = wrong
+    with pytest.raises((TypeError, ValueError)) as e:
+        getattr(geartopo, name)(**kwargs)
+    # no bare "incompatible function arguments": the refusal starts with the argument's name
+    assert str(e.value).startswith(f"{arg}: "), f"{name}({arg}={wrong!r}): {e.value}"
+
+
+# --- a trace the ISO evaluation refuses, named with its file and line ----------------------------------------------
+GOOD_EXPORT = ROOT / "tests" / "robustness" / "corpus" / "exports" / "reference" / "good.mka"
+
+
+@pytest.fixture(scope="module")
+def z24_scene_file(tmp_path_factory):
+    """The default scene with the corpus export's gear (m_n 2, z 24, β 15°, b 20 mm), its tables found from anywhere."""
+    text = SCENE.read_text()
+    for old, new in [("normal_module_mm: 14", "normal_module_mm: 2"), ("teeth: 35", "teeth: 24"),
+                     ("helix_angle_deg: 30 ", "helix_angle_deg: 15 "), ("face_width_mm: 150", "face_width_mm: 20"),
+                     ("tip_diameter_mm: 601.4753", "tip_diameter_mm: 54"),
+                     ("root_diameter_mm: 538.4753", "root_diameter_mm: 44"), ("profile_shift: 0.274", "profile_shift: 0"),
+                     ("machine/", f"{ROOT}/scenes/machine/"), ("measured: demo/", f"measured: {ROOT}/scenes/demo/")]:
+        assert old in text, old
+        text = text.replace(old, new)
+    path = tmp_path_factory.mktemp("z24") / "z24.yaml"
+    path.write_text(text)
+    return path
+
+
+def test_a_trace_the_evaluation_refuses_is_named_with_its_file_and_line(z24_scene_file, tmp_path):
+    # The corpus export's head, then tooth 1's left profile (line 14) and helix: the profile starts above the
+    # evaluation range. Was a bare "tooth 1 left flank, profile: trace refused: …" naming no file, from the CLI and the
+    # module alike.
+    export = tmp_path / "short.mka"
+    export.write_text(GOOD_EXPORT.read_text(encoding="utf-8").split("Profil:")[0] +
+                      "Profil:  Zahn-Nr.: 1 links / 5 Werte / z= 10.0\n  .000  1.000  2.000  3.000  4.000\n"
+                      "Flankenlinie: Zahn-Nr.: 1 links / 4 Werte / d= 50.0\n  -1.000  -2.000  -3.000  -4.000\n",
+                      encoding="utf-8")
+    where = r"short\.mka:14: tooth 1 left profile: tooth 1 left flank, profile: trace refused: the trace starts at"
+    s = geartopo.load_scene(z24_scene_file)
+    with pytest.raises(geartopo.InputError, match=where):
+        geartopo.evaluate(s, topo=export)
+    with pytest.raises(geartopo.InputError, match=where):
+        geartopo.machine_values(s, export)
+    p = subprocess.run([cli_path(), "evaluate", str(z24_scene_file), "--traces", str(export), "--out",
+                        str(tmp_path / "e")], capture_output=True, text=True, cwd=ROOT)
+    assert p.returncode == 1 and "short.mka:14: tooth 1 left profile: " in p.stderr, p.stderr
+    assert not (tmp_path / "e").exists()

@@ -23,7 +23,7 @@ void register_compensate_command(CLI::App& app, Action& action) {
                   "paper, flank (default; every axis at every pose) or cycle (X, Z, C per pose; Y and A per gear)")
       ->check(CLI::IsMember({"paper", "flank", "cycle"}));
   cmd->add_option("--step", opt->step, "Correction table spacing along each stroke, mm (default 2)")
-      ->check(finite_in(0.05, 50.0));
+      ->check(finite_in(limits::kMinStepMm, limits::kMaxStepMm));
   cmd->add_option("--lead-step", opt->lead_step,
                   "Largest Z step of the cycle table's lead corrections (cycle_corrections.csv), mm (default 5)")
       ->check(finite_in(0.1, 100.0));

@@ -24,7 +24,7 @@ void register_run_command(CLI::App& app, Action& action) {
       ->check(CLI::IsMember({"paper", "flank", "cycle"}));
   cmd->add_option("--simulation", opt->simulation, "Simulation of the topology: exact (default) or linear (first order)")
       ->check(CLI::IsMember({"exact", "linear"}));
-  cmd->add_option("--step", opt->step, "Correction table spacing along each stroke, mm (default 2)")->check(finite_in(0.05, 50.0));
+  cmd->add_option("--step", opt->step, "Correction table spacing along each stroke, mm (default 2)")->check(finite_in(limits::kMinStepMm, limits::kMaxStepMm));
   cmd->add_option("--noise-um", opt->noise, "Probe noise σ of the measurement, µm (default: estimated from the residual)")
       ->check(probe_sigma_um());
   add_iso_options(cmd, opt->iso);

@@ -138,7 +138,9 @@ int run_evaluate(const EvaluateOptions& opt) {
                                                    "geartopo's evaluation of the export's traces");
   const Flanks f = opt.traces.empty() ? simulated_flanks(opt, wb) : measured_flanks(opt, wb);
   const auto& g = wb.setup.geometry();
-  const workbench::IsoResult iso = workbench::evaluate_iso(g, wb.setup.ranges(), f.topo, iso_options);
+  const workbench::IsoResult iso = f.measured
+                                       ? commands::evaluate_measured_traces(wb, f.measured->traces, opt.traces, iso_options)
+                                       : workbench::evaluate_iso(g, wb.setup.ranges(), f.topo, iso_options);
   nlohmann::json j;
   j["scene"] = wb.scene.name;
   j["source"] = f.source;
@@ -164,7 +166,7 @@ int run_evaluate(const EvaluateOptions& opt) {
   if (!opt.before_traces.empty()) {
     auto gear1 = measurement::read_any_traces(opt.before_traces, wb.setup, opt.mka.options, opt.mka.against);
     for (const auto& w : gear1.warnings) say("geartopo: warning: " + w);
-    const auto iso1 = workbench::evaluate_iso(g, wb.setup.ranges(), gear1.flanks, iso_options);
+    const auto iso1 = commands::evaluate_measured_traces(wb, gear1, opt.before_traces, iso_options);
     gear1_checks = report::check_against_prediction(pipeline::gear_quantities(iso1, gear1.flanks), *prediction, "before", false);
     j["before_against_prediction"] = report::prediction_check_json(gear1_checks, *prediction, "before");
     j["before_against_prediction"]["traces"] = opt.before_traces;

@@ -4,7 +4,11 @@
 #include "geartopo/commands/limits.hpp"
 #include "geartopo/report/machine_values_report.hpp"
 
+#include "geartopo/core/input_error.hpp"
+
 #include <fmt/format.h>
+
+#include <regex>
 
 namespace geartopo::commands {
 
@@ -33,6 +37,31 @@ TracesWithMachineValues read_traces_with_machine_values(const workbench::Workben
                                        *beside, fmt::format(fmt::runtime(argument.give), *beside)));
   }
   return r;
+}
+
+workbench::IsoResult evaluate_measured_traces(const workbench::Workbench& wb, const measurement::MeasuredTraces& traces,
+                                              const std::string& file, const workbench::IsoOptions& iso) {
+  try {
+    return workbench::evaluate_iso(wb.setup.geometry(), wb.setup.ranges(), traces.flanks, iso);
+  } catch (const std::invalid_argument& e) {
+    // "tooth 1 left flank, profile: trace refused: …" (evaluation/src/trace.cpp): the export's head of that trace.
+    static const std::regex named(R"(^tooth (\d+) (left|right) flank, (profile|helix))");
+    const std::string message = e.what();
+    std::smatch m;
+    int line = 0;
+    std::string field;
+    if (std::regex_search(message, m, named)) {
+      field = fmt::format("tooth {} {} {}", m[1].str(), m[2].str(), m[3].str());
+      if (traces.export_file)
+        for (const auto& t : traces.export_file->traces)
+          if (std::to_string(t.tooth) == m[1].str() && (t.flank == Flank::Left) == (m[2].str() == "left") &&
+              (t.kind == measurement::TraceKind::Profile) == (m[3].str() == "profile")) {
+            line = t.line;
+            break;
+          }
+    }
+    throw InputError(file, line, 0, field, message);
+  }
 }
 
 MachineValuesResult machine_values(const workbench::Workbench& wb, const TracesWithMachineValues& read,

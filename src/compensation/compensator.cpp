@@ -1,4 +1,5 @@
 #include "geartopo/compensation/compensator.hpp"
+#include "geartopo/core/limits.hpp"
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/grinding/flank_deviation.hpp"
@@ -207,6 +208,8 @@ GearTerms gear_terms_at(const grinding::GrindingSetup& setup, const grinding::Gr
 
 CorrectionTable compute_corrections(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
                                     const StrokeCheck& strokes, const CompensationOptions& o) {
+  // 0 or NaN made the path's sample count undefined (ceil(len / 0) cast to int), 1e-9 mm billions of poses.
+  limits::require(limits::step_mm_refusal(o.step_mm), "compute_corrections: step_mm");
   const std::vector<grinding::PathPoint> samples = setup.path().sample(o.step_mm);
   // Cycle: first the gear's Y and A (one linear least-squares problem over every pose), then every pose with them held.
   Vector5d gear_start = Vector5d::Zero();

@@ -19,9 +19,7 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
   if (pts.empty()) throw std::invalid_argument("compare: no measured points");
   // The σ every test and trend divides by: a given one within the bounds diagnose accepts (1e-158 µm made the tooth
   // trends' weights overflow).
-  if (!(noise_um == 0.0 || (std::isfinite(noise_um) && noise_um >= kMinNoiseUm && noise_um <= kMaxNoiseUm)))
-    throw std::invalid_argument(fmt::format("compare: noise_um = {} (must be 0, estimated, or within [{:g}, {:g}] µm)",
-                                            noise_um, kMinNoiseUm, kMaxNoiseUm));
+  limits::require(limits::noise_um_refusal(noise_um), "compare: noise_um");
   // estimate_noise_um uses flanks of 10 points or more and otherwise falls back to a fixed 0.1 µm: with fewer points
   // in all, the "estimate" would be that constant, printed as if measured (issue 18: one point gave "noise 0.10 µm
   // (estimated)").

@@ -1,6 +1,7 @@
 #include "geartopo/files/input_file.hpp"
 
 #include "geartopo/core/input_error.hpp"
+#include "geartopo/core/limits.hpp"
 #include "geartopo/files/input_registry.hpp"
 #include "geartopo/files/output_folder.hpp"
 
@@ -23,6 +24,8 @@ namespace {
 
 std::uintmax_t check_regular_file(const std::filesystem::path& file, std::uintmax_t max_bytes, std::string_view what) {
   if (file.empty()) throw InputError(std::string("\"\""), 0, 0, "", fmt::format("an empty name is not a {}", what));
+  // A NUL ends the C string stat() and open() are given: "m.csv\0.bak" would read m.csv.
+  limits::require(limits::path_refusal(file.native()), what);
   // A folder whose commit is unfinished holds files of two runs (output_folder.hpp); a reader must not write, so it
   // refuses and says how the folder is completed.
   const std::filesystem::path folder = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");

@@ -1,6 +1,7 @@
 #include "geartopo/grinding/topology.hpp"
 
 #include <mutex>
+#include "geartopo/core/limits.hpp"
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/core/parallel.hpp"
@@ -20,13 +21,16 @@ std::vector<double> evenly(double a, double b, int n) {
 }
 
 std::vector<GridPoint> grid(const FlankDeviation& dev, const gears::GearGeometry& g, int tooth, geartopo::Flank flank,
-                            const std::vector<double>& xis, const std::vector<double>& zs, Method m) {
+                            const std::vector<double>& xis, const std::vector<double>& zs, Method m,
+                            const std::function<void()>& keep_going) {
   std::vector<GridPoint> out;
   out.reserve(xis.size() * zs.size());
-  for (size_t r = 0; r < xis.size(); ++r)
+  for (size_t r = 0; r < xis.size(); ++r) {
+    if (keep_going) keep_going(); // once a row: a 1000 × 1000 flank takes minutes
     for (size_t c = 0; c < zs.size(); ++c)
       out.push_back({static_cast<int>(r + 1), static_cast<int>(c + 1), xis[r], g.diameter_at_roll_length(xis[r]), zs[c],
                      units::um_from_mm(dev.at(tooth, flank, xis[r], zs[c], m).deviation_mm)});
+  }
   return out;
 }
 
@@ -53,14 +57,18 @@ SimulationPoints simulation_points(const GrindingSetup& setup, const SimulationO
   pts.teeth = o.teeth;
   if (pts.teeth.empty())
     for (int t = 1; t <= g.teeth(); ++t) pts.teeth.push_back(t);
-  for (int t : pts.teeth)
-    if (t < 1 || t > g.teeth()) throw std::invalid_argument(fmt::format("tooth {} is not one of 1..{}", t, g.teeth()));
-  if (o.rows < 2 || o.cols < 2 || o.profile_points < 2 || o.helix_points < 2)
-    throw std::invalid_argument("grid and traces need at least 2 points each way");
+  // The bounds every caller is held to (core/limits.hpp), before anything is allocated.
+  limits::require(limits::teeth_refusal(pts.teeth, g.teeth()), "simulate_topology: teeth");
+  limits::require(limits::grid_refusal(o.rows, o.cols, 2), "simulate_topology: rows × cols");
+  limits::require(limits::trace_points_refusal(o.profile_points, o.helix_points), "simulate_topology: profile_points, helix_points");
+  if (o.dense_rows < 0 || o.dense_cols < 0 || (o.dense_rows > 0) != (o.dense_cols > 0))
+    throw std::invalid_argument(fmt::format("simulate_topology: dense_rows × dense_cols: {} × {} is not a grid: both 0 "
+                                            "(none) or both ≥ 1", o.dense_rows, o.dense_cols));
   const long long per_flank = static_cast<long long>(o.rows) * o.cols + static_cast<long long>(o.dense_rows) * o.dense_cols +
                               o.profile_points + o.helix_points;
   if (per_flank > kMaxPointsPerFlank || per_flank * 2 * static_cast<long long>(pts.teeth.size()) > kMaxPointsPerSimulation)
-    throw std::invalid_argument(fmt::format("{} points per flank on {} flanks is more than a simulation may hold ({} per "
+    throw std::invalid_argument(fmt::format("simulate_topology: points: {} per flank on {} flanks is more than a "
+                                            "simulation may hold ({} per "
                                             "flank, {} in all): choose a coarser grid",
                                             per_flank, 2 * pts.teeth.size(), kMaxPointsPerFlank, kMaxPointsPerSimulation));
 
@@ -96,14 +104,17 @@ std::vector<FlankTopology> simulate_topology(const GrindingSetup& setup, const G
     FlankTopology& ft = out[static_cast<size_t>(i)];
     ft.tooth = teeth[static_cast<size_t>(i / 2)];
     ft.flank = i % 2 == 0 ? geartopo::Flank::Left : geartopo::Flank::Right;
-    ft.grid = grid(dev, g, ft.tooth, ft.flank, rows, cols, o.method);
+    ft.grid = grid(dev, g, ft.tooth, ft.flank, rows, cols, o.method, o.keep_going);
+    if (o.keep_going) o.keep_going();
     for (double xi : prof_xi)
       ft.profile.push_back({xi, g.diameter_at_roll_length(xi), prof_z,
                             units::um_from_mm(dev.at(ft.tooth, ft.flank, xi, prof_z, o.method).deviation_mm)});
     for (double z : helix_z)
       ft.helix.push_back({helix_xi, g.diameter_at_roll_length(helix_xi), z,
                           units::um_from_mm(dev.at(ft.tooth, ft.flank, helix_xi, z, o.method).deviation_mm)});
-    if (!pts.dense_rows.empty()) ft.dense = grid(dev, g, ft.tooth, ft.flank, pts.dense_rows, pts.dense_cols, o.method);
+    if (o.keep_going) o.keep_going();
+    if (!pts.dense_rows.empty())
+      ft.dense = grid(dev, g, ft.tooth, ft.flank, pts.dense_rows, pts.dense_cols, o.method, o.keep_going);
     if (o.progress) {
       const std::lock_guard lock(report);
       o.progress(++flanks_done, static_cast<long long>(out.size()));

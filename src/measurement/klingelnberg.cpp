@@ -271,10 +271,12 @@ private:
   /// A row of the pitch table; false when the line is not one (the table ends).
   bool read_pitch_row();
   void read_header_line(int code, std::string_view rest);
+  void check_header_values(int code, bool range, const KlingelnbergHeaderLine& h, const std::string& field);
   void read_trace_head();
   /// A line outside any block: a header line, a trace head, a title, a pitch table's flank, the preamble, or the
   /// start of a block this reader does not know.
   void read_free_line();
+  void read_preamble_line(const std::vector<std::string_view>& t);
 
   KlingelnbergFile f_;
   State state_ = State::Free;
@@ -434,6 +436,24 @@ bool ExportParser::read_pitch_row() {
   return true;
 }
 
+void ExportParser::check_header_values(int code, bool range, const KlingelnbergHeaderLine& h, const std::string& field) {
+  // A line the reader uses or compares given twice with other values: which one the machine meant is not known.
+  const bool checked = code == 21 || code == 22 || code == 23 || code == 24 || code == 26 || range;
+  if (const auto first = f_.codes.find(code); checked && first != f_.codes.end() && first->second.values != h.values)
+    fail(f_.source, ln_, field, fmt::format("given again with other values (first at line {})", first->second.line));
+  if (range && h.values.size() > 2)
+    fail(f_.source, ln_, field,
+         fmt::format("{} values: a measuring range has one (both flanks) or two (left, right)", h.values.size()));
+  if (h.values.empty()) return;
+  const double v = h.values[0];
+  if (code == 23 && !(std::abs(v) < 90.0))
+    fail(f_.source, ln_, field, fmt::format("{}° is not a helix angle: |β| < 90°", v));
+  if (code == 24 && !(v > 0.0 && v < 90.0))
+    fail(f_.source, ln_, field, fmt::format("{}° is not a normal pressure angle: 0° < α_n < 90°", v));
+  if (code == 26 && !(v > 0.0))
+    fail(f_.source, ln_, field, fmt::format("{} mm is not a face width: a length > 0 mm", v));
+}
+
 void ExportParser::read_header_line(int code, std::string_view rest) {
   const auto colon = rest.find(':');
   KlingelnbergHeaderLine h;
@@ -461,6 +481,7 @@ void ExportParser::read_header_line(int code, std::string_view rest) {
     }
   if (used && h.values.empty())
     fail(f_.source, ln_, field, "no value after the label: expected a number (the reader uses this line)");
+  check_header_values(code, sym.has_value(), h, field);
   if (code == 21 && h.values[0] <= 0.0)
     fail(f_.source, ln_, field, fmt::format("{} mm is not a normal module: a length > 0 mm", h.values[0]));
   if (code == 22) {
@@ -509,6 +530,21 @@ void ExportParser::read_trace_head() {
   state_ = State::Values;
 }
 
+void ExportParser::read_preamble_line(const std::vector<std::string_view>& t) {
+  // The mark of an undefined point changes what the numbers mean: a file marking them -999.999 would have that read
+  // as a deviation. The reader knows one mark (with a decimal point or comma); another is refused.
+  if (t[0] == "UNDEFINED") {
+    std::string mark = t.size() >= 2 ? std::string(t[1]) : std::string();
+    std::replace(mark.begin(), mark.end(), ',', '.');
+    const auto v = number(mark);
+    if (!v || std::abs(*v - kKlingelnbergUndefined) > 1e-6)
+      fail(f_.source, ln_, "UNDEFINED",
+           fmt::format("'{}' is not the mark of an undefined point this reader knows ({}): its points would be read "
+                       "as deviations",
+                       t.size() >= 2 ? text::excerpt(t[1]) : std::string(), kKlingelnbergUndefined));
+  }
+}
+
 void ExportParser::read_free_line() {
   std::string_view rest;
   if (const auto code = header_code(line_, rest)) return read_header_line(*code, rest);
@@ -527,7 +563,7 @@ void ExportParser::read_free_line() {
   const bool preamble = t[0].size() >= 2 && std::all_of(t[0].begin(), t[0].end(), [](char c) {
     return (c >= 'A' && c <= 'Z') || c == '_' || c == '.';
   });
-  if (preamble) return;
+  if (preamble) return read_preamble_line(t);
   // Anything else opens a block this reader does not know: skipped with the numbers that follow it, and listed.
   std::string title(text::utf8_prefix(line_, 40));
   if (const auto c = title.find(':'); c != std::string::npos) title = std::string(trim(title.substr(0, c)));

@@ -102,8 +102,7 @@ compensation::CorrectionTable rounded_to_resolution(const compensation::Correcti
 }
 
 std::pair<long long, long long> shard_range(long long samples, int shard, int shards) {
-  if (samples < 1 || samples > kMaxMonteCarloSamples)
-    throw std::invalid_argument(fmt::format("samples {} is not within 1 … {}", samples, kMaxMonteCarloSamples));
+  limits::require(limits::samples_refusal(samples, 1), "Monte Carlo samples");
   if (shards < 1 || shard < 1 || shard > shards || shards > samples)
     throw std::invalid_argument(fmt::format("shard {}/{}: need 1 ≤ shard ≤ shards ≤ samples ({})", shard, shards, samples));
   const auto at = [&](long long i) { return samples * i / shards; }; // exact in integers
@@ -246,6 +245,8 @@ MonteCarloRun run_prepared(const Prepared& p, const workbench::Workbench& wb, co
 
 MonteCarloRun run_monte_carlo_samples(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
                                       const MonteCarloOptions& options, long long first, long long last) {
+  limits::require(limits::samples_refusal(options.samples, 1), "run_monte_carlo: samples");
+  limits::require(limits::synthetic_noise_um_refusal(options.probe_noise_um), "run_monte_carlo: probe_noise_um");
   if (first < 0 || first > last || last > options.samples)
     throw std::invalid_argument(fmt::format("samples [{}, {}) are not within the run's {}", first, last, options.samples));
   return run_prepared(prepare(wb, nominal, options), wb, options, first, last);
@@ -309,6 +310,10 @@ MonteCarloRun run_adaptive(const workbench::Workbench& wb, const compensation::C
 
 MonteCarloRun run_monte_carlo(const workbench::Workbench& wb, const compensation::CorrectionTable& nominal,
                               const MonteCarloOptions& options) {
+  limits::require(limits::synthetic_noise_um_refusal(options.probe_noise_um), "run_monte_carlo: probe_noise_um");
+  if (!(std::isfinite(options.adaptive_tolerance_um) && options.adaptive_tolerance_um >= 0.0))
+    throw std::invalid_argument(fmt::format("run_monte_carlo: adaptive_tolerance_um: {} is not 0 (off) or a finite "
+                                            "tolerance > 0 µm", options.adaptive_tolerance_um));
   if (options.adaptive_tolerance_um > 0.0) return run_adaptive(wb, nominal, options);
   const auto [first, last] = shard_range(options.samples, options.shard, options.shards);
   return run_monte_carlo_samples(wb, nominal, options, first, last);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "geartopo/compensation/compensator.hpp"
+#include "geartopo/core/limits.hpp"
 #include "geartopo/diagnosis/scene_writer.hpp"
 #include "geartopo/measurement/any_measurement.hpp"
 #include "geartopo/effects/effects_process.hpp"
@@ -14,6 +15,15 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
   const auto stage = [&](const std::string& name, long long flanks) {
     if (o.stage) o.stage(name, flanks);
   };
+  // What the caller chose, checked before any work (core/limits.hpp; the scene's own values were checked when read).
+  limits::require(limits::teeth_refusal(o.teeth, wb.setup.geometry().teeth()), "run_pipeline: teeth");
+  limits::require(limits::noise_um_refusal(o.noise_um), "run_pipeline: noise_um");
+  limits::require(limits::step_mm_refusal(o.step_mm), "run_pipeline: step_mm");
+  if (!o.measured_file.empty()) limits::require(limits::path_refusal(o.measured_file), "run_pipeline: measured_file");
+  if (o.prediction) {
+    limits::require(limits::samples_refusal(o.prediction->samples, 1), "run_pipeline: prediction samples");
+    limits::require(limits::synthetic_noise_um_refusal(o.prediction->probe_noise_um), "run_pipeline: probe_noise_um");
+  }
   PipelineResult r;
   grinding::SimulationOptions so;
   so.method = o.method;

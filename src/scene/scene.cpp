@@ -2,6 +2,7 @@
 
 #include "geartopo/machine/component_change.hpp"
 #include "geartopo/files/input_file.hpp"
+#include "geartopo/core/limits.hpp"
 #include "geartopo/core/units.hpp"
 
 #include "geartopo/core/field_error.hpp"
@@ -659,10 +660,10 @@ void read_machine_changes(MapReader& top, ReadContext& ctx, Scene& scene) {
 
 MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& base) {
   MeasurementGrid g;
-  if (m.has("rows")) g.rows = static_cast<int>(m.integer("rows", 2, 1000));
-  if (m.has("cols")) g.cols = static_cast<int>(m.integer("cols", 2, 1000));
-  if (m.has("profile_points")) g.profile_points = static_cast<int>(m.integer("profile_points", 2, 100000));
-  if (m.has("helix_points")) g.helix_points = static_cast<int>(m.integer("helix_points", 2, 100000));
+  if (m.has("rows")) g.rows = static_cast<int>(m.integer("rows", 2, limits::kMaxGridLines));
+  if (m.has("cols")) g.cols = static_cast<int>(m.integer("cols", 2, limits::kMaxGridLines));
+  if (m.has("profile_points")) g.profile_points = static_cast<int>(m.integer("profile_points", 2, limits::kMaxTracePoints));
+  if (m.has("helix_points")) g.helix_points = static_cast<int>(m.integer("helix_points", 2, limits::kMaxTracePoints));
   if (m.has("dense_rows")) g.dense_rows = static_cast<int>(m.integer("dense_rows", 2, 10000));
   if (m.has("dense_cols")) g.dense_cols = static_cast<int>(m.integer("dense_cols", 2, 10000));
   if ((g.dense_rows > 0) != (g.dense_cols > 0))

@@ -397,12 +397,29 @@ TEST(KlingelnbergStrict, PitchTableValuesAreNumbersOfRealTeeth) {
 }
 
 // A numbered header line right after a pitch table ends the table and is read as a header line, not as a pitch row
-// of tooth 23 with the wrong number of fields.
+// of tooth 23 with the wrong number of fields. (Code 23 itself, the helix angle, given again with another value is
+// refused: KlingelnbergStrict.AHeaderValueGivenTwiceIsRefused.)
 TEST(KlingelnbergStrict, AHeaderLineAfterAPitchTableEndsIt) {
-  const std::string text = replaced(example_text(), "  2     -.300   .000   .900", "  2     -.300   .000   .900\r\n 23 :Datum.............: 1");
+  const std::string text = replaced(example_text(), "  2     -.300   .000   .900", "  2     -.300   .000   .900\r\n 23 :Schrägungswinkel beta [Grad]......: 15.0000");
   const auto f = measurement::parse_klingelnberg(text, "x.mka");
   EXPECT_EQ(f.pitch.size(), 4u);
   EXPECT_TRUE(f.codes.count(23)) << "line 23 read as a header";
+}
+
+// A header line the reader uses or compares (module, teeth, angles, width, ranges) given again with another value:
+// which one the machine meant is not known, so neither is taken (the later one was, silently).
+TEST(KlingelnbergStrict, AHeaderValueGivenTwiceIsRefused) {
+  const std::string text = replaced(example_text(), "  2     -.300   .000   .900", "  2     -.300   .000   .900\r\n 23 :Datum.............: 1");
+  EXPECT_THROW(
+      {
+        try {
+          (void)measurement::parse_klingelnberg(text, "x.mka");
+        } catch (const InputError& e) {
+          EXPECT_EQ(std::string(e.what()), "x.mka:42: 23 Datum: given again with other values (first at line 8)");
+          throw;
+        }
+      },
+      InputError);
 }
 
 // A UTF-16 export (Windows "Unicode") is named as such, with what to do, by the export reader and the measurement

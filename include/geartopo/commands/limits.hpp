@@ -1,10 +1,10 @@
 // geartopo — the bounds every front end enforces on what it is given (the CLI's flags, the Python module's
-// arguments), in one place: each check names the argument as its caller calls it (`--noise-um`, `noise_um`) and says
-// what was expected. The libraries below check the same bounds again where they would otherwise divide by, allocate
-// or loop over the value (diagnose's noise, the Monte Carlo's samples). Units in every name.
+// arguments): core/limits.hpp's bounds and messages, each check naming the argument as its caller calls it
+// (`--noise-um`, `noise_um`). The libraries check the same bounds again at their public entries (core/limits.hpp),
+// naming their parameter. Units in every name.
 #pragma once
 
-#include "geartopo/pipeline/monte_carlo.hpp"
+#include "geartopo/core/limits.hpp"
 
 #include <stdexcept>
 #include <string>
@@ -24,7 +24,7 @@ private:
 };
 
 /// The probe noise σ a fit divides by: 0 (estimate it from the residual) or finite within [1e-6, 1000] µm —
-/// below 1e-6 µm no probe measures, and Σr²/σ² overflows (diagnosis::kMinNoiseUm, kMaxNoiseUm).
+/// below 1e-6 µm no probe measures, and Σr²/σ² overflows (limits::kMinNoiseUm, kMaxNoiseUm).
 void check_noise_um(double noise_um, std::string_view argument);
 /// A noise σ a synthetic measurement draws with: 0 (none) or finite within (0, 1000] µm.
 void check_synthetic_noise_um(double noise_um, std::string_view argument);
@@ -37,7 +37,7 @@ void check_path(const std::string& path, std::string_view argument);
 /// Teeth: each within 1 … z, none twice (empty: the caller's default).
 void check_teeth(const std::vector<int>& teeth, int z, std::string_view argument);
 
-inline constexpr long long kMaxSamples = pipeline::kMaxMonteCarloSamples;
-inline constexpr long long kMaxGridLines = 1000;
+inline constexpr long long kMaxSamples = limits::kMaxSamples;
+inline constexpr long long kMaxGridLines = limits::kMaxGridLines;
 
 } // namespace geartopo::commands

@@ -44,6 +44,12 @@ TracesWithMachineValues read_traces_with_machine_values(
     const measurement::KlingelnbergOptions& mka = {}, const ValuesArgument& argument = {},
     measurement::MeasuredAgainst against = measurement::MeasuredAgainst::as_file);
 
+/// ISO 1328-1 evaluation of traces read from `file` (workbench::evaluate_iso): a trace the evaluation refuses (it
+/// does not cover the evaluation range, too few points in it) is an InputError naming the file, and for an export
+/// the line of the trace's head and its tooth, flank and kind — not a bare "trace refused".
+workbench::IsoResult evaluate_measured_traces(const workbench::Workbench& wb, const measurement::MeasuredTraces& traces,
+                                              const std::string& file, const workbench::IsoOptions& iso);
+
 /// The machine's evaluation beside geartopo's `iso` of the same traces.
 struct MachineValuesResult {
   std::optional<workbench::MachinePitchComparison> pitch;        ///< when the export has a pitch table

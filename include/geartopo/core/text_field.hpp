@@ -44,10 +44,18 @@ inline std::string_view utf8_prefix(std::string_view s, size_t bytes) {
 }
 
 /// What an error message quotes of a field: the field itself, or its first 40 bytes and its length when it is longer
-/// (a corrupt file can hold a 64 KiB "number"; the message must stay readable).
+/// (a corrupt file can hold a 64 KiB "number"; the message must stay readable). A NUL byte is shown as \0: a message
+/// is printed as a C string, which would end at it ("'1.000" and nothing after).
 inline std::string excerpt(std::string_view s) {
-  if (s.size() <= 40) return std::string(s);
-  return std::string(utf8_prefix(s, 40)) + "… (" + std::to_string(s.size()) + " characters)";
+  const std::string_view shown = s.size() <= 40 ? s : utf8_prefix(s, 40);
+  std::string out;
+  out.reserve(shown.size());
+  for (const char c : shown) {
+    if (c == '\0') out += "\\0";
+    else out += c;
+  }
+  if (s.size() > 40) out += "… (" + std::to_string(s.size()) + " characters)";
+  return out;
 }
 
 /// One comma-separated field of a CSV line: its text with the blanks (space, tab) around it trimmed, viewing into the

@@ -15,6 +15,7 @@
 // key).
 #pragma once
 
+#include "geartopo/core/limits.hpp"
 #include "geartopo/diagnosis/decision.hpp"
 #include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/grinding/grinding_process.hpp"
@@ -410,7 +411,7 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
 
 /// The probe noise σ diagnose and compare accept when it is given (µm): below kMinNoiseUm no probe measures and the
 /// fits' Σr²/σ² would overflow; above kMaxNoiseUm it is no measurement of a ground flank. 0 means "estimate it".
-inline constexpr double kMinNoiseUm = 1e-6, kMaxNoiseUm = 1000.0;
+inline constexpr double kMinNoiseUm = limits::kMinNoiseUm, kMaxNoiseUm = limits::kMaxNoiseUm; // core/limits.hpp
 
 /// The smallest σ an estimate gives (µm): the exports' resolution (3 decimals), so that noise-free data give a finite
 /// σ nobody divides by zero with.

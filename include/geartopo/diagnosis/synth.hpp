@@ -17,6 +17,8 @@ struct SynthOptions {
   int rows = 7, cols = 9;
   double noise_um = 0.5;
   std::uint64_t seed = 1;
+  /// grinding::SimulationOptions::keep_going of the simulation (a Ctrl-C check; may throw to stop).
+  std::function<void()> keep_going;
 };
 
 std::vector<grinding::TopologyRow> synthesize(const grinding::GrindingSetup& truth, const grinding::GrindingProcess& process,

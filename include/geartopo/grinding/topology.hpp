@@ -53,6 +53,10 @@ struct SimulationOptions {
   /// Called after each flank with (flanks done, flanks in all), from the worker threads: must be thread-safe and
   /// cheap. For progress display only; the result does not depend on it.
   std::function<void(long long, long long)> progress;
+  /// Called within each flank (before every grid row and each trace), from the worker threads: an exception it throws
+  /// stops the simulation and leaves simulate_topology (a Ctrl-C check: a flank of a fine grid takes minutes, far
+  /// longer than a progress report apart). Must be thread-safe and cheap; the result does not depend on it.
+  std::function<void()> keep_going;
 };
 
 /// Where a simulation evaluates (the layout described at the top of this file): the teeth, the grid's roll lengths

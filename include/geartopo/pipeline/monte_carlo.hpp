@@ -20,6 +20,7 @@
 #pragma once
 
 #include "geartopo/compensation/correction_table.hpp"
+#include "geartopo/core/limits.hpp"
 #include "geartopo/grinding/topology.hpp"
 #include "geartopo/machine/axis_pose.hpp"
 #include "geartopo/workbench/iso_evaluation.hpp"
@@ -64,7 +65,7 @@ inline const std::vector<std::string>& limit_sources() {
 
 /// The most samples a run takes: every front end's bound (commands::kMaxSamples), checked again by run_monte_carlo —
 /// 10⁹ ended in std::bad_alloc.
-inline constexpr long long kMaxMonteCarloSamples = 1'000'000;
+inline constexpr long long kMaxMonteCarloSamples = limits::kMaxSamples; // core/limits.hpp
 
 struct MonteCarloOptions {
   long long samples = 200;  ///< M, over all shards: 1 … kMaxMonteCarloSamples

@@ -39,8 +39,7 @@ void check_options(const DiagnoseOptions& o) {
   for (int a = 0; a < 5; ++a)
     if (!(std::isfinite(o.stroke_repeatability_sd(a)) && o.stroke_repeatability_sd(a) >= 0.0))
       refuse("stroke_repeatability_sd", o.stroke_repeatability_sd(a), "finite and ≥ 0 on every axis");
-  if (!(o.noise_um == 0.0 || (std::isfinite(o.noise_um) && o.noise_um >= kMinNoiseUm && o.noise_um <= kMaxNoiseUm)))
-    refuse("noise_um", o.noise_um, fmt::format("0 (estimated) or within [{:g}, {:g}] µm", kMinNoiseUm, kMaxNoiseUm));
+  limits::require(limits::noise_um_refusal(o.noise_um), "diagnose: option noise_um");
   if (!o.model_uncertainty_um.allFinite())
     throw std::invalid_argument("diagnose: option model_uncertainty_um has a non-finite value");
   if (!(o.alike_share > 0.0 && o.alike_share <= 1.0)) refuse("alike_share", o.alike_share, "in (0, 1]");

@@ -419,6 +419,22 @@ GOOD = KHEAD + profile() + GOOD_REST
 write(K, "utf16_le_bom.mka", GOOD.encode("utf-16-le").join([b"\xff\xfe", b""]), ("InputError", 0, "the file is UTF-16 (little-endian, byte-order mark FF FE)"))
 write(K, "utf16_be_bom.mka", b"\xfe\xff" + GOOD.encode("utf-16-be"), ("InputError", 0, "byte-order mark FE FF), which geartopo does not read: save it as UTF-8 or latin-1"))
 write(K, "utf16_no_bom.mka", GOOD.encode("utf-16-le"), ("InputError", 0, "the file is UTF-16 without a byte-order mark"))
+# Issue 43: header values the reader accepted silently (a line given twice, angles and widths no gear has, a third
+# range value, another mark of undefined points, read as deviations) and a NUL that cut the message short.
+write(K, "header_teeth_twice.mka", KHEAD.replace("  23 :", "  22 :Zähnezahl z.......................: 25\n  23 :") + profile() + GOOD_REST,
+      ("InputError", 7, "22 Zähnezahl z: given again with other values (first at line 6)"))
+write(K, "helix_angle_90.mka", KHEAD.replace("15.0000", "90.0000") + profile() + GOOD_REST,
+      ("InputError", 7, "90° is not a helix angle: |β| < 90°"))
+write(K, "pressure_angle_0.mka", KHEAD.replace("20.0000\n  26", "0.0000\n  26") + profile() + GOOD_REST,
+      ("InputError", 8, "0° is not a normal pressure angle: 0° < α_n < 90°"))
+write(K, "face_width_0.mka", KHEAD.replace("b [mm].................: 20.0000", "b [mm].................: 0.0000") + profile() + GOOD_REST,
+      ("InputError", 9, "0 mm is not a face width: a length > 0 mm"))
+write(K, "range_three_values.mka", KHEAD.replace("47.5000     47.5000", "47.5000     47.5000     47.5000") + profile() + GOOD_REST,
+      ("InputError", 10, "3 values: a measuring range has one (both flanks) or two (left, right)"))
+write(K, "undefined_other_mark.mka", KHEAD.replace("UNDEFINED  -2147483.648", "UNDEFINED  -999.999") + profile() + GOOD_REST,
+      ("InputError", 4, "'-999.999' is not the mark of an undefined point this reader knows (-2147483.648)"))
+write(K, "value_nul.mka", KHEAD + profile(values=".000  1.000\0  2.000  3.000  4.000") + GOOD_REST,
+      ("InputError", 15, "'1.000\\0' is not a number: value 2 of the profile trace of tooth 1"))
 
 # ---------------------------------------------------------------------------------------------------- predictions
 # prediction.json as `evaluate --prediction` reads it (report::read_prediction_json; the keys of report::prediction_json,
