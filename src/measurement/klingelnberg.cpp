@@ -560,6 +560,7 @@ void ExportParser::read_free_line() {
   }
   // Preamble ("HEADER KS.MK.FILE", "TYPE STI ! comment", …): settings of the export, not data.
   const auto t = tokens(line_);
+  if (t.empty()) return; // separators only (";"): a blank line
   const bool preamble = t[0].size() >= 2 && std::all_of(t[0].begin(), t[0].end(), [](char c) {
     return (c >= 'A' && c <= 'Z') || c == '_' || c == '.';
   });

@@ -178,6 +178,17 @@ TEST(Klingelnberg, UnknownBlocksAreListedNotUsed) {
                              "tables): Verschränkung (line 42), Teilung (line 44)");
 }
 
+// fuzz_klingelnberg (2026-11-27): a line of separators only (";") has no tokens, and the reader took its first token
+// (undefined behaviour: UBSan's "reference binding to null pointer", a crash in Release). It reads as a blank line.
+TEST(Klingelnberg, ALineOfSeparatorsOnlyIsABlankLine) {
+  const auto ref = measurement::klingelnberg_points(measurement::parse_klingelnberg(example_text(), "x.mka"), example_gear());
+  const auto res =
+      measurement::klingelnberg_points(measurement::parse_klingelnberg(";\r\n" + example_text(), "x.mka"), example_gear());
+  ASSERT_EQ(res.points.size(), ref.points.size());
+  for (size_t i = 0; i < ref.points.size(); ++i) EXPECT_EQ(res.points[i].deviation_um, ref.points[i].deviation_um);
+  EXPECT_EQ(res.warnings, ref.warnings);
+}
+
 TEST(Klingelnberg, CountsMustMatchTheHead) {
   const auto few = replaced(example_text(), "  .000  1.000  2.000  3.000  4.000", "  .000  1.000  2.000  3.000");
   EXPECT_EQ(points_error(few, example_gear()), "x.mka:22: Werte: the head announces 5 values, 4 follow");
