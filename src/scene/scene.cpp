@@ -741,7 +741,8 @@ void Scene::fail_at(const std::string& field, const std::string& message) const 
 /// yaml-cpp 0.7 (Debian 12) never returns from LoadAll when a document's first token is a ',' (found by fuzz_scene:
 /// ",` !" hung `geartopo gear` for ever; docs/robustness.md, "Findings": finding 22). A ',' is a flow indicator and
 /// cannot start a document, so such a text is refused here, before the parser sees it, at the comma's line and
-/// column; so is a control character, which YAML does not allow and which hid such a comma.
+/// column, also behind a tag or an anchor; so is a control character, which YAML does not allow and which hid such a
+/// comma.
 void refuse_what_hangs_yaml_cpp(const std::string& text, const ReadContext& ctx) {
   // YAML's character set (1.2, c-printable) excludes the C0 controls but TAB, LF and CR, and DEL: a NUL in front of
   // the ',' hid it from the check below and hung the parser again (the second fuzzing run). Refused, located.
@@ -775,11 +776,18 @@ void refuse_what_hangs_yaml_cpp(const std::string& text, const ReadContext& ctx)
     }
     if (at_start) {
       while (col < l.size() && (l[col] == ' ' || l[col] == '\t')) ++col;
-      if (col < l.size() && l[col] == ',') {
+      // Node properties — a tag '!…' or an anchor '&…' — in front of the ',' hang it as well (" ! ," in the third
+      // fuzzing run): looked through.
+      size_t first = col;
+      while (first < l.size() && (l[first] == '!' || l[first] == '&')) {
+        while (first < l.size() && l[first] != ' ' && l[first] != '\t' && l[first] != ',') ++first;
+        while (first < l.size() && (l[first] == ' ' || l[first] == '\t')) ++first;
+      }
+      if (first < l.size() && l[first] == ',') {
         YAML::Mark mark;
         mark.line = line;
-        mark.column = static_cast<int>(col);
-        mark.pos = static_cast<int>(begin + col);
+        mark.column = static_cast<int>(first);
+        mark.pos = static_cast<int>(begin + first);
         ctx.fail(mark, "", "YAML syntax error: a document cannot start with ',' (a flow indicator)");
       }
       if (col < l.size() && l[col] != '#' && !(l[col] == '%' && !marker)) at_start = false;

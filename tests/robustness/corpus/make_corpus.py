@@ -63,6 +63,9 @@ write(S, "syntax_leading_comma_hang.yaml", ",` ! \n\n  \n", ("InputError", 1, "c
 write(S, "syntax_leading_comma_second_document.yaml", GEAR + "---\n, x\n", ("InputError", -1, "cannot start with ','"))
 # The second fuzzing run: NULs in front of the ',' hid it from the first fix (YAML allows no control characters).
 write(S, "syntax_nul_then_comma_hang.yaml", "\0\0\0,gear:\n  teeth: 35\n", ("InputError", 1, "control character U+0000"))
+# The third: a tag (or an anchor) in front of the ',' hung it as well (the fuzzer's input: " ! ," then 0xFF bytes).
+write(S, "syntax_tag_then_comma_hang.yaml", b" ! ," + b"\xff" * 70 + b"` ! \n\n  \n", ("InputError", 1, "cannot start with ','"))
+write(S, "syntax_anchor_then_comma_hang.yaml", "&a ,gear:\n  teeth: 35\n", ("InputError", 1, "cannot start with ','"))
 write(S, "syntax_unclosed_quote.yaml", 'name: "unterminated\n' + GEAR, ("InputError", -1, "gear"))
 write(S, "wrong_type_teeth_text.yaml", gear(teeth="many"), ("InputError", 3, "gear.teeth"))
 write(S, "wrong_type_teeth_fraction.yaml", gear(teeth="35.5"), ("InputError", 3, "not a whole number"))
