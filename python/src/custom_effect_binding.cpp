@@ -7,6 +7,7 @@
 // custom_effects with `python: <module.qualname>` in place of `deviation_um`, read back by scene/custom_law_reader.cpp.
 #include "bindings.hpp"
 #include "interrupt.hpp"
+#include "named_arguments.hpp"
 #include "py_scene.hpp"
 
 #include "geartopo/effects/custom_effect.hpp"
@@ -45,19 +46,20 @@ std::vector<effects::CustomParameter> parameters_of(const py::dict& parameters,
     effects::CustomParameter p;
     p.key = py::cast<std::string>(py::str(key));
     if (!py::isinstance<py::dict>(spec))
-      throw py::type_error(fmt::format("parameter '{}': expected a dict {{'value': …, 'min': …, 'max': …, 'unit': …}}",
+      throw py::type_error(fmt::format("parameters: '{}': expected a dict {{'value': …, 'min': …, 'max': …, 'unit': "
+                                       "…}}",
                                        p.key));
     const auto s = py::reinterpret_borrow<py::dict>(spec);
     p.value = number_of(s, "value", p.key), p.min = number_of(s, "min", p.key), p.max = number_of(s, "max", p.key);
     if (!s.contains("unit") || py::cast<std::string>(py::str(s["unit"])).empty())
-      throw py::value_error(fmt::format("parameter '{}': say its unit (e.g. 'um_per_mm', 's')", p.key));
+      throw py::value_error(fmt::format("parameters: '{}': say its unit (e.g. 'um_per_mm', 's')", p.key));
     p.unit = py::cast<std::string>(py::str(s["unit"]));
     if (s.contains("uncertainty")) uncertainty[p.key] = number_of(s, "uncertainty", p.key);
     for (const auto& [field, _] : s) {
       const auto f = py::cast<std::string>(py::str(field));
       if (f != "value" && f != "min" && f != "max" && f != "unit" && f != "uncertainty")
         throw py::value_error(
-            fmt::format("parameter '{}': unknown field '{}' (value, min, max, unit, uncertainty)", p.key, f));
+            fmt::format("parameters: '{}': unknown field '{}' (value, min, max, unit, uncertainty)", p.key, f));
     }
     out.push_back(std::move(p));
   }
@@ -124,7 +126,18 @@ std::map<std::string, Made>& made() {
   return m;
 }
 
-PyCustomEffect custom_effect(const std::string& name, const py::dict& parameters, const py::function& fn) {
+PyCustomEffect custom_effect(const TextArg& name_arg, const py::object& parameters_arg, const py::object& fn_arg) {
+  // Each argument converted here, so that a wrong one is refused naming it (named_arguments.hpp).
+  const std::string name = text_argument(name_arg, "name");
+  if (!py::isinstance<py::dict>(parameters_arg))
+    throw py::type_error(fmt::format("parameters: {} is not a dict {{key: {{'value': …, 'min': …, 'max': …, 'unit': "
+                                     "…}}}}",
+                                     py::cast<std::string>(py::repr(parameters_arg))));
+  if (!PyCallable_Check(fn_arg.ptr()))
+    throw py::type_error(fmt::format("fn: {} is not callable (fn(params, state) -> numpy array)",
+                                     py::cast<std::string>(py::repr(fn_arg))));
+  const auto parameters = py::reinterpret_borrow<py::dict>(parameters_arg);
+  const auto fn = py::reinterpret_borrow<py::function>(fn_arg);
   std::map<std::string, double> uncertainty;
   auto params = parameters_of(parameters, uncertainty);
   const std::string function_name = qualified_name(fn);
@@ -174,7 +187,11 @@ std::string yaml_with(const std::string& text, const PyCustomEffect& effect) {
   return std::string(out.c_str()) + "\n";
 }
 
-PyScene with_effect(const PyScene& s, const PyCustomEffect& e) {
+PyScene with_effect(const PyScene& s, const py::object& effect) {
+  if (!py::isinstance<PyCustomEffect>(effect))
+    throw py::type_error(fmt::format("effect: {} is not a geartopo.CustomEffect (made by geartopo.custom_effect)",
+                                     py::cast<std::string>(py::repr(effect))));
+  const auto& e = effect.cast<const PyCustomEffect&>();
   PyScene out;
   out.text = yaml_with(s.text, e);
   out.source = s.source;

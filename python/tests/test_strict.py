@@ -209,6 +209,9 @@ def signature(name):
 REQUIRED = {
     "scene": lambda s: s, "truth": lambda s: s, "measured": lambda s: str(MEASURED), "export": lambda s: str(MEASURED),
     "path": lambda s: str(SCENE), "text": lambda s: SCENE.read_text(), "file": lambda s: str(SCENE),
+    # custom_effect: a law no other argument's refusal gets to register (each case has one wrong argument)
+    "name": lambda s: "walker_law", "parameters": lambda s: {"k": {"value": 0.0, "min": -1.0, "max": 1.0, "unit": "um"}},
+    "fn": lambda s: (lambda params, state: 0.0 * state["t_s"]),
 }
 # A second wrong value per annotation: the type a user most likely confuses it with.
 CONFUSED = {"float": "1.5", "int": 1.5, "str": 5, "bool": "yes", "List[str]": "effect", "geartopo.Scene": str(SCENE)}
@@ -284,3 +287,9 @@ def test_a_trace_the_evaluation_refuses_is_named_with_its_file_and_line(z24_scen
                         str(tmp_path / "e")], capture_output=True, text=True, cwd=ROOT)
     assert p.returncode == 1 and "short.mka:14: tooth 1 left profile: " in p.stderr, p.stderr
     assert not (tmp_path / "e").exists()
+
+
+def test_scene_with_effect_refuses_what_is_not_a_custom_effect(scene):
+    for wrong in ("workpiece_warming", {"name": "x"}, None, Wrong()):
+        with pytest.raises(TypeError, match="^effect: .* is not a geartopo.CustomEffect"):
+            scene.with_effect(wrong)
