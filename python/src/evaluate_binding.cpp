@@ -3,6 +3,7 @@
 #include "arguments.hpp"
 #include "bindings.hpp"
 #include "interrupt.hpp"
+#include "measured_input.hpp"
 #include "named_arguments.hpp"
 #include "json_to_python.hpp"
 #include "numpy_columns.hpp"
@@ -23,8 +24,12 @@ void bind_evaluate(py::module_& m) {
   m.def(
       "evaluate",
       [](const SceneArg& scene, const py::object& topo, const TextArg& method_arg, const TextArg& direction,
-         const TextArg& slope_sign, const py::object& progress) {
+         const TextArg& slope_sign, const py::object& progress, const py::object& against_arg) {
         const auto& wb = *scene_argument(scene, "scene").wb;
+        const auto against = measured_against_argument(against_arg);
+        if (against != measurement::MeasuredAgainst::as_file && (topo.is_none() || py::isinstance<py::dict>(topo)))
+          throw py::value_error("measured_against: is for a measured traces file (topo=path): arrays and the "
+                                "simulation say their design themselves");
         const std::string method = text_argument(method_arg, "method");
         const workbench::IsoOptions iso =
             iso_arguments(text_argument(direction, "iso_direction"), text_argument(slope_sign, "helix_slope_sign"));
@@ -42,7 +47,7 @@ void bind_evaluate(py::module_& m) {
           flanks = topology_from_columns(topo.cast<py::dict>(), "topo");
         } else { // a measured traces file
           const std::string file = path_argument(topo, "topo");
-          auto traces = measurement::read_any_traces(file, wb.setup);
+          auto traces = measurement::read_any_traces(file, wb.setup, {}, against);
           if (!traces.warnings.empty()) {
             const auto warn = py::module_::import("warnings").attr("warn");
             for (const auto& w : traces.warnings) warn(w);
@@ -63,12 +68,14 @@ void bind_evaluate(py::module_& m) {
       },
       py::arg("scene"), py::arg("topo") = py::none(), py::arg("method") = "exact",
       py::arg("iso_direction") = "transverse", py::arg("helix_slope_sign") = "helix-angle",
-      py::arg("progress") = py::none(),
+      py::arg("progress") = py::none(), py::arg("measured_against") = py::none(),
       R"(ISO 1328-1:2013 deviations (µm) and flank tolerance classes, as `geartopo evaluate`.
 
 topo: None (simulate every tooth with `method`, as the CLI), simulate()'s dict (its "traces" are evaluated; pitch
 and runout need every tooth), a traces dict (synth(format="traces")), or the path of a measured traces file (traces
 CSV or Klingelnberg export).
+measured_against: for a traces file without a design_um column, "design" (deviations from the drawing) or
+"involute", as the CLI's --measured-against; None: the bare involute, with a warning on a designed gear.
 iso_direction: "transverse" (the standard's) or "normal"; helix_slope_sign: "helix-angle" or "rise-towards-plus-z".
 
 Returns the dict iso1328.json holds under "before": per flank the trace values, pitch, runout and classes.)");

@@ -86,12 +86,12 @@ commands::DiagnoseRequest request_of(double noise_um, const std::vector<std::str
 void bind_measured(py::module_& m) {
   m.def(
       "compare",
-      [](const SceneArg& scene, const py::object& measured, const RealArg& noise) {
+      [](const SceneArg& scene, const py::object& measured, const RealArg& noise, const py::object& against) {
         const PyScene& s = scene_argument(scene, "scene");
         const double noise_um = real_argument(noise, "noise_um");
         commands::check_noise_um(noise_um, "noise_um"); // before reading the measurement
         std::string name;
-        const auto pts = measured_points(s, measured, name);
+        const auto pts = measured_points(s, measured, name, measured_against_argument(against));
         std::optional<commands::CompareResult> r;
         {
           const LibraryWork work; // Ctrl-C caught, the GIL released
@@ -101,25 +101,29 @@ void bind_measured(py::module_& m) {
         out["residuals"] = residual_columns(pts, r->comparison);
         return out;
       },
-      py::arg("scene"), py::arg("measured"), py::arg("noise_um") = 0.0,
+      py::arg("scene"), py::arg("measured"), py::arg("noise_um") = 0.0, py::arg("measured_against") = py::none(),
       R"(Measured − model at every measured point, as `geartopo compare`.
 
 measured: a measurement file's path (topology CSV, traces CSV, point cloud, Klingelnberg export) or a dict of arrays
 with topology.csv's columns (synth()'s result). noise_um: the probe noise σ (0: estimated).
+measured_against: what a measurement without a design_um column is measured from, as --measured-against: "design"
+(the drawing, as a measuring machine that evaluates against it writes), "involute", or None (as the file says; the
+scene's measurement.measured_against for its own file; compare.json's reference_in_doubt says when the residual looks
+like minus the drawing).
 Returns compare.json's content, plus "residuals": residuals.csv's columns as arrays.)");
 
   m.def(
       "diagnose",
       [](const SceneArg& scene, const py::object& measured, const RealArg& noise,
          const TextListArg& candidate_list, const FlagArg& uncertainty, const py::object& progress,
-         const py::object& yaml_dir) {
+         const py::object& yaml_dir, const py::object& against) {
         const PyScene& s = scene_argument(scene, "scene");
         const double noise_um = real_argument(noise, "noise_um");
         commands::check_noise_um(noise_um, "noise_um");
         const auto candidates = text_list_argument(candidate_list, "candidates");
         const bool scene_uncertainty = flag_argument(uncertainty, "scene_uncertainty");
         std::string name;
-        const auto pts = measured_points(s, measured, name);
+        const auto pts = measured_points(s, measured, name, measured_against_argument(against));
         const auto request = request_of(noise_um, candidates, scene_uncertainty, progress);
         const std::filesystem::path to = yaml_dir.is_none() ? s.dir : std::filesystem::path(path_argument(yaml_dir, "yaml_dir"));
         std::optional<commands::DiagnoseResult> r;
@@ -133,10 +137,10 @@ Returns compare.json's content, plus "residuals": residuals.csv's columns as arr
       },
       py::arg("scene"), py::arg("measured"), py::arg("noise_um") = 0.0,
       py::arg("candidates") = std::vector<std::string>{}, py::arg("scene_uncertainty") = false,
-      py::arg("progress") = py::none(), py::arg("yaml_dir") = py::none(),
+      py::arg("progress") = py::none(), py::arg("yaml_dir") = py::none(), py::arg("measured_against") = py::none(),
       R"(Which physical effect the model is missing, as `geartopo diagnose`.
 
-measured: as for compare. candidates: effect types to try (default: every library effect not in the scene).
+measured, measured_against: as for compare. candidates: effect types to try (default: every library effect not in the scene).
 scene_uncertainty: fit with the scene's declared uncertainties (generalised least squares).
 progress: None or a callable(fits_done, fits) (with the GIL).
 yaml_dir: the folder the completed scene will be saved in, its relative paths rewritten for it (default: the
@@ -146,12 +150,13 @@ file `geartopo diagnose` writes), or None when nothing is chosen or it is withhe
 
   m.def(
       "plan",
-      [](const SceneArg& scene, const py::object& measured, const RealArg& noise, const py::object& progress) {
+      [](const SceneArg& scene, const py::object& measured, const RealArg& noise, const py::object& progress,
+         const py::object& against) {
         const PyScene& s = scene_argument(scene, "scene");
         const double noise_um = real_argument(noise, "noise_um");
         commands::check_noise_um(noise_um, "noise_um");
         std::string name;
-        const auto pts = measured_points(s, measured, name);
+        const auto pts = measured_points(s, measured, name, measured_against_argument(against));
         const auto request = request_of(noise_um, {}, false, progress);
         std::optional<commands::PlanResult> r;
         {
@@ -161,7 +166,9 @@ file `geartopo diagnose` writes), or None when nothing is chosen or it is withhe
         return to_python(r->json);
       },
       py::arg("scene"), py::arg("measured"), py::arg("noise_um") = 0.0, py::arg("progress") = py::none(),
+      py::arg("measured_against") = py::none(),
       R"(What to measure next when explanations are within ΔBIC 10 of each other, as `geartopo plan`.
+measured, measured_against: as for compare.
 Returns plan.json's content: chosen, ambiguous, plan (None when not ambiguous), verdict.)");
 }
 

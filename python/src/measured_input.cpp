@@ -78,12 +78,30 @@ std::vector<grinding::TopologyRow> rows_of(const py::dict& d, int teeth) {
 
 } // namespace
 
-std::vector<measurement::MeasuredPoint> measured_points(const PyScene& scene, const py::object& measured, std::string& name) {
+measurement::MeasuredAgainst measured_against_argument(const py::object& against) {
+  if (against.is_none()) return measurement::MeasuredAgainst::as_file;
+  if (!py::isinstance<py::str>(against))
+    throw py::type_error(fmt::format("measured_against: {} is not \"design\", \"involute\" or None",
+                                     py::repr(against).cast<std::string>()));
+  const auto word = against.cast<std::string>();
+  const auto parsed = measurement::parse_measured_against(word);
+  if (!parsed)
+    throw py::value_error(fmt::format("measured_against: \"{}\" is not \"design\", \"involute\" or None", word));
+  return *parsed;
+}
+
+std::vector<measurement::MeasuredPoint> measured_points(const PyScene& scene, const py::object& measured, std::string& name,
+                                                        measurement::MeasuredAgainst against) {
   const auto& setup = scene.wb->setup;
   if (py::isinstance<py::dict>(measured)) {
     name = kArraysSource;
-    auto points = measurement::measured_points(rows_of(measured.cast<py::dict>(), setup.geometry().teeth()),
-                                               setup.geometry(), kArraysSource);
+    const auto columns = measured.cast<py::dict>();
+    if (against != measurement::MeasuredAgainst::as_file && columns.contains("design_um"))
+      throw py::value_error(fmt::format("measured_against: the arrays say what their deviations are measured from "
+                                        "(their design_um column): \"{}\" is for arrays without one",
+                                        measurement::to_string(against)));
+    auto points = measurement::measured_points(rows_of(columns, setup.geometry().teeth()), setup.geometry(), kArraysSource);
+    if (!columns.contains("design_um")) measurement::declare_reference(points, against, setup.design());
     measurement::refer_to_design(points, setup.design()); // as read_any_measurement refers a file's
     return points;
   }
@@ -91,11 +109,15 @@ std::vector<measurement::MeasuredPoint> measured_points(const PyScene& scene, co
     throw py::type_error(fmt::format("measured: {} is not a measurement: a path (str or os.PathLike) or a dict of "
                                      "arrays", py::repr(measured).cast<std::string>()));
   name = path_argument(measured, "measured");
+  // As the CLI (app/measurement_options.cpp): the scene's key for the scene's own measurement when nothing is said.
+  const auto& grid = scene.wb->scene.grid;
+  if (against == measurement::MeasuredAgainst::as_file && !grid.measured_against.empty() && name == grid.measured_file)
+    against = measurement::parse_measured_against(grid.measured_against).value_or(measurement::MeasuredAgainst::as_file);
   std::vector<std::string> warnings;
   std::vector<measurement::MeasuredPoint> points;
   {
     const LibraryWork work; // Ctrl-C caught, the GIL released
-    points = measurement::read_any_measurement(name, setup, &warnings);
+    points = measurement::read_any_measurement(name, setup, &warnings, {}, nullptr, against);
   }
   if (!warnings.empty()) {
     const auto warn = py::module_::import("warnings").attr("warn");
