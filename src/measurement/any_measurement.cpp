@@ -46,10 +46,6 @@ void refuse_utf16_stream(std::istream& in, const std::string& file) {
   refuse_utf16(head, file);
 }
 
-} // namespace
-
-namespace {
-
 /// The line of the file's header with a design column (0: none). Such a file says what its deviations are measured
 /// from: a declaration besides is refused.
 int design_header_line(std::istream& in, const std::string& file, MeasuredAgainst against) {
