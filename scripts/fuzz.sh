@@ -25,7 +25,11 @@ status=0
 for reader in scene error_table topology point_cloud klingelnberg; do
   work="$build_dir/corpus/$reader" findings="$build_dir/findings/$reader"
   rm -rf "$work" "$findings" && mkdir -p "$work" "$findings"
-  if [ -d tests/robustness/corpus/"${corpus[$reader]}" ]; then cp tests/robustness/corpus/"${corpus[$reader]}"/* "$work"/; fi
+  # Every file of the reader's corpus folder, its subfolders' too (exports/reference/good.mka), flat: libFuzzer reads
+  # a corpus folder's files, not its subfolders.
+  if [ -d tests/robustness/corpus/"${corpus[$reader]}" ]; then
+    find tests/robustness/corpus/"${corpus[$reader]}" -type f -exec cp {} "$work"/ \;
+  fi
   rm -f "$work"/expected.tsv
   for f in ${shipped[$reader]}; do cp "$f" "$work"/; done
   echo "fuzz_$reader: $seconds s"
