@@ -631,6 +631,19 @@ TEST(Cli, ACrownedGearIsMeasuredAgainstItsDesign) {
   std::filesystem::remove_all(dir);
 }
 
+namespace {
+
+/// `from` (a topology or traces CSV of geartopo's, design_um last) written to `to` without its design_um column: the
+/// same deviations from the design, as a measuring machine that evaluates against the drawing writes them.
+void copy_without_design_column(const std::string& from, const std::string& to) {
+  std::ifstream in(from);
+  std::ofstream out(to);
+  for (std::string line; std::getline(in, line);)
+    out << (line.empty() || line[0] == '#' ? line : line.substr(0, line.rfind(','))) << "\n";
+}
+
+} // namespace
+
 // A measuring machine that evaluates against the drawing writes deviations from the design; written without a design_um
 // column, the file is read as against the bare involute and its residual is minus the drawing (issue 39: "Unexplained
 // … profile crowning −10.40 µm"). diagnose says so first, with the numbers and how to declare it; with
@@ -642,12 +655,7 @@ TEST(Cli, AFileEvaluatedAgainstTheDrawingWithoutItsDesignColumnIsRecognised) {
   const std::string crowned = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35-crowned.yaml";
   const std::string with_column = (dir / "with_column.csv").string(), without = (dir / "without.csv").string();
   ASSERT_EQ(run("synth " + crowned + " --out " + with_column + " --teeth 1,18 --noise-um 0.5 --seed 4").code, 0);
-  { // the same deviations (from the design), the design column dropped
-    std::ifstream in(with_column);
-    std::ofstream out(without);
-    for (std::string line; std::getline(in, line);)
-      out << (line.empty() || line[0] == '#' ? line : line.substr(0, line.rfind(','))) << "\n";
-  }
+  copy_without_design_column(with_column, without);
   const auto diagnose = [&](const std::string& measured, const std::string& flags, const std::string& name) {
     const CliResult r = run("diagnose " + crowned + " --measured " + measured + " --out " + (dir / name).string() +
                             " --noise-um 0.5 " + flags);
@@ -717,12 +725,7 @@ TEST(Cli, EvaluateTracesMeasuredAgainstTheDrawingWithoutTheColumn) {
   const std::string crowned = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/skmc1200w-mn14-z35-crowned.yaml";
   const std::string with_column = (dir / "with_column.csv").string(), without = (dir / "without.csv").string();
   ASSERT_EQ(run("synth " + crowned + " --out " + with_column + " --format traces --teeth all --noise-um 0 --seed 4").code, 0);
-  { // the same deviations (from the design), the design column dropped
-    std::ifstream in(with_column);
-    std::ofstream out(without);
-    for (std::string line; std::getline(in, line);)
-      out << (line.empty() || line[0] == '#' ? line : line.substr(0, line.rfind(','))) << "\n";
-  }
+  copy_without_design_column(with_column, without);
   const auto evaluate = [&](const std::string& traces, const std::string& flags, const std::string& name) {
     const CliResult r = run("evaluate " + crowned + " --traces " + traces + " --out " + (dir / name).string() + " " + flags);
     EXPECT_EQ(r.code, 0) << r.err;
