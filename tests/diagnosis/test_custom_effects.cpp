@@ -18,6 +18,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -254,6 +255,39 @@ TEST_P(CustomEffects, DiagnoseToldTheLawNamesItWithinTwoSigmaAndNotToldNamesOnly
       EXPECT_LE(d.chosen->delta_bic, not_told.chosen->delta_bic + 1e-9) << not_told.verdict << "\n" << d.verdict;
     }
   }
+}
+
+// A user's law that is a library effect in other words — X growing towards its steady state, thermal_drift's X part,
+// written as an expression — is reported as that effect's look-alike: on these flanks thermal_drift's parameters make
+// all of its field (|ρ| = 1 up to the first-order differences, 10⁻³), whatever the data say. The truth here is that
+// identity of the two displacements (the X axis moving the wheel), not the fit.
+TEST(CustomEffectLookAlikes, AnXDriftWrittenAsAnExpressionIsThermalDriftsLookAlike) {
+  const auto plain = bench_of(false, "");
+  const auto truth = bench_of(false, "effects:\n  - {type: thermal_drift, x_growth_um: 8, z_growth_um: 0, "
+                                     "time_constant_s: 200}\n");
+  const auto measured = layout_of(*truth, {1, 18}, 0.5, 11).points;
+  const auto told = bench_of(false, fmt::format(R"yaml(custom_effects:
+  - name: x_drift_as_expression
+    parameters:
+      x_um: {{value: 0, min: -50, max: 50, unit: um}}
+      tau_s: {{value: 300, min: 30, max: 20000, unit: s}}
+    deviation_um: "x_um * (1 - exp(-t_s / tau_s)) * {}"
+)yaml",
+                                                kAlongX));
+  const auto d = diagnose_with(*told, measured);
+  const auto mine = std::find_if(d.ranked.begin(), d.ranked.end(),
+                                 [](const auto& c) { return c.name() == "x_drift_as_expression"; });
+  ASSERT_NE(mine, d.ranked.end()) << d.verdict;
+  ASSERT_FALSE(mine->look_alikes.empty());
+  std::cout << "x_drift_as_expression looks like:";
+  for (const auto& [name, rho] : mine->look_alikes) std::cout << " " << name << " " << rho << ";";
+  std::cout << "\n";
+  EXPECT_EQ(mine->look_alikes.front().first, "thermal_drift");
+  EXPECT_GE(mine->look_alikes.front().second, 0.999);
+  EXPECT_LE(mine->look_alikes.front().second, 1.0 + 1e-12);
+  // The library's own candidates carry none: the look-alikes are asked of the user's law.
+  for (const auto& c : d.ranked)
+    EXPECT_TRUE(c.name() == "x_drift_as_expression" || c.look_alikes.empty()) << c.name();
 }
 
 INSTANTIATE_TEST_SUITE_P(DefaultGearAndLeftHand, CustomEffects, ::testing::Values(false, true),

@@ -31,6 +31,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace geartopo::diagnosis {
@@ -86,6 +87,11 @@ struct Candidate {
   /// linearly in time is a thermal X growth in its early phase), whatever their ΔBIC — theirs pays for parameters the
   /// flanks do not fix.
   std::vector<std::string> library_equivalent;
+  /// A user's own effect (a scene's custom_effects) alone: how alike its fitted field is, on these flanks with the
+  /// set-up terms removed, to each library effect's and each listed machine element's — |ρ|, the share of its field the
+  /// other can make (share_of_field_in_span: by the library effect's parameter columns at its fitted values, by the
+  /// element's fitted field); 1 is the same field. Highest first. Empty for the library's and the families' candidates.
+  std::vector<std::pair<std::string, double>> look_alikes;
   /// Which wheel flank a one-sided hypothesis is about (wheel_flank_profile, wheel_flank_waviness): the gear flanks
   /// it grinds. Printed after the name: "wheel_flank_profile (left)".
   std::optional<Flank> wheel_flank;
