@@ -196,6 +196,9 @@ struct DiagnoseOptions {
   /// The user's own effects (a scene's custom_effects, effects/custom_effect.hpp, by name): tried beside the library's
   /// whenever `candidates` is empty (the names must be registered laws).
   std::vector<std::string> own_effects;
+  /// Solve the parameters a user's law is proportional to (found numerically at the points, proportional_parameters.hpp)
+  /// by variable projection inside the fit; false: every parameter in the nonlinear fit (the comparison's baseline).
+  bool project_linear = true;
   int threads = 0;                  ///< threads of the predictions; 0: all hardware threads
   /// Called after each candidate explanation is fitted (single effects, then pairs) with (candidates fitted, candidates
   /// known so far): the total grows by the pairs once the single effects are ranked. From the calling thread; for
