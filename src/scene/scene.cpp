@@ -10,6 +10,7 @@
 #include "geartopo/gears/flank_modifications.hpp"
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/core/text_field.hpp"
+#include "chain_reader.hpp"
 #include "custom_law_reader.hpp"
 #include "design_table.hpp"
 #include "yaml_reader.hpp"
@@ -253,17 +254,40 @@ void read_axis_values(MapReader& m, machine::Vector5d& out, double scale) {
   m.finish();
 }
 
+// The chain's strokes by pose slot, each overridden by `strokes.<axis letter>_mm` (linear) or `_deg` (the swivel): on
+// the CFXZAY x_mm, y_mm, z_mm, a_deg. The chain then carries the scene's strokes (ChainProcess checks paths with them).
+void read_strokes(MapReader& m, MachineSection& s) {
+  using machine::Axis;
+  const machine::KinematicChain& chain = *s.chain;
+  std::array<machine::Interval*, 4> slots{&s.strokes.x_mm, &s.strokes.y_mm, &s.strokes.z_mm, &s.strokes.a_deg};
+  for (int k = 0; k < 4; ++k) {
+    const auto& stroke = chain.axis(static_cast<Axis>(k)).stroke; // validated: every linear axis and the swivel have one
+    const double scale = k == 3 ? units::kDegPerRad : 1.0;
+    *slots[static_cast<std::size_t>(k)] = machine::Interval{stroke->min * scale, stroke->max * scale};
+  }
+  auto st = m.optional_map("strokes");
+  if (!st) return;
+  std::array<std::optional<machine::Interval>, machine::kAxisCount> given{};
+  for (int k = 0; k < 4; ++k) {
+    std::string key(chain.axis_name(static_cast<Axis>(k)));
+    for (char& ch : key) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    key += k == 3 ? "_deg" : "_mm";
+    if (!st->has(key)) continue;
+    auto& slot = *slots[static_cast<std::size_t>(k)];
+    slot = read_interval(*st, key, slot);
+    given[static_cast<std::size_t>(k)] = k == 3 ? machine::Interval{slot.min * units::kRadPerDeg, slot.max * units::kRadPerDeg}
+                                                : slot;
+  }
+  st->finish();
+  s.chain = &chain.with_strokes(given);
+}
+
 MachineSection read_machine(MapReader& m, const std::filesystem::path& base, double face_width) {
   MachineSection s;
   s.name = m.optional_text("name").value_or("");
   const auto datum = m.optional_number("datum_face_z_mm", {-1e4, 1e4});
-  if (auto st = m.optional_map("strokes")) {
-    s.strokes.x_mm = read_interval(*st, "x_mm", s.strokes.x_mm);
-    s.strokes.y_mm = read_interval(*st, "y_mm", s.strokes.y_mm);
-    s.strokes.z_mm = read_interval(*st, "z_mm", s.strokes.z_mm);
-    s.strokes.a_deg = read_interval(*st, "a_deg", s.strokes.a_deg);
-    st->finish();
-  }
+  s.chain = &read_chain(m, base);
+  read_strokes(m, s);
   s.datum_face_z_mm = datum ? *datum : centred_datum_z(s.strokes, face_width);
   auto& ctx = m.context();
   const auto tables = m.optional_text_list("tables");

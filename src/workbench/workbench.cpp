@@ -43,6 +43,9 @@ void check_wheel_position(const scene::Scene& s) {
 
 /// The grinding set-up (form wheel, path), its errors located at the scene field they concern.
 grinding::GrindingSetup located_setup(const scene::Scene& s) {
+  if (!s.machine.chain->is_setting_chain()) // issue 42: the set-up grinds on the CFXZAY's axes only, for now
+    s.fail_at("machine.chain", fmt::format("the {} chain is read, but grinding on it is not wired yet (only the CFXZAY)",
+                                           s.machine.chain->name()));
   try {
     check_wheel_position(s);
     return grinding::GrindingSetup(s.gear, s.wheel, s.process);
