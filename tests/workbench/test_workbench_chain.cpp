@@ -5,6 +5,7 @@
 // on both layouts (on the CAFXZY the A table tilts about x, which leaves x alone; the C table turns the gear and the
 // setting alike), so both grind the same flanks.
 // Units: mm, µm.
+#include "geartopo/compensation/compensator.hpp"
 #include "geartopo/grinding/chain_process.hpp"
 #include "geartopo/machine/chain.hpp"
 #include "geartopo/machine/twist.hpp"
@@ -115,4 +116,31 @@ TEST(WorkbenchChain, TheShippedCafxzySceneFirstOrderTwistIsTheLinearisationOfThe
     }
   EXPECT_GT(size, 1e-3); // mm or rad: the constants move the wheel by µm over the gear's 600 mm
   EXPECT_LT(worst, 0.01 * size);
+}
+
+// Compensation on the CAFXZY: a constant zero error E_AOA = 100 µrad of its A tilting table turns the C table, and
+// the gear on it, rigidly about the A axis line (machine x, 150 mm below the C table's face): a tilt about the gear
+// frame's x plus a translation. The setting's coordinates make exactly these motions (the cross angle turns about x;
+// x, y, z translate), so the error is corrected completely: after the flank method's corrections (setting
+// coordinates, turned into the chain's axes by its inverse kinematics in ChainProcess) the flanks are the error-free
+// ones to 0.01 µm, while the error alone leaves tens of µm (100 µrad over the ~450 mm from the A axis to the flank).
+TEST(WorkbenchChain, AConstantATableZeroErrorOfTheCafxzyIsCompensatedAway) {
+  const workbench::Workbench wb(
+      scene::parse_scene(kGearAndWheel + "machine:\n  chain: CAFXZY\n  constants: {E_AOA_urad: 100}\n", "mem"));
+  compensation::CompensationOptions o;
+  o.step_mm = 5.0;
+  const auto table = compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, 180.0}, o);
+  const compensation::CompensatedProcess corrected(wb.process(), table, compensation::CorrectedPose::Exact);
+  grinding::SimulationOptions so;
+  so.teeth = {1, 16};
+  so.rows = 5, so.cols = 5, so.profile_points = 2, so.helix_points = 2;
+  const auto largest = [&](const grinding::GrindingProcess& p) {
+    double m = 0.0;
+    for (const auto& flank : grinding::simulate_topology(wb.setup, p, so))
+      for (const auto& g : flank.grid) m = std::max(m, std::abs(g.deviation_um));
+    return m;
+  };
+  const double before = largest(wb.process()), after = largest(corrected);
+  EXPECT_GT(before, 10.0);
+  EXPECT_LT(after, 0.01);
 }
