@@ -131,6 +131,11 @@ Workbench::Workbench(scene::Scene s)
       machine_process(*machine_process_owner), effects(make_effects(scene.effects, scene.machine_changes, setup)) {
   if (scene.machine.chain->is_setting_chain()) check_strokes(scene, setup);
   check_chain(scene, setup, machine_process);
+  // effects::ComponentChanges moves the wheel by the CFXZAY's first-order twist: refused rather than silently wrong.
+  if (!scene.machine_changes.empty() && !scene.machine.chain->is_setting_chain())
+    scene.fail_at("machine_changes", fmt::format("machine changes act through the CFXZAY's error Jacobian only, for now "
+                                                 "(issue 42): not on the {} chain",
+                                                 scene.machine.chain->name()));
   if (!effects.empty()) effects_process = std::make_unique<effects::EffectsProcess>(machine_process, effects);
   if (setup.design().modifications().has_helix()) {
     design_motion = std::make_unique<compensation::CorrectionTable>(compensation::design_motions(

@@ -94,6 +94,12 @@ TEST(WorkbenchChain, APathOutsideTheChainsStrokesIsRefusedAtTheChainNamingThePoi
   EXPECT_NE(e.find("scenes/x.yaml:12:10: machine.chain: CAFXZY chain, space "), std::string::npos) << e;
   EXPECT_NE(e.find(": Y = "), std::string::npos) << e;
   EXPECT_NE(e.find("mm is outside its stroke [-20, 20] mm"), std::string::npos) << e;
+  // Machine changes move the wheel by the CFXZAY's first-order twist (effects::ComponentChanges): refused elsewhere.
+  const auto changes = error_of(kGearAndWheel + "machine:\n  chain: CAFXZY\nmachine_changes:\n"
+                                                "  - {component: E_AOA, law: constant, change_urad: 5}\n");
+  EXPECT_NE(changes.find("scenes/x.yaml:14:"), std::string::npos) << changes;
+  EXPECT_NE(changes.find("machine_changes: machine changes act through the CFXZAY's error Jacobian only"),
+            std::string::npos) << changes;
 }
 
 // The shipped CAFXZY scene (scenes/cafxzy-mn14-z35.yaml): its first-order pose error twist (the chain's 6×43 error
