@@ -63,14 +63,15 @@ Compensation compensate(const CompensateOptions& opt, const Workbench& wb, const
                                       : compensation::Method::Flank;
   co.step_mm = opt.step;
   auto before = grinding::simulate_topology(wb.setup, wb.process(), so);
-  auto table = compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm}, co);
+  auto table = compensation::compute_corrections(
+      wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm, wb.scene.machine.chain}, co);
   const compensation::CompensatedProcess corrected(wb.process(), table);
   auto after = grinding::simulate_topology(wb.setup, corrected, so);
   // The after-state of the cycle form is shown, not assumed.
   auto cycle = compensation::make_cycle_corrections(table, wb.setup.geometry().twist_rad_per_mm(), opt.lead_step);
   std::vector<compensation::CorrectionRow> cycle_rows = table.rows();
   for (auto& r : cycle_rows) r.correction = cycle.at(r.space, r.machine_axes.z);
-  const compensation::CorrectionTable cycle_table(std::move(cycle_rows));
+  const compensation::CorrectionTable cycle_table(std::move(cycle_rows), table.axes());
   const compensation::CompensatedProcess cycle_corrected(wb.process(), cycle_table);
   const double max_cycle = grinding::largest_abs_deviation_um(grinding::simulate_topology(wb.setup, cycle_corrected, so));
   return {std::move(before), std::move(after), std::move(table), std::move(cycle), max_cycle};
@@ -201,6 +202,10 @@ int run_compensate(const CompensateOptions& opt) {
   if (mc.samples == 0 || monte_carlo_driver().writes_outputs()) folder.emplace(out, files);
   const Workbench wb(opt.scene);
   refuse_paper_on_a_designed_helix(opt.method, wb);
+  // The ISG table's grid and error components are the CFXZAY's X, Y, Z (isg_table.hpp).
+  if (opt.isg_table && !wb.scene.machine.chain->is_setting_chain())
+    throw CLI::ValidationError("--isg-table", fmt::format("the ISG table is written for the CFXZAY's axes, not yet for "
+                                                         "the scene's {} chain (issue 42)", wb.scene.machine.chain->name()));
   const auto& g = wb.setup.geometry();
   grinding::SimulationOptions so;
   so.profile_points = wb.scene.grid.profile_points;

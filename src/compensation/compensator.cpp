@@ -21,8 +21,9 @@ using machine::Pose;
 using machine::Vector5d;
 using machine::Vector6d;
 
-grinding::PathPoint with_correction(grinding::PathPoint pp, const Vector5d& dq) {
-  pp.q = machine::AxisPose::from_vector(pp.q.vector() + dq);
+/// The path point commanded with the correction dq of the axes `axes` (the setting's own on the CFXZAY: q + dq).
+grinding::PathPoint with_correction(const ChainAxes& axes, grinding::PathPoint pp, const Vector5d& dq) {
+  pp.q = axes.corrected_setting(pp.q, dq);
   return pp;
 }
 
@@ -36,20 +37,21 @@ struct PoseResult {
   double residual_um = 0.0;
 };
 
-PoseResult paper_at(const grinding::GrindingProcess& process, const grinding::PathPoint& pp, int iterations) {
+PoseResult paper_at(const ChainAxes& axes, const grinding::GrindingProcess& process, const grinding::PathPoint& pp,
+                    int iterations) {
   const Pose ideal = machine::ideal_wMg(pp.q);
   PoseResult r;
   Vector6d e = Vector6d::Zero();
   for (int it = 0; it < iterations; ++it) {
-    const grinding::PathPoint c = with_correction(pp, r.dq);
+    const grinding::PathPoint c = with_correction(axes, pp, r.dq);
     e = error_g(process.actual_wMg(c), ideal);
-    const machine::Matrix65 J = machine::J_twistg_q(c.q);
+    const machine::Matrix65 J = axes.J_twistg(c.q);
     // Eq. 29: pinv(J) = (JᵀJ)⁻¹Jᵀ for a full-column-rank J, here through an orthogonal decomposition.
     const Vector5d step = Eigen::MatrixXd(J).completeOrthogonalDecomposition().solve(Eigen::VectorXd(e));
     r.dq -= step;
     if (step.head<3>().norm() < 1e-9 && step.tail<2>().norm() < 1e-12) break;
   }
-  e = error_g(process.actual_wMg(with_correction(pp, r.dq)), ideal);
+  e = error_g(process.actual_wMg(with_correction(axes, pp, r.dq)), ideal);
   r.residual_um = units::um_from_mm(e.head<3>().norm());
   return r;
 }
@@ -89,9 +91,9 @@ using AxisMask = Eigen::Matrix<double, 5, 1>; // 1 free, 0 held
 /// rows A (m×6, per unit twist in w) and the scaling D of the corrections (rotary ones weigh like a displacement at
 /// the reference radius, so mm and rad weigh alike).
 struct FlankObjective {
-  FlankObjective(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
+  FlankObjective(const ChainAxes& axes, const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
                  const grinding::PathPoint& pp, const CompensationOptions& o)
-      : setup(setup), process(process), pp(pp), pts(contact_points(setup, pp.space, pp.z_stroke_mm, o.contact_points)),
+      : axes(axes), setup(setup), process(process), pp(pp), pts(contact_points(setup, pp.space, pp.z_stroke_mm, o.contact_points)),
         A(static_cast<long>(pts.size()), 6), ideal(machine::ideal_wMg(pp.q)), gMw(ideal.inverse()),
         L(0.5 * setup.geometry().reference_diameter_mm()), D((Vector5d() << 1.0, 1.0, 1.0, L, L).finished()) {
     for (long i = 0; i < A.rows(); ++i) A.row(i) = pts[static_cast<size_t>(i)].a;
@@ -100,7 +102,7 @@ struct FlankObjective {
   /// Predicted normal deviations from the design at the contact points (m, mm) with the corrections dq: the pose
   /// error and the wheel radius error of the process at the corrected command, less the design's helix part.
   Eigen::VectorXd deviations(const Vector5d& dq) const {
-    const grinding::PathPoint c = with_correction(pp, dq);
+    const grinding::PathPoint c = with_correction(axes, pp, dq);
     const Vector6d t = error_w(process.actual_wMg(c), ideal);
     Eigen::VectorXd d = A * t;
     for (long i = 0; i < A.rows(); ++i) {
@@ -111,6 +113,7 @@ struct FlankObjective {
     return d;
   }
 
+  const ChainAxes& axes;
   const grinding::GrindingSetup& setup;
   const grinding::GrindingProcess& process;
   const grinding::PathPoint& pp;
@@ -121,10 +124,10 @@ struct FlankObjective {
   Vector5d D;
 };
 
-PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
-                    const grinding::PathPoint& pp, const CompensationOptions& o, const Vector5d& start,
-                    const AxisMask& free) {
-  const FlankObjective f(setup, process, pp, o);
+PoseResult flank_at(const ChainAxes& axes, const grinding::GrindingSetup& setup,
+                    const grinding::GrindingProcess& process, const grinding::PathPoint& pp,
+                    const CompensationOptions& o, const Vector5d& start, const AxisMask& free) {
+  const FlankObjective f(axes, setup, process, pp, o);
   const auto& A = f.A;
   const auto& D = f.D;
   const double L = f.L;
@@ -141,7 +144,7 @@ PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::Grindi
   // instead of one per fixed shape — at -O3 each fixed-size instantiation costs seconds of compile time, more than the
   // SVD of an m×5 matrix costs at run time.
   // Held axes get zero columns: their directions fall into the null space and keep their start value.
-  const Eigen::MatrixXd M = A * machine::J_twistw_q(pp.q) * D.cwiseInverse().asDiagonal() * free.asDiagonal(); // m×5
+  const Eigen::MatrixXd M = A * axes.J_twistw(pp.q) * D.cwiseInverse().asDiagonal() * free.asDiagonal(); // m×5
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const Eigen::VectorXd sv = svd.singularValues();
   int rank = 0;
@@ -151,7 +154,7 @@ PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::Grindi
   // Wheel-frame pose error weights: translations 1, rotations L, spin about the wheel axis (g's y) 0.
   const Vector6d S = (Vector6d() << 1.0, 1.0, 1.0, L, 0.0, L).finished();
   const machine::Matrix65 G =
-      S.asDiagonal() * machine::J_twistg_q(pp.q) * D.cwiseInverse().asDiagonal() * free.asDiagonal(); // 6×5
+      S.asDiagonal() * axes.J_twistg(pp.q) * D.cwiseInverse().asDiagonal() * free.asDiagonal(); // 6×5
 
   PoseResult r;
   r.dq = start;
@@ -161,7 +164,7 @@ PoseResult flank_at(const grinding::GrindingSetup& setup, const grinding::Grindi
     Vector5d u = Vector5d::Zero();
     for (int k = 0; k < rank; ++k) u += V.col(k) * (svd.matrixU().col(k).dot(d) / sv(k));
     if (N.cols() > 0) {
-      const Vector6d e = S.cwiseProduct(error_g(process.actual_wMg(with_correction(pp, r.dq)), ideal));
+      const Vector6d e = S.cwiseProduct(error_g(process.actual_wMg(with_correction(axes, pp, r.dq)), ideal));
       const Eigen::MatrixXd GN = G * N; // 6×(5−rank)
       u += N * GN.completeOrthogonalDecomposition().solve(Eigen::VectorXd(e - G * u));
     }
@@ -182,12 +185,13 @@ struct GearTerms {
   Eigen::Vector2d b = Eigen::Vector2d::Zero(); ///< Σ M_Gᵀ P⊥ d0
 };
 
-GearTerms gear_terms_at(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
-                        const grinding::PathPoint& pp, const CompensationOptions& o) {
-  const FlankObjective f(setup, process, pp, o);
+GearTerms gear_terms_at(const ChainAxes& axes, const grinding::GrindingSetup& setup,
+                        const grinding::GrindingProcess& process, const grinding::PathPoint& pp,
+                        const CompensationOptions& o) {
+  const FlankObjective f(axes, setup, process, pp, o);
   const long m = f.A.rows();
   const Eigen::VectorXd d0 = f.deviations(Vector5d::Zero());
-  const Eigen::Matrix<double, Eigen::Dynamic, 5> M = f.A * machine::J_twistw_q(pp.q) * f.D.cwiseInverse().asDiagonal();
+  const Eigen::Matrix<double, Eigen::Dynamic, 5> M = f.A * axes.J_twistw(pp.q) * f.D.cwiseInverse().asDiagonal();
   Eigen::Matrix<double, Eigen::Dynamic, 3> MP(m, 3);
   MP << M.col(0), M.col(2), M.col(4);
   Eigen::Matrix<double, Eigen::Dynamic, 2> MG(m, 2);
@@ -211,12 +215,14 @@ CorrectionTable compute_corrections(const grinding::GrindingSetup& setup, const 
   // 0 or NaN made the path's sample count undefined (ceil(len / 0) cast to int), 1e-9 mm billions of poses.
   limits::require(limits::step_mm_refusal(o.step_mm), "compute_corrections: step_mm");
   const std::vector<grinding::PathPoint> samples = setup.path().sample(o.step_mm);
+  // The axes the corrections move: the setting's on the CFXZAY, the chain's own on any other (chain_axes.hpp).
+  const ChainAxes axes{strokes.chain, strokes.datum_face_z_mm};
   // Cycle: first the gear's Y and A (one linear least-squares problem over every pose), then every pose with them held.
   Vector5d gear_start = Vector5d::Zero();
   if (o.method == Method::Cycle) {
     std::vector<GearTerms> terms(samples.size());
     geartopo::parallel_for(static_cast<int>(samples.size()), 0, [&](int i) {
-      terms[static_cast<size_t>(i)] = gear_terms_at(setup, process, samples[static_cast<size_t>(i)], o);
+      terms[static_cast<size_t>(i)] = gear_terms_at(axes, setup, process, samples[static_cast<size_t>(i)], o);
     });
     GearTerms sum; // summed in path order: the same result at any thread count
     for (const auto& t : terms) sum.H += t.H, sum.b += t.b;
@@ -229,25 +235,32 @@ CorrectionTable compute_corrections(const grinding::GrindingSetup& setup, const 
   std::vector<CorrectionRow> rows(samples.size());
   geartopo::parallel_for(static_cast<int>(samples.size()), 0, [&](int i) {
     const auto& pp = samples[static_cast<size_t>(i)];
-    const PoseResult r = o.method == Method::Paper   ? paper_at(process, pp, o.max_iterations)
-                         : o.method == Method::Cycle ? flank_at(setup, process, pp, o, gear_start, cycle_axes)
-                                                     : flank_at(setup, process, pp, o, Vector5d::Zero(), o.free_axes);
+    const PoseResult r = o.method == Method::Paper ? paper_at(axes, process, pp, o.max_iterations)
+                         : o.method == Method::Cycle
+                             ? flank_at(axes, setup, process, pp, o, gear_start, cycle_axes)
+                             : flank_at(axes, setup, process, pp, o, Vector5d::Zero(), o.free_axes);
     CorrectionRow& row = rows[static_cast<size_t>(i)];
     row.space = pp.space;
     row.z_stroke_mm = pp.z_stroke_mm;
     row.time_s = pp.time_s;
-    row.machine_axes = pp.q;
-    row.machine_axes.z += strokes.datum_face_z_mm;
     row.correction = r.dq;
     row.residual_um = r.residual_um;
-    row.within_strokes = strokes.model.within_strokes(machine::AxisPose::from_vector(row.machine_axes.vector() + r.dq));
+    if (axes.is_setting()) {
+      row.machine_axes = pp.q;
+      row.machine_axes.z += strokes.datum_face_z_mm;
+      row.within_strokes = strokes.model.within_strokes(machine::AxisPose::from_vector(row.machine_axes.vector() + r.dq));
+    } else { // the chain's own axes against its own strokes
+      row.machine_axes = machine::AxisPose::from_vector(axes.axes(pp.q));
+      row.within_strokes = axes.within_strokes(row.machine_axes.vector() + r.dq);
+    }
   });
-  return CorrectionTable(std::move(rows));
+  return CorrectionTable(std::move(rows), axes);
 }
 
 machine::Pose CompensatedProcess::actual_wMg(const grinding::PathPoint& pp) const {
   const Vector5d dq = table_.at(pp.space, pp.z_stroke_mm);
-  if (pose_ == CorrectedPose::Exact) return inner_.actual_wMg(with_correction(pp, dq));
+  if (pose_ == CorrectedPose::Exact || !table_.axes().is_setting())
+    return inner_.actual_wMg(with_correction(table_.axes(), pp, dq));
   // q′ = q + Δq on Z and C (the axes a stroke moves anyway), then the ideal motion of X, Y, A from q′ (header).
   grinding::PathPoint moved = pp;
   moved.q.z += dq(2);
@@ -258,13 +271,13 @@ machine::Pose CompensatedProcess::actual_wMg(const grinding::PathPoint& pp) cons
 }
 
 grinding::PathPoint CompensatedProcess::corrected(const grinding::PathPoint& pp) const {
-  return with_correction(pp, table_.at(pp.space, pp.z_stroke_mm));
+  return with_correction(table_.axes(), pp, table_.at(pp.space, pp.z_stroke_mm));
 }
 
 machine::Vector6d CompensatedProcess::error_twist_w(const grinding::PathPoint& pp) const {
   const Vector5d dq = table_.at(pp.space, pp.z_stroke_mm);
-  const grinding::PathPoint c = with_correction(pp, dq);
-  return inner_.error_twist_w(c) + machine::J_twistw_q(pp.q) * dq;
+  const grinding::PathPoint c = with_correction(table_.axes(), pp, dq);
+  return inner_.error_twist_w(c) + table_.axes().J_twistw(pp.q) * dq;
 }
 
 } // namespace geartopo::compensation

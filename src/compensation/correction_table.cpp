@@ -6,6 +6,7 @@
 #include "geartopo/core/units.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -18,13 +19,21 @@
 namespace geartopo::compensation {
 namespace {
 
-constexpr const char* kHeader =
-    "space,z_stroke_mm,time_s,X_mm,Y_mm,Z_mm,A_deg,C_deg,dX_um,dY_um,dZ_um,dA_urad,dC_urad,within_strokes";
 constexpr int kColumns = 14;
+
+/// The 14 column names with the axes' own letters: space,z_stroke_mm,time_s,X_mm,…,C_deg,dX_um,…,dC_urad,within_strokes.
+std::vector<std::string> column_names(const ChainAxes& axes) {
+  std::vector<std::string> names = {"space", "z_stroke_mm", "time_s"};
+  // (fmt rather than operator+: GCC 12 warns falsely, -Wstringop-overflow, on the concatenation at -O3)
+  for (int a = 0; a < 5; ++a) names.push_back(fmt::format("{}_{}", axes.axis_name(a), a < 3 ? "mm" : "deg"));
+  for (int a = 0; a < 5; ++a) names.push_back(fmt::format("d{}_{}", axes.axis_name(a), a < 3 ? "um" : "urad"));
+  names.emplace_back("within_strokes");
+  return names;
+}
 
 } // namespace
 
-CorrectionTable::CorrectionTable(std::vector<CorrectionRow> rows) : rows_(std::move(rows)) {
+CorrectionTable::CorrectionTable(std::vector<CorrectionRow> rows, ChainAxes axes) : rows_(std::move(rows)), axes_(axes) {
   std::stable_sort(rows_.begin(), rows_.end(), [](const CorrectionRow& a, const CorrectionRow& b) {
     return a.space != b.space ? a.space < b.space : a.z_stroke_mm < b.z_stroke_mm;
   });
@@ -80,7 +89,7 @@ machine::Vector5d CorrectionTable::max_abs() const {
 }
 
 void CorrectionTable::write_csv(std::ostream& out) const {
-  out << kHeader << "\n";
+  out << fmt::format("{}", fmt::join(column_names(axes_), ",")) << "\n";
   for (const auto& r : rows_) {
     const auto& q = r.machine_axes;
     const auto& c = r.correction;
@@ -94,13 +103,12 @@ void CorrectionTable::write_csv(const std::filesystem::path& file) const {
   output::write_atomically(file, [&](std::ostream& out) { write_csv(out); });
 }
 
-CorrectionTable CorrectionTable::read_csv(std::istream& in, const std::string& source) {
+CorrectionTable CorrectionTable::read_csv(std::istream& in, const std::string& source, ChainAxes axes) {
   const auto fail = [&](int line, int column, const std::string& field, const std::string& message) {
     throw InputError(source, line, column, field, message);
   };
-  static const char* const names[kColumns] = {"space", "z_stroke_mm", "time_s",  "X_mm",    "Y_mm",
-                                              "Z_mm",  "A_deg",       "C_deg",   "dX_um",   "dY_um",
-                                              "dZ_um", "dA_urad",     "dC_urad", "within_strokes"};
+  const std::vector<std::string> names = column_names(axes);
+  const std::string header_text = fmt::format("{}", fmt::join(names, ","));
   std::vector<CorrectionRow> rows;
   std::set<std::pair<int, double>> seen;
   bool header = false;
@@ -113,10 +121,10 @@ CorrectionTable CorrectionTable::read_csv(std::istream& in, const std::string& s
     const auto f = text::split_fields(line);
     if (!header) {
       for (int i = 0; i < kColumns; ++i)
-        if (static_cast<int>(f.size()) <= i || f[static_cast<size_t>(i)].text != names[i])
+        if (static_cast<int>(f.size()) <= i || f[static_cast<size_t>(i)].text != names[static_cast<size_t>(i)])
           fail(lineno, i < static_cast<int>(f.size()) ? f[static_cast<size_t>(i)].column : static_cast<int>(line.size()) + 1,
                "header", fmt::format("expected the columns {} (column {} should be '{}'): a corrections.csv of "
-                                     "geartopo compensate", kHeader, i + 1, names[i]));
+                                     "geartopo compensate", header_text, i + 1, names[static_cast<size_t>(i)]));
       header = true;
       continue;
     }
@@ -127,9 +135,9 @@ CorrectionTable CorrectionTable::read_csv(std::istream& in, const std::string& s
       double v = 0.0;
       const auto& [t, column] = f[static_cast<size_t>(i)];
       if (text::parse_number(t, v) != std::errc() || !std::isfinite(v))
-        fail(lineno, column, names[i], fmt::format("'{}' is not a finite number", text::excerpt(t)));
+        fail(lineno, column, names[static_cast<size_t>(i)], fmt::format("'{}' is not a finite number", text::excerpt(t)));
       if (std::abs(v) > limit)
-        fail(lineno, column, names[i], fmt::format("{} is beyond ±{} (a wrong unit?)", text::excerpt(t), limit));
+        fail(lineno, column, names[static_cast<size_t>(i)], fmt::format("{} is beyond ±{} (a wrong unit?)", text::excerpt(t), limit));
       return v;
     };
     CorrectionRow r;
@@ -154,14 +162,14 @@ CorrectionTable CorrectionTable::read_csv(std::istream& in, const std::string& s
            fmt::format("space {} at {} mm is given twice", r.space, f[1].text));
     rows.push_back(r);
   }
-  if (!header) fail(std::max(lineno, 1), 1, "header", fmt::format("missing header {}", kHeader));
+  if (!header) fail(std::max(lineno, 1), 1, "header", fmt::format("missing header {}", header_text));
   if (rows.empty()) fail(lineno, 1, "rows", "no correction rows");
-  return CorrectionTable(std::move(rows));
+  return CorrectionTable(std::move(rows), axes);
 }
 
-CorrectionTable CorrectionTable::read_csv(const std::filesystem::path& file) {
+CorrectionTable CorrectionTable::read_csv(const std::filesystem::path& file, ChainAxes axes) {
   auto in = input::open_input_file(file, input::kMaxMeasurementBytes, "corrections file");
-  return read_csv(in, file.string());
+  return read_csv(in, file.string(), axes);
 }
 
 } // namespace geartopo::compensation

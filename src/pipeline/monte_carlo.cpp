@@ -41,7 +41,7 @@ compensation::CorrectionTable with_stroke_offsets(const compensation::Correction
     if (it == offsets.end()) throw std::invalid_argument(fmt::format("no stroke offset for space {}", r.space));
     r.correction += it->second;
   }
-  return compensation::CorrectionTable(std::move(rows));
+  return compensation::CorrectionTable(std::move(rows), base.axes());
 }
 
 namespace {
@@ -98,7 +98,7 @@ compensation::CorrectionTable rounded_to_resolution(const compensation::Correcti
       rows[i].correction(a) = r.correction(a) + q * mean;
     }
   }
-  return compensation::CorrectionTable(std::move(rows));
+  return compensation::CorrectionTable(std::move(rows), table.axes());
 }
 
 std::pair<long long, long long> shard_range(long long samples, int shard, int shards) {

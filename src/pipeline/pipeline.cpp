@@ -46,7 +46,8 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
   co.method = o.compensation;
   co.step_mm = o.step_mm;
   r.corrections = std::make_unique<compensation::CorrectionTable>(
-      compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm}, co));
+      compensation::compute_corrections(wb.setup, wb.process(),
+                                        {wb.machine, wb.scene.machine.datum_face_z_mm, wb.scene.machine.chain}, co));
   const compensation::CompensatedProcess corrected(wb.process(), *r.corrections);
   stage("simulate compensated", flanks);
   r.after = grinding::simulate_topology(wb.setup, corrected, so);

@@ -70,7 +70,7 @@ SampleModel::SampleModel(const workbench::Workbench& wb, const compensation::Cor
     throw std::invalid_argument(fmt::format("probe noise {} µm: need a finite σ ≥ 0", options.probe_noise_um));
   std::vector<compensation::CorrectionRow> zero_rows = nominal.rows();
   for (auto& r : zero_rows) r.correction.setZero();
-  uncorrected_ = compensation::CorrectionTable(std::move(zero_rows));
+  uncorrected_ = compensation::CorrectionTable(std::move(zero_rows), nominal.axes());
   for (const auto& r : nominal.rows()) spaces_.insert(r.space);
   effect_factor_ = correlation_factor(wb.scene);
   effect_values_ = uncertain_effect_values(wb.scene);

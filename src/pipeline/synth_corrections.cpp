@@ -25,9 +25,11 @@ std::optional<compensation::CorrectionTable> synth_corrections(const workbench::
     r.space = s;
     zero_rows.push_back(r);
   }
-  compensation::CorrectionTable table(std::move(zero_rows));
+  // In the scene's chain's axes (the setting's on the CFXZAY): a stroke offset is one axis' offset.
+  const compensation::ChainAxes axes{wb.scene.machine.chain, wb.scene.machine.datum_face_z_mm};
+  compensation::CorrectionTable table(std::move(zero_rows), axes);
   if (!corrections_file.empty()) {
-    const auto read = compensation::CorrectionTable::read_csv(corrections_file);
+    const auto read = compensation::CorrectionTable::read_csv(corrections_file, axes);
     // A table of another gear would leave spaces uncorrected (or correct spaces the gear does not have) in silence.
     std::set<int> in_file;
     for (const auto& r : read.rows()) in_file.insert(r.space);

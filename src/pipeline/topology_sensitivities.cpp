@@ -137,8 +137,9 @@ TopologySensitivities topology_sensitivities(const workbench::Workbench& wb, con
       for (int k = 0; k < machine::kComponentCount; ++k)
         twist.col(k).head<3>() += Eigen::Vector3d(0.0, 0.0, -z0).cross(Eigen::Vector3d(twist.col(k).tail<3>()));
       s.map_um.row(i) = units::um_from_mm(1.0) * (w * twist);
-      // Stroke offset: as a correction, J_twistw_q at the commanded pose (CompensatedProcess::error_twist_w).
-      s.stroke_um.row(i) = units::um_from_mm(1.0) * (w * machine::J_twistw_q(c.pp.q));
+      // Stroke offset: as a correction of the table's axes (the chain's own; the setting's on the CFXZAY: J_twistw_q)
+      // at the commanded pose (CompensatedProcess::error_twist_w).
+      s.stroke_um.row(i) = units::um_from_mm(1.0) * (w * table.axes().J_twistw(c.pp.q));
       s.space[static_cast<size_t>(i)] = c.pp.space;
     }
   });

@@ -52,7 +52,8 @@ GearValues gear_values(const workbench::Workbench& wb, const SeriesGear& gear, c
   const diagnosis::Comparison c = diagnosis::compare(wb.setup, wb.process(), points, 0.0);
   std::vector<double> corrected_model;
   if (!gear.corrections.empty()) {
-    const auto table = compensation::CorrectionTable::read_csv(gear.corrections);
+    const auto table = compensation::CorrectionTable::read_csv(
+        gear.corrections, {wb.scene.machine.chain, wb.scene.machine.datum_face_z_mm});
     const compensation::CompensatedProcess corrected(wb.process(), table);
     corrected_model = diagnosis::predict(wb.setup, corrected, points, grinding::Method::Exact);
   }

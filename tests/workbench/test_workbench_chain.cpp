@@ -18,6 +18,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -89,19 +92,46 @@ TEST(WorkbenchChain, TheShippedCafxzySceneFirstOrderTwistIsTheLinearisationOfThe
   EXPECT_LT(worst, 0.01 * size);
 }
 
-// Compensation on the CAFXZY: a constant zero error E_AOA = 100 µrad of its A tilting table turns the C table, and
-// the gear on it, rigidly about the A axis line (machine x, 150 mm below the C table's face): a tilt about the gear
-// frame's x plus a translation. The setting's coordinates make exactly these motions (the cross angle turns about x;
-// x, y, z translate), so the error is corrected completely: after the flank method's corrections (setting
-// coordinates, turned into the chain's axes by its inverse kinematics in ChainProcess) the flanks are the error-free
-// ones to 0.01 µm, while the error alone leaves tens of µm (100 µrad over the ~450 mm from the A axis to the flank).
-TEST(WorkbenchChain, AConstantATableZeroErrorOfTheCafxzyIsCompensatedAway) {
-  const workbench::Workbench wb(
-      scene::parse_scene(kGearAndWheel + "machine:\n  chain: CAFXZY\n  constants: {E_AOA_urad: 100}\n", "mem"));
+// A constant A-table zero error E_AOA of the CAFXZY (the table turns to A + E_AOA wherever it is commanded) tilts
+// the gear on it, rigidly about the A axis line (machine x, 150 mm below the C table's face), and a constant
+// straightness error δ_y of the Z slide (delta_yz) moves the wheel head along y, which the Y slide carries too (no
+// rotary axis between them: translations commute). In the chain's own axes each is undone by one axis alone:
+// ΔA = −E_AOA and ΔY = −δ_yz at every row, the other three zero — written here from the joints, not taken from the
+// code. (In the setting's coordinates the A error would have needed Y and Z corrections of ~45 µm as well: the
+// table's tilt about its pivot moves the gear.) The table's axes are the chain's, by its inverse kinematics written
+// here from the layout w → C → A → F → X → Z → Y → g (docs/machine-model.md §9): X = x, Y = y + (z + 150)·sin α,
+// Z = (z + 150)·cos α, A = −α, C = γ, z the chain's setting (the gear's z plus its datum face). After the corrections
+// the flanks are the error-free ones to 0.01 µm, while the errors alone leave tens of µm (100 µrad over the ~450 mm
+// from the A axis to the flank).
+TEST(WorkbenchChain, ConstantErrorsOfTheCafxzyAreCorrectedInItsOwnAxesAndCompensatedAway) {
+  const workbench::Workbench wb(scene::parse_scene(
+      kGearAndWheel + "machine:\n  chain: CAFXZY\n  constants: {E_AOA_urad: 100, delta_yz_um: 8}\n", "mem"));
+  const double z0 = wb.scene.machine.datum_face_z_mm;
   compensation::CompensationOptions o;
   o.step_mm = 5.0;
-  const auto table = compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, 180.0}, o);
-  const compensation::CompensatedProcess corrected(wb.process(), table, compensation::CorrectedPose::Exact);
+  const auto table = compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, z0, wb.scene.machine.chain}, o);
+  ASSERT_FALSE(table.axes().is_setting());
+
+  std::map<std::pair<int, double>, machine::AxisPose> setting; // the commands the rows stand for
+  for (const auto& pp : wb.setup.path().sample(o.step_mm)) setting[{pp.space, pp.z_stroke_mm}] = pp.q;
+  ASSERT_EQ(table.rows().size(), setting.size());
+  for (const auto& r : table.rows()) {
+    const machine::AxisPose& q = setting.at({r.space, r.z_stroke_mm});
+    const double zc = q.z + z0 + 150.0; // from the A pivot along the gear axis
+    EXPECT_NEAR(r.machine_axes.x, q.x, 1e-9);
+    EXPECT_NEAR(r.machine_axes.y, q.y + zc * std::sin(q.a), 1e-9);
+    EXPECT_NEAR(r.machine_axes.z, zc * std::cos(q.a), 1e-9);
+    EXPECT_NEAR(r.machine_axes.a, -q.a, 1e-12);
+    EXPECT_NEAR(std::remainder(r.machine_axes.c - q.c, 2.0 * std::numbers::pi), 0.0, 1e-12);
+    EXPECT_NEAR(r.correction(0), 0.0, 1e-5) << "dX, mm";
+    EXPECT_NEAR(r.correction(1), -8e-3, 1e-5) << "dY, mm";
+    EXPECT_NEAR(r.correction(2), 0.0, 1e-5) << "dZ, mm";
+    EXPECT_NEAR(r.correction(3), -100e-6, 1e-8) << "dA, rad";
+    EXPECT_NEAR(r.correction(4), 0.0, 1e-8) << "dC, rad";
+    EXPECT_TRUE(r.within_strokes);
+  }
+
+  const compensation::CompensatedProcess corrected(wb.process(), table);
   grinding::SimulationOptions so;
   so.teeth = {1, 16};
   so.rows = 5, so.cols = 5, so.profile_points = 2, so.helix_points = 2;
@@ -114,4 +144,31 @@ TEST(WorkbenchChain, AConstantATableZeroErrorOfTheCafxzyIsCompensatedAway) {
   const double before = largest(wb.process()), after = largest(corrected);
   EXPECT_GT(before, 10.0);
   EXPECT_LT(after, 0.01);
+}
+
+// The stroke check is the chain's own: the same corrections outside a Y stroke the chain's inverse kinematics needs
+// (Y = y + (z + 150)·sin α reaches 220…305 mm on this gear) are flagged row by row, not against the CFXZAY's.
+TEST(WorkbenchChain, CorrectionsAreCheckedAgainstTheChainsOwnStrokes) {
+  const workbench::Workbench wb(
+      scene::parse_scene(kGearAndWheel + "machine:\n  chain: CAFXZY\n  constants: {delta_yz_um: 8}\n", "mem"));
+  compensation::CompensationOptions o;
+  o.step_mm = 10.0;
+  const auto table = compensation::compute_corrections(
+      wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm, wb.scene.machine.chain}, o);
+  double y_max = -1e9;
+  for (const auto& r : table.rows()) y_max = std::max(y_max, r.machine_axes.y + r.correction(1));
+  // A chain whose Y stroke ends just below the highest corrected Y: exactly the rows above it are outside.
+  const auto& tight = wb.scene.machine.chain->with_strokes(
+      {std::nullopt, machine::Interval{-500.0, y_max - 1e-3}, std::nullopt, std::nullopt, std::nullopt});
+  const auto checked = compensation::compute_corrections(
+      wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm, &tight}, o);
+  int outside = 0, expected = 0;
+  for (size_t i = 0; i < checked.rows().size(); ++i) {
+    const auto& r = checked.rows()[i];
+    expected += r.machine_axes.y + r.correction(1) > y_max - 1e-3 ? 1 : 0;
+    outside += r.within_strokes ? 0 : 1;
+  }
+  EXPECT_GE(expected, 1);
+  EXPECT_EQ(outside, expected);
+  EXPECT_EQ(table.rows_outside_strokes(), 0);
 }

@@ -2,7 +2,8 @@
 //
 // paper: the seed paper's method (its Eq. 29, re-derived): at every pose the wheel-frame pose error twist E of the
 //        actual wheel against the ideal one is driven to zero in the least-squares sense by axis corrections,
-//        Δq ← Δq − pinv(J_M)·E(q + Δq), with J_M the 6×5 body Jacobian (jacobian.hpp) and the errors re-evaluated at
+//        Δq ← Δq − pinv(J_M)·E(q + Δq), with J_M the 6×5 body Jacobian (jacobian.hpp; on another chain than the CFXZAY
+//        J_twistg_theta of its own axes, chain_axes.hpp) and the errors re-evaluated at
 //        the corrected command until the step vanishes. pinv mixes mm and rad exactly as the paper's formula does.
 // flank: at every pose choose the corrections that minimise the predicted normal deviations FROM THE DESIGN of the
 //        nominal contact points on both flanks of the space (the target is the drawing's part the motions must make at
@@ -35,10 +36,13 @@ struct CompensationOptions {
   Eigen::Matrix<double, 5, 1> free_axes = Eigen::Matrix<double, 5, 1>::Ones();
 };
 
-/// Machine strokes check for corrected commands: the machine model and where the gear's datum face sits.
+/// The axes corrections are computed in and the strokes they are checked against: the machine model, where the gear's
+/// datum face sits and the scene's chain. On the CFXZAY (or no chain) the setting's coordinates against the model's
+/// strokes; on any other chain its own axes (ChainAxes) against its own strokes.
 struct StrokeCheck {
   const machine::MachineModel& model;
   double datum_face_z_mm = 0.0;
+  const machine::KinematicChain* chain = nullptr;
 };
 
 /// Corrections for every sample of the path. `process` is what the machine does for a given command (geometric
@@ -61,7 +65,8 @@ enum class CorrectedPose {
   HeldSlideErrors,
 };
 
-/// The machine running the corrected commands: command q + Δq(space, Z) for every path point.
+/// The machine running the corrected commands: command q + Δq(space, Z) for every path point — on another chain than
+/// the CFXZAY its axes θ(q) + Δθ (the table's ChainAxes), the pose always exact there (HeldSlideErrors is the CFXZAY's).
 class CompensatedProcess final : public grinding::GrindingProcess {
 public:
   CompensatedProcess(const grinding::GrindingProcess& inner, const CorrectionTable& table,
