@@ -30,6 +30,8 @@ diagnosis::Diagnosis run_diagnosis(const SceneInput& scene, const MeasuredInput&
   o.candidates = r.candidates;
   o.own_effects = wb.scene.custom_effects;
   o.plan_layout = r.layout;
+  o.chain = wb.scene.machine.chain;
+  o.datum_face_z_mm = wb.scene.machine.datum_face_z_mm;
   o.on_candidate_fitted = r.on_candidate_fitted;
   if (r.scene_uncertainty) {
     o.stroke_repeatability_sd = wb.scene.machine.uncertainty.repeatability;

@@ -6,6 +6,7 @@
 #include "geartopo/core/units.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/grinding/flank_deviation.hpp"
+#include "geartopo/machine/chain_kinematics.hpp"
 #include "geartopo/machine/jacobian.hpp"
 
 #include <algorithm>
@@ -28,8 +29,9 @@ void for_chunks(std::size_t n, int threads, Fn&& per_point) {
 } // namespace
 
 EffectContribution::EffectContribution(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
-                                       int threads)
-    : points_(pts.size()), offset_um_(mean_allowance_offset_um(setup.geometry())) {
+                                       int threads, const machine::KinematicChain* chain, double datum_face_z_mm)
+    : points_(pts.size()), offset_um_(mean_allowance_offset_um(setup.geometry())),
+      chain_(chain != nullptr && !chain->is_setting_chain() ? chain : nullptr), datum_face_z_mm_(datum_face_z_mm) {
   const grinding::IdealProcess ideal; // the contact does not depend on the process
   const grinding::FlankDeviation dev(setup.flanks(), setup.wheel(), setup.path(), ideal);
   for_chunks(pts.size(), threads, [&](std::size_t i) {
@@ -110,6 +112,8 @@ std::vector<double> EffectContribution::batched_radius_mm(const effects::Effect&
 EffectContribution EffectContribution::rows(std::span<const std::size_t> indices) const {
   EffectContribution out;
   out.offset_um_ = offset_um_;
+  out.chain_ = chain_;
+  out.datum_face_z_mm_ = datum_face_z_mm_;
   out.points_.reserve(indices.size());
   for (const std::size_t i : indices) out.points_.push_back(points_.at(i));
   return out;
@@ -118,6 +122,16 @@ EffectContribution EffectContribution::rows(std::span<const std::size_t> indices
 Eigen::MatrixXd EffectContribution::component_sensitivity_um(int threads) const {
   Eigen::MatrixXd out(static_cast<Eigen::Index>(points_.size()), machine::kComponentCount); // n × 43
   for_chunks(points_.size(), threads, [&](std::size_t i) {
+    if (chain_ != nullptr) { // the chain's axes θ(q + z₀), the twist moved back by Tz(−z₀)
+      machine::AxisPose q = points_[i].pp.q;
+      q.z += datum_face_z_mm_;
+      machine::Matrix6E J_twistw_e, J_twistg_e;
+      machine::error_jacobians(*chain_, chain_->axes(q), J_twistw_e, J_twistg_e);
+      for (int k = 0; k < machine::kComponentCount; ++k)
+        J_twistw_e.col(k).head<3>() += Eigen::Vector3d(0.0, 0.0, -datum_face_z_mm_).cross(Eigen::Vector3d(J_twistw_e.col(k).tail<3>()));
+      out.row(static_cast<Eigen::Index>(i)) = units::um_from_mm(1.0) * (points_[i].w.transpose() * J_twistw_e);
+      return;
+    }
     machine::MachineData data;
     machine::error_jacobians(points_[i].pp.q, data);
     out.row(static_cast<Eigen::Index>(i)) = units::um_from_mm(1.0) * (points_[i].w.transpose() * data.J_twistw_e);

@@ -33,18 +33,19 @@ namespace {
 
 /// A hypothesis' columns at the points (n × p): its family's, at the points' contact states.
 Eigen::MatrixXd columns_at(const grinding::GrindingSetup& setup, const Candidate& c, const std::vector<MeasuredPoint>& pts,
-                           int threads) {
-  const EffectContribution at(setup, pts, threads);
-  return c.family->columns(c, ContactStates(setup, at, nullptr, threads));
+                           const DiagnoseOptions& o) {
+  const EffectContribution at(setup, pts, o.threads, o.chain, o.datum_face_z_mm);
+  return c.family->columns(c, ContactStates(setup, at, nullptr, o.threads));
 }
 
 /// The first-order deviation (µm) of a candidate's effects at the points; zero for "no effect" (no effects). A
 /// hypothesis beyond the library by its linear field X β at the points' generating poses: the same columns it was
 /// fitted with (hypothesis_family.hpp).
 std::vector<double> effects_at(const grinding::GrindingSetup& setup, const Candidate& c,
-                               const std::vector<MeasuredPoint>& pts, int threads) {
+                               const std::vector<MeasuredPoint>& pts, const DiagnoseOptions& o) {
+  const int threads = o.threads;
   if (c.family) {
-    const Eigen::VectorXd field = columns_at(setup, c, pts, threads) * c.coefficients;
+    const Eigen::VectorXd field = columns_at(setup, c, pts, o) * c.coefficients;
     return {field.data(), field.data() + field.size()};
   }
   if (c.effects.empty()) return std::vector<double>(pts.size(), 0.0);
@@ -124,8 +125,8 @@ struct Fitted {
 
 /// Its prediction (µm) at new points: effects plus set-up terms (t + σ_i r_b cos β_b ψ).
 std::vector<double> prediction_at(const grinding::GrindingSetup& setup, const Fitted& f,
-                                  const std::vector<MeasuredPoint>& grid, int threads) {
-  auto e = effects_at(setup, *f.candidate, grid, threads);
+                                  const std::vector<MeasuredPoint>& grid, const DiagnoseOptions& o) {
+  auto e = effects_at(setup, *f.candidate, grid, o);
   for (size_t i = 0; i < grid.size(); ++i) e[i] += setup_offset_um(setup.geometry(), grid[i].flank, f.terms);
   return e;
 }
@@ -148,7 +149,7 @@ double expected_gap(const grinding::GrindingSetup& setup, const std::vector<Meas
   if (loser.candidate->family) {
     // Linear in its coefficients: least squares on its columns at measured + new points, set-up terms removed.
     const Eigen::MatrixXd& Xm = loser.columns_measured;
-    const Eigen::MatrixXd Xn = columns_at(setup, *loser.candidate, grid, o.threads); // grid × p
+    const Eigen::MatrixXd Xn = columns_at(setup, *loser.candidate, grid, o); // grid × p
     Eigen::MatrixXd X(Xm.rows() + Xn.rows(), Xm.cols());
     X << Xm, Xn;
     Eigen::MatrixXd Xp(X.rows(), X.cols());
@@ -164,7 +165,7 @@ double expected_gap(const grinding::GrindingSetup& setup, const std::vector<Meas
     for (const auto& e : loser.candidate->effects) types.push_back(e.type), warm[e.type] = e.values;
     DiagnoseOptions quick = o;
     quick.profile_walk_steps = 0; // only the RSS is wanted, not the uncertainties
-    const EffectContribution at_all(setup, all, o.threads); // each point's contact state, once per refit
+    const EffectContribution at_all(setup, all, o.threads, o.chain, o.datum_face_z_mm); // contact states, once per refit
     const Candidate refit = fit_effects(setup, at_all, r, types, warm, terms, quick);
     loser_rss = refit.rms_after_um * refit.rms_after_um * n;
   }
@@ -243,7 +244,7 @@ void score_options(MeasurementPlan& plan, const grinding::GrindingSetup& setup, 
       opt.cols = m * o.plan_cols;
       new_points = grid_points(setup, opt.teeth, opt.rows, opt.cols);
     }
-    const auto a_new = prediction_at(setup, fa, new_points, o.threads), b_new = prediction_at(setup, fb, new_points, o.threads);
+    const auto a_new = prediction_at(setup, fa, new_points, o), b_new = prediction_at(setup, fb, new_points, o);
     double chi2 = 0.0;
     for (size_t i = 0; i < new_points.size(); ++i) chi2 += (a_new[i] - b_new[i]) * (a_new[i] - b_new[i]) / s2;
     opt.separation_before_refit_sigma = std::sqrt(chi2);
@@ -297,11 +298,11 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
     Fitted f;
     f.candidate = &c;
     if (c.family) {
-      f.columns_measured = columns_at(setup, c, pts, o.threads);
+      f.columns_measured = columns_at(setup, c, pts, o);
       const Eigen::VectorXd e = f.columns_measured * c.coefficients;
       f.effects_measured.assign(e.data(), e.data() + e.size());
     } else {
-      f.effects_measured = effects_at(setup, c, pts, o.threads);
+      f.effects_measured = effects_at(setup, c, pts, o);
     }
     f.terms = setup_terms_of(model, residual, f.effects_measured);
     Eigen::VectorXd r(static_cast<Eigen::Index>(pts.size()));
@@ -314,7 +315,7 @@ MeasurementPlan plan_measurement(const grinding::GrindingSetup& setup, const std
   // The grid of every unmeasured tooth, both flanks.
   const auto grid = grid_points(setup, unmeasured, o.plan_rows, o.plan_cols);
 
-  const auto pa = prediction_at(setup, fa, grid, o.threads), pb = prediction_at(setup, fb, grid, o.threads);
+  const auto pa = prediction_at(setup, fa, grid, o), pb = prediction_at(setup, fb, grid, o);
   separate_on_teeth(plan, grid, pa, pb, noise_um, o);
   score_options(plan, setup, pts, residual, fa, fb, noise_um, o);
   return plan;

@@ -1,13 +1,17 @@
 // geartopo — changed error components as a pose error of the wheel (component_changes.hpp). Units: mm, rad.
 #include "geartopo/effects/component_changes.hpp"
 
+#include "geartopo/machine/chain_kinematics.hpp"
 #include "geartopo/machine/first_order.hpp"
 
 #include <Eigen/Geometry>
 
 namespace geartopo::effects {
 
-ComponentChanges::ComponentChanges(std::vector<machine::ComponentChange> changes) : changes_(std::move(changes)) {
+ComponentChanges::ComponentChanges(std::vector<machine::ComponentChange> changes, const machine::KinematicChain* chain,
+                                   double datum_face_z_mm)
+    : changes_(std::move(changes)), chain_(chain != nullptr && !chain->is_setting_chain() ? chain : nullptr),
+      datum_face_z_mm_(datum_face_z_mm) {
   init_defaults();
   // The first-order twist J_twistw_e(q)·δe depends on q through the ideal frames (the C angle turns w): constant only
   // when nothing changes.
@@ -33,7 +37,14 @@ machine::Pose ComponentChanges::table_in_gear(const grinding::PathPoint& pp) con
   machine::ErrorVector delta = machine::ErrorVector::Zero();
   for (const auto& c : changes_) delta(machine::index(c.component)) += c.at(pp.time_s, pp.q.c);
   if (delta.isZero(0.0)) return machine::Pose::Identity();
-  return pose_of_error_twist(machine::twist_w_linear(delta, pp.q));
+  if (chain_ == nullptr) return pose_of_error_twist(machine::twist_w_linear(delta, pp.q));
+  machine::AxisPose q = pp.q;
+  q.z += datum_face_z_mm_;
+  machine::Matrix6E J_twistw_e, J_twistg_e;
+  machine::error_jacobians(*chain_, chain_->axes(q), J_twistw_e, J_twistg_e);
+  machine::Vector6d xi = J_twistw_e * delta;
+  xi.head<3>() += Eigen::Vector3d(0.0, 0.0, -datum_face_z_mm_).cross(Eigen::Vector3d(xi.tail<3>())); // Tz(−z₀)
+  return pose_of_error_twist(xi);
 }
 
 } // namespace geartopo::effects

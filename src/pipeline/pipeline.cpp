@@ -74,9 +74,12 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
     d.noise_um = m.before.noise_um;
     d.on_candidate_fitted = o.progress;
     d.own_effects = wb.scene.custom_effects;
+    d.chain = wb.scene.machine.chain;
+    d.datum_face_z_mm = wb.scene.machine.datum_face_z_mm;
     m.diagnosis = diagnosis::diagnose(wb.setup, wb.diagnosis_model(), m.points, wb.effect_types(), d);
     if (m.diagnosis.chosen) {
-      const auto effs = workbench::make_effects(m.diagnosis.chosen->effects, m.diagnosis.chosen->changes, wb.setup);
+      const auto effs = workbench::make_effects(m.diagnosis.chosen->effects, m.diagnosis.chosen->changes, wb.setup,
+                                                wb.scene.machine.chain, wb.scene.machine.datum_face_z_mm);
       const effects::EffectsProcess with(wb.diagnosis_model(), effs);
       m.after = diagnosis::compare(wb.setup, with, m.points, m.before.noise_um, read);
     }

@@ -197,7 +197,7 @@ std::vector<std::unique_ptr<effects::Effect>> SampleModel::drawn_effects(const S
     auto& value = specs[v.effect].values[v.value];
     value = std::clamp(value + v.u * z, v.lo, v.hi);
   }
-  return workbench::make_effects(specs, changes, wb_.setup);
+  return workbench::make_effects(specs, changes, wb_.setup, wb_.scene.machine.chain, wb_.scene.machine.datum_face_z_mm);
 }
 
 SampleGears SampleModel::exact(const SampleDraw& d) const {

@@ -128,14 +128,10 @@ std::unique_ptr<const grinding::GrindingProcess> make_machine_process(const mach
 Workbench::Workbench(scene::Scene s)
     : scene(std::move(s)), setup(setup_with_a_wheel_that_fits(scene, notes)), machine(scene.machine.model()),
       machine_process_owner(make_machine_process(*scene.machine.chain, machine, scene.machine.datum_face_z_mm)),
-      machine_process(*machine_process_owner), effects(make_effects(scene.effects, scene.machine_changes, setup)) {
+      machine_process(*machine_process_owner), effects(make_effects(scene.effects, scene.machine_changes, setup, scene.machine.chain,
+                                                              scene.machine.datum_face_z_mm)) {
   if (scene.machine.chain->is_setting_chain()) check_strokes(scene, setup);
   check_chain(scene, setup, machine_process);
-  // effects::ComponentChanges moves the wheel by the CFXZAY's first-order twist: refused rather than silently wrong.
-  if (!scene.machine_changes.empty() && !scene.machine.chain->is_setting_chain())
-    scene.fail_at("machine_changes", fmt::format("machine changes act through the CFXZAY's error Jacobian only, for now "
-                                                 "(issue 42): not on the {} chain",
-                                                 scene.machine.chain->name()));
   if (!effects.empty()) effects_process = std::make_unique<effects::EffectsProcess>(machine_process, effects);
   if (setup.design().modifications().has_helix()) {
     design_motion = std::make_unique<compensation::CorrectionTable>(compensation::design_motions(
@@ -158,7 +154,7 @@ void Workbench::build_diagnosis_model() {
   for (const auto& e : scene.effects)
     if (std::find(scene.custom_effects.begin(), scene.custom_effects.end(), e.type) == scene.custom_effects.end())
       known.push_back(e);
-  known_effects_ = make_effects(known, scene.machine_changes, setup);
+  known_effects_ = make_effects(known, scene.machine_changes, setup, scene.machine.chain, scene.machine.datum_face_z_mm);
   const grinding::GrindingProcess* base = &machine_process;
   if (!known_effects_.empty()) {
     known_effects_process_ = std::make_unique<effects::EffectsProcess>(machine_process, known_effects_);
@@ -213,7 +209,7 @@ std::vector<std::string> Workbench::effect_types() const {
     if (std::find(scene.custom_effects.begin(), scene.custom_effects.end(), e.type) == scene.custom_effects.end())
       out.push_back(e.type);
   for (const auto& c : scene.machine_changes)
-    out.push_back(std::string(machine::info(c.component).name) + " " + c.law_name());
+    out.push_back(fmt::format("{} {}", scene.machine.chain->info(c.component).name, c.law_name()));
   return out;
 }
 
@@ -238,10 +234,11 @@ std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<sce
 
 std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<scene::EffectSpec>& specs,
                                                            const std::vector<machine::ComponentChange>& changes,
-                                                           const grinding::GrindingSetup& setup) {
+                                                           const grinding::GrindingSetup& setup,
+                                                           const machine::KinematicChain* chain, double datum_face_z_mm) {
   auto out = make_effects(specs, setup);
   if (!changes.empty()) {
-    out.push_back(std::make_unique<effects::ComponentChanges>(changes));
+    out.push_back(std::make_unique<effects::ComponentChanges>(changes, chain, datum_face_z_mm));
     out.back()->bind(setup);
   }
   return out;

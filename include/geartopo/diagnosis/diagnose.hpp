@@ -200,6 +200,10 @@ struct DiagnoseOptions {
   /// by variable projection inside the fit; false: every parameter in the nonlinear fit (the comparison's baseline).
   bool project_linear = true;
   int threads = 0;                  ///< threads of the predictions; 0: all hardware threads
+  /// The scene's kinematic chain (null: the CFXZAY) and where the gear's datum face sits along its z (mm): the
+  /// machine-element hypotheses follow its error components (EffectContribution::component_sensitivity_um).
+  const machine::KinematicChain* chain = nullptr;
+  double datum_face_z_mm = 0.0;
   /// Called after each candidate explanation is fitted (single effects, then pairs) with (candidates fitted, candidates
   /// known so far): the total grows by the pairs once the single effects are ranked. From the calling thread; for
   /// progress display only, the diagnosis does not depend on it.

@@ -10,6 +10,7 @@
 #include "geartopo/effects/effect.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
 #include "geartopo/grinding/wheel_path.hpp"
+#include "geartopo/machine/kinematic_chain.hpp"
 
 #include <Eigen/Core>
 
@@ -23,8 +24,10 @@ using measurement::MeasuredPoint; ///< what diagnosis works on: measured points,
 
 class EffectContribution {
 public:
-  /// The set-up must outlive this object; `points` are copied into per-point state (no reference kept).
-  EffectContribution(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& points, int threads = 0);
+  /// The set-up must outlive this object; `points` are copied into per-point state (no reference kept). `chain`: the
+  /// scene's kinematic chain, with the gear's datum face at its z = datum_face_z_mm (null: the CFXZAY).
+  EffectContribution(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& points, int threads = 0,
+                     const machine::KinematicChain* chain = nullptr, double datum_face_z_mm = 0.0);
 
   /// The effects' first-order deviation at every point (n, µm) over the ideal machine, referred to the nominal flank
   /// at the mean allowance: the same quantity as
@@ -46,8 +49,9 @@ public:
 
   /// The first-order deviation at every point per unit change of each of the chain's 43 error components, at the
   /// point's generating pose (n × 43; µm per mm for lengths, per rad for angles): wᵀ J_twistw_e(q)
-  /// (machine/first_order.hpp) — what a constant change δe_k adds is column k · δe_k. Results do not depend on
-  /// `threads`.
+  /// (machine/first_order.hpp; on another chain than the CFXZAY its own error Jacobian at its axes θ(q), moved to the
+  /// datum as ChainProcess::error_twist_w does) — what a constant change δe_k adds is column k · δe_k. Results do not
+  /// depend on `threads`.
   Eigen::MatrixXd component_sensitivity_um(int threads = 0) const;
   /// The generating path point of point i (its space, stroke position, time and commanded axes).
   const grinding::PathPoint& path_point(std::size_t i) const { return points_[i].pp; }
@@ -71,6 +75,8 @@ private:
 
   std::vector<PointState> points_;
   double offset_um_ = 0.0; ///< mean_allowance_offset_um of the gear
+  const machine::KinematicChain* chain_ = nullptr; ///< null or the CFXZAY: the closed form of machine/first_order.hpp
+  double datum_face_z_mm_ = 0.0;
 };
 
 } // namespace geartopo::diagnosis

@@ -5,11 +5,14 @@
 // lists and diagnosis identifies among the chain's 43 components (docs/diagnosis.md, "Beyond the library"). It acts
 // through the simulator like an effect: the changed components' first-order pose error ξ_w = J_twistw_e(q)·δe(t)
 // (machine/first_order.hpp), evaluated at the commanded pose and the path point's time, multiplies the wheel pose
-// from the left (EffectsProcess: table_in_gear · wMg). Units: mm, rad inside.
+// from the left (EffectsProcess: table_in_gear · wMg). On another chain than the CFXZAY its own J_twistw_e at its axes
+// θ(q) (machine/chain_kinematics.hpp), moved to the datum as grinding::ChainProcess::error_twist_w does.
+// Units: mm, rad inside.
 #pragma once
 
 #include "geartopo/effects/effect.hpp"
 #include "geartopo/machine/component_change.hpp"
+#include "geartopo/machine/kinematic_chain.hpp"
 
 #include <vector>
 
@@ -17,7 +20,9 @@ namespace geartopo::effects {
 
 class ComponentChanges final : public Effect {
 public:
-  explicit ComponentChanges(std::vector<machine::ComponentChange> changes);
+  /// `chain`: the scene's (null: the CFXZAY), the gear's datum face at its z = datum_face_z_mm.
+  explicit ComponentChanges(std::vector<machine::ComponentChange> changes, const machine::KinematicChain* chain = nullptr,
+                            double datum_face_z_mm = 0.0);
   std::string_view type() const override { return "machine_changes"; }
   std::string_view explanation() const override {
     return "error components of the machine changed since its map was measured";
@@ -32,6 +37,8 @@ public:
 
 private:
   std::vector<machine::ComponentChange> changes_;
+  const machine::KinematicChain* chain_ = nullptr; ///< null or the CFXZAY: machine::twist_w_linear
+  double datum_face_z_mm_ = 0.0;
   bool constant_ = false; ///< every change zero: J_twistw_e(q)·δe depends on q (the C angle turns w) otherwise
 };
 

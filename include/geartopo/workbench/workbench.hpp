@@ -112,9 +112,12 @@ inline constexpr double kWheelDiametersToTryMm[] = {350, 300, 250, 200, 160, 125
 std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<scene::EffectSpec>& specs,
                                                            const grinding::GrindingSetup& setup);
 /// The same followed by the changed error components (effects::ComponentChanges) when there are any: what a scene's
-/// `effects` and `machine_changes` do to the grinding process together.
+/// `effects` and `machine_changes` do to the grinding process together; the changes act through `chain`'s error
+/// Jacobian (null: the CFXZAY), the gear's datum face at its z = datum_face_z_mm.
 std::vector<std::unique_ptr<effects::Effect>> make_effects(const std::vector<scene::EffectSpec>& specs,
                                                            const std::vector<machine::ComponentChange>& changes,
-                                                           const grinding::GrindingSetup& setup);
+                                                           const grinding::GrindingSetup& setup,
+                                                           const machine::KinematicChain* chain = nullptr,
+                                                           double datum_face_z_mm = 0.0);
 
 } // namespace geartopo::workbench

@@ -135,7 +135,7 @@ Context::Context(const grinding::GrindingSetup& setup_, const grinding::Grinding
       setup_terms(setup_term_model(setup_, model_, points_, noise_um, options_)),
       // What every fit evaluates thousands of times: the effects' first-order deviation at these points, whose
       // parameter-independent part (pose, contact, axis Jacobian) is computed here once for all candidates.
-      at_points(setup_, points_, options_.threads), surfaces(flank_surfaces(points_)) {
+      at_points(setup_, points_, options_.threads, options_.chain, options_.datum_face_z_mm), surfaces(flank_surfaces(points_)) {
   rms_before_setup_um = std::sqrt(setup_terms.remove_shown(before).squaredNorm() / n);
   subsample = fit_subsample(*this);
   first_time_s = 1e300, last_time_s = -1e300;

@@ -72,7 +72,8 @@ Remainder remainder_with(const Context& ctx, const Candidate* c) {
   Remainder rem;
   rem.raw = ctx.before;
   if (c) {
-    const auto effs = workbench::make_effects(c->effects, c->changes, ctx.setup);
+    const auto effs =
+        workbench::make_effects(c->effects, c->changes, ctx.setup, ctx.options.chain, ctx.options.datum_face_z_mm);
     const effects::EffectsProcess with(ctx.model, effs);
     const auto after = predict(ctx.setup, with, ctx.points, grinding::Method::Exact, o.threads);
     for (size_t i = 0; i < ctx.points.size(); ++i)
