@@ -429,25 +429,29 @@ std::optional<Figure> runout_figure(const workbench::IsoResult& iso, int shown_c
 Figure machine_figure(const workbench::Workbench& wb, const fs::path& dir) {
   render::Composite comp;
   comp.font_px = kCompositeFontPx;
-  comp.title = "Geometric error components against axis position (representative unless the scene says measured)";
+  const machine::KinematicChain& chain = *wb.scene.machine.chain; // its own axis letters and component symbols
+  // (as long as the title without the chain's name was: a longer one runs off the composite's edges)
+  comp.title = fmt::format("{} chain: geometric error components against axis position (representative unless measured)",
+                           chain.name());
   comp.columns = 2;
   const auto& st = wb.machine.strokes();
   const std::pair<double, double> spans[] = {{st.x_mm.min, st.x_mm.max}, {st.y_mm.min, st.y_mm.max}, {st.z_mm.min, st.z_mm.max},
                                              {st.a_deg.min, st.a_deg.max}, {0.0, 360.0}};
   for (int ax = 0; ax < machine::kAxisCount; ++ax) {
     const auto axis = machine::kAxes[static_cast<size_t>(ax)];
-    const bool rotary = machine::is_rotary(axis);
+    const bool rotary = chain.is_rotary(axis);
+    const std::string name(chain.axis_name(axis));
     for (int kind = 0; kind < 2; ++kind) { // 0: δ (µm), 1: ε (µrad)
       render::LineChart c;
       c.size = {800, 420};
       c.font_px = 17;
-      c.title = fmt::format("{} axis: {} errors", machine::axis_name(axis), kind == 0 ? "linear" : "angular");
-      c.x = {fmt::format("{} position", machine::axis_name(axis)), rotary ? "°" : "mm", {}, {}};
+      c.title = fmt::format("{} axis: {} errors", name, kind == 0 ? "linear" : "angular");
+      c.x = {fmt::format("{} position", name), rotary ? "°" : "mm", {}, {}};
       c.y = {kind == 0 ? "δ" : "ε", kind == 0 ? "µm" : "µrad", {}, {}};
       for (int k = 0; k < 3; ++k) {
         const auto id = machine::motion_component(axis, 3 * kind + k);
         render::Series s;
-        s.name = std::string(machine::info(id).symbol);
+        s.name = std::string(chain.info(id).symbol);
         for (int i = 0; i <= 100; ++i) {
           const double pos = spans[ax].first + (spans[ax].second - spans[ax].first) * i / 100.0;
           s.x.push_back(pos);
@@ -456,7 +460,7 @@ Figure machine_figure(const workbench::Workbench& wb, const fs::path& dir) {
         c.series.push_back(s);
       }
       c.legend = render::LegendPlace::above; // inside, the legend covered the curves' ends
-      const auto panel = dir / "panels" / fmt::format("machine_{}_{}.png", machine::axis_name(axis), kind == 0 ? "linear" : "angular");
+      const auto panel = dir / "panels" / fmt::format("machine_{}_{}.png", name, kind == 0 ? "linear" : "angular");
       render::render_line_chart(c, panel);
       comp.panels.push_back({panel, ""});
     }

@@ -28,6 +28,16 @@ namespace {
 
 using geartopo::Flank;
 
+/// The chain's axes by side: "C, A carrying the gear; X, Z, Y the wheel".
+std::string axes_of(const machine::KinematicChain& chain) {
+  const auto names = [](const std::vector<machine::AxisSpec>& side) {
+    std::string s;
+    for (const auto& a : side) s += s.empty() ? a.name : fmt::format(", {}", a.name);
+    return s;
+  };
+  return fmt::format("{} carrying the gear; {} the wheel", names(chain.spec().workpiece), names(chain.spec().tool));
+}
+
 std::string esc(const std::string& s) {
   std::string o;
   for (char c : s) {
@@ -483,15 +493,18 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
   h += tolerance_table(r.iso_before.parameters, shown_class);
   h += figures_of(figs, "pitch") + figures_of(figs, "runout");
 
-  h += "<h2>Machine</h2><p>" + esc(wb.scene.machine.name.empty() ? "machine without a name" : wb.scene.machine.name) + ".</p>\n";
+  h += "<h2>Machine</h2><p>" + esc(wb.scene.machine.name.empty() ? "machine without a name" : wb.scene.machine.name) +
+       esc(fmt::format(", kinematic chain {} (axes {})", wb.scene.machine.chain->layout(), axes_of(*wb.scene.machine.chain))) +
+       ".</p>\n";
   h += figures_of(figs, "machine");
   h += "<h2>Compensation (flank method)</h2>\n";
   if (r.corrections) {
     const auto m = r.corrections->max_abs();
-    h += fmt::format("<p>{} path samples; largest corrections X {:.2f} µm, Y {:.2f} µm, Z {:.2f} µm, A {:.2f} µrad, C {:.2f} µrad; "
+    const auto ax = [&](int i) { return r.corrections->axes().axis_name(i); }; // the chain's own axes
+    h += fmt::format("<p>{} path samples; largest corrections {} {:.2f} µm, {} {:.2f} µm, {} {:.2f} µm, {} {:.2f} µrad, {} {:.2f} µrad; "
                      "{} samples outside the strokes. The correction table is corrections.csv.</p>\n",
-                     r.corrections->rows().size(), units::um_from_mm(m(0)), units::um_from_mm(m(1)), units::um_from_mm(m(2)), units::urad_from_rad(m(3)), units::urad_from_rad(m(4)),
-                     r.corrections->rows_outside_strokes());
+                     r.corrections->rows().size(), ax(0), units::um_from_mm(m(0)), ax(1), units::um_from_mm(m(1)), ax(2), units::um_from_mm(m(2)), ax(3), units::urad_from_rad(m(3)), ax(4),
+                     units::urad_from_rad(m(4)), r.corrections->rows_outside_strokes());
   }
   h += fmt::format("<p class=note>The {}: largest |deviation| {:.2f} µm, overall class {} — ≈ 0 by construction, a check "
                    "of the corrections against the model, not a result; the result is the prediction{}.</p>\n",

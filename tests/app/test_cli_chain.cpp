@@ -189,3 +189,18 @@ TEST(CliChain, DiagnoseNamesAHiddenATableZeroErrorOfTheCafxzy) {
   EXPECT_LT(chosen["rms_after_um"].get<double>(), 1.3 * 0.3) << chosen.dump(1);
   std::filesystem::remove_all(dir);
 }
+
+// `report` on the CAFXZY scene runs end to end and names the chain and its own axes: the machine section says the
+// layout and which axes carry the gear and which the wheel, the error figure is the chain's (its axes' panels).
+TEST(CliChain, ReportOnTheCafxzySceneNamesItsChainAndAxes) {
+  const auto dir = fresh_dir("geartopo_cli_chain_report");
+  const auto r = geartopo::test::run_geartopo("report " + kCafxzy + " --out " + (dir / "r").string() + " --quiet", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream in(dir / "r" / "index.html");
+  const std::string html((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(html.find("kinematic chain CAFXZY (axes C, A carrying the gear; X, Z, Y the wheel)"), std::string::npos);
+  EXPECT_NE(html.find("CAFXZY chain: geometric error components"), std::string::npos);
+  for (const char* panel : {"machine_A_linear.png", "machine_C_angular.png", "machine_Y_linear.png"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "r" / "panels" / panel)) << panel;
+  std::filesystem::remove_all(dir);
+}
