@@ -122,7 +122,8 @@ void bind_compensate(py::module_& m) {
         {
           const LibraryWork work; // Ctrl-C caught, the GIL released
           before = grinding::simulate_topology(wb.setup, wb.process(), so);
-          table = compensation::compute_corrections(wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm}, co);
+          table = compensation::compute_corrections(
+              wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm, wb.scene.machine.chain}, co);
           const compensation::CompensatedProcess corrected(wb.process(), *table);
           after = grinding::simulate_topology(wb.setup, corrected, so);
           if (samples > 0) prediction = pipeline::summarise(pipeline::run_monte_carlo(wb, *table, mc));

@@ -26,3 +26,26 @@ def test_a_cafxzy_scene_evaluates_as_the_cli_does(tmp_path):
         cli = json.load(f)["before"]
     assert len(cli["flanks"]) == 70
     assert geartopo.evaluate(scene, method="linear") == cli
+
+
+def test_a_cafxzy_scene_is_compensated_in_its_own_axes_as_the_cli_does(tmp_path):
+    # A constant A-table zero error of 100 µrad alone: undone by the A axis alone, ΔA = −100 µrad at every row (the
+    # table turns to A + E_AOA wherever it is commanded), X, Y, Z, C untouched — the chain's own axes, as the CLI's
+    # corrections.csv (tests/app: CliChain.CompensateCorrectsConstantErrorsOfTheCafxzyInItsOwnAxes).
+    text = CAFXZY.read_text()
+    start, end = text.index("  constants:"), text.index("\nwheel:")
+    scene_file = tmp_path / "s.yaml"
+    scene_file.write_text(text[:start] + "  constants: {E_AOA_urad: 100}\n" + text[end:])
+    r = geartopo.compensate(geartopo.load_scene(scene_file), step_mm=10, samples=0)
+    c = r["corrections"]
+    assert len(c["space"]) > 70
+    assert np.allclose(c["dA_urad"], -100.0, atol=0.01)
+    for key in ("dX_um", "dY_um", "dZ_um", "dC_urad"):
+        assert np.abs(c[key]).max() < 0.01, key
+    assert np.allclose(np.abs(c["A_deg"]), 30.0, atol=1e-6)  # the chain's A: the cross angle, the gear's helix angle
+    assert all(c["within_strokes"])
+    run_cli("compensate", scene_file, "--out", tmp_path / "cli", "--step", "10", "--samples", "0")
+    lines = (tmp_path / "cli" / "corrections.csv").read_text().splitlines()
+    assert lines[0] == ("space,z_stroke_mm,time_s,X_mm,Y_mm,Z_mm,A_deg,C_deg,dX_um,dY_um,dZ_um,dA_urad,dC_urad,"
+                        "within_strokes")
+    assert len(lines) - 1 == len(c["space"])
