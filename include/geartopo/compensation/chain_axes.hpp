@@ -29,7 +29,8 @@ struct ChainAxes {
   machine::Matrix65 J_twistg(const machine::AxisPose& q) const;
   /// Spatial twist (in the gear's w, datum face at z = 0) per unit of each axis at q.  6×5
   machine::Matrix65 J_twistw(const machine::AxisPose& q) const;
-  /// True when θ(q) + Δθ lies within the chain's strokes (on the setting's axes: never called, see StrokeCheck).
+  /// True when θ lies within the chain's strokes; always without a chain (compute_corrections checks the CFXZAY's
+  /// commands against the machine model's strokes instead, as before).
   bool within_strokes(const machine::Vector5d& theta) const;
   /// The axis' name in pose slot `slot` ("X", "A"; the CFXZAY's letters without a chain).
   std::string axis_name(int slot) const;
