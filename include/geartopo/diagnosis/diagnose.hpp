@@ -366,8 +366,8 @@ struct Diagnosis {
   /// numbers. None: what is left is noise.
   std::optional<Decision> remainder_excess;
   /// Why the families beyond the library were tried although the library had an explanation: one of its values is no
-  /// measurement (at_end_of_range, not_determined) or its parts cancel (parts_cancel). None when they were tried
-  /// because nothing was explained, or not tried.
+  /// measurement (at_end_of_range, not_determined), its parts cancel (parts_cancel) or a library rival lies within the
+  /// threshold (ambiguous). None when they were tried because the library named nothing, or not tried.
   std::optional<Decision> beyond_trigger;
   /// The best machine element when it is no explanation either (what it leaves is more than noise): with its rejection.
   std::optional<Candidate> nearest_element;
@@ -384,8 +384,8 @@ struct Diagnosis {
   /// its own whitened form.
   double chi2_after = 0.0, chi2_dof = 0.0;
   std::string verdict;                  ///< one paragraph for people, composed from the records above
-  /// Beyond the library, tried when nothing in it explains the residual (`unexplained`) or its explanation holds a
-  /// value that is no measurement (`beyond_trigger`): every family's hypotheses (hypothesis_family.hpp) — the chain's
+  /// Beyond the library, tried when it names nothing (what is left noise or `unexplained`) or its explanation is no
+  /// finding (`beyond_trigger`): every family's hypotheses (hypothesis_family.hpp) — the chain's
   /// error components changed by a constant, linearly in time, towards a steady state or (C axis) periodically in the
   /// table's turn, each wheel flank's profile and waviness, the wheel profile's wear — best ΔBIC first, rejected ones
   /// after. Empty when not tried.
