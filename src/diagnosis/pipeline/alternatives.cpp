@@ -47,17 +47,27 @@ double share_in_span(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
 
 /// Hypothesis k's equivalence class among hypotheses k+1 … end−1: its own aliases (a periodic order's the measured
 /// teeth cannot tell from it), and the hypotheses as plausible as it (both rejected or neither) within the threshold
-/// whose fields are alike both ways (set-up terms removed).
+/// whose fields are alike both ways (set-up terms removed): their columns span each other, or each one's field at its
+/// fitted values lies in the other's columns — what the data see of a hypothesis with more parameters than its field
+/// needs (a wheel profile wearing in slope and crowning per stroke at the ratio an A-axis drift's one rate makes).
 std::vector<std::string> equivalence_class(const Context& ctx, const BeyondLibrary& b, std::size_t k, std::size_t end) {
   const auto& hyps = b.hypotheses;
   const Candidate& best = hyps[k];
   std::vector<std::string> names = best.equivalent;
+  const auto judged_field = [&](const Candidate& h) { // n × 1
+    return b.states->judged(Eigen::MatrixXd(hypothesis_field(h, *b.states)));
+  };
   const Eigen::MatrixXd best_columns = b.states->judged(best.family->columns(best, *b.states));
+  std::optional<Eigen::MatrixXd> best_field;
   for (size_t a = k + 1; a < end; ++a) {
     const Candidate& c = hyps[a];
     if (c.is_rejected() != best.is_rejected() || c.delta_bic >= best.delta_bic + ctx.options.bic_threshold) continue;
     const Eigen::MatrixXd other = b.states->judged(c.family->columns(c, *b.states));
-    const double alike = std::min(share_in_span(other, best_columns), share_in_span(best_columns, other));
+    double alike = std::min(share_in_span(other, best_columns), share_in_span(best_columns, other));
+    if (alike < ctx.options.alike_share && (other.cols() > 1 || best_columns.cols() > 1)) {
+      if (!best_field) best_field = judged_field(best);
+      alike = std::min(share_in_span(judged_field(c), best_columns), share_in_span(*best_field, other));
+    }
     if (alike >= ctx.options.alike_share) names.push_back(c.name());
   }
   return names;
