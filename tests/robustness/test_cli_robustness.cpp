@@ -369,7 +369,8 @@ TEST(Cli, MergeRefusesAShardThatCompensateCouldNotHaveWritten) {
            {"value_1e300.csv", "value_1e300.csv:14:"},
            {"negative_total_deviation.csv", "negative_total_deviation.csv:15:"},
            {"class_99.csv", "class_99.csv:14:"},
-           {"seed_differs.csv", "seed_differs.csv): 4 samples, seed 8"}}) {
+           // another run's shard: named at its first differing setting, beside the reference's
+           {"seed_differs.csv", "seed_differs.csv:3: seed: 8 (" + ref + ":3: 7): not the same run"}}) {
     const auto r = run("merge " + ref + " " + corpus("shards/" + file) + " --out " + out.string());
     EXPECT_EQ(r.code, 1) << file << ": " << r.err;
     EXPECT_NE(r.err.find(where), std::string::npos) << r.err;

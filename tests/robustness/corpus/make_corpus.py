@@ -319,19 +319,20 @@ write(M, "unknown_quantity.csv", shard([row(2), row(3)], names=["F_gamma_um"] + 
       ("InputError", 13, "'F_gamma_um' is not a quantity geartopo writes"))
 write(M, "quantity_twice.csv", shard([row(2), row(3)], names=NAMES[:4] + ["F_alpha_um"]), ("InputError", 13, "'F_alpha_um' is listed twice"))
 write(M, "fingerprint_malformed.csv", shard([row(2), row(3)], fingerprint="not-hex"), ("InputError", 12, "16 hex digits"))
-# Refused by merge: each file alone is a valid shard, but not of the reference's run.
-write(M, "seed_differs.csv", shard([row(2), row(3)], seed="8"), ("invalid_argument", 0, "seed 8"))
-write(M, "samples_total_differs.csv", shard([row(2), row(3)], total=5), ("invalid_argument", 0, "5 samples"))
+# Refused by merge: each file alone is a valid shard, but not of the reference's run; named at its first differing
+# setting (file:line: field; a missing one at the header, before which it would stand).
+write(M, "seed_differs.csv", shard([row(2), row(3)], seed="8"), ("InputError", 3, "seed: 8 ("))
+write(M, "samples_total_differs.csv", shard([row(2), row(3)], total=5), ("InputError", 2, "samples_total: 5 ("))
 write(M, "fingerprint_differs.csv", shard([row(2), row(3)], fingerprint="fedcba9876543210"),
-      ("invalid_argument", 0, "scene fingerprint fedcba9876543210"))
-write(M, "fingerprint_missing.csv", shard([row(2), row(3)], fingerprint=None), ("invalid_argument", 0, "scene fingerprint not recorded"))
+      ("InputError", 12, "scene_fingerprint: fedcba9876543210 ("))
+write(M, "fingerprint_missing.csv", shard([row(2), row(3)], fingerprint=None), ("InputError", 12, "scene_fingerprint: not recorded ("))
 write(M, "names_differ.csv", shard([row(2, before="12.5,7,7,20.1", after="3.25,4,5,6.5"), row(3, before="12.5,7,7,20.1", after="3.25,4,5,6.5")],
-                                   names=NAMES[:4]), ("invalid_argument", 0, "other quantities"))
+                                   names=NAMES[:4]), ("InputError", 13, "header: F_alpha_um,F_alpha_class,overall_class,largest_abs_um ("))
 write(M, "sample_in_both.csv", shard([row(1), row(2), row(3)]), ("invalid_argument", 0, "sample 1 is in two parts: part 1 ("))
 # Issue 31: a shard of another gear (the reference records none, as shards written before the gear was recorded).
 write(M, "gear_differs.csv", shard([row(2), row(3)], extra="# gear: teeth=36 normal_module_mm=14 normal_pressure_angle_deg=20 "
                                    "helix_angle_deg=30 profile_shift=0.274 face_width_mm=150\n"),
-      ("invalid_argument", 0, "gear teeth=36 normal_module_mm=14"))
+      ("InputError", 13, "gear: teeth=36 normal_module_mm=14"))
 write(M, "gear_malformed.csv", shard([row(2), row(3)], extra="# gear: 36\n"), ("InputError", 13, "'36' is not a gear record geartopo writes"))
 
 # ---------------------------------------------------------------------------------------------------- Klingelnberg exports
