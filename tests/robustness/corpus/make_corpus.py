@@ -123,12 +123,13 @@ write(S, "table_binary.yaml", GEAR + "machine:\n  tables: [../error_tables/binar
 write(S, "table_short_stroke.yaml", GEAR + "machine:\n  tables: [../error_tables/x_short.csv]\n", ("InputError", -1, "x_short.csv"))
 write(S, "grid_rows_1.yaml", GEAR + "measurement:\n  rows: 1\n", ("InputError", 9, "measurement.rows"))
 write(S, "grid_huge_1e10.yaml", GEAR + "measurement:\n  dense_rows: 100000\n  dense_cols: 100000\n", ("InputError", 9, "measurement.dense_rows"))
-# 10000 × 10000 = 1e8 points per flank (7e9 for 70 flanks, ~336 GB of GridPoint): each size is in range, the product
-# is not (grinding::kMaxPointsPerFlank = 4e6). Accepted until 2026-11-21.
+# 10000 × 10000 = 1e8 points per flank (7e9 for 70 flanks, ~336 GB of GridPoint). Accepted until 2026-11-21; then
+# refused by the product (grinding::kMaxPointsPerFlank = 4e6); since dense_rows/dense_cols have --dense's bound of
+# 1000 (limits::kMaxGridLines) each size alone is refused first, and the product cannot pass 2e6.
 write(S, "grid_dense_1e8_per_flank.yaml", GEAR + "measurement:\n  dense_rows: 10000\n  dense_cols: 10000\n",
-      ("InputError", 9, "points per flank"), "the reader must bound dense_rows x dense_cols, not each alone")
+      ("InputError", 9, "dense_rows: 10000 is outside [2, 1000]"), "the reader must bound dense_rows x dense_cols")
 write(S, "grid_dense_just_over_4e6.yaml", GEAR + "measurement:\n  rows: 1000\n  cols: 1000\n  dense_rows: 2000\n  dense_cols: 1501\n",
-      ("InputError", -1, "points per flank"))
+      ("InputError", -1, "dense_rows: 2000 is outside [2, 1000]"))
 write(S, "grid_dense_one_side.yaml", GEAR + "measurement:\n  dense_rows: 50\n", ("InputError", -1, "dense_cols"))
 write(S, "grid_tooth_36.yaml", GEAR + "measurement:\n  teeth: [1, 36]\n", ("InputError", 9, "measurement.teeth"))
 write(S, "process_first_space_36.yaml", GEAR + "process:\n  first_space: 36\n", ("InputError", -1, "first_space"))
