@@ -15,7 +15,7 @@ void BM_Compensation(benchmark::State& state) {
   const auto& b = bench::default_scene();
   compensation::CompensationOptions o;
   o.method = state.range(0) == 0 ? compensation::Method::Flank : compensation::Method::Paper;
-  const compensation::StrokeCheck strokes{b.machine, b.machine_process.datum_face_z_mm()};
+  const compensation::StrokeCheck strokes{b.machine, b.scene.machine.datum_face_z_mm};
   size_t rows = 0;
   for (auto _ : state) {
     const auto table = compensation::compute_corrections(b.setup, b.process(), strokes, o);

@@ -92,6 +92,14 @@ int run_diagnose(const DiagnoseFlags& opt) {
   for (size_t e = 0; d.chosen && e < d.chosen->effects.size() && e < d.chosen->explanations.size(); ++e)
     if (effects::is_custom_effect(d.chosen->effects[e].type))
       std::cout << d.chosen->effects[e].type << " is " << d.chosen->explanations[e] << "\n";
+  // And how alike their fields are to the library's and the machine elements' on these flanks (diagnosis.json: all).
+  for (const auto& c : d.ranked) {
+    if (c.look_alikes.empty()) continue;
+    std::string alike;
+    for (size_t k = 0; k < c.look_alikes.size() && k < 3; ++k)
+      alike += fmt::format("{}{} {:.3f}", k ? ", " : "", c.look_alikes[k].first, c.look_alikes[k].second);
+    std::cout << c.name() << "'s field on these flanks is like (|ρ|, set-up terms removed): " << alike << "\n";
+  }
   if (d.chosen && d.withheld) std::cout << "scene_with_effect.yaml not written: " << diagnosis::to_text(*d.withheld) << "\n";
   if (r.scene_with_effect) {
     output::write_text_atomically(out / "scene_with_effect.yaml", *r.scene_with_effect);

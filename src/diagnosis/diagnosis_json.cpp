@@ -97,6 +97,11 @@ nlohmann::json candidate_json(const Candidate& c) {
   if (!c.description.empty()) j["description"] = c.description;
   if (!c.equivalent.empty()) j["equivalent"] = c.equivalent;
   if (!c.library_equivalent.empty()) j["library_equivalent"] = c.library_equivalent;
+  if (!c.look_alikes.empty()) {
+    nlohmann::json alike = nlohmann::json::array();
+    for (const auto& [name, rho] : c.look_alikes) alike.push_back({{"name", name}, {"abs_rho", rho}});
+    j["look_alikes"] = alike;
+  }
   j["explained_fraction"] = c.explained_fraction;
   j["rejected"] = c.rejection ? nlohmann::json(to_text(*c.rejection)) : nlohmann::json(nullptr);
   j["rejection"] = c.rejection ? decision_json(*c.rejection) : nlohmann::json(nullptr);

@@ -2,6 +2,7 @@
 // in scaled units x = value / typical (order one, as Levenberg–Marquardt wants); every vector below of length p is in
 // those units, p the number of fitted parameters.
 #include "effect_fit.hpp"
+#include "proportional_parameters.hpp"
 
 #include "geartopo/diagnosis/levenberg_marquardt.hpp"
 #include "geartopo/effects/registry.hpp"
@@ -29,8 +30,9 @@ namespace {
 // sum of them (no hooks evaluated) and ∂r/∂θ_k = −remove(b_k) is the Jacobian column in closed form.
 class EffectFit {
 public:
+  /// `project`: a user's law's proportional parameters are solved by variable projection (projected_residual).
   EffectFit(const grinding::GrindingSetup& setup, const EffectContribution& at_points, const std::vector<double>& r0,
-            const std::vector<std::string>& types, const SetupTermModel& setup_terms, int threads,
+            const std::vector<std::string>& types, const SetupTermModel& setup_terms, int threads, bool project,
             std::function<void()> keep_going)
       : at_points_(at_points), setup_terms_(setup_terms), threads_(threads), keep_going_(std::move(keep_going)) {
     const Eigen::Map<const Eigen::VectorXd> r(r0.data(), static_cast<Eigen::Index>(r0.size()));
@@ -42,14 +44,46 @@ public:
       c.scratch = effects_.back()->clone();
       c.all_fitted_linear = true;
       const auto& params = effects_.back()->parameters();
+      // A user's law claims nothing: what it is proportional to is found at these points, and solved by projection.
+      const std::vector<size_t> proportional = project && effects::is_custom_effect(t)
+                                                   ? proportional_parameters(*effects_.back(), at_points, threads)
+                                                   : std::vector<size_t>{};
       for (size_t k = 0; k < params.size(); ++k) {
         if (!params[k].fitted) continue;
+        const bool found = std::find(proportional.begin(), proportional.end(), k) != proportional.end();
+        if (found) projected_.push_back(static_cast<Eigen::Index>(free_.size()));
+        else kept_.push_back(static_cast<Eigen::Index>(free_.size()));
         free_.push_back({effects_.size() - 1, k});
-        if (params[k].linear) c.linear.push_back(k);
+        if (params[k].linear || found) c.linear.push_back(k);
         else c.all_fitted_linear = false;
       }
       per_effect_.push_back(std::move(c));
     }
+  }
+
+  /// Free parameters solved by variable projection, and the others (indices into x, p scaled).
+  const std::vector<Eigen::Index>& projected() const { return projected_; }
+  const std::vector<Eigen::Index>& kept() const { return kept_; }
+
+  /// Variable projection (Golub & Pereyra 1973): the residual with the kept parameters at xk (kept().size(), scaled)
+  /// and the projected ones at their least-squares values within [lo, hi] for them — the residual is linear in those,
+  /// r(x) = r_N − B θ with B their columns (n × |S|) at xk — written with xk into x (p, scaled).
+  Eigen::VectorXd projected_residual(const Eigen::VectorXd& xk, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+                                     Eigen::VectorXd& x) {
+    x.setZero(static_cast<Eigen::Index>(free_.size()));
+    for (size_t i = 0; i < kept_.size(); ++i) x(kept_[i]) = xk(static_cast<Eigen::Index>(i));
+    set(x);
+    Eigen::MatrixXd B(judged_r0_.size(), static_cast<Eigen::Index>(projected_.size())); // n × |S|, µm per scaled unit
+    for (size_t m = 0; m < projected_.size(); ++m) {
+      Eigen::VectorXd column;
+      linear_column(x, projected_[m], column); // −remove(b_k)·typical, formed once per kept values
+      B.col(static_cast<Eigen::Index>(m)) = -column;
+    }
+    const Eigen::VectorXd rN = residual(x); // the projected parameters at 0: their effects' share is B θ
+    const Eigen::VectorXd theta = bounded_least_squares(B, rN, lo, hi);
+    for (size_t m = 0; m < projected_.size(); ++m) x(projected_[m]) = theta(static_cast<Eigen::Index>(m));
+    set(x);
+    return rN - B * theta;
   }
 
   size_t size() const { return free_.size(); }
@@ -87,8 +121,10 @@ public:
   }
 
   /// Levenberg–Marquardt from x0 within [lo, hi] (all p, scaled).
-  LmResult minimise(const Eigen::VectorXd& x0, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
-    return levenberg_marquardt([&](const Eigen::VectorXd& x) { return residual(x); }, x0, lo, hi, 60,
+  /// With max_iterations 0: the residual's RSS and JᵀJ at x0 (clamped into the box).
+  LmResult minimise(const Eigen::VectorXd& x0, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+                    int max_iterations = 60) {
+    return levenberg_marquardt([&](const Eigen::VectorXd& x) { return residual(x); }, x0, lo, hi, max_iterations,
                                [&](const Eigen::VectorXd& x, Eigen::Index j, Eigen::VectorXd& column) {
                                  return linear_column(x, j, column);
                                },
@@ -165,6 +201,39 @@ private:
     return c.judged;
   }
 
+  /// min ‖r − B θ‖ with each θ_m within [lo, hi] of its parameter (scaled): unconstrained, then the worst value out of
+  /// its range held at its bound and the rest solved again (at most |S| times; exact for one parameter).
+  Eigen::VectorXd bounded_least_squares(const Eigen::MatrixXd& B, const Eigen::VectorXd& r, const Eigen::VectorXd& lo,
+                                        const Eigen::VectorXd& hi) const {
+    const Eigen::Index L = B.cols();
+    Eigen::VectorXd theta = Eigen::VectorXd::Zero(L);
+    std::vector<bool> held(static_cast<size_t>(L), false);
+    for (Eigen::Index pass = 0; pass <= L; ++pass) {
+      std::vector<Eigen::Index> open;
+      Eigen::VectorXd rest = r;
+      for (Eigen::Index m = 0; m < L; ++m)
+        if (held[static_cast<size_t>(m)]) rest -= B.col(m) * theta(m);
+        else open.push_back(m);
+      if (open.empty()) break;
+      Eigen::MatrixXd Bo(B.rows(), static_cast<Eigen::Index>(open.size()));
+      for (size_t i = 0; i < open.size(); ++i) Bo.col(static_cast<Eigen::Index>(i)) = B.col(open[i]);
+      const Eigen::VectorXd t = Bo.colPivHouseholderQr().solve(rest);
+      Eigen::Index worst = -1;
+      double beyond = 0.0;
+      for (size_t i = 0; i < open.size(); ++i) {
+        const Eigen::Index m = open[i], j = projected_[static_cast<size_t>(m)];
+        theta(m) = t(static_cast<Eigen::Index>(i));
+        const double out = std::max(lo(j) - theta(m), theta(m) - hi(j));
+        if (out > beyond) beyond = out, worst = m;
+      }
+      if (worst < 0) break;
+      const Eigen::Index j = projected_[static_cast<size_t>(worst)];
+      theta(worst) = std::clamp(theta(worst), lo(j), hi(j));
+      held[static_cast<size_t>(worst)] = true;
+    }
+    return theta;
+  }
+
   const EffectContribution& at_points_;
   const SetupTermModel& setup_terms_;
   int threads_;
@@ -173,6 +242,7 @@ private:
   std::vector<std::unique_ptr<effects::Effect>> effects_;
   std::vector<PerEffect> per_effect_;           // one per effect
   std::vector<std::pair<size_t, size_t>> free_; // (effect, parameter)
+  std::vector<Eigen::Index> projected_, kept_;  // indices into free_: solved by projection, fitted by LM
 };
 
 /// Bounds of the fitted parameters and the default start (p each, scaled).
@@ -235,11 +305,43 @@ std::vector<Eigen::VectorXd> start_points(const EffectFit& f, const Box& box,
   return inits;
 }
 
-/// Step 1b: Levenberg–Marquardt from every start; the smallest RSS wins (the first of equals).
-LmResult best_of_starts(EffectFit& f, const std::vector<Eigen::VectorXd>& inits, const Box& box) {
+/// Step 1b with variable projection: Levenberg–Marquardt over the kept parameters alone from each start's kept values
+/// (a start differing only in projected values is the same start), the projected ones solved for each; the best
+/// solution's RSS and JᵀJ are then those of every parameter at it (no iteration: the full residual's minimum is the
+/// projected one's), for the covariance and the rest of the fit as without projection.
+LmResult best_of_projected_starts(EffectFit& f, const std::vector<Eigen::VectorXd>& inits, const Box& box, int threads) {
+  const auto& kept = f.kept();
+  const auto k = static_cast<Eigen::Index>(kept.size());
+  Eigen::VectorXd lo(k), hi(k);
+  for (Eigen::Index i = 0; i < k; ++i) lo(i) = box.lo(kept[static_cast<size_t>(i)]), hi(i) = box.hi(kept[static_cast<size_t>(i)]);
+  std::vector<Eigen::VectorXd> starts;
+  for (const auto& init : inits) {
+    Eigen::VectorXd xk(k);
+    for (Eigen::Index i = 0; i < k; ++i) xk(i) = init(kept[static_cast<size_t>(i)]);
+    if (std::none_of(starts.begin(), starts.end(), [&](const Eigen::VectorXd& s) { return s == xk; })) starts.push_back(xk);
+  }
+  Eigen::VectorXd x, best_x;
+  double best_rss = std::numeric_limits<double>::infinity();
+  for (const auto& xk0 : starts) {
+    const auto projected = [&](const Eigen::VectorXd& xk) { return f.projected_residual(xk, box.lo, box.hi, x); };
+    const Eigen::VectorXd xk = k > 0 ? levenberg_marquardt(projected, xk0, lo, hi, 60, {}, threads).x : xk0;
+    const double rss = projected(xk).squaredNorm(); // and x: the full parameters there
+    if (rss < best_rss) best_rss = rss, best_x = x;
+  }
+  if (!std::isfinite(best_rss)) return {};
+  return f.minimise(best_x, box.lo, box.hi, 0);
+}
+
+/// Step 1b: Levenberg–Marquardt from every start; the smallest RSS wins (the first of equals). With parameters to
+/// project, by variable projection (best_of_projected_starts).
+LmResult best_of_starts(EffectFit& f, const std::vector<Eigen::VectorXd>& inits, const Box& box, int threads) {
   LmResult best;
   best.rss = std::numeric_limits<double>::infinity();
-  for (const auto& init : inits) {
+  if (!f.projected().empty()) {
+    best = best_of_projected_starts(f, inits, box, threads);
+    if (best.x.size() == 0) best.rss = std::numeric_limits<double>::infinity();
+  }
+  for (const auto& init : f.projected().empty() ? inits : std::vector<Eigen::VectorXd>{}) {
     const LmResult r = f.minimise(init, box.lo, box.hi);
     if (r.rss < best.rss) best = r;
   }
@@ -358,20 +460,21 @@ Candidate fit_effects(const grinding::GrindingSetup& setup, const EffectContribu
                       const std::vector<double>& r0, const std::vector<std::string>& types,
                       const std::map<std::string, std::vector<double>>& warm, const SetupTermModel& setup_terms,
                       const DiagnoseOptions& o, const FitSubsample* subsample) {
-  EffectFit f(setup, at_points, r0, types, setup_terms, o.threads, o.keep_going);
+  EffectFit f(setup, at_points, r0, types, setup_terms, o.threads, o.project_linear, o.keep_going);
   const Box box = parameter_box(f);
   const std::vector<Eigen::VectorXd> starts = start_points(f, box, warm);
   LmResult best;
   if (subsample && starts.size() > 1) {
     // The starts on every k-th point (an iteration there costs 1/k of one on all points), then the best start's
     // solution polished on all points: a few iterations from next to the minimum. One start: no search to save.
-    EffectFit coarse(setup, subsample->at, subsample->r0, types, subsample->terms, o.threads, o.keep_going);
-    best = f.minimise(best_of_starts(coarse, starts, box).x, box.lo, box.hi);
+    EffectFit coarse(setup, subsample->at, subsample->r0, types, subsample->terms, o.threads, o.project_linear,
+                     o.keep_going);
+    best = f.minimise(best_of_starts(coarse, starts, box, o.threads).x, box.lo, box.hi);
     if (!std::isfinite(best.rss))
       throw std::runtime_error("diagnose: the fit on all points gave a non-finite residual (a non-finite measurement or "
                                "prediction reached the fit)");
   } else {
-    best = best_of_starts(f, starts, box);
+    best = best_of_starts(f, starts, box, o.threads);
   }
   const double n = static_cast<double>(r0.size());
   const double dof = n - static_cast<double>(f.size()) - setup_terms.count();

@@ -4,7 +4,6 @@
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/grinding/flank_deviation.hpp"
-#include "geartopo/grinding/machine_process.hpp"
 
 #include <fmt/format.h>
 
@@ -55,8 +54,8 @@ Eigen::MatrixXd map_sensitivity(const workbench::Workbench& wb, const std::vecto
     if (it == sources.end()) sources.push_back(machine::ErrorSource::zero(id).drawn(1.0, u[static_cast<size_t>(c)]));
     else *it = it->drawn(1.0, u[static_cast<size_t>(c)]);
     const machine::MachineModel moved_model(wb.machine.strokes(), std::move(sources));
-    const grinding::MachineProcess moved(moved_model, wb.scene.machine.datum_face_z_mm);
-    const auto dev = predict(wb.setup, moved, pts, grinding::Method::Linear, threads);
+    const auto moved = workbench::make_machine_process(*wb.scene.machine.chain, moved_model, wb.scene.machine.datum_face_z_mm);
+    const auto dev = predict(wb.setup, *moved, pts, grinding::Method::Linear, threads);
     for (Eigen::Index i = 0; i < n; ++i) M(i, c) = dev[static_cast<size_t>(i)] - base[static_cast<size_t>(i)];
   }
   return M;

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -45,7 +46,7 @@ std::string_view axis_letter(Axis axis) {
 /// data rows, then one spline per column.
 class TableParser {
 public:
-  explicit TableParser(const std::string& source) : source_(source) {}
+  TableParser(const std::string& source, const KinematicChain& chain) : source_(source), chain_(chain) {}
   std::vector<ErrorSource> parse(std::string_view text);
 
 private:
@@ -66,6 +67,7 @@ private:
   std::vector<ErrorSource> sources();
 
   const std::string& source_;
+  const KinematicChain& chain_; // names the components and the axes
   int line_no_ = 0, header_line_ = 0;
   Axis axis_ = Axis::X;
   double position_scale_ = 1.0;
@@ -111,7 +113,7 @@ void TableParser::read_header(const std::vector<Field>& fields) {
     const bool has_values = std::any_of(columns_.begin(), columns_.end(),
                                         [&](const Column& c) { return c.id == u.id && !c.uncertainty; });
     if (!has_values) {
-      const ComponentInfo& c = info(u.id);
+      const ComponentInfo& c = chain_.info(u.id);
       throw fail(line_no_, fields[k + 1].column, u.field,
                  fmt::format("the standard uncertainty of {}, but the file has no {} column (e.g. '{}_{}'): an "
                              "uncertainty column needs its component's values in the same file",
@@ -125,20 +127,24 @@ void TableParser::read_position_column(const Field& p) {
   const std::size_t us = p.text.find('_');
   const std::string_view letter = p.text.substr(0, us);
   const std::string_view unit = us == std::string_view::npos ? std::string_view{} : p.text.substr(us + 1);
-  if (letter == "x") axis_ = Axis::X;
-  else if (letter == "y") axis_ = Axis::Y;
-  else if (letter == "z") axis_ = Axis::Z;
-  else if (letter == "a") axis_ = Axis::A;
-  else if (letter == "c") axis_ = Axis::C;
-  else
+  // The chain's axis letters in lower case (x, y, z, a, c on the CFXZAY); the slot of the one named.
+  std::string letters;
+  bool found = false;
+  for (int s = 0; s < kAxisCount; ++s) {
+    std::string l(chain_.axis_name(static_cast<Axis>(s)));
+    for (char& ch : l) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    letters += (s == 0 ? "" : s == kAxisCount - 1 ? " or " : ", ") + l;
+    if (letter == l) axis_ = static_cast<Axis>(s), found = true;
+  }
+  if (!found)
     throw fail(line_no_, p.column, position_field_,
-               "the first column must be the axis position '<axis>_<unit>' with axis x, y, z, a or c");
+               fmt::format("the first column must be the axis position '<axis>_<unit>' with axis {}", letters));
   const auto ps = position_unit_scale(axis_, unit);
   if (!ps) {
     if (unit.empty()) throw fail(line_no_, p.column, position_field_, "the position column has no unit");
     if (!is_known_unit(unit)) throw fail(line_no_, p.column, position_field_, fmt::format("unknown unit '{}'", excerpt(unit)));
     throw fail(line_no_, p.column, position_field_,
-               fmt::format("'{}' is not a position unit of axis {} (use {})", unit, axis_name(axis_),
+               fmt::format("'{}' is not a position unit of axis {} (use {})", unit, chain_.axis_name(axis_),
                            is_rotary(axis_) ? "deg or rad" : "mm"));
   }
   position_scale_ = *ps;
@@ -156,19 +162,22 @@ void TableParser::read_error_column(const Field& f) {
                is_u ? "an uncertainty column must be 'u_<component>_<unit>', e.g. 'u_delta_xx_um'"
                     : "an error column must be '<component>_<unit>', e.g. 'delta_xx_um'");
   const std::string_view stem = spec.substr(0, us), vunit = spec.substr(us + 1);
-  const auto id = component_from_name(stem);
+  const auto id = chain_.component_from_name(stem);
   if (!id) {
     // "delta_xx" without a unit splits as stem "delta", unit "xx": say what is missing.
-    if (component_from_name(spec)) throw fail(line_no_, f.column, name, "the error column has no unit (e.g. '_um' or '_urad')");
-    throw fail(line_no_, f.column, name, fmt::format("unknown error component '{}'", excerpt(stem)));
+    if (chain_.component_from_name(spec))
+      throw fail(line_no_, f.column, name, "the error column has no unit (e.g. '_um' or '_urad')");
+    throw fail(line_no_, f.column, name,
+               fmt::format("unknown error component '{}'{}", excerpt(stem),
+                           &chain_ == &cfxzay() ? "" : " of the " + chain_.name() + " chain"));
   }
-  const ComponentInfo& c = info(*id);
+  const ComponentInfo& c = chain_.info(*id);
   if (!c.position_dependent)
     throw fail(line_no_, f.column, name, fmt::format("{} is position independent: give it as a constant, not a table", c.name));
   if (c.axis != axis_)
     throw fail(line_no_, f.column, name,
                fmt::format("{} is a function of the {} position but the position column is '{}'", c.name,
-                           axis_name(c.axis), position_field_));
+                           chain_.axis_name(c.axis), position_field_));
   const auto vs = value_unit_scale(c.quantity, vunit);
   if (!vs) {
     if (!is_known_unit(vunit)) throw fail(line_no_, f.column, name, fmt::format("unknown unit '{}'", excerpt(vunit)));
@@ -284,13 +293,17 @@ std::vector<ErrorSource> TableParser::sources() {
 
 } // namespace
 
-std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::string& source) {
-  return TableParser(source).parse(text);
+std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::string& source,
+                                           const KinematicChain& chain) {
+  return TableParser(source, chain).parse(text);
 }
 
-std::vector<ErrorSource> load_error_tables(const std::filesystem::path& path) {
-  return parse_error_tables(input::read_input_file(path, input::kMaxErrorTableBytes, "error table"), path.string());
+std::vector<ErrorSource> load_error_tables(const std::filesystem::path& path, const KinematicChain& chain) {
+  return parse_error_tables(input::read_input_file(path, input::kMaxErrorTableBytes, "error table"), path.string(),
+                            chain);
 }
+
+std::vector<ErrorSource> load_error_tables(const std::filesystem::path& path) { return load_error_tables(path, cfxzay()); }
 
 ErrorSource load_error_table(const std::filesystem::path& path, ComponentId expected) {
   std::vector<ErrorSource> all = load_error_tables(path);

@@ -4,7 +4,6 @@
 #include "geartopo/diagnosis/synth.hpp"
 #include "geartopo/effects/effects_process.hpp"
 #include "geartopo/effects/registry.hpp"
-#include "geartopo/grinding/machine_process.hpp"
 
 #include <fmt/format.h>
 
@@ -212,11 +211,12 @@ SampleGears SampleModel::exact(const SampleDraw& d) const {
   const auto& sample_effects = d.effects_drawn() ? drawn : wb_.effects;
 
   const machine::MachineModel model(wb_.machine.strokes(), std::move(truth));
-  const grinding::MachineProcess machine_process(model, wb_.scene.machine.datum_face_z_mm);
+  const auto machine_process =
+      workbench::make_machine_process(*wb_.scene.machine.chain, model, wb_.scene.machine.datum_face_z_mm);
   std::unique_ptr<effects::EffectsProcess> with_effects;
-  if (!sample_effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(machine_process, sample_effects);
+  if (!sample_effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(*machine_process, sample_effects);
   const workbench::WithDesignMotion true_machine(
-      wb_, with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : machine_process);
+      wb_, with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : *machine_process);
 
   const auto table_before = with_stroke_offsets(uncorrected_, d.off_before);
   const auto table_after = with_stroke_offsets(applied_, d.off_after);

@@ -5,7 +5,7 @@
 #include "geartopo/core/units.hpp"
 #include "geartopo/effects/effects_process.hpp"
 #include "geartopo/effects/registry.hpp"
-#include "geartopo/grinding/machine_process.hpp"
+#include "geartopo/machine/chain_kinematics.hpp"
 #include "geartopo/machine/first_order.hpp"
 #include "geartopo/machine/jacobian.hpp"
 #include "geartopo/machine/machine_data.hpp"
@@ -66,18 +66,38 @@ std::vector<machine::ErrorSource> drawn_map(const workbench::Workbench& wb, doub
   return all;
 }
 
-/// The process the nominal scene grinds with: its machine and its effects.
+/// The process the nominal scene grinds with: its machine on its chain and its effects.
 struct NominalProcess {
   NominalProcess(const workbench::Workbench& wb, const machine::MachineModel& model)
-      : machine(model, wb.scene.machine.datum_face_z_mm) {
-    if (!wb.effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(machine, wb.effects);
+      : machine(workbench::make_machine_process(*wb.scene.machine.chain, model, wb.scene.machine.datum_face_z_mm)) {
+    if (!wb.effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(*machine, wb.effects);
   }
   const grinding::GrindingProcess& process() const {
-    return with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : machine;
+    return with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : *machine;
   }
-  grinding::MachineProcess machine;
+  std::unique_ptr<const grinding::GrindingProcess> machine;
   std::unique_ptr<effects::EffectsProcess> with_effects;
 };
+
+/// J_twistw_e (6×43) and the drawn change of each component e1 − e0 at the machine's axes for the command q (the datum
+/// face shift z₀ added): the CFXZAY's closed form on its own axes, any other chain's Jacobian at its axes θ(q).
+void map_twists(const machine::KinematicChain& chain, const machine::MachineModel& nominal,
+                const machine::MachineModel& unit, machine::AxisPose q, double z0, machine::MachineData& data,
+                machine::Matrix6E& J_twistw_e, machine::ErrorVector& e0, machine::ErrorVector& e1) {
+  q.z += z0;
+  if (chain.is_setting_chain()) {
+    machine::error_jacobians(q, data);
+    J_twistw_e = data.J_twistw_e;
+    nominal.errors_at(q, e0);
+    unit.errors_at(q, e1);
+    return;
+  }
+  const machine::AxisValues theta = chain.axes(q);
+  machine::Matrix6E J_twistg_e;
+  machine::error_jacobians(chain, theta, J_twistw_e, J_twistg_e);
+  machine::errors_at(nominal, theta, e0);
+  machine::errors_at(unit, theta, e1);
+}
 
 } // namespace
 
@@ -102,19 +122,18 @@ TopologySensitivities topology_sensitivities(const workbench::Workbench& wb, con
   const int blocks = static_cast<int>((n + kBlock - 1) / kBlock);
   parallel_for(blocks, threads, [&](int b) {
     machine::MachineData data;
+    machine::Matrix6E J_twistw_e;
     machine::ErrorVector e0, e1;
     for (Eigen::Index i = Eigen::Index(b) * kBlock; i < std::min<Eigen::Index>(n, Eigen::Index(b + 1) * kBlock); ++i) {
       const auto& c = contacts[static_cast<size_t>(i)];
       const grinding::PathPoint pp = ground.corrected(c.pp); // the command the machine receives (with the correction)
-      const machine::AxisPose q = nominal.machine.machine_axes(pp);
       Eigen::Matrix<double, 1, 6> w;
       w << c.n.transpose(), c.p.cross(c.n).transpose();
-      // Map: twist in the machine's table frame per component J_twistw_e(q) (6×43), scaled by the draw's change of
-      // each component at q (u, or u(p) of a table's column), then moved to the datum as MachineProcess::error_twist_w.
-      machine::error_jacobians(q, data);
-      nominal_model.errors_at(q, e0);
-      unit_model.errors_at(q, e1);
-      machine::Matrix6E twist = data.J_twistw_e * (e1 - e0).asDiagonal();
+      // Map: twist in the machine's table frame per component J_twistw_e (6×43), scaled by the draw's change of
+      // each component at the machine's axes (u, or u(p) of a table's column), then moved to the datum as
+      // MachineProcess::error_twist_w and ChainProcess::error_twist_w do.
+      map_twists(*wb.scene.machine.chain, nominal_model, unit_model, pp.q, z0, data, J_twistw_e, e0, e1);
+      machine::Matrix6E twist = J_twistw_e * (e1 - e0).asDiagonal();
       for (int k = 0; k < machine::kComponentCount; ++k)
         twist.col(k).head<3>() += Eigen::Vector3d(0.0, 0.0, -z0).cross(Eigen::Vector3d(twist.col(k).tail<3>()));
       s.map_um.row(i) = units::um_from_mm(1.0) * (w * twist);

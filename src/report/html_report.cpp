@@ -11,6 +11,7 @@
 #include "geartopo/evaluation/tolerances.hpp"
 #include "geartopo/report/gear_report.hpp"
 #include "geartopo/diagnosis/hypothesis_rows.hpp"
+#include "geartopo/effects/registry.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -377,6 +378,17 @@ std::string first_page(const workbench::Workbench& wb, const pipeline::PipelineR
 }
 
 /// The run's date (UTC, ISO 8601): SOURCE_DATE_EPOCH when set (reproducible output), else now.
+/// Under a user's own effect (custom_effects) in the ranked table: its law as declared ("your effect (custom_effects):
+/// deviation_um = …", or the Python function's name) and its closest look-alikes; empty for the library's.
+std::string own_effect_note(const diagnosis::Candidate& c) {
+  if (c.effects.size() != 1 || c.explanations.empty() || !effects::is_custom_effect(c.effects.front().type)) return {};
+  std::string alike;
+  for (size_t k = 0; k < c.look_alikes.size() && k < 3; ++k)
+    alike += fmt::format("{}{} {:.3f}", k ? ", " : "; its field here is like (|ρ|) ", c.look_alikes[k].first,
+                         c.look_alikes[k].second);
+  return "<br><small>" + esc(c.explanations.front() + alike) + "</small>";
+}
+
 std::string run_date() {
   std::time_t t = std::time(nullptr);
   if (const char* e = std::getenv("SOURCE_DATE_EPOCH")) {
@@ -507,9 +519,9 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
         if (p.fitted) // GUM §7.2.6; a value the data do not fix is no finding
           params += fmt::format("{} {}; ", p.key, p.determined ? text::with_uncertainty(p.value, p.uncertainty)
                                                                : std::string("not determined"));
-      h += fmt::format("<tr><td>{}</td><td>{}{}</td><td>{:.1f}</td><td>{:.1f} %</td><td>{:.2f}</td><td>{}</td></tr>", rank++,
-                       esc(c.name()), c.significant ? "" : " (not significant)", c.delta_bic, 100 * c.explained_fraction,
-                       c.rms_after_um, esc(params));
+      h += fmt::format("<tr><td>{}</td><td>{}{}{}</td><td>{:.1f}</td><td>{:.1f} %</td><td>{:.2f}</td><td>{}</td></tr>", rank++,
+                       esc(c.name()), c.significant ? "" : " (not significant)", own_effect_note(c), c.delta_bic,
+                       100 * c.explained_fraction, c.rms_after_um, esc(params));
     }
     h += "</table></div>\n";
     if (!m.diagnosis.hypotheses.empty()) {

@@ -10,6 +10,7 @@
 #include "geartopo/gears/flank_modifications.hpp"
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/core/text_field.hpp"
+#include "chain_reader.hpp"
 #include "custom_law_reader.hpp"
 #include "design_table.hpp"
 #include "yaml_reader.hpp"
@@ -171,6 +172,12 @@ double centred_datum_z(const machine::Strokes& st, double face_width) {
   return 0.5 * (st.z_mm.min + st.z_mm.max) - 0.5 * face_width;
 }
 
+// "… of the CAFXZY chain" on another chain than the seed machine's (whose messages stay as they were).
+std::string not_a_component(const std::string& name, const machine::KinematicChain& chain) {
+  return fmt::format("'{}' is not an error component{} (docs/error-components.md)", text::excerpt(name),
+                     &chain == &machine::cfxzay() ? "" : " of the " + chain.name() + " chain");
+}
+
 // The standard uncertainty of one kind of component: a length (µm) or an angle (µrad), bounded like a table value.
 constexpr Range kLengthUncertaintyUm{0.0, machine::kMaxTableLengthMm * units::kUmPerMm};
 constexpr Range kAngleUncertaintyUrad{0.0, machine::kMaxTableAngleRad * units::kUradPerRad};
@@ -179,7 +186,7 @@ constexpr Range kAngleUncertaintyUrad{0.0, machine::kMaxTableAngleRad * units::k
 // whose table has a `u_` column takes its uncertainty from there (over its kind's value); naming it in `components`
 // too is refused: one quantity stated twice, and which one the user meant cannot be known.
 void read_uncertainty(MapReader& u, MachineUncertainty& out, ReadContext& ctx,
-                      const std::vector<machine::ErrorSource>& sources) {
+                      const std::vector<machine::ErrorSource>& sources, const machine::KinematicChain& chain) {
   using machine::Axis;
   using machine::ComponentId;
   // (key, applies to): a component of quantity q on axis group g.
@@ -215,8 +222,8 @@ void read_uncertainty(MapReader& u, MachineUncertainty& out, ReadContext& ctx,
   if (auto c = u.optional_map("components")) {
     for (const auto& key : c->keys()) {
       const auto [name, unit] = split_unit(key);
-      const auto id = machine::component_from_name(name);
-      if (!id) ctx.fail_field(c->field(key), fmt::format("'{}' is not an error component (docs/error-components.md)", name));
+      const auto id = chain.component_from_name(name);
+      if (!id) ctx.fail_field(c->field(key), not_a_component(name, chain));
       const auto q = machine::info(*id).quantity;
       const auto scale = machine::value_unit_scale(q, unit);
       if (!scale)
@@ -253,17 +260,40 @@ void read_axis_values(MapReader& m, machine::Vector5d& out, double scale) {
   m.finish();
 }
 
+// The chain's strokes by pose slot, each overridden by `strokes.<axis letter>_mm` (linear) or `_deg` (the swivel): on
+// the CFXZAY x_mm, y_mm, z_mm, a_deg. The chain then carries the scene's strokes (ChainProcess checks paths with them).
+void read_strokes(MapReader& m, MachineSection& s) {
+  using machine::Axis;
+  const machine::KinematicChain& chain = *s.chain;
+  std::array<machine::Interval*, 4> slots{&s.strokes.x_mm, &s.strokes.y_mm, &s.strokes.z_mm, &s.strokes.a_deg};
+  for (int k = 0; k < 4; ++k) {
+    const auto& stroke = chain.axis(static_cast<Axis>(k)).stroke; // validated: every linear axis and the swivel have one
+    const double scale = k == 3 ? units::kDegPerRad : 1.0;
+    *slots[static_cast<std::size_t>(k)] = machine::Interval{stroke->min * scale, stroke->max * scale};
+  }
+  auto st = m.optional_map("strokes");
+  if (!st) return;
+  std::array<std::optional<machine::Interval>, machine::kAxisCount> given{};
+  for (int k = 0; k < 4; ++k) {
+    std::string key(chain.axis_name(static_cast<Axis>(k)));
+    for (char& ch : key) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    key += k == 3 ? "_deg" : "_mm";
+    if (!st->has(key)) continue;
+    auto& slot = *slots[static_cast<std::size_t>(k)];
+    slot = read_interval(*st, key, slot);
+    given[static_cast<std::size_t>(k)] = k == 3 ? machine::Interval{slot.min * units::kRadPerDeg, slot.max * units::kRadPerDeg}
+                                                : slot;
+  }
+  st->finish();
+  s.chain = &chain.with_strokes(given);
+}
+
 MachineSection read_machine(MapReader& m, const std::filesystem::path& base, double face_width) {
   MachineSection s;
   s.name = m.optional_text("name").value_or("");
   const auto datum = m.optional_number("datum_face_z_mm", {-1e4, 1e4});
-  if (auto st = m.optional_map("strokes")) {
-    s.strokes.x_mm = read_interval(*st, "x_mm", s.strokes.x_mm);
-    s.strokes.y_mm = read_interval(*st, "y_mm", s.strokes.y_mm);
-    s.strokes.z_mm = read_interval(*st, "z_mm", s.strokes.z_mm);
-    s.strokes.a_deg = read_interval(*st, "a_deg", s.strokes.a_deg);
-    st->finish();
-  }
+  s.chain = &read_chain(m, base);
+  read_strokes(m, s);
   s.datum_face_z_mm = datum ? *datum : centred_datum_z(s.strokes, face_width);
   auto& ctx = m.context();
   const auto tables = m.optional_text_list("tables");
@@ -283,7 +313,7 @@ MachineSection read_machine(MapReader& m, const std::filesystem::path& base, dou
                                                           "to the working folder"
                                                         : ", in " + base.string()));
     try {
-      for (auto& src : machine::load_error_tables(path)) s.sources.push_back(std::move(src));
+      for (auto& src : machine::load_error_tables(path, *s.chain)) s.sources.push_back(std::move(src));
     } catch (const InputError&) {
       throw; // located in the table file
     }
@@ -292,8 +322,8 @@ MachineSection read_machine(MapReader& m, const std::filesystem::path& base, dou
   if (auto c = m.optional_map("constants")) {
     for (const auto& key : c->keys()) {
       const auto [name, unit] = split_unit(key);
-      const auto id = machine::component_from_name(name);
-      if (!id) ctx.fail_field(c->field(key), fmt::format("'{}' is not an error component (docs/error-components.md)", name));
+      const auto id = s.chain->component_from_name(name);
+      if (!id) ctx.fail_field(c->field(key), not_a_component(name, *s.chain));
       const double value = c->number(key, {-1e6, 1e6});
       try {
         s.sources.push_back(machine::ErrorSource::constant(*id, value, unit));
@@ -305,8 +335,8 @@ MachineSection read_machine(MapReader& m, const std::filesystem::path& base, dou
   }
   if (auto p = m.optional_map("polynomials")) {
     for (const auto& key : p->keys()) {
-      const auto id = machine::component_from_name(key);
-      if (!id) ctx.fail_field(p->field(key), fmt::format("'{}' is not an error component (docs/error-components.md)", key));
+      const auto id = s.chain->component_from_name(key);
+      if (!id) ctx.fail_field(p->field(key), not_a_component(key, *s.chain));
       MapReader poly = p->map(key);
       const std::string unit = poly.text("unit"), pos_unit = poly.text("position_unit");
       std::vector<double> coef;
@@ -326,7 +356,7 @@ MachineSection read_machine(MapReader& m, const std::filesystem::path& base, dou
     }
     p->finish();
   }
-  if (auto u = m.optional_map("uncertainty")) read_uncertainty(*u, s.uncertainty, ctx, s.sources);
+  if (auto u = m.optional_map("uncertainty")) read_uncertainty(*u, s.uncertainty, ctx, s.sources, *s.chain);
   // The file gives ISO 230-2's unidirectional repeatability R↑ = 4 s (data sheets quote it); inside: s.
   if (auto r = m.optional_map("repeatability")) read_axis_values(*r, s.uncertainty.repeatability, 0.25);
   if (auto r = m.optional_map("resolution")) read_axis_values(*r, s.uncertainty.resolution, 1.0);
@@ -609,10 +639,8 @@ void read_machine_changes(MapReader& top, ReadContext& ctx, Scene& scene) {
   for (size_t i = 0; i < list.size(); ++i) {
     MapReader m(list[i], fmt::format("machine_changes[{}]", i), ctx);
     const std::string name = m.text("component");
-    const auto id = machine::component_from_name(name);
-    if (!id)
-      ctx.fail_field(m.field("component"),
-                     fmt::format("'{}' is not an error component (docs/error-components.md)", text::excerpt(name)));
+    const auto id = scene.machine.chain->component_from_name(name);
+    if (!id) ctx.fail_field(m.field("component"), not_a_component(name, *scene.machine.chain));
     machine::ComponentChange c;
     c.component = *id;
     if (const auto law = m.optional_text("law")) {

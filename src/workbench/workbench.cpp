@@ -7,6 +7,7 @@
 #include "geartopo/core/units.hpp"
 #include "geartopo/effects/custom_effect.hpp"
 #include "geartopo/effects/registry.hpp"
+#include "geartopo/grinding/chain_process.hpp"
 #include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/gears/gear_geometry.hpp"
 #include "geartopo/grinding/wheel_setting.hpp"
@@ -44,7 +45,8 @@ void check_wheel_position(const scene::Scene& s) {
 /// The grinding set-up (form wheel, path), its errors located at the scene field they concern.
 grinding::GrindingSetup located_setup(const scene::Scene& s) {
   try {
-    check_wheel_position(s);
+    // The CFXZAY's axes are the setting's: its strokes are checked here, any other chain's on the path (check_chain).
+    if (s.machine.chain->is_setting_chain()) check_wheel_position(s);
     return grinding::GrindingSetup(s.gear, s.wheel, s.process);
   } catch (const InputError&) {
     throw;
@@ -102,13 +104,39 @@ void check_strokes(const scene::Scene& s, const grinding::GrindingSetup& setup) 
   }
 }
 
+/// A chain other than the CFXZAY: every path point reachable within its strokes and not singular, else the point and
+/// the axis named at the scene's chain.
+void check_chain(const scene::Scene& s, const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process) {
+  const auto* chain = dynamic_cast<const grinding::ChainProcess*>(&process);
+  if (chain == nullptr) return;
+  try {
+    chain->check_path(setup.path());
+  } catch (const std::runtime_error& e) {
+    s.fail_at(s.positions.count("machine.chain_file") != 0 ? "machine.chain_file" : "machine.chain", e.what());
+  }
+}
+
 } // namespace
+
+std::unique_ptr<const grinding::GrindingProcess> make_machine_process(const machine::KinematicChain& chain,
+                                                                      const machine::MachineModel& model,
+                                                                      double datum_face_z_mm) {
+  if (chain.is_setting_chain()) return std::make_unique<const grinding::MachineProcess>(model, datum_face_z_mm);
+  return std::make_unique<const grinding::ChainProcess>(chain, model, datum_face_z_mm);
+}
 
 Workbench::Workbench(scene::Scene s, const std::function<void()>& keep_going)
     : scene(std::move(s)), setup(setup_with_a_wheel_that_fits(scene, notes)), machine(scene.machine.model()),
-      machine_process(machine, scene.machine.datum_face_z_mm), effects(make_effects(scene.effects, scene.machine_changes, setup)) {
+      machine_process_owner(make_machine_process(*scene.machine.chain, machine, scene.machine.datum_face_z_mm)),
+      machine_process(*machine_process_owner), effects(make_effects(scene.effects, scene.machine_changes, setup)) {
   if (keep_going) keep_going();
-  check_strokes(scene, setup);
+  if (scene.machine.chain->is_setting_chain()) check_strokes(scene, setup);
+  check_chain(scene, setup, machine_process);
+  // effects::ComponentChanges moves the wheel by the CFXZAY's first-order twist: refused rather than silently wrong.
+  if (!scene.machine_changes.empty() && !scene.machine.chain->is_setting_chain())
+    scene.fail_at("machine_changes", fmt::format("machine changes act through the CFXZAY's error Jacobian only, for now "
+                                                 "(issue 42): not on the {} chain",
+                                                 scene.machine.chain->name()));
   if (!effects.empty()) effects_process = std::make_unique<effects::EffectsProcess>(machine_process, effects);
   if (setup.design().modifications().has_helix()) {
     design_motion = std::make_unique<compensation::CorrectionTable>(compensation::design_motions(

@@ -162,6 +162,31 @@ TEST(ReportIncompleteGrid, LeavesOutTheHeatMapsAndStillDiagnoses) {
   fs::remove_all(dir);
 }
 
+// A user's own effect (custom_effects) is named in the report's ranked table as theirs, with the law they declared —
+// the expression as written in docs/examples/warming.yaml — and the library effect its field is most like (a shrinking
+// workpiece moves the flanks radially as a thermal X growth does).
+TEST(ReportOwnEffect, NamesTheUsersLawWithItsExpression) {
+  const fs::path dir = fs::temp_directory_path() / (std::to_string(::getpid()) + "_geartopo_report_own_effect");
+  fs::create_directories(dir);
+  const std::string examples = std::string(GEARTOPO_SOURCE_DIR) + "/docs/examples/";
+  const std::string synth = std::string(GEARTOPO_BINARY) + " synth " + examples + "warming-truth.yaml --out " +
+                            (dir / "measured.csv").string() + " --teeth 1,6,11,16 --noise-um 0.5 --seed 5 > " +
+                            (dir / "log").string() + " 2>&1";
+  ASSERT_EQ(std::system(synth.c_str()), 0) << std::ifstream(dir / "log").rdbuf();
+  const std::string cmd = std::string(GEARTOPO_BINARY) + " report " + examples + "warming.yaml --measured " +
+                          (dir / "measured.csv").string() + " --samples 0 --out " + (dir / "out").string() + " > " +
+                          (dir / "log").string() + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(dir / "log").rdbuf();
+  std::stringstream page;
+  page << std::ifstream(dir / "out" / "index.html").rdbuf();
+  const std::string html = page.str();
+  const std::string row = "<td>workpiece_warming<br><small>your effect (custom_effects): deviation_um = -shrink_um_per_mm "
+                          "* (x_mm*nx + y_mm*ny) * (1 - exp(-t_s / tau_s)); its field here is like (|ρ|) thermal_drift";
+  EXPECT_NE(html.find(row), std::string::npos) << html.substr(html.find("<th>rank</th>"), 3000);
+  EXPECT_EQ(html.find("<td>thermal_drift<br>"), std::string::npos) << "a library effect needs no introduction";
+  fs::remove_all(dir);
+}
+
 // ISO 1328-1:2013 covers 0.5 ≤ m_n ≤ 70 mm (§1; docs/iso1328.md): for m_n 0.3 the page gives no class or tolerance,
 // and every "–" it shows instead carries a mark whose footnote, after each table or value group, says why — with the
 // limit broken, as the standard's scope states it. Truth: the scope's numbers, not the evaluator's text.

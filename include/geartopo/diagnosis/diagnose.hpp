@@ -31,6 +31,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace geartopo::diagnosis {
@@ -86,6 +87,11 @@ struct Candidate {
   /// linearly in time is a thermal X growth in its early phase), whatever their ΔBIC — theirs pays for parameters the
   /// flanks do not fix.
   std::vector<std::string> library_equivalent;
+  /// A user's own effect (a scene's custom_effects) alone: how alike its fitted field is, on these flanks with the
+  /// set-up terms removed, to each library effect's and each listed machine element's — |ρ|, the share of its field the
+  /// other can make (share_of_field_in_span: by the library effect's parameter columns at its fitted values, by the
+  /// element's fitted field); 1 is the same field. Highest first. Empty for the library's and the families' candidates.
+  std::vector<std::pair<std::string, double>> look_alikes;
   /// Which wheel flank a one-sided hypothesis is about (wheel_flank_profile, wheel_flank_waviness): the gear flanks
   /// it grinds. Printed after the name: "wheel_flank_profile (left)".
   std::optional<Flank> wheel_flank;
@@ -190,6 +196,9 @@ struct DiagnoseOptions {
   /// The user's own effects (a scene's custom_effects, effects/custom_effect.hpp, by name): tried beside the library's
   /// whenever `candidates` is empty (the names must be registered laws).
   std::vector<std::string> own_effects;
+  /// Solve the parameters a user's law is proportional to (found numerically at the points, proportional_parameters.hpp)
+  /// by variable projection inside the fit; false: every parameter in the nonlinear fit (the comparison's baseline).
+  bool project_linear = true;
   int threads = 0;                  ///< threads of the predictions; 0: all hardware threads
   /// Called after each candidate explanation is fitted (single effects, then pairs) with (candidates fitted, candidates
   /// known so far): the total grows by the pairs once the single effects are ranked. From the calling thread; for

@@ -20,6 +20,7 @@
 
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/machine/error_source.hpp"
+#include "geartopo/machine/kinematic_chain.hpp"
 
 #include <filesystem>
 #include <stdexcept>
@@ -38,10 +39,14 @@ inline constexpr double kMaxTableAngleRad = 0.01;
 /// Every component column of one table file, in column order, each with its `u_` column if the file has one.
 /// Throws InputError.
 std::vector<ErrorSource> load_error_tables(const std::filesystem::path& path);
+/// The same with the components and the position column named as `chain` names them (its axis letters in lower case,
+/// its component names: kinematic_chain.hpp); a name of another chain is unknown.
+std::vector<ErrorSource> load_error_tables(const std::filesystem::path& path, const KinematicChain& chain);
 /// The column of `expected` in a table file (the file may hold other components of the same axis).
 /// Throws InputError, also when the file has no column for `expected`.
 ErrorSource load_error_table(const std::filesystem::path& path, ComponentId expected);
 /// Same as load_error_tables from text in memory; `source` names it in messages.
-std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::string& source);
+std::vector<ErrorSource> parse_error_tables(std::string_view text, const std::string& source,
+                                           const KinematicChain& chain = cfxzay());
 
 } // namespace geartopo::machine

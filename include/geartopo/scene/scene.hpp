@@ -9,6 +9,7 @@
 #include "geartopo/grinding/wheel_path.hpp"
 #include "geartopo/machine/component_change.hpp"
 #include "geartopo/machine/error_source.hpp"
+#include "geartopo/machine/kinematic_chain.hpp"
 #include "geartopo/machine/machine_model.hpp"
 
 #include <array>
@@ -59,9 +60,14 @@ struct MachineUncertainty {
   static MachineUncertainty defaults();
 };
 
-/// The machine: strokes, where the gear sits, and its geometric error components (all others zero).
+/// The machine: its kinematic chain, strokes, where the gear sits, and its geometric error components (all others
+/// zero).
 struct MachineSection {
   std::string name;
+  /// `machine.chain` / `machine.chain_file` (default the CFXZAY) with `strokes` applied; kept by make_chain for the
+  /// program's life.
+  const machine::KinematicChain* chain = &machine::cfxzay();
+  /// The chain's strokes by pose slot (x_mm … the linear axes in letter order, a_deg the swivel).
   machine::Strokes strokes = machine::Strokes::skmc_1200w();
   double datum_face_z_mm = 0.0; ///< machine Z of the gear's datum face; default: face width centred in the Z stroke
   std::vector<machine::ErrorSource> sources;   ///< from tables, constants and polynomials

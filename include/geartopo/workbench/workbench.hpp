@@ -39,7 +39,10 @@ struct Workbench {
   scene::Scene scene;
   grinding::GrindingSetup setup;
   machine::MachineModel machine;
-  grinding::MachineProcess machine_process; ///< geometric errors only
+  /// Owns machine_process (make_machine_process of the scene's chain).
+  std::unique_ptr<const grinding::GrindingProcess> machine_process_owner;
+  /// Geometric errors only, on the scene's chain: a MachineProcess on the CFXZAY, a ChainProcess on any other.
+  const grinding::GrindingProcess& machine_process;
   /// The scene's effects, bound to setup, then its machine_changes (one effects::ComponentChanges) when it has any.
   std::vector<std::unique_ptr<effects::Effect>> effects;
   std::unique_ptr<effects::EffectsProcess> effects_process; ///< null when the scene has no effects
@@ -98,6 +101,13 @@ private:
 /// The simulation the scene's `measurement` section asks for (`geartopo simulate` without flags, geartopo.simulate):
 /// its teeth, grid, trace points and dense grid; the exact method on all hardware threads.
 grinding::SimulationOptions scene_simulation(const scene::MeasurementGrid& grid);
+
+/// The grinding process of a machine with `model`'s geometric errors on `chain`, the gear's datum face at chain
+/// z = datum_face_z_mm — the one place that chooses it: MachineProcess on the CFXZAY (is_setting_chain: its own
+/// evaluator, the fast path), a grinding::ChainProcess on any other chain. `model` must outlive it.
+std::unique_ptr<const grinding::GrindingProcess> make_machine_process(const machine::KinematicChain& chain,
+                                                                      const machine::MachineModel& model,
+                                                                      double datum_face_z_mm);
 
 /// Wheel diameters tried, largest first, when the scene gives none and the default does not fit the gear (mm).
 inline constexpr double kWheelDiametersToTryMm[] = {350, 300, 250, 200, 160, 125, 100, 80, 63, 50};

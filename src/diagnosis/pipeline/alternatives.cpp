@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <utility>
 
 namespace geartopo::diagnosis::stages {
 namespace {
@@ -124,11 +126,40 @@ std::vector<std::string> library_look_alikes(const Context& ctx, const LibraryFi
   return names;
 }
 
+/// Every user's own effect fitted alone, against every library effect fitted alone and every listed machine element:
+/// the share of its field each can make (Candidate::look_alikes), highest first. The same test as a named element's
+/// library look-alikes, reported as a number for every pair: the user judges whether their law is new physics.
+std::map<std::string, std::vector<std::pair<std::string, double>>>
+own_effect_look_alikes(const Context& ctx, const LibraryFits& library, const BeyondLibrary& beyond) {
+  std::map<std::string, std::vector<std::pair<std::string, double>>> out;
+  const auto is_own = [&](const Candidate& c) {
+    return c.effects.size() == 1 && std::find(ctx.options.own_effects.begin(), ctx.options.own_effects.end(),
+                                              c.effects.front().type) != ctx.options.own_effects.end();
+  };
+  if (std::none_of(library.ranked.begin(), library.ranked.end(), is_own)) return out; // the columns cost fits
+  std::vector<std::pair<std::string, Eigen::MatrixXd>> others; // name, n × P columns
+  for (const auto& c : library.ranked)
+    if (!c.effects.empty() && !is_own(c)) others.emplace_back(c.name(), library_columns(ctx, c));
+  const std::size_t listed = std::min(beyond.hypotheses.size(), ctx.options.hypotheses_listed);
+  for (std::size_t k = 0; k < listed && beyond.states; ++k)
+    others.emplace_back(beyond.hypotheses[k].name(),
+                        Eigen::MatrixXd(ctx.setup_terms.remove(hypothesis_field(beyond.hypotheses[k], *beyond.states))));
+  for (const auto& c : library.ranked) {
+    if (!is_own(c)) continue;
+    const Eigen::VectorXd mine = explanation_field(ctx, c);
+    auto& list = out[c.name()];
+    for (const auto& [name, columns] : others) list.emplace_back(name, share_of_field_in_span(mine, columns));
+    std::stable_sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  }
+  return out;
+}
+
 } // namespace
 
 Alternatives find_alternatives(const Context& ctx, const LibraryFits& library, const PairFits& pairs,
                                const LibraryJudgement& judgement, const BeyondLibrary& beyond) {
   Alternatives a;
+  a.own_look_alikes = own_effect_look_alikes(ctx, library, beyond);
   if (judgement.pick) a.rivals = library_rivals(ctx, library, pairs, *judgement.pick);
   if (!beyond.tried() || beyond.hypotheses.empty()) return a;
   a.equivalent = equivalence_class(ctx, beyond, 0, beyond.hypotheses.size());

@@ -168,6 +168,11 @@ Diagnosis compose(const Context& ctx, std::optional<Decision> reference, const L
     d.nearest = j.nearest, d.nearest_rejection = j.nearest_rejection;
   }
   d.ranked = ranked_as_listed(library, j, !d.chosen);
+  for (auto& c : d.ranked)
+    if (const auto it = a.own_look_alikes.find(c.name()); it != a.own_look_alikes.end()) c.look_alikes = it->second;
+  if (d.chosen)
+    if (const auto it = a.own_look_alikes.find(d.chosen->name()); it != a.own_look_alikes.end())
+      d.chosen->look_alikes = it->second;
   if (pairs.combination && !(j.refused && j.refused->name() == pairs.combination->name())) d.combination = pairs.combination;
   d.rivals = a.rivals;
   d.unexplained = j.unexplained && !named;

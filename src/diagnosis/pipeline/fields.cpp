@@ -37,6 +37,16 @@ Eigen::MatrixXd library_columns(const Context& ctx, const Candidate& c) {
   return J;
 }
 
+Eigen::VectorXd explanation_field(const Context& ctx, const Candidate& c) {
+  std::vector<std::unique_ptr<effects::Effect>> owned;
+  std::vector<const effects::Effect*> list;
+  for (const auto& e : c.effects) {
+    owned.push_back(effects::make_effect(e.type, e.values, ctx.setup));
+    list.push_back(owned.back().get());
+  }
+  return ctx.setup_terms.remove(Eigen::VectorXd(ctx.at_points.deviation_um(list, ctx.options.threads)));
+}
+
 double share_of_field_in_span(const Eigen::VectorXd& f, const Eigen::MatrixXd& B) {
   // The projection by least squares, never the n × n Q, which for 10⁵ points would need 80 GB.
   if (B.cols() == 0 || f.norm() == 0.0) return 0.0;

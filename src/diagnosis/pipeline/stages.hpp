@@ -134,6 +134,8 @@ LibraryJudgement judge_library(const Context& ctx, const LibraryFits& library, c
 /// The columns of a library explanation's fitted parameters at its fitted values (n × P, µm per file unit, set-up
 /// terms removed): central differences of its first-order deviation.
 Eigen::MatrixXd library_columns(const Context& ctx, const Candidate& c);
+/// An explanation's first-order field at its fitted values (n, µm, set-up terms removed).
+Eigen::VectorXd explanation_field(const Context& ctx, const Candidate& c);
 /// How much of a field lies in the span of B's columns (0 … 1): ‖B·β‖ / ‖f‖ with β the least-squares fit of f by B.
 double share_of_field_in_span(const Eigen::VectorXd& f, const Eigen::MatrixXd& B);
 
@@ -173,6 +175,8 @@ struct Alternatives {
   std::vector<std::vector<std::string>> listed_classes;
   std::optional<Candidate> equivalent_member;   ///< its best other member, for the plan that would separate them
   std::vector<std::string> library_equivalent;  ///< a named element's library look-alikes (names)
+  /// Each user's own effect's look-alikes (Candidate::look_alikes), by its name.
+  std::map<std::string, std::vector<std::pair<std::string, double>>> own_look_alikes;
 };
 Alternatives find_alternatives(const Context& ctx, const LibraryFits& library, const PairFits& pairs,
                                const LibraryJudgement& judgement, const BeyondLibrary& beyond);
