@@ -377,7 +377,6 @@ std::string first_page(const workbench::Workbench& wb, const pipeline::PipelineR
   return h + "</section>\n";
 }
 
-/// The run's date (UTC, ISO 8601): SOURCE_DATE_EPOCH when set (reproducible output), else now.
 /// Under a user's own effect (custom_effects) in the ranked table: its law as declared ("your effect (custom_effects):
 /// deviation_um = …", or the Python function's name) and its closest look-alikes; empty for the library's.
 std::string own_effect_note(const diagnosis::Candidate& c) {
@@ -389,6 +388,7 @@ std::string own_effect_note(const diagnosis::Candidate& c) {
   return "<br><small>" + esc(c.explanations.front() + alike) + "</small>";
 }
 
+/// The run's date (UTC, ISO 8601): SOURCE_DATE_EPOCH when set (reproducible output), else now.
 std::string run_date() {
   std::time_t t = std::time(nullptr);
   if (const char* e = std::getenv("SOURCE_DATE_EPOCH")) {

@@ -2,6 +2,8 @@
 // description, a chain file; the scene's strokes applied to it; bad chains located at the axis' field.
 #include "geartopo/scene/scene.hpp"
 
+#include "../chain_scene_fixture.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -12,16 +14,6 @@
 using namespace geartopo;
 
 namespace scene_chain_test { // named: the suite is one unity build with test_scene.cpp
-
-const std::string kChainGear = R"(gear:
-  normal_module_mm: 4
-  teeth: 31
-  normal_pressure_angle_deg: 20
-  helix_angle_deg: 15
-  hand: right
-  profile_shift: 0
-  face_width_mm: 40
-)";
 
 // The CAFXZY written out as its description (machine/kinematic_chain.cpp's preset, docs/machine-model.md §9).
 const std::string kCafxzyInline = R"(machine:
@@ -56,17 +48,17 @@ std::string chain_error_of(const std::string& text, const std::string& source = 
 using namespace scene_chain_test;
 
 TEST(SceneChain, AbsentChainIsTheCfxzayWithTheSeedStrokes) {
-  const auto sc = scene::parse_scene(kChainGear, "mem");
+  const auto sc = scene::parse_scene(chain_fixture::kGear, "mem");
   EXPECT_EQ(sc.machine.chain, &machine::cfxzay());
   EXPECT_TRUE(sc.machine.chain->is_setting_chain());
   EXPECT_EQ(sc.machine.strokes.a_deg.max, 45.0);
   EXPECT_EQ(sc.machine.strokes.z_mm.max, 800.0);
-  const auto named = scene::parse_scene(kChainGear + "machine:\n  chain: CFXZAY\n", "mem");
+  const auto named = scene::parse_scene(chain_fixture::kGear + "machine:\n  chain: CFXZAY\n", "mem");
   EXPECT_EQ(named.machine.chain, &machine::cfxzay());
 }
 
 TEST(SceneChain, APresetByNameBringsItsStrokesAndTheSceneOverridesThem) {
-  const auto sc = scene::parse_scene(kChainGear + "machine:\n  chain: CAFXZY\n", "mem");
+  const auto sc = scene::parse_scene(chain_fixture::kGear + "machine:\n  chain: CAFXZY\n", "mem");
   EXPECT_EQ(sc.machine.chain, machine::chain_preset("CAFXZY"));
   EXPECT_FALSE(sc.machine.chain->is_setting_chain());
   EXPECT_EQ(sc.machine.strokes.y_mm.min, -500.0);
@@ -75,7 +67,7 @@ TEST(SceneChain, APresetByNameBringsItsStrokesAndTheSceneOverridesThem) {
   // Face width 40 mm centred in Z [−300, 700]: datum face at 200 − 20.
   EXPECT_EQ(sc.machine.datum_face_z_mm, 180.0);
 
-  const auto narrowed = scene::parse_scene(kChainGear + "machine:\n  chain: CAFXZY\n  strokes:\n    y_mm: [-400, 300]\n"
+  const auto narrowed = scene::parse_scene(chain_fixture::kGear + "machine:\n  chain: CAFXZY\n  strokes:\n    y_mm: [-400, 300]\n"
                                                    "    a_deg: [-30, 30]\n", "mem");
   const auto& chain = *narrowed.machine.chain;
   EXPECT_EQ(chain.name(), "CAFXZY");
@@ -89,12 +81,12 @@ TEST(SceneChain, APresetByNameBringsItsStrokesAndTheSceneOverridesThem) {
 
 TEST(SceneChain, AnInlineDescriptionOfThePresetIsThePreset) {
   // make_chain keeps one chain per description: the scene's reading of every field is the preset's, field by field.
-  const auto sc = scene::parse_scene(kChainGear + kCafxzyInline, "mem");
+  const auto sc = scene::parse_scene(chain_fixture::kGear + kCafxzyInline, "mem");
   EXPECT_EQ(sc.machine.chain, machine::chain_preset("CAFXZY"));
 }
 
 TEST(SceneChain, BadChainsAreLocatedAtTheAxisField) {
-  const std::string text = kChainGear + kCafxzyInline;
+  const std::string text = chain_fixture::kGear + kCafxzyInline;
   // Lines: gear 1–8, machine 9, chain 10, name 11, workpiece 12, C 13, A 14, tool 15, X 16, Z 17, Y 18.
   const auto dup = chain_error_of(with_replaced(text, "{name: Y,", "{name: X,"));
   EXPECT_NE(dup.find("scenes/x.yaml:18:"), std::string::npos) << dup;
@@ -114,10 +106,10 @@ TEST(SceneChain, BadChainsAreLocatedAtTheAxisField) {
   const auto kind = chain_error_of(with_replaced(text, "kind: linear, direction: [1, 0, 0]", "kind: slide, direction: [1, 0, 0]"));
   EXPECT_NE(kind.find(":16:"), std::string::npos) << kind;
   EXPECT_NE(kind.find("machine.chain.tool[0].kind: 'slide' is not one of: linear, rotary"), std::string::npos) << kind;
-  const auto preset = chain_error_of(kChainGear + "machine:\n  chain: CXYZAB\n");
+  const auto preset = chain_error_of(chain_fixture::kGear + "machine:\n  chain: CXYZAB\n");
   EXPECT_NE(preset.find(":10:10: machine.chain: 'CXYZAB' is not a preset chain (CFXZAY, CAFXZY)"), std::string::npos)
       << preset;
-  const auto stroke_key = chain_error_of(kChainGear + "machine:\n  chain: CAFXZY\n  strokes:\n    u_mm: [0, 1]\n");
+  const auto stroke_key = chain_error_of(chain_fixture::kGear + "machine:\n  chain: CAFXZY\n  strokes:\n    u_mm: [0, 1]\n");
   EXPECT_NE(stroke_key.find("machine.strokes.u_mm"), std::string::npos) << stroke_key;
 }
 
@@ -134,7 +126,7 @@ TEST(SceneChain, AChainFileIsReadBesideTheSceneAndItsErrorsLocatedInIt) {
   }
   std::ofstream(dir / "machine" / "cafxzy.yaml") << file;
   const auto scene_file = dir / "s.yaml";
-  std::ofstream(scene_file) << kChainGear << "machine:\n  chain_file: machine/cafxzy.yaml\n";
+  std::ofstream(scene_file) << chain_fixture::kGear << "machine:\n  chain_file: machine/cafxzy.yaml\n";
   EXPECT_EQ(scene::load_scene(scene_file).machine.chain, machine::chain_preset("CAFXZY"));
 
   std::ofstream(dir / "machine" / "cafxzy.yaml") << with_replaced(file, "[0, 0, 150]", "[0, nan, 150]");
@@ -146,10 +138,10 @@ TEST(SceneChain, AChainFileIsReadBesideTheSceneAndItsErrorsLocatedInIt) {
     EXPECT_EQ(e.line(), 3);
     EXPECT_EQ(e.field(), "workpiece[0].offset_mm");
   }
-  const auto missing = chain_error_of(kChainGear + "machine:\n  chain_file: machine/none.yaml\n", scene_file.string());
+  const auto missing = chain_error_of(chain_fixture::kGear + "machine:\n  chain_file: machine/none.yaml\n", scene_file.string());
   EXPECT_NE(missing.find("machine.chain_file: "), std::string::npos) << missing;
   EXPECT_NE(missing.find("none.yaml"), std::string::npos) << missing;
-  const auto both = chain_error_of(kChainGear + "machine:\n  chain: CAFXZY\n  chain_file: machine/cafxzy.yaml\n");
+  const auto both = chain_error_of(chain_fixture::kGear + "machine:\n  chain: CAFXZY\n  chain_file: machine/cafxzy.yaml\n");
   EXPECT_NE(both.find("machine.chain_file: give the chain once"), std::string::npos) << both;
   std::filesystem::remove_all(dir);
 }

@@ -10,6 +10,8 @@
 #include "geartopo/grinding/topology.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
+#include "../chain_scene_fixture.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,20 +23,11 @@
 #include <unistd.h>
 
 using namespace geartopo;
+using namespace geartopo::chain_fixture;
 
 namespace chain_names_test {
 
-const std::string kScene = R"(gear:
-  normal_module_mm: 4
-  teeth: 31
-  normal_pressure_angle_deg: 20
-  helix_angle_deg: 15
-  hand: right
-  profile_shift: 0
-  face_width_mm: 40
-wheel:
-  outer_diameter_mm: 300
-machine:
+const std::string kScene = kGearAndWheel + R"(machine:
   chain:
     name: CFUZAY
     workpiece:
@@ -45,26 +38,6 @@ machine:
       - {name: A, kind: rotary, direction: [1, 0, 0], stroke_deg: [-45, 45]}
       - {name: Y, kind: linear, direction: [0, 1, 0], stroke_mm: [-200, 200]}
 )";
-
-std::string names_error_of(const std::string& text, const std::string& source = "scenes/x.yaml") {
-  try {
-    const workbench::Workbench wb(scene::parse_scene(text, source));
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
-/// The grid deviations of teeth 1 and 16, both flanks (exact method), in order (µm).
-std::vector<double> names_grid(const workbench::Workbench& wb) {
-  grinding::SimulationOptions so;
-  so.teeth = {1, 16};
-  so.rows = 5, so.cols = 5, so.profile_points = 2, so.helix_points = 2;
-  std::vector<double> out;
-  for (const auto& flank : grinding::simulate_topology(wb.setup, wb.process(), so))
-    for (const auto& p : flank.grid) out.push_back(p.deviation_um);
-  return out;
-}
 
 } // namespace chain_names_test
 
@@ -84,16 +57,16 @@ TEST(ChainNames, TheChainsOwnNamesAreReadAndOthersRefusedAtTheirLine) {
   EXPECT_NEAR(sc.machine.uncertainty.component_u[static_cast<std::size_t>(machine::index(*s_uz))], 2e-6, 1e-18);
 
   // Lines: the scene above has 20; the added keys start at 21.
-  const auto constant = names_error_of(kScene + "  constants: {delta_xx_um: 10}\n");
+  const auto constant = workbench_error_of(kScene + "  constants: {delta_xx_um: 10}\n");
   EXPECT_NE(constant.find("scenes/x.yaml:21:"), std::string::npos) << constant;
   EXPECT_NE(constant.find("machine.constants.delta_xx_um: 'delta_xx' is not an error component of the CFUZAY chain"),
             std::string::npos) << constant;
-  const auto change = names_error_of(kScene + "machine_changes:\n  - {component: E_XOC, law: constant, change_um: 1}\n"
+  const auto change = workbench_error_of(kScene + "machine_changes:\n  - {component: E_XOC, law: constant, change_um: 1}\n"
                                         "  - {component: S_xy, law: constant, change_urad: 1}\n");
   EXPECT_NE(change.find(":23:"), std::string::npos) << change;
   EXPECT_NE(change.find("machine_changes[1].component: 'S_xy' is not an error component of the CFUZAY chain"),
             std::string::npos) << change;
-  const auto stroke = names_error_of(kScene + "  strokes: {x_mm: [0, 900]}\n");
+  const auto stroke = workbench_error_of(kScene + "  strokes: {x_mm: [0, 900]}\n");
   EXPECT_NE(stroke.find("machine.strokes.x_mm"), std::string::npos) << stroke;
 }
 
@@ -108,7 +81,7 @@ TEST(ChainNames, ErrorTablesNameTheChainsAxesAndComponents) {
   // with 10 µm in slot 0 (the compiled-in MachineProcess): to 1e-4 µm (the exact search converges to 1e-6 µm).
   std::ofstream(dir / "seed.yaml") << kScene.substr(0, kScene.find("machine:")) << "machine:\n  tables: [x.csv]\n";
   const workbench::Workbench seed(dir / "seed.yaml");
-  const auto u = names_grid(wb), x = names_grid(seed);
+  const auto u = grid_deviations(wb), x = grid_deviations(seed);
   ASSERT_EQ(u.size(), x.size());
   for (std::size_t i = 0; i < u.size(); ++i) EXPECT_NEAR(u[i], x[i], 1e-4) << i;
   EXPECT_GT(*std::max_element(x.begin(), x.end()), 1.0); // the error does reach the flanks

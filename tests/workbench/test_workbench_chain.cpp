@@ -12,6 +12,8 @@
 #include "geartopo/grinding/topology.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
+#include "../chain_scene_fixture.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,44 +22,7 @@
 #include <vector>
 
 using namespace geartopo;
-
-namespace workbench_chain_test {
-
-const std::string kGearAndWheel = R"(gear:
-  normal_module_mm: 4
-  teeth: 31
-  normal_pressure_angle_deg: 20
-  helix_angle_deg: 15
-  hand: right
-  profile_shift: 0
-  face_width_mm: 40
-wheel:
-  outer_diameter_mm: 300
-)";
-
-std::string error_of(const std::string& text) {
-  try {
-    const workbench::Workbench wb(scene::parse_scene(text, "scenes/x.yaml"));
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
-/// The grid deviations of teeth 1 and 16, both flanks (exact method), in order (µm).
-std::vector<double> grid_deviations(const workbench::Workbench& wb) {
-  grinding::SimulationOptions so;
-  so.teeth = {1, 16};
-  so.rows = 5, so.cols = 5, so.profile_points = 2, so.helix_points = 2;
-  std::vector<double> out;
-  for (const auto& flank : grinding::simulate_topology(wb.setup, wb.process(), so))
-    for (const auto& p : flank.grid) out.push_back(p.deviation_um);
-  return out;
-}
-
-} // namespace workbench_chain_test
-
-using namespace workbench_chain_test;
+using namespace geartopo::chain_fixture;
 
 TEST(WorkbenchChain, TheCfxzayKeepsMachineProcessAnyOtherChainGrindsThroughItsChain) {
   const workbench::Workbench seed(scene::parse_scene(kGearAndWheel, "mem"));
@@ -90,12 +55,12 @@ TEST(WorkbenchChain, AConstantXErrorGrindsTheSameFlanksOnEitherLayout) {
 TEST(WorkbenchChain, APathOutsideTheChainsStrokesIsRefusedAtTheChainNamingThePointAndTheAxis) {
   // Y = y + (z + 150)·sin α on the CAFXZY (docs/machine-model.md §9): 330…370 mm along the tilted gear axis at α = 15°
   // puts Y at 85…96 mm, outside ±20.
-  const auto e = error_of(kGearAndWheel + "machine:\n  chain: CAFXZY\n  strokes: {y_mm: [-20, 20]}\n");
+  const auto e = workbench_error_of(kGearAndWheel + "machine:\n  chain: CAFXZY\n  strokes: {y_mm: [-20, 20]}\n");
   EXPECT_NE(e.find("scenes/x.yaml:12:10: machine.chain: CAFXZY chain, space "), std::string::npos) << e;
   EXPECT_NE(e.find(": Y = "), std::string::npos) << e;
   EXPECT_NE(e.find("mm is outside its stroke [-20, 20] mm"), std::string::npos) << e;
   // Machine changes move the wheel by the CFXZAY's first-order twist (effects::ComponentChanges): refused elsewhere.
-  const auto changes = error_of(kGearAndWheel + "machine:\n  chain: CAFXZY\nmachine_changes:\n"
+  const auto changes = workbench_error_of(kGearAndWheel + "machine:\n  chain: CAFXZY\nmachine_changes:\n"
                                                 "  - {component: E_AOA, law: constant, change_urad: 5}\n");
   EXPECT_NE(changes.find("scenes/x.yaml:14:"), std::string::npos) << changes;
   EXPECT_NE(changes.find("machine_changes: machine changes act through the CFXZAY's error Jacobian only"),
