@@ -1043,10 +1043,21 @@ TEST(MonteCarloProbeNoise, NoisySamplesAreReproducibleAndRecorded) {
   EXPECT_TRUE(changed) << "the noise was not applied";
   auto other_noise = parts[1];
   other_noise.probe_noise_um = 0.3;
-  EXPECT_THROW(pipeline::merge_runs({parts[0], other_noise}), std::invalid_argument);
+  // Refused naming the first differing setting (file:line: field), not merged into one wrong distribution.
+  try {
+    pipeline::merge_runs({parts[0], other_noise});
+    ADD_FAILURE() << "runs with another probe noise were merged";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("probe_noise_um: 0.3"), std::string::npos) << e.what();
+  }
   auto other_iso = parts[1];
   other_iso.iso.direction = evaluation::IsoDirection::Normal;
-  EXPECT_THROW(pipeline::merge_runs({parts[0], other_iso}), std::invalid_argument);
+  try {
+    pipeline::merge_runs({parts[0], other_iso});
+    ADD_FAILURE() << "runs with another ISO direction were merged";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("iso_direction: normal"), std::string::npos) << e.what();
+  }
   // A partial file written before σ and the ISO options were recorded reads as 0, transverse, helix-angle.
   {
     std::ofstream out(dir / "old.csv");
