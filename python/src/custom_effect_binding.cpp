@@ -197,7 +197,7 @@ PyScene with_effect(const PyScene& s, const py::object& effect) {
   out.source = s.source;
   out.dir = s.dir;
   const LibraryWork work; // Ctrl-C caught, the GIL released (the scene's checks call the function: it takes it)
-  out.wb = std::make_shared<const workbench::Workbench>(scene::parse_scene(out.text, s.source));
+  out.wb = std::make_shared<const workbench::Workbench>(scene::parse_scene(out.text, s.source), interrupt_check());
   return out;
 }
 

@@ -42,7 +42,9 @@ void bind_machine_values(py::module_& m) {
         std::vector<std::string> warnings;
         {
           const LibraryWork work; // Ctrl-C caught, the GIL released
-          const auto read = commands::read_traces_with_machine_values(wb, file, values_file, {}, {});
+          measurement::KlingelnbergOptions mka; // the default reader options
+          mka.keep_going = interrupt_check();   // a 64 MB export takes seconds to read
+          const auto read = commands::read_traces_with_machine_values(wb, file, values_file, mka, {});
           warnings = read.warnings;
           const workbench::IsoResult result = commands::evaluate_measured_traces(wb, read.traces, file, iso);
           compared = commands::machine_values(wb, read, result);

@@ -78,6 +78,7 @@ commands::DiagnoseRequest request_of(double noise_um, const std::vector<std::str
   r.candidates = candidates;
   r.scene_uncertainty = scene_uncertainty;
   r.on_candidate_fitted = progress_function(progress);
+  r.keep_going = interrupt_check(); // a fit on a large measurement takes seconds between progress reports
   return r;
 }
 
@@ -95,7 +96,7 @@ void bind_measured(py::module_& m) {
         std::optional<commands::CompareResult> r;
         {
           const LibraryWork work; // Ctrl-C caught, the GIL released
-          r = commands::compare(scene_input(s), {pts, name, {}}, noise_um);
+          r = commands::compare(scene_input(s), {pts, name, {}}, noise_um, {}, interrupt_check());
         }
         py::dict out = to_python(r->json).cast<py::dict>();
         out["residuals"] = residual_columns(pts, r->comparison);

@@ -117,7 +117,9 @@ std::vector<measurement::MeasuredPoint> measured_points(const PyScene& scene, co
   std::vector<measurement::MeasuredPoint> points;
   {
     const LibraryWork work; // Ctrl-C caught, the GIL released
-    points = measurement::read_any_measurement(name, setup, &warnings, {}, nullptr, against);
+    measurement::KlingelnbergOptions mka; // the default reader options, with the Ctrl-C check (a 64 MB export: seconds)
+    mka.keep_going = interrupt_check();
+    points = measurement::read_any_measurement(name, setup, &warnings, mka, nullptr, against);
   }
   if (!warnings.empty()) {
     const auto warn = py::module_::import("warnings").attr("warn");

@@ -24,7 +24,8 @@ PyScene make_scene(scene::Scene s, std::string source, std::string text) {
   out.dir = std::filesystem::path(source).parent_path();
   out.source = std::move(source);
   out.text = std::move(text);
-  out.wb = std::make_shared<const workbench::Workbench>(std::move(s));
+  // Checked for Ctrl-C between its steps and before every grid row of the custom effects' check
+  out.wb = std::make_shared<const workbench::Workbench>(std::move(s), interrupt_check());
   return out;
 }
 

@@ -127,3 +127,12 @@ def test_a_bad_value_file_is_an_input_error_as_the_cli_says(scene, files, tmp_pa
     assert e.value.file == str(bad)
     assert "code and label disagree" in e.value.message
     assert str(e.value) in cli.stderr
+
+
+def test_an_export_with_cr_only_line_endings_reads_as_with_lf(scene, files, tmp_path):
+    # An export saved with CR-only line endings was one line to the reader: "1:642: z=: '10.0' is not a number".
+    mka, mew = files
+    cr = tmp_path / "cr.mka"
+    cr.write_bytes(mka.read_bytes().replace(b"\r\n", b"\n").replace(b"\n", b"\r"))
+    assert b"\n" not in cr.read_bytes()
+    assert geartopo.machine_values(scene, cr, mew) == geartopo.machine_values(scene, mka, mew)

@@ -293,3 +293,12 @@ def test_scene_with_effect_refuses_what_is_not_a_custom_effect(scene):
     for wrong in ("workpiece_warming", {"name": "x"}, None, Wrong()):
         with pytest.raises(TypeError, match="^effect: .* is not a geartopo.CustomEffect"):
             scene.with_effect(wrong)
+
+
+@pytest.mark.parametrize("key", ["dense_rows", "dense_cols"])
+def test_a_scene_dense_grid_has_the_bound_of_dense(key):
+    # The scene took up to 10 000 while dense= and --dense stop at 1000: one bound (core/limits.hpp) for all three.
+    text = SCENE.read_text().replace("  rows: 7\n", "  rows: 7\n  dense_rows: 1000\n  dense_cols: 1000\n")
+    assert geartopo.scene_from_yaml(text, source=str(SCENE)).teeth == 35
+    with pytest.raises(geartopo.InputError, match=rf"measurement\.{key}: 1001 is outside \[2, 1000\]"):
+        geartopo.scene_from_yaml(text.replace(f"{key}: 1000", f"{key}: 1001"), source=str(SCENE))

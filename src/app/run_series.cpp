@@ -2,6 +2,7 @@
 
 #include "app/messages.hpp"
 
+#include "geartopo/aqdef/aqdef.hpp"
 #include "geartopo/files/atomic_write.hpp"
 #include "geartopo/files/output_folder.hpp"
 #include "geartopo/report/series_report.hpp"
@@ -17,13 +18,42 @@
 
 namespace geartopo::app {
 
+namespace {
+
+/// A scene text written as AQDEF `key`, refused at its scene field when the key cannot hold it (aqdef::text_refusal).
+std::string scene_text(const Workbench& wb, const std::string& field, const std::string& text, const char* key) {
+  if (const auto why = aqdef::text_refusal(key, text)) wb.scene.fail_at(field, fmt::format("{} (written by --aqdef)", *why));
+  return text;
+}
+
+/// K1001: the drawing's number; without one, the first of the part's description, the scene's name and its file's
+/// stem that K1001 holds (30 characters: a description is often longer). None: refused at report.drawing.
+std::string part_number(const Workbench& wb) {
+  const auto& r = wb.scene.report;
+  if (!r.drawing.empty()) return scene_text(wb, "report.drawing", r.drawing, "K1001");
+  const std::string stem = std::filesystem::path(wb.scene.source).stem().string();
+  for (const std::string* candidate : {&r.part, &wb.scene.name, &stem})
+    if (!candidate->empty() && !aqdef::text_refusal("K1001", *candidate)) return *candidate;
+  wb.scene.fail_at("report.drawing", fmt::format("none given, and neither report.part, the scene's name nor its file "
+                                                 "name fits the {} characters of AQDEF K1001 (the part number), "
+                                                 "written by --aqdef",
+                                                 aqdef::max_characters("K1001")));
+}
+
+} // namespace
+
 series::AqdefHeader aqdef_header(const Workbench& wb, const std::string& batch, const std::string& machine) {
   const auto& r = wb.scene.report;
   series::AqdefHeader h;
-  h.part_number = !r.drawing.empty() ? r.drawing : !r.part.empty() ? r.part : wb.scene.name;
-  h.part_description = !r.part.empty() ? r.part : wb.scene.name;
-  h.machine = !machine.empty() ? machine : wb.scene.machine.name;
-  h.batch = batch;
+  h.part_number = part_number(wb);
+  h.part_description = !r.part.empty() ? scene_text(wb, "report.part", r.part, "K1002")
+                                       : scene_text(wb, "name", wb.scene.name, "K1002");
+  // The series file's machine is checked where it is read; the scene's machine.name is often a description longer
+  // than K1082 holds (the default scene's: 72 characters): then no K1082 rather than a cut one.
+  h.machine = !machine.empty()                                            ? machine
+              : aqdef::text_refusal("K1082", wb.scene.machine.name) ? std::string()
+                                                                        : wb.scene.machine.name;
+  h.batch = batch; // the series file's name, checked where it is read (series_file.cpp)
   return h;
 }
 

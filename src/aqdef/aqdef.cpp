@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -22,22 +23,25 @@ namespace {
 constexpr std::uintmax_t kMaxDfqBytes = 256ull * 1024 * 1024;
 
 std::string checked_text(const std::string& key, const std::string& s) {
-  if (s.find_first_of("\r\n") != std::string::npos)
-    throw std::invalid_argument(fmt::format("AQDEF {}: a text holds a line break: '{}'", key, text::excerpt(s)));
+  if (const auto why = text_refusal(key, s)) throw std::invalid_argument(fmt::format("AQDEF {}: {}", key, *why));
   return s;
 }
 
-/// K0014 holds at most 40 characters (diribet/aqdef-tools KKeyRepository: WV0014, String, 40).
-std::string part_ident(const std::string& s) {
-  if (s.size() > 40)
-    throw std::invalid_argument(fmt::format("AQDEF K0014: the part ident '{}' is longer than 40 characters", text::excerpt(s)));
-  return checked_text("K0014", s);
-}
+constexpr std::size_t kMaxNumberCharacters = 22; // K0001, K2101, K2110, K2111: BigDecimal, 22 (KKeyRepository)
 
 std::string number(const std::string& key, double v, int decimals) {
   if (!std::isfinite(v)) throw std::invalid_argument(fmt::format("AQDEF {}: value is not finite", key));
   if (std::abs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0.0; // never "-0.0000"
-  return fmt::format("{:.{}f}", v, decimals);
+  std::string s = fmt::format("{:.{}f}", v, decimals);
+  if (s.size() > kMaxNumberCharacters)
+    throw std::invalid_argument(fmt::format("AQDEF {}: {} has {} characters, more than the {} a number holds", key, s,
+                                            s.size(), kMaxNumberCharacters));
+  return s;
+}
+
+/// UTF-8 code points (bytes that do not continue a sequence).
+std::size_t characters(const std::string& s) {
+  return static_cast<std::size_t>(std::count_if(s.begin(), s.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
 }
 
 /// What a key of the reader's list holds, and on which level.
@@ -106,6 +110,7 @@ void Reader::take(int line, std::string_view raw) {
   if (text::parse_number(head.substr(key.size() + 1), i) != std::errc())
     fail(line, static_cast<int>(key.size()) + 2, key, fmt::format("'{}' is not an index", text::excerpt(head)));
   if (spec->second.numeric) parse(line, value_column, key, value); // checked here, stored below
+  if (const auto why = text_refusal(key, std::string(value))) fail(line, value_column, key, *why); // as write_dfq
   if (spec->second.level == Level::Part) {
     if (i != 1) fail(line, 1, key, "a part key of part 1 only (/1): geartopo writes one part per file");
     if (seen[{key, 1}]++) fail(line, 1, key, "given twice");
@@ -150,6 +155,24 @@ void Reader::take_value(int line, int column, const std::string& key, long long 
 
 } // namespace
 
+std::size_t max_characters(const std::string& key) {
+  static const std::map<std::string, std::size_t> most{{"K1001", 30}, {"K1002", 80}, {"K1082", 40}, {"K2001", 20},
+                                                       {"K2002", 80}, {"K2142", 20}, {"K0006", 14}, {"K0014", 40},
+                                                       {"K0001", kMaxNumberCharacters}, {"K2101", kMaxNumberCharacters},
+                                                       {"K2110", kMaxNumberCharacters}, {"K2111", kMaxNumberCharacters}};
+  const auto it = most.find(key);
+  return it == most.end() ? 0 : it->second;
+}
+
+std::optional<std::string> text_refusal(const std::string& key, const std::string& text) {
+  if (text.find_first_of("\r\n") != std::string::npos)
+    return fmt::format("'{}' holds a line break", text::excerpt(text));
+  if (const std::size_t most = max_characters(key); most > 0 && characters(text) > most)
+    return fmt::format("'{}' has {} characters, more than the {} AQDEF {} holds", text::excerpt(text), characters(text),
+                       most, key);
+  return std::nullopt;
+}
+
 std::string format_time(long long seconds_since_epoch) {
   using namespace std::chrono;
   const sys_seconds t{seconds{seconds_since_epoch}};
@@ -178,7 +201,7 @@ void write_dfq(std::ostream& out, const Part& part, int decimals) {
       s += fmt::format("K0001/{} {}\n", i, number("K0001", v.value, decimals));
       if (!v.time.empty()) s += fmt::format("K0004/{} {}\n", i, checked_text("K0004", v.time));
       if (!v.batch.empty()) s += fmt::format("K0006/{} {}\n", i, checked_text("K0006", v.batch));
-      if (!v.part_ident.empty()) s += fmt::format("K0014/{} {}\n", i, part_ident(v.part_ident));
+      if (!v.part_ident.empty()) s += fmt::format("K0014/{} {}\n", i, checked_text("K0014", v.part_ident));
     }
   }
   out << s;

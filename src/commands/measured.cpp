@@ -33,6 +33,7 @@ diagnosis::Diagnosis run_diagnosis(const SceneInput& scene, const MeasuredInput&
   o.chain = wb.scene.machine.chain;
   o.datum_face_z_mm = wb.scene.machine.datum_face_z_mm;
   o.on_candidate_fitted = r.on_candidate_fitted;
+  o.keep_going = r.keep_going;
   if (r.scene_uncertainty) {
     o.stroke_repeatability_sd = wb.scene.machine.uncertainty.repeatability;
     o.model_uncertainty_um = diagnosis::map_sensitivity(wb, measured.points);
@@ -42,10 +43,12 @@ diagnosis::Diagnosis run_diagnosis(const SceneInput& scene, const MeasuredInput&
 
 } // namespace
 
-CompareResult compare(const SceneInput& scene, const MeasuredInput& measured, double noise_um, const ArgumentNames& names) {
+CompareResult compare(const SceneInput& scene, const MeasuredInput& measured, double noise_um, const ArgumentNames& names,
+                      const std::function<void()>& keep_going) {
   check_noise_um(noise_um, names.noise);
   CompareResult r;
-  r.comparison = diagnosis::compare(scene.wb.setup, scene.wb.process(), measured.points, noise_um, measured.read);
+  r.comparison =
+      diagnosis::compare(scene.wb.setup, scene.wb.process(), measured.points, noise_um, measured.read, keep_going);
   r.json = report::compare_json(scene.name, measured.name, measured.points, r.comparison);
   return r;
 }

@@ -15,7 +15,9 @@
 
 namespace geartopo::diagnosis {
 Comparison compare(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
-                   const std::vector<MeasuredPoint>& pts, double noise_um, const measurement::ReadCounts& read) {
+                   const std::vector<MeasuredPoint>& pts, double noise_um, const measurement::ReadCounts& read,
+                   const std::function<void()>& keep_going) {
+  const auto check = [&keep_going] { if (keep_going) keep_going(); };
   if (pts.empty()) throw std::invalid_argument("compare: no measured points");
   // The σ every test and trend divides by: a given one within the bounds diagnose accepts (1e-158 µm made the tooth
   // trends' weights overflow).
@@ -29,13 +31,16 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
                                             "measurement has {}: give the noise (--noise-um)",
                                             kMinPointsToEstimateNoise, pts.size()));
   Comparison c;
-  c.model_um = predict(setup, model, pts, grinding::Method::Exact);
+  check();
+  c.model_um = predict(setup, model, pts, grinding::Method::Exact, 0, keep_going);
+  check();
   c.allowance_offset_um = mean_allowance_offset_um(setup.geometry());
   c.residual_um.resize(pts.size());
   for (size_t i = 0; i < pts.size(); ++i) c.residual_um[i] = pts[i].deviation_um - c.model_um[i];
   c.noise_estimated = noise_um <= 0.0;
   c.flanks = flank_residuals(setup.ranges(), pts, c.residual_um, &c.flank_point_index, &c.flank_duplicates);
   c.noise_um = noise_um;
+  check();
   if (c.noise_estimated) {
     // As estimate_noise_um (diagnose uses the same σ), saying which way it was found.
     const LineNoise lines = line_noise_um(c.flanks);
@@ -59,6 +64,7 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
   std::vector<char> fitted(nf, 0);
   std::vector<std::vector<FailingRegion>> flank_regions(nf);
   parallel_for(static_cast<int>(nf), 0, [&](int k) {
+    check(); // parallel_for stops at the first exception
     const auto& f = c.flanks[static_cast<std::size_t>(k)];
     try {
       c.patterns[static_cast<std::size_t>(k)] = fit_flank_patterns(f, po);
@@ -75,9 +81,12 @@ Comparison compare(const grinding::GrindingSetup& setup, const grinding::Grindin
   }
   for (const auto& [side, list] : by_side)
     if (list.size() >= 2) c.trends.push_back(fit_tooth_trends(list, setup.geometry().teeth()));
+  check();
   c.summary = summarize_residuals(c.flanks);
   c.reference_in_doubt = reference_in_doubt(setup.geometry(), pts, c.residual_um, c.noise_um);
+  check();
   if (pts.size() >= 4) c.follows = residual_dependence(setup, pts, c.residual_um);
+  check();
   for (const auto& f : c.flanks) {
     const auto crossings = line_crossings(f);
     if (crossings.empty()) continue;

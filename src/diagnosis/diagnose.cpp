@@ -63,18 +63,24 @@ double estimate_noise_um(const std::vector<MeasuredPoint>& pts, const std::vecto
 Diagnosis diagnose(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
                    const std::vector<MeasuredPoint>& points, const std::vector<std::string>& in_scene,
                    const DiagnoseOptions& options) {
+  const auto keep_going = [&options] { if (options.keep_going) options.keep_going(); };
   const stages::Context ctx(setup, model, points, in_scene, options);
+  keep_going();
   std::optional<Decision> reference = stages::reference_in_doubt(ctx);
   stages::FitProgress progress{options};
   const stages::LibraryFits library = stages::fit_library(ctx, progress);
   const stages::PairFits pairs = stages::fit_pairs(ctx, library, progress);
+  keep_going();
   const stages::LibraryJudgement judgement = stages::judge_library(ctx, library, pairs);
   const stages::BeyondLibrary beyond = stages::try_families(ctx, judgement);
+  keep_going();
   const stages::Alternatives alternatives = stages::find_alternatives(ctx, library, pairs, judgement, beyond);
+  keep_going();
   const std::optional<Candidate>& chosen = beyond.outcome == stages::BeyondLibrary::Outcome::named
                                                ? beyond.best
                                                : judgement.pick;
   stages::Plans plans = stages::make_plans(ctx, chosen, alternatives);
+  keep_going();
   auto draws = stages::posterior_draws(ctx, chosen);
   Diagnosis d = stages::compose(ctx, std::move(reference), library, pairs, judgement, beyond, alternatives, std::move(plans), std::move(draws));
   dump_if_asked(d);

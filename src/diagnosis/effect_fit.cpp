@@ -32,8 +32,9 @@ class EffectFit {
 public:
   /// `project`: a user's law's proportional parameters are solved by variable projection (projected_residual).
   EffectFit(const grinding::GrindingSetup& setup, const EffectContribution& at_points, const std::vector<double>& r0,
-            const std::vector<std::string>& types, const SetupTermModel& setup_terms, int threads, bool project)
-      : at_points_(at_points), setup_terms_(setup_terms), threads_(threads) {
+            const std::vector<std::string>& types, const SetupTermModel& setup_terms, int threads, bool project,
+            std::function<void()> keep_going)
+      : at_points_(at_points), setup_terms_(setup_terms), threads_(threads), keep_going_(std::move(keep_going)) {
     const Eigen::Map<const Eigen::VectorXd> r(r0.data(), static_cast<Eigen::Index>(r0.size()));
     judged_r0_ = setup_terms.remove((r.array() - at_points.offset_um()).matrix());
     for (const auto& t : types) {
@@ -99,6 +100,7 @@ public:
   /// Residual left at the points (µm, one per point) with the parameters x (p, scaled) and the best set-up terms for
   /// them (variable projection: the terms are linear, so they are solved exactly for every x).
   Eigen::VectorXd residual(const Eigen::VectorXd& x) {
+    if (keep_going_) keep_going_(); // DiagnoseOptions::keep_going: a fit on 10⁵ points takes seconds
     set(x);
     Eigen::VectorXd r = judged_r0_;
     for (size_t e = 0; e < effects_.size(); ++e) r -= judged_deviation(e);
@@ -235,6 +237,7 @@ private:
   const EffectContribution& at_points_;
   const SetupTermModel& setup_terms_;
   int threads_;
+  std::function<void()> keep_going_; ///< DiagnoseOptions::keep_going (may be empty)
   Eigen::VectorXd judged_r0_; ///< n: remove(r0 − offset), µm
   std::vector<std::unique_ptr<effects::Effect>> effects_;
   std::vector<PerEffect> per_effect_;           // one per effect
@@ -457,14 +460,15 @@ Candidate fit_effects(const grinding::GrindingSetup& setup, const EffectContribu
                       const std::vector<double>& r0, const std::vector<std::string>& types,
                       const std::map<std::string, std::vector<double>>& warm, const SetupTermModel& setup_terms,
                       const DiagnoseOptions& o, const FitSubsample* subsample) {
-  EffectFit f(setup, at_points, r0, types, setup_terms, o.threads, o.project_linear);
+  EffectFit f(setup, at_points, r0, types, setup_terms, o.threads, o.project_linear, o.keep_going);
   const Box box = parameter_box(f);
   const std::vector<Eigen::VectorXd> starts = start_points(f, box, warm);
   LmResult best;
   if (subsample && starts.size() > 1) {
     // The starts on every k-th point (an iteration there costs 1/k of one on all points), then the best start's
     // solution polished on all points: a few iterations from next to the minimum. One start: no search to save.
-    EffectFit coarse(setup, subsample->at, subsample->r0, types, subsample->terms, o.threads, o.project_linear);
+    EffectFit coarse(setup, subsample->at, subsample->r0, types, subsample->terms, o.threads, o.project_linear,
+                     o.keep_going);
     best = f.minimise(best_of_starts(coarse, starts, box, o.threads).x, box.lo, box.hi);
     if (!std::isfinite(best.rss))
       throw std::runtime_error("diagnose: the fit on all points gave a non-finite residual (a non-finite measurement or "

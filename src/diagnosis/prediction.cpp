@@ -14,13 +14,15 @@ double mean_allowance_offset_um(const gears::GearGeometry& g) {
 }
 
 std::vector<double> predict(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
-                            const std::vector<MeasuredPoint>& points, grinding::Method method, int threads) {
+                            const std::vector<MeasuredPoint>& points, grinding::Method method, int threads,
+                            const std::function<void()>& keep_going) {
   const grinding::FlankDeviation dev(setup.flanks(), setup.wheel(), setup.path(), process);
   std::vector<double> out(points.size());
   const double offset_um = mean_allowance_offset_um(setup.geometry());
   // Chunks of points per task: one task per point would drown the work in scheduling.
   const int n = static_cast<int>(points.size()), chunk = 32;
   geartopo::parallel_for((n + chunk - 1) / chunk, threads, [&](int c) {
+    if (keep_going && c % 128 == 0) keep_going(); // every 4096 points; parallel_for stops at the first exception
     for (int i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
       const auto& p = points[static_cast<size_t>(i)];
       out[static_cast<size_t>(i)] =

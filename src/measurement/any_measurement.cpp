@@ -77,7 +77,7 @@ std::vector<MeasuredPoint> read_any_measurement(const std::string& file, const g
   std::vector<MeasuredPoint> points;
   // First: an export's header lines and trace heads are not numbers, so neither other reader would take it anyway.
   if (looks_like_klingelnberg(in)) {
-    auto res = klingelnberg_points(read_klingelnberg(file), setup.geometry(), mka);
+    auto res = klingelnberg_points(read_klingelnberg(file, mka.keep_going), setup.geometry(), mka);
     if (warnings) warnings->insert(warnings->end(), res.warnings.begin(), res.warnings.end());
     if (counts) *counts = {res.undefined_values, res.off_flank_points};
     points = std::move(res.points);
@@ -108,7 +108,7 @@ MeasuredTraces read_any_traces(const std::string& file, const grinding::Grinding
         file, grinding::kDesignColumn));
   t.klingelnberg = looks_like_klingelnberg(in);
   if (t.klingelnberg) {
-    t.export_file = read_klingelnberg(file);
+    t.export_file = read_klingelnberg(file, mka.keep_going);
     t.flanks = klingelnberg_traces(*t.export_file, g, mka, &t.warnings);
   } else {
     t.flanks = grinding::read_traces_csv(file, g.teeth());

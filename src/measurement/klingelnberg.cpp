@@ -248,7 +248,9 @@ namespace {
 /// pitch tables, blocks this reader skips), keeping what the rules across lines need (the teeth, the traces seen).
 class ExportParser {
 public:
-  explicit ExportParser(const std::string& source) { f_.source = source; }
+  ExportParser(const std::string& source, const std::function<void()>& keep_going) : keep_going_(keep_going) {
+    f_.source = source;
+  }
   /// `raw`: UTF-8 (any BOM stripped).
   KlingelnbergFile parse(std::string_view raw);
 
@@ -294,6 +296,7 @@ private:
   // The line being read: its number, the line as in the file, trimmed, and as parsed (in German words).
   int ln_ = 0;
   std::string_view full_, trimmed_, line_;
+  const std::function<void()>& keep_going_; // KlingelnbergOptions::keep_going, may be empty
 };
 
 KlingelnbergFile ExportParser::parse(std::string_view raw) {
@@ -302,7 +305,7 @@ KlingelnbergFile ExportParser::parse(std::string_view raw) {
     const size_t nl = raw.find('\n', pos);
     full_ = raw.substr(pos, nl == std::string_view::npos ? std::string_view::npos : nl - pos);
     pos = nl == std::string_view::npos ? raw.size() : nl + 1;
-    ++ln_;
+    if (++ln_ % 4096 == 0 && keep_going_) keep_going_(); // a Ctrl-C check: 4096 lines take ~1 ms
     trimmed_ = trim(full_);
     if (trimmed_.empty()) continue;
     line_ = trimmed_;
@@ -574,23 +577,32 @@ void ExportParser::read_free_line() {
 
 } // namespace
 
-KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& source) {
+KlingelnbergFile parse_klingelnberg(std::string_view raw, const std::string& source,
+                                    const std::function<void()>& keep_going) {
   refuse_utf16(raw, source);
   std::string converted;
   if (!text::strip_bom(raw) && !is_utf8(raw)) { // no BOM and not UTF-8: the older latin-1 exports
     converted = latin1_to_utf8(raw);
     raw = converted;
   }
-  return ExportParser(source).parse(raw);
+  // CR-only line endings (an export saved by a classic-Mac tool): without a LF the whole file was one line, refused
+  // as "1:642: z=: '10.0' is not a number". A CR that ends every line is read as the line break it is.
+  if (raw.find('\n') == std::string_view::npos && raw.find('\r') != std::string_view::npos) {
+    std::string lines(raw);
+    std::replace(lines.begin(), lines.end(), '\r', '\n');
+    converted = std::move(lines);
+    raw = converted;
+  }
+  return ExportParser(source, keep_going).parse(raw);
 }
 
-KlingelnbergFile read_klingelnberg(const std::string& file) {
+KlingelnbergFile read_klingelnberg(const std::string& file, const std::function<void()>& keep_going) {
   // An export of a few gears is a few MB; it is read whole.
   constexpr std::uintmax_t kMaxExportBytes = 64 * input::kMiB;
   auto in = input::open_input_file(file, kMaxExportBytes, "Klingelnberg export");
   std::ostringstream ss;
   ss << in.rdbuf();
-  return parse_klingelnberg(ss.str(), file);
+  return parse_klingelnberg(ss.str(), file, keep_going);
 }
 
 bool looks_like_klingelnberg(std::istream& in) {
@@ -659,6 +671,7 @@ KlingelnbergPoints klingelnberg_points(const KlingelnbergFile& f, const gears::G
   const double d_lo = g.root_form_diameter_mm(), d_hi = g.tip_diameter_mm(), b = spec.face_width_mm;
   int off_flank = 0;
   for (const auto& t : f.traces) {
+    if (o.keep_going) o.keep_going(); // a Ctrl-C check: every point of a trace is put on the flank
     if (t.tooth > g.teeth())
       fail(f.source, t.line, "Zahn-Nr.", fmt::format("tooth {} of a gear with {} teeth", t.tooth, g.teeth()));
     const int n = static_cast<int>(t.values_um.size());

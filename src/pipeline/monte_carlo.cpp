@@ -10,6 +10,7 @@
 #include "sample_model.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <atomic>
@@ -358,6 +359,72 @@ AdaptiveStability adaptive_stability(const MonteCarloRun& run, long long batch, 
   return st;
 }
 
+namespace {
+
+/// One setting of a run as its partial result writes it: the key (write_run_csv's "# key: "), the value as written,
+/// and why a part with another value is refused.
+struct RunSetting {
+  std::string key, value, why;
+};
+
+/// A run's settings in the order write_run_csv writes them, then the header's quantities.
+std::vector<RunSetting> run_settings(const MonteCarloRun& r) {
+  const auto or_none = [](const std::string& v) { return v.empty() ? std::string("not recorded") : v; };
+  const std::string run = "not the same run";
+  std::string quantities = fmt::format("{}", fmt::join(r.names, ","));
+  for (const auto& w : r.without) quantities += ",without_" + w;
+  return {{"samples_total", std::to_string(r.samples_total), run},
+          {"seed", std::to_string(r.seed), run},
+          {"iso_direction", std::string(evaluation::to_string(r.iso.direction)), run},
+          {"helix_slope_sign", std::string(evaluation::to_string(r.iso.helix_slope_sign)), run},
+          {"probe_noise_um", fmt::format("{} µm", r.probe_noise_um), run},
+          {"sampling", r.sampling.method, run},
+          {"sampling_reason", or_none(r.sampling.reason), run},
+          {"linear_check_samples", std::to_string(r.sampling.checked_samples), run},
+          {"linear_check_points_um", fmt::format("{} µm", r.sampling.largest_point_difference_um), run},
+          {"linear_check_quantities_um", fmt::format("{} µm", r.sampling.largest_quantity_difference_um), run},
+          {"scene_fingerprint", or_none(r.scene_fingerprint), "computed from another scene, error table or compensation setting"},
+          {"gear", or_none(r.gear), "not the same gear"},
+          {"header", quantities, "other quantities (another scene?)"}};
+}
+
+/// Where a part's setting stands: "b.csv:4" (a missing setting: at the part's header, before which it would stand),
+/// or "part 2" for a run computed in memory; the line (0 when not known).
+std::pair<std::string, int> setting_place(const MonteCarloRun& r, const std::string& key, const std::string& part) {
+  if (r.source.empty()) return {part, 0};
+  const auto at = r.lines.find(key);
+  const auto header = r.lines.find("header");
+  const int line = at != r.lines.end() ? at->second : header != r.lines.end() ? header->second : 0;
+  return {line > 0 ? fmt::format("{}:{}", r.source, line) : r.source, line};
+}
+
+/// Refuses `part` (named `here`) unless its settings are those of `first` (named `first_name`): the first differing
+/// setting in the part's file, as file:line: field, beside the first part's.
+void require_same_run(const MonteCarloRun& part, const std::string& here, const MonteCarloRun& first,
+                      const std::string& first_name) {
+  const auto mine = run_settings(part), theirs = run_settings(first);
+  std::optional<std::size_t> worst;
+  int worst_line = 0;
+  for (std::size_t k = 0; k < mine.size(); ++k) {
+    if (mine[k].value == theirs[k].value) continue;
+    const int line = setting_place(part, mine[k].key, here).second;
+    if (!worst || (line > 0 && (worst_line == 0 || line < worst_line))) worst = k, worst_line = line;
+  }
+  if (!worst) return;
+  const auto& differs = mine[*worst];
+  const std::string theirs_at = setting_place(first, differs.key, first_name).first;
+  const bool unrecorded = differs.key == "scene_fingerprint" && (part.scene_fingerprint.empty() || first.scene_fingerprint.empty());
+  const std::string message =
+      fmt::format("{} ({}: {}): {}", differs.value, theirs_at, theirs[*worst].value,
+                  unrecorded ? "one was written before geartopo recorded it, so they cannot be shown to be of the same "
+                               "scene: compute every shard with this geartopo"
+                             : differs.why);
+  if (part.source.empty()) throw std::invalid_argument(fmt::format("{}: {}: {}", here, differs.key, message));
+  throw InputError(SourcePosition{part.source, worst_line, 0}, differs.key, message);
+}
+
+} // namespace
+
 MonteCarloRun merge_runs(std::vector<MonteCarloRun> parts) {
   if (parts.empty()) throw std::invalid_argument("no partial results to merge");
   // "part 2 (b.csv)" when read from a file: the user must know which file to look at.
@@ -374,42 +441,11 @@ MonteCarloRun merge_runs(std::vector<MonteCarloRun> parts) {
   out.without = parts.front().without;
   out.scene_fingerprint = parts.front().scene_fingerprint;
   out.gear = parts.front().gear;
-  const std::string first = part_name(0);
   std::vector<std::pair<long long, size_t>> from; // sample index → part it came from
   for (size_t p = 0; p < parts.size(); ++p) {
     const auto& part = parts[p];
-    const std::string here = part_name(p);
-    if (part.samples_total != out.samples_total || part.seed != out.seed)
-      throw std::invalid_argument(fmt::format("{}: {} samples, seed {} ({}: {} samples, seed {}): not the same run", here,
-                                              part.samples_total, part.seed, first, out.samples_total, out.seed));
-    if (part.iso.direction != out.iso.direction || part.iso.helix_slope_sign != out.iso.helix_slope_sign)
-      throw std::invalid_argument(fmt::format("{}: ISO options {}, {} ({}: {}, {}): not the same run", here,
-                                              evaluation::to_string(part.iso.direction),
-                                              evaluation::to_string(part.iso.helix_slope_sign), first,
-                                              evaluation::to_string(out.iso.direction),
-                                              evaluation::to_string(out.iso.helix_slope_sign)));
-    if (part.probe_noise_um != out.probe_noise_um)
-      throw std::invalid_argument(fmt::format("{}: probe noise {} µm ({}: {} µm): not the same run", here,
-                                              part.probe_noise_um, first, out.probe_noise_um));
-    if (part.names != out.names || part.without != out.without)
-      throw std::invalid_argument(fmt::format("{}: other quantities than {} (another scene?)", here, first));
-    if (part.scene_fingerprint != out.scene_fingerprint)
-      throw std::invalid_argument(fmt::format(
-          "{}: scene fingerprint {} ({}: {}): {}", here,
-          part.scene_fingerprint.empty() ? "not recorded" : part.scene_fingerprint, first,
-          out.scene_fingerprint.empty() ? "not recorded" : out.scene_fingerprint,
-          part.scene_fingerprint.empty() || out.scene_fingerprint.empty()
-              ? "one was written before geartopo recorded it, so they cannot be shown to be of the same scene: "
-                "compute every shard with this geartopo"
-              : "computed from another scene, error table or compensation setting"));
-    if (part.gear != out.gear)
-      throw std::invalid_argument(fmt::format("{}: gear {} ({}: {}): not the same gear", here,
-                                              part.gear.empty() ? "not recorded" : part.gear, first,
-                                              out.gear.empty() ? "not recorded" : out.gear));
-    if (!(part.sampling == out.sampling))
-      throw std::invalid_argument(fmt::format("{}: {} samples ({}) ({}: {} samples ({})): not the same run", here,
-                                              part.sampling.method, part.sampling.reason, first, out.sampling.method,
-                                              out.sampling.reason));
+    // A part of another run is refused at its first differing setting (file:line: field), beside the first part's.
+    require_same_run(part, fmt::format("part {}", p + 1), parts.front(), "part 1");
     for (const auto& s : part.samples) {
       out.samples.push_back(s);
       from.emplace_back(s.index, p);

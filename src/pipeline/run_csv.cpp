@@ -136,6 +136,9 @@ void RunCsvReader::read_iso_word(std::string_view key, Parse parse, T& value) {
 }
 
 void RunCsvReader::read_comment() {
+  // "# key: value": where each setting stands, for merge_runs' refusals
+  if (const auto colon = view_.find(": "); view_.starts_with("# ") && colon != std::string_view::npos)
+    run_.lines[std::string(view_.substr(2, colon - 2))] = line_no_;
   read_whole("# samples_total: ", run_.samples_total, have_total_);
   read_whole("# seed: ", run_.seed, have_seed_);
   if (const auto rest = value_of("# probe_noise_um: ")) {
@@ -213,6 +216,7 @@ void RunCsvReader::read_header(const std::vector<std::string_view>& f) {
     run_.without.push_back(source);
   }
   run_.names = group_names[0];
+  run_.lines["header"] = line_no_;
   for (size_t n = 0; n < run_.names.size(); ++n) {
     const auto rule = detail::rule_of(run_.names[n]);
     if (!rule)

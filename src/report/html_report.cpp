@@ -413,7 +413,8 @@ std::string run_date() {
 
 // Screen: up to 1400 px wide. Print (A4, 12 mm margins: 186 mm = 703 CSS px of printable width, which every table
 // must fit — ReportTest.PrintEveryTableFitsTheA4PrintableWidth): 9 pt tables, figures at most 135 mm tall (the
-// nominal after-state's, ≈ 0, 80 mm; the measurement's two 120 and 100 mm, to share a page) so that pages fill, the first page a sheet of its own, long tables free to
+// nominal after-state's, ≈ 0, 80 mm; the diagnosis' 100 mm; measured-vs-model up to a page, 250 mm, as its height grows with
+// the measured flanks: 8 flanks at 120 mm were 60 mm wide, unreadable) so that pages fill, the first page a sheet of its own, long tables free to
 // continue on the next page (their header repeated), and no other forced break.
 const char* kStyle =
     "<style>*{box-sizing:border-box}html{font-size:16px}"
@@ -423,7 +424,7 @@ const char* kStyle =
     "td,th{border:1px solid #bbb;padding:.2em .5em;text-align:right}th{background:#f2f2f2}td:first-child{text-align:left}"
     "table.header,table.data{width:100%}table.header th,table.data th{text-align:left;width:14%}"
     "table.header td,table.data td{text-align:left;overflow-wrap:anywhere}td.cls,span.cls{color:#666;font-size:.85em}table.flanks td{white-space:nowrap}"
-    "table.result td{white-space:nowrap}table.result td:first-child{white-space:normal}table.result tr.overall td{font-weight:bold;background:#f6f8fa}"
+    "table.ranked :is(td,th):nth-child(2),table.ranked :is(td,th):last-child{text-align:left}table.result td{white-space:nowrap}table.result td:first-child{white-space:normal}table.result tr.overall td{font-weight:bold;background:#f6f8fa}"
     ".pair{display:flex;flex-wrap:wrap;gap:0 1.5em;align-items:flex-start}"
     "figure{margin:1em 0}img{max-width:100%;height:auto;border:1px solid #ddd;display:block}"
     "figcaption{font-size:.9em;color:#444;max-width:75em}.scroll{max-width:100%;overflow-x:auto}"
@@ -437,7 +438,7 @@ const char* kStyle =
     "h2{break-after:avoid;font-size:1.2em;padding-top:.3em;margin:.6em 0 .3em}"
     "table{font-size:9pt;margin:.4em 0;break-inside:auto}tr{break-inside:avoid}thead{display:table-header-group}"
     "td,th{padding:.1em .35em}table.header th,table.data th{width:auto}"
-    "figure{break-inside:avoid;margin:.5em 0}img{width:auto;max-height:135mm}img[src=\"topology_after.png\"]{max-height:80mm}img[src=\"measured_vs_model.png\"]{max-height:120mm}"
+    "figure{break-inside:avoid;margin:.5em 0}img{width:auto;max-height:135mm}img[src=\"topology_after.png\"]{max-height:80mm}img[src=\"measured_vs_model.png\"]{max-height:250mm}"
     "img[src=\"diagnosis.png\"]{max-height:100mm}figcaption{font-size:8.5pt}"
     ".scroll{overflow:visible}.first{break-after:page;border:none;background:none;padding:0}"
     ".first figure{display:flex;gap:1em;align-items:flex-end}.first figure img{max-height:50mm;max-width:62%}"
@@ -523,7 +524,7 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
       h += "</ul>\n";
     }
     h += figures_of(figs, "measurement");
-    h += "<div class=scroll><table><thead><tr><th>rank</th><th>effect</th><th>ΔBIC</th><th>explained</th><th>RMS after (µm)</th>"
+    h += "<div class=scroll><table class=ranked><thead><tr><th>rank</th><th>effect</th><th>ΔBIC</th><th>explained</th><th>RMS after (µm)</th>"
          "<th>parameters (±1σ)</th></tr></thead>"; // thead: repeated when the table continues on the next printed page
     int rank = 1;
     for (const auto& c : m.diagnosis.ranked) {
@@ -532,6 +533,7 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
         if (p.fitted) // GUM §7.2.6; a value the data do not fix is no finding
           params += fmt::format("{} {}; ", p.key, p.determined ? text::with_uncertainty(p.value, p.uncertainty)
                                                                : std::string("not determined"));
+      if (params.ends_with("; ")) params.resize(params.size() - 2); // a separator, not a terminator
       h += fmt::format("<tr><td>{}</td><td>{}{}{}</td><td>{:.1f}</td><td>{:.1f} %</td><td>{:.2f}</td><td>{}</td></tr>", rank++,
                        esc(c.name()), c.significant ? "" : " (not significant)", own_effect_note(c), c.delta_bic,
                        100 * c.explained_fraction, c.rms_after_um, esc(params));
@@ -540,7 +542,7 @@ void write_html_report(const std::filesystem::path& dir, const workbench::Workbe
     if (!m.diagnosis.hypotheses.empty()) {
       // Beyond the library (docs/diagnosis.md): the machine's own elements, best first.
       h += "<p>Beyond the library: the chain's error components under their laws in time, and each wheel flank.</p>\n"
-           "<div class=scroll><table><thead><tr><th>rank</th><th>machine element and law</th><th>ΔBIC</th>"
+           "<div class=scroll><table class=ranked><thead><tr><th>rank</th><th>machine element and law</th><th>ΔBIC</th>"
            "<th>explained</th><th>finding</th></tr></thead>";
       int k = 1;
       for (const auto& row : diagnosis::hypothesis_rows(m.diagnosis)) { // an equivalence class is one row

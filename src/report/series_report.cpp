@@ -38,6 +38,14 @@ std::string header(const workbench::Workbench& wb, const series::SeriesResult& r
 
 std::string opt_um(const std::optional<double>& v) { return v ? fmt::format("{:.2f}", *v) : std::string("—"); }
 
+/// A gear's within-job diagnosis in a table cell: the explanation named (withheld: so marked), else why none.
+std::string within_job(const series::GearValues& g) {
+  if (!g.diagnosis) return "–";
+  const auto& d = *g.diagnosis;
+  if (d.chosen) return d.chosen->name() + (d.withheld ? " (withheld)" : "");
+  return d.unexplained ? "unexplained (more than noise)" : "nothing beyond noise";
+}
+
 /// One row per gear: when, the wheel and corrections state, the residual, the ISO class; pitch and runout when any
 /// gear has them.
 std::string per_gear_table(const series::SeriesResult& r) {
@@ -48,6 +56,8 @@ std::string per_gear_table(const series::SeriesResult& r) {
                   "dressing</th><th>corrections</th><th>residual L (µm)</th><th>residual R (µm)</th><th>RMS (µm)</th>"
                   "<th>ISO class</th>";
   if (pitch) h += "<th>f_p L (µm)</th><th>F_p L (µm)</th><th>f_p R (µm)</th><th>F_p R (µm)</th><th>F_r (µm)</th>";
+  const bool diagnosed = std::any_of(r.gears.begin(), r.gears.end(), [](const auto& g) { return g.diagnosis.has_value(); });
+  if (diagnosed) h += "<th>within the job (diagnose)</th>";
   h += "</tr></thead>\n";
   for (size_t k = 0; k < r.gears.size(); ++k) {
     const auto& g = r.gears[k];
@@ -68,9 +78,18 @@ std::string per_gear_table(const series::SeriesResult& r) {
                        opt_um(pr ? std::optional(pr->f_p_um) : std::nullopt), opt_um(pr ? std::optional(pr->F_p_um) : std::nullopt),
                        opt_um(e && e->runout ? std::optional(e->runout->F_r_um) : std::nullopt));
     }
+    if (diagnosed) h += "<td>" + html_escape(within_job(g)) + "</td>";
     h += "</tr>\n";
   }
-  return h + "</table></div>\n";
+  h += "</table></div>\n";
+  if (diagnosed) {
+    h += "<p>Each gear's measurement through <code>geartopo diagnose</code>'s pipeline, against the model it was ground "
+         "with (its corrections included); the verdicts:</p>\n<ul class=verdicts>\n";
+    for (const auto& g : r.gears)
+      if (g.diagnosis) h += fmt::format("<li><b>{}</b>: {}</li>\n", html_escape(g.gear.id), html_escape(g.diagnosis->verdict));
+    h += "</ul>\n";
+  }
+  return h;
 }
 
 /// A law's parameter in the symbols of the page's formula: "τ = 0.9995 ± 0.0010 h".

@@ -692,8 +692,9 @@ MeasurementGrid read_grid(MapReader& m, int teeth, const std::filesystem::path& 
   if (m.has("cols")) g.cols = static_cast<int>(m.integer("cols", 2, limits::kMaxGridLines));
   if (m.has("profile_points")) g.profile_points = static_cast<int>(m.integer("profile_points", 2, limits::kMaxTracePoints));
   if (m.has("helix_points")) g.helix_points = static_cast<int>(m.integer("helix_points", 2, limits::kMaxTracePoints));
-  if (m.has("dense_rows")) g.dense_rows = static_cast<int>(m.integer("dense_rows", 2, 10000));
-  if (m.has("dense_cols")) g.dense_cols = static_cast<int>(m.integer("dense_cols", 2, 10000));
+  // The same bound as the CLI's --dense and the module's dense= (core/limits.hpp)
+  if (m.has("dense_rows")) g.dense_rows = static_cast<int>(m.integer("dense_rows", 2, limits::kMaxGridLines));
+  if (m.has("dense_cols")) g.dense_cols = static_cast<int>(m.integer("dense_cols", 2, limits::kMaxGridLines));
   if ((g.dense_rows > 0) != (g.dense_cols > 0))
     m.context().fail_field(m.field(g.dense_rows > 0 ? "dense_cols" : "dense_rows"),
                            "missing: give both dense_rows and dense_cols");

@@ -2,6 +2,8 @@
 // (series_analysis.hpp).
 #include "geartopo/series/series_analysis.hpp"
 
+#include "geartopo/diagnosis/diagnosis_json.hpp"
+
 #include "geartopo/core/uncertain_value.hpp"
 
 #include <fmt/format.h>
@@ -151,9 +153,11 @@ SeriesResult analyse_series(const SeriesSpec& spec, const workbench::Workbench& 
   r.drawing_class = wb.scene.report.tolerance_class;
   std::string corrections_before = spec.gears.empty() ? "" : spec.gears.front().corrections.string();
   int set = 0;
+  SeriesOptions per_gear = options;
+  per_gear.diagnose_gears = options.diagnose_gears || spec.diagnose_gears;
   for (const auto& g : spec.gears) {
     if (g.corrections.string() != corrections_before) ++set, corrections_before = g.corrections.string();
-    r.gears.push_back(gear_values(wb, g));
+    r.gears.push_back(gear_values(wb, g, {}, per_gear));
     r.gears.back().correction_set = set;
   }
   r.states = states_of(r.gears);
@@ -166,6 +170,7 @@ SeriesResult analyse_series(const SeriesSpec& spec, const workbench::Workbench& 
   r.quantities = collect_quantities(r.gears, wb.setup.geometry().spec());
   const auto params = workbench::gear_parameters(wb.setup.geometry());
   for (auto& q : r.quantities) {
+    if (options.keep_going) options.keep_going();
     if (q.iso && r.drawing_class) q.limit_um = evaluation::tolerance_um(*q.iso, params, *r.drawing_class);
     fit_quantity(q, r, options);
   }
@@ -202,6 +207,18 @@ nlohmann::json loss_json(const ClassLoss& c, double limit) {
   return j;
 }
 
+/// A gear's within-job diagnosis in series.json: diagnosis.json's verdict, the chosen explanation (candidate_json; null
+/// when none) and what it leaves.
+nlohmann::json gear_diagnosis_json(const diagnosis::Diagnosis& d) {
+  return {{"verdict", d.verdict},
+          {"chosen", d.chosen ? diagnosis::candidate_json(*d.chosen) : nlohmann::json(nullptr)},
+          {"withheld", d.withheld.has_value()},
+          {"unexplained", d.unexplained},
+          {"noise_um", d.noise_um},
+          {"rms_before_um", d.rms_before_um},
+          {"rms_after_um", d.rms_after_um}};
+}
+
 } // namespace
 
 nlohmann::json series_json(const SeriesResult& r) {
@@ -226,6 +243,7 @@ nlohmann::json series_json(const SeriesResult& r) {
         if (*p) e[fmt::format("f_p_{}_um", side)] = (*p)->f_p_um, e[fmt::format("F_p_{}_um", side)] = (*p)->F_p_um;
       if (ev.runout) e["F_r_um"] = ev.runout->F_r_um;
     } else e["iso_note"] = g.iso_note;
+    if (g.diagnosis) e["diagnosis"] = gear_diagnosis_json(*g.diagnosis);
     j["gears"].push_back(e);
   }
   j["next_gear"] = {{"time_h", r.next.time_h}, {"strokes_since_dressing", r.next.strokes_since_dressing}};

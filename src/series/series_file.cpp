@@ -1,6 +1,8 @@
 // The series file's strict reader (series_file.hpp), on the scene library's YAML map reader.
 #include "geartopo/series/series_file.hpp"
 
+#include "geartopo/aqdef/aqdef.hpp"
+
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/files/input_file.hpp"
 
@@ -23,6 +25,15 @@ using scene::ReadContext;
 constexpr Range kStartRange{0.0, 1e9}; // s: 30 years
 constexpr double kMaxStrokes = 1e7;
 
+/// A text the AQDEF export writes as `key` (name → K0006, machine → K1082, id → K0014), refused at its field when the
+/// key cannot hold it (aqdef::text_refusal: its length in the Q-DAS database), before any gear is read.
+std::string aqdef_text(const ReadContext& ctx, const std::string& field, const std::string& text, const char* key,
+                       const char* what) {
+  if (const auto why = aqdef::text_refusal(key, text))
+    ctx.fail_field(field, fmt::format("{} (the {}, written as AQDEF {} by --aqdef)", *why, what, key));
+  return text;
+}
+
 std::filesystem::path resolved(const std::filesystem::path& base_dir, const std::string& p) {
   const std::filesystem::path path(p);
   return path.is_absolute() ? path : base_dir / path;
@@ -33,7 +44,8 @@ SeriesGear read_gear(MapReader& m, const SeriesSpec& spec, const SeriesGear* pre
                      const std::filesystem::path& dir, double strokes_per_gear) {
   SeriesGear g;
   g.line = m.mark().line + 1;
-  g.id = m.optional_text("id").value_or(fmt::format("gear {}", index + 1));
+  g.id = aqdef_text(m.context(), m.field("id"), m.optional_text("id").value_or(fmt::format("gear {}", index + 1)),
+                    "K0014", "part ident");
   g.measurement = resolved(dir, m.text("measurement"));
   const bool has_s = m.has("start_s"), has_date = m.has("started");
   if (has_s == has_date)
@@ -92,9 +104,11 @@ SeriesSpec parse_series(const std::string& text, const std::string& source, doub
   SeriesSpec spec;
   spec.source = source;
   MapReader top(root, "", ctx);
-  spec.name = top.optional_text("name").value_or("");
+  spec.name = aqdef_text(ctx, "name", top.optional_text("name").value_or(""), "K0006", "batch");
   spec.scene = resolved(dir, top.text("scene"));
-  spec.machine = top.optional_text("machine").value_or("");
+  const auto diagnose = top.optional_choice("diagnose_gears", {"true", "false"});
+  spec.diagnose_gears = diagnose && *diagnose == "true";
+  spec.machine = aqdef_text(ctx, "machine", top.optional_text("machine").value_or(""), "K1082", "machine");
   if (const auto started = top.optional_text("started")) {
     spec.started_epoch_s = parse_date_time(*started);
     if (!spec.started_epoch_s) ctx.fail_field("started", fmt::format("'{}' is not a date and time YYYY-MM-DDTHH:MM:SS", *started));

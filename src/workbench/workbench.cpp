@@ -125,11 +125,12 @@ std::unique_ptr<const grinding::GrindingProcess> make_machine_process(const mach
   return std::make_unique<const grinding::ChainProcess>(chain, model, datum_face_z_mm);
 }
 
-Workbench::Workbench(scene::Scene s)
+Workbench::Workbench(scene::Scene s, const std::function<void()>& keep_going)
     : scene(std::move(s)), setup(setup_with_a_wheel_that_fits(scene, notes)), machine(scene.machine.model()),
       machine_process_owner(make_machine_process(*scene.machine.chain, machine, scene.machine.datum_face_z_mm)),
       machine_process(*machine_process_owner), effects(make_effects(scene.effects, scene.machine_changes, setup, scene.machine.chain,
                                                               scene.machine.datum_face_z_mm)) {
+  if (keep_going) keep_going();
   if (scene.machine.chain->is_setting_chain()) check_strokes(scene, setup);
   check_chain(scene, setup, machine_process);
   if (!effects.empty()) effects_process = std::make_unique<effects::EffectsProcess>(machine_process, effects);
@@ -144,7 +145,7 @@ Workbench::Workbench(scene::Scene s)
     design_process = std::make_unique<compensation::CompensatedProcess>(machine_and_effects(), *design_motion);
   }
   if (!scene.custom_effects.empty()) {
-    check_custom_effects_finite();
+    check_custom_effects_finite(keep_going);
     build_diagnosis_model();
   }
 }
@@ -167,7 +168,7 @@ void Workbench::build_diagnosis_model() {
   }
 }
 
-void Workbench::check_custom_effects_finite() const {
+void Workbench::check_custom_effects_finite(const std::function<void()>& keep_going) const {
   // The scene's grid on every tooth it measures (all when it names none), both flanks, at the generating contact:
   // the first point in this fixed order whose value is not finite is named, whatever the thread count later.
   const grinding::IdealProcess ideal;
@@ -184,13 +185,15 @@ void Workbench::check_custom_effects_finite() const {
     std::vector<grinding::PathPoint> pp;
     for (int tooth : teeth)
       for (const auto flank : {Flank::Left, Flank::Right})
-        for (int a = 0; a < scene.grid.rows; ++a)
+        for (int a = 0; a < scene.grid.rows; ++a) {
+          if (keep_going) keep_going(); // a 300 × 300 grid on 35 teeth takes seconds
           for (int b = 0; b < scene.grid.cols; ++b) {
             const double xi = r.xi_eval_start_mm + (r.xi_eval_end_mm - r.xi_eval_start_mm) * b / (scene.grid.cols - 1);
             const double z = r.z_eval_start_mm + (r.z_eval_end_mm - r.z_eval_start_mm) * a / (scene.grid.rows - 1);
             const auto c = generating.linear_contact(tooth, flank, xi, z);
             v.push_back(c.v), pp.push_back(c.pp);
           }
+        }
     // All points in one batch: a law given as a Python function is called once.
     std::vector<double> out(v.size());
     try {

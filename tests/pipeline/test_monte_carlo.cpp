@@ -472,15 +472,75 @@ TEST(MonteCarlo, ShardsOfAnotherSceneDoNotMerge) {
   try {
     (void)pipeline::merge_runs({r1, r2});
     ADD_FAILURE() << "shards of two scenes merged";
-  } catch (const std::invalid_argument& e) {
+  } catch (const InputError& e) { // located at the part's line, as every reader's error
+    // write_run_csv's lines: the title, samples_total, seed, the ISO words, probe noise, sampling (5 lines), then the
+    // fingerprint on line 12
     EXPECT_EQ(std::string(e.what()),
-              fmt::format("part 2 ({}): scene fingerprint {} (part 1 ({}): {}): computed from another scene, error "
-                          "table or compensation setting",
+              fmt::format("{}:12: scene_fingerprint: {} ({}:12: {}): computed from another scene, error table or "
+                          "compensation setting",
                           (dir / "two.csv").string(), two.scene_fingerprint, (dir / "one.csv").string(), fa));
   }
   two.scene_fingerprint = fa;
   pipeline::write_run_csv(dir / "two.csv", two);
   EXPECT_EQ(pipeline::merge_runs({r1, pipeline::read_run_csv(dir / "two.csv")}).samples.size(), 2u);
+  std::filesystem::remove_all(dir);
+}
+
+// Issue 43: a shard of another run is refused at its first differing line, with the field and the first part's line
+// beside it; a setting the shard lacks is named at its header (before which it would stand). In memory: the part.
+TEST(MonteCarlo, MergeNamesTheFirstDifferingSettingByFileLineAndField) {
+  const auto dir = std::filesystem::temp_directory_path() / ("geartopo_mc_merge_lines_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  pipeline::MonteCarloRun one;
+  one.samples_total = 2;
+  one.seed = 9;
+  one.names = {"F_alpha_um"};
+  one.samples = {{0, {1.0}, {0.5}, {}}};
+  one.gear = "teeth=35 normal_module_mm=14";
+  pipeline::MonteCarloRun two = one;
+  two.samples = {{1, {1.25}, {0.75}, {}}};
+  two.seed = 10;          // line 3
+  two.probe_noise_um = 1; // line 6: not the first difference
+  pipeline::write_run_csv(dir / "one.csv", one);
+  pipeline::write_run_csv(dir / "two.csv", two);
+  const auto message = [](const std::vector<pipeline::MonteCarloRun>& parts) {
+    try {
+      (void)pipeline::merge_runs(parts);
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("(merged)");
+  };
+  const auto a = (dir / "one.csv").string(), b = (dir / "two.csv").string();
+  const auto r1 = pipeline::read_run_csv(dir / "one.csv");
+  EXPECT_EQ(message({r1, pipeline::read_run_csv(dir / "two.csv")}),
+            fmt::format("{}:3: seed: 10 ({}:3: 9): not the same run", b, a));
+  try {
+    (void)pipeline::merge_runs({r1, pipeline::read_run_csv(dir / "two.csv")});
+  } catch (const InputError& e) { // located as every reader's error: the CLI prints it as such
+    EXPECT_EQ(e.file(), b);
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_EQ(e.field(), "seed");
+  }
+  two.seed = one.seed;
+  pipeline::write_run_csv(dir / "two.csv", two);
+  EXPECT_EQ(message({r1, pipeline::read_run_csv(dir / "two.csv")}),
+            fmt::format("{}:6: probe_noise_um: 1 µm ({}:6: 0 µm): not the same run", b, a));
+  two.probe_noise_um = one.probe_noise_um;
+  two.gear.clear(); // no "# gear:" line: the header (line 12) is where it would stand
+  pipeline::write_run_csv(dir / "two.csv", two);
+  EXPECT_EQ(message({r1, pipeline::read_run_csv(dir / "two.csv")}),
+            fmt::format("{}:12: gear: not recorded ({}:12: teeth=35 normal_module_mm=14): not the same gear", b, a));
+  two.gear = one.gear;
+  two.names = {"F_beta_um"}; // the header, line 13
+  for (auto& smp : two.samples) smp = {1, {1.25}, {0.75}, {}};
+  pipeline::write_run_csv(dir / "two.csv", two);
+  EXPECT_EQ(message({r1, pipeline::read_run_csv(dir / "two.csv")}),
+            fmt::format("{}:13: header: F_beta_um ({}:13: F_alpha_um): other quantities (another scene?)", b, a));
+  // Computed in memory: no file to name, the part and the field.
+  two.names = one.names;
+  two.seed = 11;
+  EXPECT_EQ(message({one, two}), "part 2: seed: 11 (part 1: 9): not the same run");
   std::filesystem::remove_all(dir);
 }
 
@@ -983,10 +1043,21 @@ TEST(MonteCarloProbeNoise, NoisySamplesAreReproducibleAndRecorded) {
   EXPECT_TRUE(changed) << "the noise was not applied";
   auto other_noise = parts[1];
   other_noise.probe_noise_um = 0.3;
-  EXPECT_THROW(pipeline::merge_runs({parts[0], other_noise}), std::invalid_argument);
+  // Refused naming the first differing setting (file:line: field), not merged into one wrong distribution.
+  try {
+    pipeline::merge_runs({parts[0], other_noise});
+    ADD_FAILURE() << "runs with another probe noise were merged";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("probe_noise_um: 0.3"), std::string::npos) << e.what();
+  }
   auto other_iso = parts[1];
   other_iso.iso.direction = evaluation::IsoDirection::Normal;
-  EXPECT_THROW(pipeline::merge_runs({parts[0], other_iso}), std::invalid_argument);
+  try {
+    pipeline::merge_runs({parts[0], other_iso});
+    ADD_FAILURE() << "runs with another ISO direction were merged";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("iso_direction: normal"), std::string::npos) << e.what();
+  }
   // A partial file written before σ and the ISO options were recorded reads as 0, transverse, helix-angle.
   {
     std::ofstream out(dir / "old.csv");

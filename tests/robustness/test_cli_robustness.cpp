@@ -143,13 +143,14 @@ TEST(Cli, AnOversizedDenseGridOnTheCommandLineIsBadUsage) {
   fs::remove_all(out);
 }
 
-// A grid that fits per flank (3.8e6 points) but not for all 70 flanks (2.7e8 > grinding::kMaxPointsPerSimulation)
+// A grid within the scene's per-key bound (1000 × 1000 points per flank) but not for all 120 flanks of a 60-tooth gear
+// (1.2e8 > grinding::kMaxPointsPerSimulation = 1e8)
 // loads, and `simulate` refuses it at once (exit 1, before allocating) instead of running out of memory.
 TEST(Cli, SimulateRefusesAGridTooLargeForAllFlanksBeforeAllocating) {
   const auto scene = temp_path("big_grid.yaml");
-  std::ofstream(scene) << "gear:\n  normal_module_mm: 14\n  teeth: 35\n  normal_pressure_angle_deg: 20\n"
+  std::ofstream(scene) << "gear:\n  normal_module_mm: 14\n  teeth: 60\n  normal_pressure_angle_deg: 20\n"
                           "  helix_angle_deg: 30\n  profile_shift: 0.274\n  face_width_mm: 150\n"
-                          "measurement:\n  dense_rows: 1900\n  dense_cols: 2000\n";
+                          "measurement:\n  dense_rows: 1000\n  dense_cols: 1000\n";
   const auto out = temp_path("cli_big_grid");
   const auto r = run("simulate " + scene.string() + " --out " + out.string());
   EXPECT_EQ(r.code, 1) << r.err;
@@ -369,7 +370,8 @@ TEST(Cli, MergeRefusesAShardThatCompensateCouldNotHaveWritten) {
            {"value_1e300.csv", "value_1e300.csv:14:"},
            {"negative_total_deviation.csv", "negative_total_deviation.csv:15:"},
            {"class_99.csv", "class_99.csv:14:"},
-           {"seed_differs.csv", "seed_differs.csv): 4 samples, seed 8"}}) {
+           // another run's shard: named at its first differing setting, beside the reference's
+           {"seed_differs.csv", "seed_differs.csv:3: seed: 8 (" + ref + ":3: 7): not the same run"}}) {
     const auto r = run("merge " + ref + " " + corpus("shards/" + file) + " --out " + out.string());
     EXPECT_EQ(r.code, 1) << file << ": " << r.err;
     EXPECT_NE(r.err.find(where), std::string::npos) << r.err;

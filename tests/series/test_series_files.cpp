@@ -219,6 +219,62 @@ TEST(SeriesFile, BadEntriesRefusedAtTheirLine) {
             std::string::npos);
 }
 
+// Issue 41: what the AQDEF export writes from the series file is refused where it is read, at file:line and field,
+// when its key cannot hold it: the batch (name → K0006) 14 characters, the machine (K1082) and each gear's id (K0014)
+// 40 (diribet/aqdef-tools' KKeyRepository, the Q-DAS database's column widths). Characters, not bytes.
+TEST(SeriesFile, TextsLongerThanTheirAqdefKeyRefusedAtTheirLine) {
+  const auto read = [](const std::string& head, const std::string& id = "") {
+    return series::parse_series(head + "scene: s.yaml\ngears:\n  - measurement: a.csv\n    start_s: 0\n" + id,
+                                "series.yaml", 35.0);
+  };
+  EXPECT_EQ(read("name: shift 27 lot 4\n").name, "shift 27 lot 4") << "14 characters fit";
+  EXPECT_EQ(read("name: Los 4711 Größe\n").name, "Los 4711 Größe") << "14 characters in 16 bytes fit";
+  EXPECT_EQ(input_error_of([&] { read("name: shift 27, batch 4711\n"); }),
+            "series.yaml:1:7: name: 'shift 27, batch 4711' has 20 characters, more than the 14 AQDEF K0006 holds (the "
+            "batch, written as AQDEF K0006 by --aqdef)");
+  EXPECT_NE(input_error_of([&] { read("machine: " + std::string(41, 'M') + "\n"); })
+                .find("series.yaml:1:10: machine: '"), std::string::npos);
+  EXPECT_NE(input_error_of([&] { read("", "    id: " + std::string(41, 'G') + "\n"); })
+                .find("series.yaml:5:9: gears[0].id: '"), std::string::npos);
+  EXPECT_NE(input_error_of([&] { read("", "    id: " + std::string(41, 'G') + "\n"); })
+                .find("more than the 40 AQDEF K0014 holds"), std::string::npos);
+}
+
+// The writer checks every text and number against its key before anything is written, and the strict reader refuses
+// what the writer would not write, at line:column and key.
+TEST(Aqdef, EveryWrittenKeyHoldsItsValue) {
+  EXPECT_EQ(aqdef::max_characters("K0006"), 14u);
+  EXPECT_EQ(aqdef::max_characters("K2001"), 20u);
+  const auto written = [](const aqdef::Part& p) {
+    std::ostringstream out;
+    try {
+      aqdef::write_dfq(out, p);
+    } catch (const std::invalid_argument& e) {
+      EXPECT_TRUE(out.str().empty()) << "written before refused";
+      return std::string(e.what());
+    }
+    return std::string("(written)");
+  };
+  aqdef::Part p;
+  p.characteristics.push_back({"fHa_T01_L", "", 0.0, {}, {}, "um", {{1.0, "", "lot 4711", "G001"}}});
+  EXPECT_EQ(written(p), "(written)");
+  p.characteristics[0].values[0].batch = "shift 27, lot 4711"; // 18
+  EXPECT_EQ(written(p), "AQDEF K0006: 'shift 27, lot 4711' has 18 characters, more than the 14 AQDEF K0006 holds");
+  p.characteristics[0].values[0].batch = "lot 4711";
+  p.characteristics[0].code = "fHa_T01_L_profile_slope"; // 23
+  EXPECT_NE(written(p).find("AQDEF K2001: 'fHa_T01_L_profile_slope' has 23 characters, more than the 20"), std::string::npos);
+  p.characteristics[0].code = "fHa_T01_L";
+  p.number = std::string(31, 'D');
+  EXPECT_NE(written(p).find("AQDEF K1001:"), std::string::npos);
+  p.number = "DRW-4711";
+  p.characteristics[0].values[0].value = 1e30; // 35 characters with 4 decimals
+  EXPECT_NE(written(p).find("AQDEF K0001: "), std::string::npos);
+  EXPECT_NE(written(p).find("more than the 22 a number holds"), std::string::npos);
+  std::istringstream in("K0100 1\nK2001/1 a\nK0001/1 1\nK0006/1 shift 27, lot 4711\n");
+  EXPECT_EQ(input_error_of([&] { aqdef::read_dfq(in, "bad.dfq"); }),
+            "bad.dfq:4:9: K0006: 'shift 27, lot 4711' has 18 characters, more than the 14 AQDEF K0006 holds");
+}
+
 // Pitch per gear: flank positions on the measuring circle e_j = A sin(2π (j − 1)/z + 0.3), the same on both sides (a
 // gear whose teeth are displaced once round, like a wobbling index), given to the evaluator as the normal deviations
 // δn = ±e cos β_b cos α_yt (pitch.hpp). F_p is the spread of the positions, f_p the largest step between neighbours;

@@ -125,8 +125,9 @@ struct GearEntry {
   std::string corrections; // file name in the folder, "" none
 };
 
-series::SeriesResult run_series(const SeriesFolder& f, const std::vector<GearEntry>& gears) {
-  std::string yaml = "name: physics series\nscene: scene.yaml\nstarted: 2026-11-27T06:00:00\ngears:\n";
+/// `head`: more top-level keys of the series file ("diagnose_gears: true\n").
+series::SeriesResult run_series(const SeriesFolder& f, const std::vector<GearEntry>& gears, const std::string& head = "") {
+  std::string yaml = "name: physics series\nscene: scene.yaml\nstarted: 2026-11-27T06:00:00\n" + head + "gears:\n";
   for (size_t k = 0; k < gears.size(); ++k) {
     const std::string file = fmt::format("gear{:02}.csv", k + 1);
     grinding::write_traces_csv(f.dir / file, gears[k].traces);
@@ -312,4 +313,64 @@ TEST(SeriesPhysics, NoiseOnlyNamesNothing) {
   }
   expect_inside(quantity(r, "mean_residual_left_um"), 0.0);
   expect_inside(quantity(r, "mean_residual_right_um"), 0.0);
+}
+
+// Issue 41, within-job effects per gear: 4 gears of noise only, but gear 3 was ground with a wheel dressed with a
+// profile slope. A slope S of the wheel's profile is copied onto every gear flank's profile, the same on both sides:
+// along the roll length ξ of the active profile ξ_a … ξ_e the flank lies S ((ξ − ξ_a)/(ξ_e − ξ_a) − ½) µm off its
+// normal (plus material; the mean is the set-up's thickness term), whatever the face-width position. With
+// `diagnose_gears: true` each gear goes through diagnose's pipeline: gear 3 names the wheel's profile slope, S within
+// 2σ (named, or the nearest explanation: see below), the others nothing; series.json carries each verdict.
+TEST(SeriesPhysics, WithinJobEffectOfOneGearNamedByItsDiagnosis) {
+  const double slope_um = 6.0;
+  const auto& r = physics_model().setup.ranges();
+  const auto profile_slope = [&](std::vector<grinding::FlankTopology> traces) {
+    for (auto& ft : traces)
+      for (auto* trace : {&ft.profile, &ft.helix})
+        for (auto& p : *trace)
+          p.deviation_um += slope_um * ((p.roll_length_mm - r.xi_active_start_mm) /
+                                            (r.xi_active_end_mm - r.xi_active_start_mm) - 0.5);
+    return traces;
+  };
+  // The measuring machine's usual traces (100 profile, 150 helix points: 1000 per gear): the diagnosis estimates the
+  // probe noise from their point-to-point scatter, which 252 points fix only to ±11 % (1σ: a MAD of ~250 second
+  // differences).
+  grinding::SimulationOptions o = physics_traces();
+  o.profile_points = 100, o.helix_points = 150;
+  const auto traces_1000 = grinding::simulate_topology(physics_model().setup, physics_model().process(), o);
+  SeriesFolder f;
+  std::vector<GearEntry> gears;
+  for (int k = 0; k < 4; ++k) {
+    auto traces = offset_traces(traces_1000, 0.0, 0.0, 500 + k);
+    gears.push_back({k * 900.0, "", k == 2 ? profile_slope(std::move(traces)) : std::move(traces), ""});
+  }
+  const auto result = run_series(f, gears, "diagnose_gears: true\n");
+  ASSERT_EQ(result.gears.size(), 4u);
+  for (size_t k = 0; k < 4; ++k) {
+    ASSERT_TRUE(result.gears[k].diagnosis.has_value()) << k;
+    const auto& d = *result.gears[k].diagnosis;
+    if (k != 2) {
+      // Nothing named. (Their verdicts may still say "unexplained": the line-noise estimate reads this 0.3 µm noise
+      // as 0.26 … 0.27 µm, docs/series.md.)
+      EXPECT_FALSE(d.chosen.has_value()) << "gear " << k + 1 << ": " << d.verdict;
+      continue;
+    }
+    // Named, or the nearest explanation when the χ² test against the estimated noise calls the 0.30 µm it leaves
+    // more than noise: the line-noise estimate reads this 0.3 µm noise as 0.24 … 0.27 µm (docs/series.md).
+    ASSERT_TRUE(d.chosen || d.nearest) << d.verdict;
+    const auto& named = d.chosen ? *d.chosen : *d.nearest;
+    ASSERT_EQ(named.effects.size(), 1u) << named.name();
+    EXPECT_EQ(named.effects[0].type, "wheel_profile") << d.verdict;
+    const auto& fitted = named.parameters[0];
+    for (const auto& p : fitted) {
+      const double truth = p.key == "profile_slope_um" ? slope_um : 0.0;
+      EXPECT_LT(std::abs(p.value - truth), 2.0 * p.uncertainty) << p.key << " " << p.value << " ± " << p.uncertainty;
+    }
+  }
+  const auto j = series::series_json(result);
+  EXPECT_NE(j["gears"][2]["diagnosis"]["verdict"].get<std::string>().find("wheel_profile"), std::string::npos);
+  EXPECT_TRUE(j["gears"][0]["diagnosis"]["chosen"].is_null());
+  EXPECT_FALSE(j["gears"][0]["diagnosis"]["verdict"].get<std::string>().empty());
+  // Without the key, no gear is diagnosed (the default: it costs a diagnosis per gear).
+  EXPECT_FALSE(run_series(f, gears).gears[0].diagnosis.has_value());
 }

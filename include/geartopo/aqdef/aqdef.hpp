@@ -4,6 +4,7 @@
 // numbers locale-free with a '.' decimal point; text ASCII or UTF-8, never a line break.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <iosfwd>
 #include <optional>
@@ -39,12 +40,21 @@ struct Part {
   std::vector<Characteristic> characteristics;
 };
 
+/// The most characters (UTF-8 code points) a text key holds in the Q-DAS database behind the format, from
+/// diribet/aqdef-tools' KKeyRepository (generated from the Q-DAS MDB): K1001 30, K1002 80, K1082 40, K2001 20,
+/// K2002 80, K2142 20, K0006 14 (batch), K0014 40; a number (K0001, K2101, K2110, K2111) 22. 0 for another key.
+std::size_t max_characters(const std::string& key);
+/// Why `text` cannot be written as `key` (longer than max_characters, or holding a line break), or nullopt: the check
+/// write_dfq makes of every text, for the readers of what is later written (a series file's name, machine and ids).
+std::optional<std::string> text_refusal(const std::string& key, const std::string& text);
+
 /// "dd.mm.yyyy/hh:mm:ss" of a time given as seconds since 1970-01-01 00:00:00 (shop time, no time zone applied).
 std::string format_time(long long seconds_since_epoch);
 
 /// Writes the part: K0100, then K1001/1, K1002/1, K1082/1, then per characteristic i its K2001/i … K2142/i and its
 /// values, each K0001/i followed by its K0004/i, K0006/i and K0014/i. Numbers with `decimals` decimals. Throws
-/// std::invalid_argument for a text holding a line break or a value that is not finite.
+/// std::invalid_argument naming the key for a text text_refusal refuses, a value that is not finite or a number
+/// longer than 22 characters, before anything is written.
 void write_dfq(std::ostream& out, const Part& part, int decimals = 4);
 /// Atomically (files/atomic_write.hpp).
 void write_dfq(const std::filesystem::path& file, const Part& part, int decimals = 4);

@@ -45,8 +45,9 @@ struct CompareResult {
   nlohmann::json json; ///< compare.json
 };
 /// measured − model at every point, where the model fails, the residual's patterns (noise σ: 0 estimated).
+/// `keep_going`: a Ctrl-C check (diagnosis::compare's), may be empty.
 CompareResult compare(const SceneInput& scene, const MeasuredInput& measured, double noise_um,
-                      const ArgumentNames& names = {});
+                      const ArgumentNames& names = {}, const std::function<void()>& keep_going = {});
 
 struct DiagnoseRequest {
   double noise_um = 0.0;                ///< 0: estimated
@@ -54,6 +55,7 @@ struct DiagnoseRequest {
   bool scene_uncertainty = false;       ///< generalised least squares with the scene's declared uncertainties
   diagnosis::DiagnoseOptions::PlanLayout layout = diagnosis::DiagnoseOptions::PlanLayout::Grid;
   std::function<void(long long done, long long total)> on_candidate_fitted; ///< progress, may be empty
+  std::function<void()> keep_going; ///< a Ctrl-C check (DiagnoseOptions::keep_going), may be empty
 };
 
 struct DiagnoseResult {

@@ -17,6 +17,7 @@
 #include "geartopo/grinding/grinding_process.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -99,8 +100,10 @@ std::vector<FlankResiduals> flank_residuals(const gears::EvaluationRanges& range
 std::string describe_point_counts(const PointCounts& counts);
 
 /// noise_um ≤ 0: estimated from the measured lines' own point-to-point scatter (estimate_noise_um). `read` is what the
-/// reader left out (for the counts).
+/// reader left out (for the counts). `keep_going` (may be empty) is called between the steps and before each flank's
+/// patterns (10⁶ points take seconds): a Ctrl-C check that may throw to stop, as DiagnoseOptions::keep_going.
 Comparison compare(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
-                   const std::vector<MeasuredPoint>& points, double noise_um, const measurement::ReadCounts& read = {});
+                   const std::vector<MeasuredPoint>& points, double noise_um, const measurement::ReadCounts& read = {},
+                   const std::function<void()>& keep_going = {});
 
 } // namespace geartopo::diagnosis

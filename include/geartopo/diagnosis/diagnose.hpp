@@ -208,6 +208,10 @@ struct DiagnoseOptions {
   /// known so far): the total grows by the pairs once the single effects are ranked. From the calling thread; for
   /// progress display only, the diagnosis does not depend on it.
   std::function<void(long long done, long long total)> on_candidate_fitted;
+  /// Called between the stages, in the set-up before the first fit, and at every residual evaluation of a fit (a fit
+  /// on 10⁵ points takes seconds between reports): a Ctrl-C check that may throw to stop the diagnosis, as
+  /// grinding::SimulationOptions::keep_going. May be empty; from the calling thread; the result does not depend on it.
+  std::function<void()> keep_going;
   /// Fewest measured points (count) diagnose accepts: the noise estimate fits 6 terms per flank, and BIC with a
   /// handful of points rewards nothing.
   std::size_t min_points = 10;
@@ -370,8 +374,8 @@ struct Diagnosis {
   /// numbers. None: what is left is noise.
   std::optional<Decision> remainder_excess;
   /// Why the families beyond the library were tried although the library had an explanation: one of its values is no
-  /// measurement (at_end_of_range, not_determined) or its parts cancel (parts_cancel). None when they were tried
-  /// because nothing was explained, or not tried.
+  /// measurement (at_end_of_range, not_determined), its parts cancel (parts_cancel) or a library rival lies within the
+  /// threshold (ambiguous). None when they were tried because the library named nothing, or not tried.
   std::optional<Decision> beyond_trigger;
   /// The best machine element when it is no explanation either (what it leaves is more than noise): with its rejection.
   std::optional<Candidate> nearest_element;
@@ -388,8 +392,8 @@ struct Diagnosis {
   /// its own whitened form.
   double chi2_after = 0.0, chi2_dof = 0.0;
   std::string verdict;                  ///< one paragraph for people, composed from the records above
-  /// Beyond the library, tried when nothing in it explains the residual (`unexplained`) or its explanation holds a
-  /// value that is no measurement (`beyond_trigger`): every family's hypotheses (hypothesis_family.hpp) — the chain's
+  /// Beyond the library, tried when it names nothing (what is left noise or `unexplained`) or its explanation is no
+  /// finding (`beyond_trigger`): every family's hypotheses (hypothesis_family.hpp) — the chain's
   /// error components changed by a constant, linearly in time, towards a steady state or (C axis) periodically in the
   /// table's turn, each wheel flank's profile and waviness, the wheel profile's wear — best ΔBIC first, rejected ones
   /// after. Empty when not tried.

@@ -6,6 +6,7 @@
 #include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
 
+#include <functional>
 #include <vector>
 
 namespace geartopo::diagnosis {
@@ -22,8 +23,10 @@ double mean_allowance_offset_um(const gears::GearGeometry& g);
 /// The model's deviation at each point, referred to the nominal flank at the mean allowance: the simulated deviation
 /// from the zero-allowance flank plus mean_allowance_offset_um, so that a gear ground to its allowances compares
 /// without a constant offset.
-/// Exact: throws std::runtime_error naming the first point (in input order) the wheel never reaches.
+/// Exact: throws std::runtime_error naming the first point (in input order) the wheel never reaches. `keep_going` (may
+/// be empty) is called before every 4096 points (10⁶ points take seconds): a Ctrl-C check that may throw to stop.
 std::vector<double> predict(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& process,
-                            const std::vector<MeasuredPoint>& points, grinding::Method method, int threads = 0);
+                            const std::vector<MeasuredPoint>& points, grinding::Method method, int threads = 0,
+                            const std::function<void()>& keep_going = {});
 
 } // namespace geartopo::diagnosis

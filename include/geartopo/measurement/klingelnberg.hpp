@@ -10,6 +10,7 @@
 #include "geartopo/grinding/topology_csv.hpp"
 
 #include <iosfwd>
+#include <functional>
 #include <map>
 #include <string>
 #include <string_view>
@@ -32,6 +33,9 @@ struct KlingelnbergOptions {
   ProfileSpacing spacing = ProfileSpacing::RollLength;
   DeviationDirection direction = DeviationDirection::Transverse;
   SignConvention signs = SignConvention::Raw;
+  /// Called every 4096 lines while an export is parsed and once per trace after (a 64 MB export takes seconds): a
+  /// Ctrl-C check that may throw to stop, as grinding::SimulationOptions::keep_going. May be empty.
+  std::function<void()> keep_going;
 };
 
 enum class TraceKind { Profile, Helix };
@@ -77,11 +81,13 @@ struct KlingelnbergFile {
 /// The undefined value of the export; any value at or below it + 1 is undefined (gearcore does the same).
 inline constexpr double kKlingelnbergUndefined = -2147483.648;
 
-/// Parses the text of an export (UTF-8 with or without BOM, or latin-1; CRLF or LF; decimal points or, throughout,
+/// Parses the text of an export (UTF-8 with or without BOM, or latin-1; CRLF, LF or CR alone; decimal points or, throughout,
 /// decimal commas; German or English labels: docs/measurement-formats.md). Throws InputError
 /// (file:line: field: message) on a malformed head, a value that is not a number, or a count that does not match.
-KlingelnbergFile parse_klingelnberg(std::string_view text, const std::string& source);
-KlingelnbergFile read_klingelnberg(const std::string& file);
+/// `keep_going` (may be empty): KlingelnbergOptions::keep_going.
+KlingelnbergFile parse_klingelnberg(std::string_view text, const std::string& source,
+                                    const std::function<void()>& keep_going = {});
+KlingelnbergFile read_klingelnberg(const std::string& file, const std::function<void()>& keep_going = {});
 
 /// Throws InputError naming `source` when `head` (a file's first bytes) is UTF-16 (byte-order mark FF FE or FE FF,
 /// or a NUL byte between the characters): every measurement reader takes UTF-8 or latin-1 only,

@@ -142,6 +142,9 @@ struct MonteCarloRun {
   std::string scene_fingerprint;
   std::string gear;   ///< gear_record of the gear the samples are of; "" when not recorded (a file written before)
   std::string source; ///< the file it was read from (read_run_csv), for messages; "" when computed
+  /// read_run_csv: the line of each setting by its key ("seed", "scene_fingerprint", …) and of the "header", for
+  /// merge_runs' refusals (file:line: field); empty when computed.
+  std::map<std::string, int> lines;
 };
 
 /// Why `value` cannot be quantity `name` of a run (an unknown name; not finite; a class not a whole number of ISO

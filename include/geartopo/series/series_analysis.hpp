@@ -4,6 +4,7 @@
 // drawing's class is expected to be lost. Units: µm, s, h, strokes.
 #pragma once
 
+#include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/series/drift_model.hpp"
 #include "geartopo/series/series_file.hpp"
 #include "geartopo/workbench/iso_evaluation.hpp"
@@ -11,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +33,10 @@ struct GearValues {
   double mean_grinding_time_s = 0.0;       ///< mean over the used points, from the job's start
   double mean_stroke = 0.0;                ///< mean place of their strokes in the job (0: the first stroke)
   int correction_set = 0;                  ///< 0: the first corrections (or none), +1 at each change
+  /// The within-job effects: the gear's measurement through diagnose's pipeline (diagnosis::diagnose, as `geartopo
+  /// diagnose` runs it) against the model it was ground with (the scene's, with its corrections), when the series asks
+  /// for it (SeriesOptions::diagnose_gears, the series file's `diagnose_gears`); its per-point residuals dropped.
+  std::optional<diagnosis::Diagnosis> diagnosis;
 };
 
 /// A per-gear quantity over the series, and what the across-series model says of it.
@@ -52,6 +58,13 @@ bool two_sided_limit(const SeriesQuantity& q);
 
 struct SeriesOptions {
   int max_gears_ahead = 500; ///< how far class_loss looks
+  /// Each gear diagnosed as `geartopo diagnose` does (GearValues::diagnosis): ~0.1 s per gear of 252 points, ~8 s per
+  /// gear of 10⁵ points (docs/series.md). Either this or the series file's `diagnose_gears: true` turns it on.
+  bool diagnose_gears = false;
+  /// Called before each gear, between its steps, every 4096 lines of an export it reads and before each quantity's
+  /// fit (20 gears of 10⁵ points take tens of seconds): a Ctrl-C check that may throw to stop, as
+  /// grinding::SimulationOptions::keep_going. May be empty.
+  std::function<void()> keep_going;
 };
 
 struct SeriesResult {
@@ -66,7 +79,9 @@ struct SeriesResult {
 
 /// One gear's values: its measurement read against the workbench's set-up, compared with the scene's model (ground
 /// with `corrections` when given), evaluated to ISO 1328-1 when it holds traces.
-GearValues gear_values(const workbench::Workbench& wb, const SeriesGear& gear, const workbench::IsoOptions& iso = {});
+/// `options`: keep_going as SeriesOptions'.
+GearValues gear_values(const workbench::Workbench& wb, const SeriesGear& gear, const workbench::IsoOptions& iso = {},
+                       const SeriesOptions& options = {});
 
 /// The whole series. Throws InputError naming the file of a gear that cannot be read.
 SeriesResult analyse_series(const SeriesSpec& spec, const workbench::Workbench& wb, const SeriesOptions& options = {});

@@ -30,6 +30,7 @@ struct SeriesSpec {
   std::string machine;                     ///< AQDEF K1082; empty: the scene's machine name
   std::optional<long long> started_epoch_s; ///< the series' start as a date and time (`started`)
   bool dressing_known = false;             ///< any gear gives strokes_since_dressing or dressed_before
+  bool diagnose_gears = false;             ///< `diagnose_gears: true`: each gear diagnosed (SeriesOptions::diagnose_gears)
   std::vector<SeriesGear> gears;           ///< in the order ground (start times increasing)
 };
 

@@ -15,6 +15,7 @@
 #include "geartopo/scene/scene.hpp"
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,7 +24,10 @@ namespace geartopo::workbench {
 
 struct Workbench {
   /// Builds and checks everything; throws InputError located at the scene field that does not fit the machine.
-  explicit Workbench(scene::Scene s);
+  /// `keep_going` (may be empty) is called between the steps and from the custom effects' check before every grid row
+  /// of a flank (a fine grid on every tooth takes seconds): a Ctrl-C check that may throw to stop, as
+  /// grinding::SimulationOptions::keep_going.
+  explicit Workbench(scene::Scene s, const std::function<void()>& keep_going = {});
   /// load_scene(file), then everything above; throws InputError.
   explicit Workbench(const std::filesystem::path& scene_file);
   Workbench(const Workbench&) = delete;
@@ -74,7 +78,7 @@ private:
   void build_diagnosis_model();
   /// Every custom effect finite at the scene's measurement grid on every tooth and flank, at its values; else the
   /// InputError at its deviation_um naming the point and the variables.
-  void check_custom_effects_finite() const;
+  void check_custom_effects_finite(const std::function<void()>& keep_going) const;
 };
 
 /// A process built on top of the scene's machine (a Monte Carlo sample's drawn machine, the nominal one of a

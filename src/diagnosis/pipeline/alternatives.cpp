@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <utility>
 
 namespace geartopo::diagnosis::stages {
@@ -36,41 +37,6 @@ bool confounded_partner(const Candidate& bigger, const Candidate& smaller) {
   return false;
 }
 
-/// Ambiguity: a plausible explanation whose ΔBIC is within the threshold of the pick's is not told apart from it by
-/// these data (the same rule that makes an effect significant against none). A nested explanation (the pick with one
-/// more effect, or the picked pair's half) is a rival only when it is the better fit without being better by the
-/// threshold: a worse superset is just the pick plus a partner the data do not ask for, and the smaller half of a taken
-/// pair lost by the threshold already. Another physics that loses only on BIC's parameter count is not told apart either:
-/// when AIC (the fit plus 2 per parameter, what the extra parameters buy on noise alone) does not prefer the pick, the
-/// penalty is Occam's, not the measurement's (a true thermal drift at 1.5 µm noise on two teeth fits better than wear,
-/// yet pays 2 ln n for a Z growth and a time constant they cannot fix). Not significant alone is no reason to drop a
-/// rival: within the threshold of the pick, the data do not prefer the pick either.
-std::vector<Candidate> library_rivals(const Context& ctx, const LibraryFits& library, const PairFits& pairs,
-                                      const Candidate& pick) {
-  const double threshold = ctx.options.bic_threshold, ln_n = ctx.ln_n();
-  const auto nested = [&](const Candidate& c) { return c.nested_in(pick) || pick.nested_in(c); };
-  const auto aic = [&](const Candidate& x) { return x.delta_bic - x.fitted_parameters() * (ln_n - 2.0); };
-  const auto rival = [&](const Candidate& c) {
-    if (c.is_rejected() || c.name() == pick.name()) return false;
-    if (nested(c))
-      return c.effects.size() > pick.effects.size() &&
-             (c.delta_bic < pick.delta_bic ||
-              (c.delta_bic < pick.delta_bic + threshold && confounded_partner(c, pick)));
-    return c.delta_bic < pick.delta_bic + threshold || aic(c) <= aic(pick);
-  };
-  std::vector<Candidate> rivals;
-  for (const auto& c : library.ranked)
-    if (rival(c)) rivals.push_back(c);
-  for (const auto& c : pairs.pairs)
-    if (rival(c)) rivals.push_back(c);
-  std::stable_sort(rivals.begin(), rivals.end(),
-                   [](const Candidate& a, const Candidate& b) { return a.delta_bic < b.delta_bic; });
-  // The plan separates the pick from its best rival of other physics first; whether a partner comes with it (a nested
-  // rival) is the second question, asked when no other rival is left.
-  std::stable_partition(rivals.begin(), rivals.end(), [&](const Candidate& c) { return !nested(c); });
-  return rivals;
-}
-
 /// How much of A's columns lies in B's span (0 … 1, unit-free): ‖Q_Bᵀ A‖_F / ‖A‖_F.
 double share_in_span(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(B);
@@ -81,17 +47,27 @@ double share_in_span(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
 
 /// Hypothesis k's equivalence class among hypotheses k+1 … end−1: its own aliases (a periodic order's the measured
 /// teeth cannot tell from it), and the hypotheses as plausible as it (both rejected or neither) within the threshold
-/// whose fields are alike both ways (set-up terms removed).
+/// whose fields are alike both ways (set-up terms removed): their columns span each other, or each one's field at its
+/// fitted values lies in the other's columns — what the data see of a hypothesis with more parameters than its field
+/// needs (a wheel profile wearing in slope and crowning per stroke at the ratio an A-axis drift's one rate makes).
 std::vector<std::string> equivalence_class(const Context& ctx, const BeyondLibrary& b, std::size_t k, std::size_t end) {
   const auto& hyps = b.hypotheses;
   const Candidate& best = hyps[k];
   std::vector<std::string> names = best.equivalent;
+  const auto judged_field = [&](const Candidate& h) { // n × 1
+    return b.states->judged(Eigen::MatrixXd(hypothesis_field(h, *b.states)));
+  };
   const Eigen::MatrixXd best_columns = b.states->judged(best.family->columns(best, *b.states));
+  std::optional<Eigen::MatrixXd> best_field;
   for (size_t a = k + 1; a < end; ++a) {
     const Candidate& c = hyps[a];
     if (c.is_rejected() != best.is_rejected() || c.delta_bic >= best.delta_bic + ctx.options.bic_threshold) continue;
     const Eigen::MatrixXd other = b.states->judged(c.family->columns(c, *b.states));
-    const double alike = std::min(share_in_span(other, best_columns), share_in_span(best_columns, other));
+    double alike = std::min(share_in_span(other, best_columns), share_in_span(best_columns, other));
+    if (alike < ctx.options.alike_share && (other.cols() > 1 || best_columns.cols() > 1)) {
+      if (!best_field) best_field = judged_field(best);
+      alike = std::min(share_in_span(judged_field(c), best_columns), share_in_span(*best_field, other));
+    }
     if (alike >= ctx.options.alike_share) names.push_back(c.name());
   }
   return names;
@@ -155,6 +131,41 @@ own_effect_look_alikes(const Context& ctx, const LibraryFits& library, const Bey
 }
 
 } // namespace
+
+/// Ambiguity: a plausible explanation whose ΔBIC is within the threshold of the pick's is not told apart from it by
+/// these data (the same rule that makes an effect significant against none). A nested explanation (the pick with one
+/// more effect, or the picked pair's half) is a rival only when it is the better fit without being better by the
+/// threshold: a worse superset is just the pick plus a partner the data do not ask for, and the smaller half of a taken
+/// pair lost by the threshold already. Another physics that loses only on BIC's parameter count is not told apart either:
+/// when AIC (the fit plus 2 per parameter, what the extra parameters buy on noise alone) does not prefer the pick, the
+/// penalty is Occam's, not the measurement's (a true thermal drift at 1.5 µm noise on two teeth fits better than wear,
+/// yet pays 2 ln n for a Z growth and a time constant they cannot fix). Not significant alone is no reason to drop a
+/// rival: within the threshold of the pick, the data do not prefer the pick either.
+std::vector<Candidate> library_rivals(const Context& ctx, const LibraryFits& library, const PairFits& pairs,
+                                      const Candidate& pick) {
+  const double threshold = ctx.options.bic_threshold, ln_n = ctx.ln_n();
+  const auto nested = [&](const Candidate& c) { return c.nested_in(pick) || pick.nested_in(c); };
+  const auto aic = [&](const Candidate& x) { return x.delta_bic - x.fitted_parameters() * (ln_n - 2.0); };
+  const auto rival = [&](const Candidate& c) {
+    if (c.is_rejected() || c.name() == pick.name()) return false;
+    if (nested(c))
+      return c.effects.size() > pick.effects.size() &&
+             (c.delta_bic < pick.delta_bic ||
+              (c.delta_bic < pick.delta_bic + threshold && confounded_partner(c, pick)));
+    return c.delta_bic < pick.delta_bic + threshold || aic(c) <= aic(pick);
+  };
+  std::vector<Candidate> rivals;
+  for (const auto& c : library.ranked)
+    if (rival(c)) rivals.push_back(c);
+  for (const auto& c : pairs.pairs)
+    if (rival(c)) rivals.push_back(c);
+  std::stable_sort(rivals.begin(), rivals.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.delta_bic < b.delta_bic; });
+  // The plan separates the pick from its best rival of other physics first; whether a partner comes with it (a nested
+  // rival) is the second question, asked when no other rival is left.
+  std::stable_partition(rivals.begin(), rivals.end(), [&](const Candidate& c) { return !nested(c); });
+  return rivals;
+}
 
 Alternatives find_alternatives(const Context& ctx, const LibraryFits& library, const PairFits& pairs,
                                const LibraryJudgement& judgement, const BeyondLibrary& beyond) {

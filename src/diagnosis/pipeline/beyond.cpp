@@ -22,7 +22,12 @@ double share_the_pick_can_make(const Context& ctx, const ContactStates& states, 
 // chain's own error components under their laws, each wheel flank's profile and waviness, the wheel profile's wear.
 // The best plausible, significant one that leaves noise is named (with its equivalence class: find_alternatives); one
 // that leaves more is the nearest machine element, and the residual stays unexplained.
-// Also when the library's explanation holds a value that is no measurement: at the end of its allowed range (a thermal
+// Also when what the library leaves passes as noise: a hypothesis faces the test a library effect faces (ΔBIC below
+// −threshold), not the χ² test of the whole remainder, whose hundreds of degrees of freedom dilute a one-parameter
+// field (an A-axis drift of 20 … 40 µrad/min on ten teeth: χ² 511 … 605 against the limit 608 on 498 degrees of
+// freedom, while its own fit reaches ΔBIC −18 … −53).
+// Also when the library's explanation is ambiguous (a library rival within the threshold), or holds a value that is no
+// measurement: at the end of its allowed range (a thermal
 // drift whose time constant runs away turns into a drift rate) or not determined by the data (a thermal drift and a
 // wear of opposite signs cancelling into the profile slope an A-axis drift makes), or a pair whose parts cancel. A
 // machine element whose law the data do determine is named instead when it fits better — by the threshold when the
@@ -31,7 +36,7 @@ double share_the_pick_can_make(const Context& ctx, const ContactStates& states, 
 // it is a rival (a C-axis radial motion beside a thermal drift whose time constant skip-indexed teeth do not fix).
 BeyondLibrary try_families(const Context& ctx, const LibraryJudgement& j) {
   BeyondLibrary b;
-  if (!j.unexplained && !j.not_measured) return b;
+  if (j.pick && !j.not_measured) return b;
   const double threshold = ctx.options.bic_threshold;
   std::vector<int> teeth;
   for (const auto& p : ctx.points) teeth.push_back(p.tooth);

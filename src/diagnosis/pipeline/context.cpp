@@ -71,7 +71,9 @@ std::vector<double> checked_residual(const grinding::GrindingSetup& setup, const
   if (o.model_uncertainty_um.size() > 0 && o.model_uncertainty_um.rows() != static_cast<Eigen::Index>(pts.size()))
     throw std::invalid_argument(fmt::format("diagnose: option model_uncertainty_um has {} rows for {} measured points",
                                             o.model_uncertainty_um.rows(), pts.size()));
-  const auto base = predict(setup, model, pts, grinding::Method::Exact, o.threads);
+  if (o.keep_going) o.keep_going();
+  const auto base = predict(setup, model, pts, grinding::Method::Exact, o.threads, o.keep_going);
+  if (o.keep_going) o.keep_going();
   std::vector<double> r(pts.size());
   for (size_t i = 0; i < pts.size(); ++i) r[i] = pts[i].deviation_um - base[i];
   return r;
@@ -136,6 +138,7 @@ Context::Context(const grinding::GrindingSetup& setup_, const grinding::Grinding
       // What every fit evaluates thousands of times: the effects' first-order deviation at these points, whose
       // parameter-independent part (pose, contact, axis Jacobian) is computed here once for all candidates.
       at_points(setup_, points_, options_.threads, options_.chain, options_.datum_face_z_mm), surfaces(flank_surfaces(points_)) {
+  if (options.keep_going) options.keep_going(); // each step above takes a second on 10⁵ points
   rms_before_setup_um = std::sqrt(setup_terms.remove_shown(before).squaredNorm() / n);
   subsample = fit_subsample(*this);
   first_time_s = 1e300, last_time_s = -1e300;

@@ -151,11 +151,14 @@ LibraryJudgement judge_library(const Context& ctx, const LibraryFits& library, c
     j.nearest_rejection = why_not_picked(ctx, *j.nearest);
   }
   j.unexplained = !j.pick && j.remainder.excess.has_value();
-  // A value that is no measurement (at the end of its range, not determined) or parts that cancel: the machine
-  // elements are tried beside it (try_families).
+  // A value that is no measurement (at the end of its range, not determined), parts that cancel or a library rival
+  // within the threshold: the machine elements are tried beside it (try_families).
   if (j.pick) {
     j.not_measured = not_measured(*j.pick);
     if (!j.not_measured) j.not_measured = parts_cancel(ctx, *j.pick);
+    if (!j.not_measured)
+      if (const auto rivals = library_rivals(ctx, library, pairs, *j.pick); !rivals.empty())
+        j.not_measured = Decision{Reason::ambiguous, j.pick->name(), {j.pick->name(), rivals.front().name()}, {}};
   }
   return j;
 }

@@ -127,9 +127,16 @@ struct LibraryJudgement {
   std::optional<Candidate> nearest;       ///< no pick: the refused one, else the best fit by ΔBIC
   std::optional<Decision> nearest_rejection; ///< why the nearest is no explanation
   bool unexplained = false;               ///< no pick and what is left is more than noise
-  std::optional<Decision> not_measured;   ///< the kept pick's value that is no measurement, or its parts cancelling
+  /// Why the kept pick is no finding: a value that is no measurement, its parts cancelling, or a rival of the library
+  /// within the threshold (ambiguous); the families are then tried beside it (try_families).
+  std::optional<Decision> not_measured;
 };
 LibraryJudgement judge_library(const Context& ctx, const LibraryFits& library, const PairFits& pairs);
+
+/// The library's explanations (single effects and pairs) the data cannot tell from the pick (alternatives.cpp): best
+/// ΔBIC first, other physics before the pick with a partner.
+std::vector<Candidate> library_rivals(const Context& ctx, const LibraryFits& library, const PairFits& pairs,
+                                      const Candidate& pick);
 
 /// The columns of a library explanation's fitted parameters at its fitted values (n × P, µm per file unit, set-up
 /// terms removed): central differences of its first-order deviation.
@@ -139,8 +146,8 @@ Eigen::VectorXd explanation_field(const Context& ctx, const Candidate& c);
 /// How much of a field lies in the span of B's columns (0 … 1): ‖B·β‖ / ‖f‖ with β the least-squares fit of f by B.
 double share_of_field_in_span(const Eigen::VectorXd& f, const Eigen::MatrixXd& B);
 
-/// Stage 4: the families beyond the library, tried when nothing is explained or the pick holds a value that is no
-/// measurement; what their best hypothesis does to the library's explanation.
+/// Stage 4: the families beyond the library, tried when the library names nothing (what is left noise or not), or its
+/// pick is no finding (LibraryJudgement::not_measured); what their best hypothesis does to the library's explanation.
 struct BeyondLibrary {
   enum class Outcome {
     not_tried,       ///< the library's explanation stands, or nothing is left to explain

@@ -123,12 +123,13 @@ write(S, "table_binary.yaml", GEAR + "machine:\n  tables: [../error_tables/binar
 write(S, "table_short_stroke.yaml", GEAR + "machine:\n  tables: [../error_tables/x_short.csv]\n", ("InputError", -1, "x_short.csv"))
 write(S, "grid_rows_1.yaml", GEAR + "measurement:\n  rows: 1\n", ("InputError", 9, "measurement.rows"))
 write(S, "grid_huge_1e10.yaml", GEAR + "measurement:\n  dense_rows: 100000\n  dense_cols: 100000\n", ("InputError", 9, "measurement.dense_rows"))
-# 10000 × 10000 = 1e8 points per flank (7e9 for 70 flanks, ~336 GB of GridPoint): each size is in range, the product
-# is not (grinding::kMaxPointsPerFlank = 4e6). Accepted until 2026-11-21.
+# 10000 × 10000 = 1e8 points per flank (7e9 for 70 flanks, ~336 GB of GridPoint). Accepted until 2026-11-21; then
+# refused by the product (grinding::kMaxPointsPerFlank = 4e6); since dense_rows/dense_cols have --dense's bound of
+# 1000 (limits::kMaxGridLines) each size alone is refused first, and the product cannot pass 2e6.
 write(S, "grid_dense_1e8_per_flank.yaml", GEAR + "measurement:\n  dense_rows: 10000\n  dense_cols: 10000\n",
-      ("InputError", 9, "points per flank"), "the reader must bound dense_rows x dense_cols, not each alone")
+      ("InputError", 9, "dense_rows: 10000 is outside [2, 1000]"), "the reader must bound dense_rows x dense_cols")
 write(S, "grid_dense_just_over_4e6.yaml", GEAR + "measurement:\n  rows: 1000\n  cols: 1000\n  dense_rows: 2000\n  dense_cols: 1501\n",
-      ("InputError", -1, "points per flank"))
+      ("InputError", -1, "dense_rows: 2000 is outside [2, 1000]"))
 write(S, "grid_dense_one_side.yaml", GEAR + "measurement:\n  dense_rows: 50\n", ("InputError", -1, "dense_cols"))
 write(S, "grid_tooth_36.yaml", GEAR + "measurement:\n  teeth: [1, 36]\n", ("InputError", 9, "measurement.teeth"))
 write(S, "process_first_space_36.yaml", GEAR + "process:\n  first_space: 36\n", ("InputError", -1, "first_space"))
@@ -319,19 +320,20 @@ write(M, "unknown_quantity.csv", shard([row(2), row(3)], names=["F_gamma_um"] + 
       ("InputError", 13, "'F_gamma_um' is not a quantity geartopo writes"))
 write(M, "quantity_twice.csv", shard([row(2), row(3)], names=NAMES[:4] + ["F_alpha_um"]), ("InputError", 13, "'F_alpha_um' is listed twice"))
 write(M, "fingerprint_malformed.csv", shard([row(2), row(3)], fingerprint="not-hex"), ("InputError", 12, "16 hex digits"))
-# Refused by merge: each file alone is a valid shard, but not of the reference's run.
-write(M, "seed_differs.csv", shard([row(2), row(3)], seed="8"), ("invalid_argument", 0, "seed 8"))
-write(M, "samples_total_differs.csv", shard([row(2), row(3)], total=5), ("invalid_argument", 0, "5 samples"))
+# Refused by merge: each file alone is a valid shard, but not of the reference's run; named at its first differing
+# setting (file:line: field; a missing one at the header, before which it would stand).
+write(M, "seed_differs.csv", shard([row(2), row(3)], seed="8"), ("InputError", 3, "seed: 8 ("))
+write(M, "samples_total_differs.csv", shard([row(2), row(3)], total=5), ("InputError", 2, "samples_total: 5 ("))
 write(M, "fingerprint_differs.csv", shard([row(2), row(3)], fingerprint="fedcba9876543210"),
-      ("invalid_argument", 0, "scene fingerprint fedcba9876543210"))
-write(M, "fingerprint_missing.csv", shard([row(2), row(3)], fingerprint=None), ("invalid_argument", 0, "scene fingerprint not recorded"))
+      ("InputError", 12, "scene_fingerprint: fedcba9876543210 ("))
+write(M, "fingerprint_missing.csv", shard([row(2), row(3)], fingerprint=None), ("InputError", 12, "scene_fingerprint: not recorded ("))
 write(M, "names_differ.csv", shard([row(2, before="12.5,7,7,20.1", after="3.25,4,5,6.5"), row(3, before="12.5,7,7,20.1", after="3.25,4,5,6.5")],
-                                   names=NAMES[:4]), ("invalid_argument", 0, "other quantities"))
+                                   names=NAMES[:4]), ("InputError", 13, "header: F_alpha_um,F_alpha_class,overall_class,largest_abs_um ("))
 write(M, "sample_in_both.csv", shard([row(1), row(2), row(3)]), ("invalid_argument", 0, "sample 1 is in two parts: part 1 ("))
 # Issue 31: a shard of another gear (the reference records none, as shards written before the gear was recorded).
 write(M, "gear_differs.csv", shard([row(2), row(3)], extra="# gear: teeth=36 normal_module_mm=14 normal_pressure_angle_deg=20 "
                                    "helix_angle_deg=30 profile_shift=0.274 face_width_mm=150\n"),
-      ("invalid_argument", 0, "gear teeth=36 normal_module_mm=14"))
+      ("InputError", 13, "gear: teeth=36 normal_module_mm=14"))
 write(M, "gear_malformed.csv", shard([row(2), row(3)], extra="# gear: 36\n"), ("InputError", 13, "'36' is not a gear record geartopo writes"))
 
 # ---------------------------------------------------------------------------------------------------- Klingelnberg exports
