@@ -6,6 +6,7 @@
 #   BUILD_DIR=/tmp/asan JOBS=4 bash scripts/sanitize.sh
 #   TIMEOUT_FACTOR=8 bash scripts/sanitize.sh   # the tests' ctest TIMEOUTs × 8 (default × 4) on a loaded machine
 #   bash scripts/sanitize.sh --python   # instead: the Python module built in the same tree, python/tests under ASan
+#   bash scripts/sanitize.sh --python python/tests/test_strict.py   # only those tests
 #
 # Duration on the 2-core reference machine: about 22 minutes, 4 of them the tests (docs/performance.md, "Sanitizers").
 # Needs the packages of scripts/install-deps.sh (run it first on a fresh machine).
@@ -15,9 +16,12 @@ cd "$(dirname "$0")/.."
 python=OFF
 case "${1:-}" in
   "") ;;
-  --python) python=ON ;;
-  *) echo "usage: bash scripts/sanitize.sh [--python]" >&2; exit 2 ;;
+  --python) python=ON; shift ;;
+  *) echo "usage: bash scripts/sanitize.sh [--python [pytest files or -k …]]" >&2; exit 2 ;;
 esac
+# --python's tests: the arguments after it, or every file of python/tests (under ASan the CLI the tests start is
+# instrumented too: about 10× slower than Release).
+pytest_args=("${@:-python/tests}")
 
 build_dir=${BUILD_DIR:-build-asan}
 jobs=${JOBS:-$(nproc)}
@@ -42,17 +46,20 @@ if [ "$python" = ON ]; then
   built=$(date +%s)
   interpreter=$(sed -n 's/^Python3_EXECUTABLE:FILEPATH=//p' "$build_dir/CMakeCache.txt")
   # libasan first in the process (the interpreter is not instrumented); the module's libubsan loads as its dependency.
+  # libstdc++ preloaded beside it: python3 does not link it, so without it ASan's __cxa_throw interceptor finds no real
+  # __cxa_throw when the module's first exception is thrown and aborts ("CHECK failed: asan_interceptors.cpp:320",
+  # google/sanitizers#934). --capture=sys: pytest leaves file descriptor 2 alone, so a report reaches the log.
   # detect_leaks=0: CPython does not free all its own memory at exit, and LeakSanitizer fails the interpreter for it
   # (`python3 -c "import numpy, pytest"` alone: 265 blocks, 260 557 bytes, exit 1); the C++ behind the module is
   # leak-checked by the C++ suite, which calls the same library functions. Overflows, use-after-free and UBSan reports
   # stay fatal (exit 1): checked with a probe module that overflows a vector and shifts an int by 40.
   status=0
   compiler=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$build_dir/CMakeCache.txt")
-  LD_PRELOAD=$("$compiler" -print-file-name=libasan.so) \
+  LD_PRELOAD="$("$compiler" -print-file-name=libasan.so) $("$compiler" -print-file-name=libstdc++.so)" \
     ASAN_OPTIONS=detect_leaks=0:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=1 \
     UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
     PYTHONPATH="$PWD/$build_dir/python" GEARTOPO_CLI="$PWD/$build_dir/bin/geartopo" MPLBACKEND=Agg \
-    "$interpreter" -m pytest -q -p no:cacheprovider python/tests || status=$?
+    "$interpreter" -m pytest -q -p no:cacheprovider --capture=sys "${pytest_args[@]}" || status=$?
   end=$(date +%s)
   echo "sanitize --python: build $((built - start)) s, tests $((end - built)) s, total $((end - start)) s; pytest exit $status"
   exit "$status"
