@@ -37,10 +37,21 @@ inline std::function<void()> interrupt_check() {
   return [] { throw_if_interrupted(); };
 }
 
-/// A long call's library work: SIGINT caught by geartopo, then the GIL released (destroyed in the reverse order: the
-/// GIL taken back before Python's handler returns).
+/// A Ctrl-C pressed before the library work began — while the arguments were read, with the GIL held and Python's
+/// handler in place (a measurement of 10⁵ points takes a tenth of a second) — is only the interpreter's flag, which
+/// it would read once the whole call returned: raised here as KeyboardInterrupt, before the work starts.
+struct EarlierInterrupt {
+  EarlierInterrupt() {
+    if (PyErr_CheckSignals() != 0) throw pybind11::error_already_set();
+  }
+};
+
+/// A long call's library work: SIGINT caught by geartopo, a Ctrl-C from before then raised, the GIL released
+/// (destroyed in the reverse order: the GIL taken back before Python's handler returns). The check comes after our
+/// handler is in place, so a signal is either in Python's flag already or reaches ours.
 struct LibraryWork {
   InterruptScope sigint;
+  EarlierInterrupt earlier;
   pybind11::gil_scoped_release nogil;
 };
 

@@ -112,6 +112,7 @@ def big_measurement():
 
 
 @pytest.mark.parametrize("after_s, with_callback", [
+    (0.01, False),  # before the library work: the measurement's arrays read with the GIL held
     (0.3, False),  # the set-up: the model at every point, the noise, the set-up terms
     (1.2, False),  # the single effects' fits
     (3.0, False),  # the pairs' fits (a pair's fit takes ~1.8 s between two progress reports)

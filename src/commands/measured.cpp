@@ -36,7 +36,7 @@ diagnosis::Diagnosis run_diagnosis(const SceneInput& scene, const MeasuredInput&
   o.keep_going = r.keep_going;
   if (r.scene_uncertainty) {
     o.stroke_repeatability_sd = wb.scene.machine.uncertainty.repeatability;
-    o.model_uncertainty_um = diagnosis::map_sensitivity(wb, measured.points);
+    o.model_uncertainty_um = diagnosis::map_sensitivity(wb, measured.points, 0, r.keep_going);
   }
   return diagnosis::diagnose(wb.setup, wb.diagnosis_model(), measured.points, wb.effect_types(), o);
 }

@@ -17,10 +17,12 @@ namespace {
 // Points per parallel task: one task per point would drown the work in scheduling.
 constexpr int kChunk = 1024;
 
+// keep_going (may be empty) is called before each chunk; an exception from it stops parallel_for.
 template <class Fn>
-void for_chunks(std::size_t n, int threads, Fn&& per_point) {
+void for_chunks(std::size_t n, int threads, Fn&& per_point, const std::function<void()>& keep_going = {}) {
   const int count = static_cast<int>((n + kChunk - 1) / kChunk);
   geartopo::parallel_for(count, threads, [&](int c) {
+    if (keep_going) keep_going();
     const std::size_t end = std::min(n, static_cast<std::size_t>(c + 1) * kChunk);
     for (std::size_t i = static_cast<std::size_t>(c) * kChunk; i < end; ++i) per_point(i);
   });
@@ -29,7 +31,8 @@ void for_chunks(std::size_t n, int threads, Fn&& per_point) {
 } // namespace
 
 EffectContribution::EffectContribution(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
-                                       int threads, const machine::KinematicChain* chain, double datum_face_z_mm)
+                                       int threads, const machine::KinematicChain* chain, double datum_face_z_mm,
+                                       const std::function<void()>& keep_going)
     : points_(pts.size()), offset_um_(mean_allowance_offset_um(setup.geometry())),
       chain_(chain != nullptr && !chain->is_setting_chain() ? chain : nullptr), datum_face_z_mm_(datum_face_z_mm) {
   const grinding::IdealProcess ideal; // the contact does not depend on the process
@@ -43,7 +46,7 @@ EffectContribution::EffectContribution(const grinding::GrindingSetup& setup, con
     s.a_q = machine::J_twistw_q(c.pp.q).transpose() * s.w; // 5×6 · 6
     s.v = c.v;
     s.normal_per_radial = c.normal_per_radial;
-  });
+  }, keep_going);
 }
 
 // effects::EffectsProcess over the ideal machine, first order (effects_process.cpp): the twist is
@@ -119,7 +122,7 @@ EffectContribution EffectContribution::rows(std::span<const std::size_t> indices
   return out;
 }
 
-Eigen::MatrixXd EffectContribution::component_sensitivity_um(int threads) const {
+Eigen::MatrixXd EffectContribution::component_sensitivity_um(int threads, const std::function<void()>& keep_going) const {
   Eigen::MatrixXd out(static_cast<Eigen::Index>(points_.size()), machine::kComponentCount); // n × 43
   for_chunks(points_.size(), threads, [&](std::size_t i) {
     if (chain_ != nullptr) { // the chain's axes θ(q + z₀), the twist moved back by Tz(−z₀)
@@ -135,7 +138,7 @@ Eigen::MatrixXd EffectContribution::component_sensitivity_um(int threads) const 
     machine::MachineData data;
     machine::error_jacobians(points_[i].pp.q, data);
     out.row(static_cast<Eigen::Index>(i)) = units::um_from_mm(1.0) * (points_[i].w.transpose() * data.J_twistw_e);
-  });
+  }, keep_going);
   return out;
 }
 

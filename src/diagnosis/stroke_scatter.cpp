@@ -15,10 +15,10 @@ namespace geartopo::diagnosis {
 
 Eigen::MatrixXd stroke_sensitivity(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
                                    const std::vector<MeasuredPoint>& pts, const machine::Vector5d& repeatability_sd,
-                                   int threads) {
+                                   int threads, const std::function<void()>& keep_going) {
   const auto n = static_cast<Eigen::Index>(pts.size());
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, 5); // n × 5, µm per s_a
-  const auto base = predict(setup, model, pts, grinding::Method::Linear, threads);
+  const auto base = predict(setup, model, pts, grinding::Method::Linear, threads, keep_going);
   for (int a = 0; a < 5; ++a) {
     if (repeatability_sd(a) <= 0.0) continue;
     // The same offset s_a on every stroke: each point feels its own space's, which is all g_i needs. The first-order
@@ -32,16 +32,17 @@ Eigen::MatrixXd stroke_sensitivity(const grinding::GrindingSetup& setup, const g
     }
     const compensation::CorrectionTable offsets(std::move(rows));
     const compensation::CompensatedProcess off(model, offsets);
-    const auto moved = predict(setup, off, pts, grinding::Method::Linear, threads);
+    const auto moved = predict(setup, off, pts, grinding::Method::Linear, threads, keep_going);
     for (Eigen::Index i = 0; i < n; ++i) G(i, a) = moved[static_cast<size_t>(i)] - base[static_cast<size_t>(i)];
   }
   return G;
 }
 
-Eigen::MatrixXd map_sensitivity(const workbench::Workbench& wb, const std::vector<MeasuredPoint>& pts, int threads) {
+Eigen::MatrixXd map_sensitivity(const workbench::Workbench& wb, const std::vector<MeasuredPoint>& pts, int threads,
+                                const std::function<void()>& keep_going) {
   const auto n = static_cast<Eigen::Index>(pts.size());
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, machine::kComponentCount); // n × 43, µm per u_c
-  const auto base = predict(wb.setup, wb.machine_process, pts, grinding::Method::Linear, threads);
+  const auto base = predict(wb.setup, wb.machine_process, pts, grinding::Method::Linear, threads, keep_going);
   const auto& u = wb.scene.machine.uncertainty.component_u;
   for (int c = 0; c < machine::kComponentCount; ++c) {
     // The scene's map with component c moved by one standard uncertainty, the Monte Carlo's draw at z = 1: u_c, or
@@ -55,7 +56,7 @@ Eigen::MatrixXd map_sensitivity(const workbench::Workbench& wb, const std::vecto
     else *it = it->drawn(1.0, u[static_cast<size_t>(c)]);
     const machine::MachineModel moved_model(wb.machine.strokes(), std::move(sources));
     const auto moved = workbench::make_machine_process(*wb.scene.machine.chain, moved_model, wb.scene.machine.datum_face_z_mm);
-    const auto dev = predict(wb.setup, *moved, pts, grinding::Method::Linear, threads);
+    const auto dev = predict(wb.setup, *moved, pts, grinding::Method::Linear, threads, keep_going);
     for (Eigen::Index i = 0; i < n; ++i) M(i, c) = dev[static_cast<size_t>(i)] - base[static_cast<size_t>(i)];
   }
   return M;

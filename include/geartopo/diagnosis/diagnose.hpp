@@ -208,9 +208,11 @@ struct DiagnoseOptions {
   /// known so far): the total grows by the pairs once the single effects are ranked. From the calling thread; for
   /// progress display only, the diagnosis does not depend on it.
   std::function<void(long long done, long long total)> on_candidate_fitted;
-  /// Called between the stages, in the set-up before the first fit, and at every residual evaluation of a fit (a fit
-  /// on 10⁵ points takes seconds between reports): a Ctrl-C check that may throw to stop the diagnosis, as
-  /// grinding::SimulationOptions::keep_going. May be empty; from the calling thread; the result does not depend on it.
+  /// Called between the stages, within each set-up loop over the points (every 4096 points of a prediction, every 1024
+  /// contact states), before each machine-element hypothesis' fit and at every residual evaluation of a fit (a fit on
+  /// 10⁵ points takes seconds between reports): a Ctrl-C check that may throw to stop the diagnosis, as
+  /// grinding::SimulationOptions::keep_going. May be empty; called from the work's threads (it must be thread-safe);
+  /// the result does not depend on it.
   std::function<void()> keep_going;
   /// Fewest measured points (count) diagnose accepts: the noise estimate fits 6 terms per flank, and BIC with a
   /// handful of points rewards nothing.

@@ -14,6 +14,8 @@
 
 #include <Eigen/Core>
 
+#include <functional>
+
 #include <memory>
 #include <span>
 #include <vector>
@@ -25,9 +27,11 @@ using measurement::MeasuredPoint; ///< what diagnosis works on: measured points,
 class EffectContribution {
 public:
   /// The set-up must outlive this object; `points` are copied into per-point state (no reference kept). `chain`: the
-  /// scene's kinematic chain, with the gear's datum face at its z = datum_face_z_mm (null: the CFXZAY).
+  /// scene's kinematic chain, with the gear's datum face at its z = datum_face_z_mm (null: the CFXZAY). `keep_going`
+  /// (may be empty): a Ctrl-C check before every 1024 points (10⁶ contacts take seconds); it may throw to stop.
   EffectContribution(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& points, int threads = 0,
-                     const machine::KinematicChain* chain = nullptr, double datum_face_z_mm = 0.0);
+                     const machine::KinematicChain* chain = nullptr, double datum_face_z_mm = 0.0,
+                     const std::function<void()>& keep_going = {});
 
   /// The effects' first-order deviation at every point (n, µm) over the ideal machine, referred to the nominal flank
   /// at the mean allowance: the same quantity as
@@ -52,7 +56,7 @@ public:
   /// (machine/first_order.hpp; on another chain than the CFXZAY its own error Jacobian at its axes θ(q), moved to the
   /// datum as ChainProcess::error_twist_w does) — what a constant change δe_k adds is column k · δe_k. Results do not
   /// depend on `threads`.
-  Eigen::MatrixXd component_sensitivity_um(int threads = 0) const;
+  Eigen::MatrixXd component_sensitivity_um(int threads = 0, const std::function<void()>& keep_going = {}) const;
   /// The generating path point of point i (its space, stroke position, time and commanded axes).
   const grinding::PathPoint& path_point(std::size_t i) const { return points_[i].pp; }
   /// The wheel axial coordinate of point i's contact (mm).

@@ -14,6 +14,7 @@
 
 #include <Eigen/Dense>
 
+#include <functional>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -29,9 +30,9 @@ class SetupTermModel; // private: the set-up terms a measurement carries (src/di
 class ContactStates {
 public:
   /// `terms`: the set-up terms at these points (null for a plan's new points, where nothing is judged); `teeth`: the
-  /// points' teeth (empty when not known).
+  /// points' teeth (empty when not known); `keep_going` (may be empty): the Ctrl-C check of the sensitivity's chunks.
   ContactStates(const grinding::GrindingSetup& setup, const EffectContribution& at, const SetupTermModel* terms,
-                int threads, const std::vector<int>& teeth = {});
+                int threads, const std::vector<int>& teeth = {}, std::function<void()> keep_going = {});
 
   const grinding::GrindingSetup& setup() const { return setup_; }
   const EffectContribution& at() const { return at_; }
@@ -57,6 +58,7 @@ private:
   const SetupTermModel* terms_;
   int threads_;
   int teeth_measured_ = 0;
+  std::function<void()> keep_going_;
   mutable std::optional<Eigen::MatrixXd> sensitivity_;
   mutable std::optional<Eigen::VectorXd> time_, c_;
 };

@@ -25,6 +25,7 @@
 
 #include <Eigen/Dense>
 
+#include <functional>
 #include <vector>
 
 namespace geartopo::diagnosis {
@@ -34,14 +35,17 @@ using measurement::MeasuredPoint; ///< what diagnosis works on: measured points,
 /// g_i for every point (n × 5, µm): the first-order deviation at each point when its space's stroke is commanded off by
 /// one standard deviation s_a of axis a (X, Y, Z in mm, A, C in rad; ISO 230-2 R/4). The model's process carries the
 /// offsets (a correction constant over every stroke); the space of a point is the one that grinds its flank.
+/// `keep_going` (may be empty): predict's Ctrl-C check, every 4096 points of each of the 6 predictions.
 Eigen::MatrixXd stroke_sensitivity(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
                                    const std::vector<MeasuredPoint>& points, const machine::Vector5d& repeatability_sd,
-                                   int threads = 0);
+                                   int threads = 0, const std::function<void()>& keep_going = {});
 
 /// m_i for every point (n × 43, µm): the first-order deviation at each point when one component of the scene's error
 /// map is off by its standard uncertainty u_c (a constant along its axis, as the Monte Carlo draws it; u_c(p) from the
 /// component's table column where it has one, ErrorSource::drawn); a column of zeros for a component whose u_c is 0.
-Eigen::MatrixXd map_sensitivity(const workbench::Workbench& wb, const std::vector<MeasuredPoint>& points, int threads = 0);
+/// `keep_going` (may be empty): predict's Ctrl-C check, every 4096 points of each of the up to 44 predictions.
+Eigen::MatrixXd map_sensitivity(const workbench::Workbench& wb, const std::vector<MeasuredPoint>& points, int threads = 0,
+                                const std::function<void()>& keep_going = {});
 
 /// Σ = blockdiag_s(σ² I + G_s G_sᵀ) + M Mᵀ and its whitening W (W Σ Wᵀ = σ² I).
 class StrokeScatter {

@@ -74,6 +74,7 @@ std::vector<Candidate> fit_hypotheses(const Context& ctx, const ContactStates& s
   for (const auto& family : ctx.options.families) {
     std::vector<Candidate> mine;
     for (Candidate& h : family->enumerate(states, ctx.options)) {
+      if (ctx.options.keep_going) ctx.options.keep_going(); // a fit on 10⁶ points takes ~0.1 s, 200 of them seconds
       const std::string scene_name = family->scene_name(h);
       if (std::find(ctx.in_scene.begin(), ctx.in_scene.end(), scene_name) != ctx.in_scene.end()) continue;
       if (auto c = fitted(ctx, states, *family, family, std::move(h), y, rss0)) mine.push_back(std::move(*c));

@@ -20,12 +20,14 @@ HypothesisFamilies default_hypothesis_families() {
 }
 
 ContactStates::ContactStates(const grinding::GrindingSetup& setup, const EffectContribution& at,
-                             const SetupTermModel* terms, int threads, const std::vector<int>& teeth)
+                             const SetupTermModel* terms, int threads, const std::vector<int>& teeth,
+                             std::function<void()> keep_going)
     : setup_(setup), at_(at), terms_(terms), threads_(threads),
-      teeth_measured_(static_cast<int>(std::set<int>(teeth.begin(), teeth.end()).size())) {}
+      teeth_measured_(static_cast<int>(std::set<int>(teeth.begin(), teeth.end()).size())),
+      keep_going_(std::move(keep_going)) {}
 
 const Eigen::MatrixXd& ContactStates::component_sensitivity_um() const {
-  if (!sensitivity_) sensitivity_ = at_.component_sensitivity_um(threads_);
+  if (!sensitivity_) sensitivity_ = at_.component_sensitivity_um(threads_, keep_going_);
   return *sensitivity_;
 }
 

@@ -40,7 +40,8 @@ BeyondLibrary try_families(const Context& ctx, const LibraryJudgement& j) {
   const double threshold = ctx.options.bic_threshold;
   std::vector<int> teeth;
   for (const auto& p : ctx.points) teeth.push_back(p.tooth);
-  b.states = std::make_unique<ContactStates>(ctx.setup, ctx.at_points, &ctx.setup_terms, ctx.options.threads, teeth);
+  b.states = std::make_unique<ContactStates>(ctx.setup, ctx.at_points, &ctx.setup_terms, ctx.options.threads, teeth,
+                                             ctx.options.keep_going);
   b.hypotheses = fit_hypotheses(ctx, *b.states);
   b.outcome = Outcome::not_usable;
   if (b.hypotheses.empty()) return b;

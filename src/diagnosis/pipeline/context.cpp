@@ -58,7 +58,7 @@ SetupTermModel setup_term_model(const grinding::GrindingSetup& setup, const grin
   std::vector<int> space(pts.size());
   for (size_t i = 0; i < pts.size(); ++i)
     space[i] = grinding::space_of(pts[i].tooth, pts[i].flank, setup.geometry().teeth());
-  const Eigen::MatrixXd G = stroke_sensitivity(setup, model, pts, o.stroke_repeatability_sd, o.threads); // n × 5
+  const Eigen::MatrixXd G = stroke_sensitivity(setup, model, pts, o.stroke_repeatability_sd, o.threads, o.keep_going); // n × 5
   return SetupTermModel(setup.geometry(), pts, StrokeScatter(space, G, noise_um, o.model_uncertainty_um));
 }
 
@@ -137,7 +137,7 @@ Context::Context(const grinding::GrindingSetup& setup_, const grinding::Grinding
       setup_terms(setup_term_model(setup_, model_, points_, noise_um, options_)),
       // What every fit evaluates thousands of times: the effects' first-order deviation at these points, whose
       // parameter-independent part (pose, contact, axis Jacobian) is computed here once for all candidates.
-      at_points(setup_, points_, options_.threads, options_.chain, options_.datum_face_z_mm), surfaces(flank_surfaces(points_)) {
+      at_points(setup_, points_, options_.threads, options_.chain, options_.datum_face_z_mm, options_.keep_going), surfaces(flank_surfaces(points_)) {
   if (options.keep_going) options.keep_going(); // each step above takes a second on 10⁵ points
   rms_before_setup_um = std::sqrt(setup_terms.remove_shown(before).squaredNorm() / n);
   subsample = fit_subsample(*this);
