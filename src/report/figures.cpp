@@ -426,18 +426,50 @@ std::optional<Figure> runout_figure(const workbench::IsoResult& iso, int shown_c
                 c.size.width, c.size.height, std::nullopt, std::nullopt};
 }
 
+// The position-independent components (squareness, axis-line location: ISO 230-1, 230-7) of one quantity as bars, in
+// the chain's symbols (µm or µrad).
+fs::path machine_constants_panel(const workbench::Workbench& wb, machine::Quantity quantity, const fs::path& dir) {
+  const machine::KinematicChain& chain = *wb.scene.machine.chain;
+  const bool length = quantity == machine::Quantity::Length;
+  render::BarChart c;
+  c.size = {800, 420};
+  c.font_px = 17;
+  c.title = length ? "Constants: axis-line offsets" : "Constants: squareness and axis-line tilts";
+  c.x = {"component", "", {}, {}};
+  c.y = {length ? "E" : "S, E", length ? "µm" : "µrad", {}, {}};
+  render::BarSeries bars{length ? "offset" : "angle", {}, render::series_colour(length ? 0 : 1)};
+  for (int k = 0; k < machine::kComponentCount; ++k) {
+    const auto id = machine::component_at(k);
+    const machine::ComponentInfo& i = chain.info(id);
+    if (i.position_dependent || i.quantity != quantity) continue;
+    c.categories.emplace_back(i.symbol);
+    bars.values.push_back((length ? units::kUmPerMm : units::kUradPerRad) * wb.machine.source(id).value(0.0));
+  }
+  c.bars.push_back(std::move(bars));
+  c.legend = render::LegendPlace::none;
+  const auto panel = dir / "panels" / fmt::format("machine_constants_{}.png", length ? "linear" : "angular");
+  render::render_bar_chart(c, panel);
+  return panel;
+}
+
 Figure machine_figure(const workbench::Workbench& wb, const fs::path& dir) {
   render::Composite comp;
   comp.font_px = kCompositeFontPx;
   const machine::KinematicChain& chain = *wb.scene.machine.chain; // its own axis letters and component symbols
+  // Motion errors are drawn over each axis' stroke only when the scene gives one: ten flat panels say nothing.
+  bool any_motion = false;
+  for (int k = 0; k < machine::kComponentCount; ++k) {
+    const auto id = machine::component_at(k);
+    any_motion = any_motion || (machine::info(id).position_dependent && !wb.machine.source(id).is_zero());
+  }
   // (as long as the title without the chain's name was: a longer one runs off the composite's edges)
-  comp.title = fmt::format("{} chain: geometric error components against axis position (representative unless measured)",
-                           chain.name());
+  comp.title = any_motion ? fmt::format("{} chain: the scene's error components against axis position; its constants", chain.name())
+                          : fmt::format("{} chain: the scene's constant error components (no motion errors given)", chain.name());
   comp.columns = 2;
   const auto& st = wb.machine.strokes();
   const std::pair<double, double> spans[] = {{st.x_mm.min, st.x_mm.max}, {st.y_mm.min, st.y_mm.max}, {st.z_mm.min, st.z_mm.max},
                                              {st.a_deg.min, st.a_deg.max}, {0.0, 360.0}};
-  for (int ax = 0; ax < machine::kAxisCount; ++ax) {
+  for (int ax = 0; any_motion && ax < machine::kAxisCount; ++ax) {
     const auto axis = machine::kAxes[static_cast<size_t>(ax)];
     const bool rotary = chain.is_rotary(axis);
     const std::string name(chain.axis_name(axis));
@@ -465,10 +497,16 @@ Figure machine_figure(const workbench::Workbench& wb, const fs::path& dir) {
       comp.panels.push_back({panel, ""});
     }
   }
+  for (const auto q : {machine::Quantity::Length, machine::Quantity::Angle})
+    comp.panels.push_back({machine_constants_panel(wb, q, dir), ""});
   const auto size = render::render_composite(comp, dir / "machine_errors.png");
   return {"machine_errors.png", "machine", comp.title,
-          "The six motion errors of each axis over its stroke, as the scene's tables, polynomials or constants give them "
-          "(docs/error-components.md for signs).",
+          fmt::format("{}The position-independent components{}: squareness S and the rotary axis lines' location E "
+                      "(ISO 230-1, 230-7; docs/error-components.md for signs).",
+                      any_motion ? "The six motion errors of each axis over its stroke, as the scene's tables, "
+                                   "polynomials or constants give them. "
+                                 : "The scene gives no motion error (every δ and ε is zero over every stroke). ",
+                      any_motion ? " (bottom)" : ""),
           size.width, size.height, std::nullopt, std::nullopt};
 }
 

@@ -231,3 +231,16 @@ TEST(ReportOutsideIso, EveryDashSaysWhyInAFootnote) {
   EXPECT_GE(marked_tables, 4);
   fs::remove_all(dir);
 }
+
+// The default scene's machine figure: its motion errors over each stroke (ten panels) and its constants (two panels).
+TEST_F(ReportTest, MachineFigureShowsTheMotionErrorsAndTheConstants) {
+  ASSERT_EQ(code_, 0);
+  for (const char* panel : {"machine_X_linear.png", "machine_C_angular.png", "machine_constants_linear.png",
+                            "machine_constants_angular.png"})
+    EXPECT_TRUE(fs::exists(*dir_ / "panels" / panel)) << panel;
+  ASSERT_NE(manifest_, nullptr);
+  for (const auto& f : *manifest_)
+    if (f["file"] == "machine_errors.png")
+      EXPECT_NE(f["title"].get<std::string>().find("CFXZAY chain: the scene's error components against axis position"),
+                std::string::npos) << f.dump();
+}
