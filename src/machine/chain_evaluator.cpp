@@ -16,6 +16,26 @@ bool same(double cached, double now) {
   return std::bit_cast<std::uint64_t>(cached) == std::bit_cast<std::uint64_t>(now);
 }
 
+/// out = a·b for isometries, written in place: out's last row stays (0, 0, 0, 1) from its set-up, and no 4×4
+/// temporary is copied (the copies cost as much as the product).
+void multiply_into(const Pose& a, const Pose& b, Pose& out) {
+  out.linear().noalias() = a.linear() * b.linear();
+  out.translation().noalias() = a.linear() * b.translation();
+  out.translation() += a.translation();
+}
+
+/// out = joint j as it enters wMg (detail::chain_joint), the workpiece side's inverse written in place as
+/// [Rᵀ | −Rᵀ·p]: out's last row stays (0, 0, 0, 1) from its set-up.
+void joint_into(const Joint& j, const ErrorVector& e, double theta, const Pose& S, const Pose& S_inverse, Pose& out) {
+  const Pose M = detail::exact_joint(j, e, theta, S, S_inverse);
+  if (!j.workpiece_side) {
+    out = M;
+    return;
+  }
+  out.linear().noalias() = M.linear().transpose();
+  out.translation().noalias() = -(out.linear() * M.translation());
+}
+
 /// Binds `data` to the chain and the model, all components evaluated at θ, when it holds another's (or nothing);
 /// else re-evaluates the motion components of the axes that moved (the others are the same bits as a fresh
 /// MachineModel::errors_at: constants never change, and an axis' components are a function of its position alone).
@@ -31,6 +51,8 @@ void refresh_errors(const KinematicChain& chain, const MachineModel& model, Chai
       data.S[i] = detail::axis_line(j, data.e);
       data.S_inverse[i] = data.S[i].inverse(Eigen::Isometry);
     }
+    for (Pose& tail : data.wMg_tail) tail.setIdentity();
+    for (Pose& joint : data.joint) joint.setIdentity();
     data.pose_ready = data.twist_ready = false;
     return;
   }
@@ -88,10 +110,11 @@ const Pose& actual_wMg(const KinematicChain& chain, const MachineModel& model, C
     const auto k = static_cast<std::size_t>(i);
     const Joint& j = chain.joints()[k];
     if (!data.pose_ready || !same(data.theta_pose[k], theta[j.slot])) {
-      data.joint[k] = detail::chain_joint(j, data.e, theta[j.slot], data.S[k], data.S_inverse[k]);
+      joint_into(j, data.e, theta[j.slot], data.S[k], data.S_inverse[k], data.joint[k]);
       data.theta_pose[k] = theta[j.slot];
     }
-    data.wMg_tail[k] = i == kAxisCount - 1 ? data.joint[k] : Pose(data.joint[k] * data.wMg_tail[k + 1]);
+    if (i == kAxisCount - 1) data.wMg_tail[k] = data.joint[k];
+    else multiply_into(data.joint[k], data.wMg_tail[k + 1], data.wMg_tail[k]);
   }
   data.pose_ready = true;
   return data.wMg_tail[0];

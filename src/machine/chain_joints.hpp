@@ -31,8 +31,10 @@ inline Eigen::Matrix3d coordinate_rotation(int dir, double t) {
   return dir == 0 ? rot_x(t) : dir == 1 ? rot_y(t) : rot_z(t);
 }
 inline Pose coordinate_turn(int dir, double t) {
-  Pose m = Pose::Identity();
+  Pose m;
   m.linear() = coordinate_rotation(dir, t);
+  m.translation().setZero();
+  m.makeAffine();
   return m;
 }
 
