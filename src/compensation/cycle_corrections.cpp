@@ -2,6 +2,9 @@
 
 #include "geartopo/files/atomic_write.hpp"
 #include "geartopo/core/units.hpp"
+#include "geartopo/machine/chain_kinematics.hpp"
+
+#include <Eigen/QR>
 
 #include <fmt/format.h>
 
@@ -15,6 +18,40 @@ namespace {
 
 /// εC + k·δZ: the C correction that acts on the flank like (δZ, εC) (see the header).
 double c_equivalent(const machine::Vector5d& c, double k) { return c(4) + k * c(2); }
+
+/// Below this |σ_Z| (mm of the chain's Z per mm of screw along the gear axis) the chain's Z barely follows the gear
+/// axis and cannot be folded away: refused.
+constexpr double kMinScrewZ = 0.1;
+
+/// The screw along the gear axis in the chain's axes at θ: σ with J_twistw_θ(θ)·σ = (0, 0, 1; 0, 0, k), the wheel
+/// moved by 1 mm along the gear axis (w's z) and turned about it by k (the setting's Z by 1, C by −k). The chain's
+/// five axes make any small wheel motion away from singularities, so the 6×5 system is consistent (QR solve).
+machine::Vector5d screw_in_axes(const ChainAxes& axes, const machine::AxisPose& theta, double k) {
+  const machine::Matrix65 J = machine::J_twistw_theta(*axes.chain, machine::AxisValues{theta.vector()});
+  machine::Vector6d screw;
+  screw << 0.0, 0.0, 1.0, 0.0, 0.0, k;
+  return J.colPivHouseholderQr().solve(screw);
+}
+
+/// The row's correction with its Z part moved along the screw: on the setting's axes (the CFXZAY) (δX, δY, 0, εA, C_eq)
+/// as before; on a chain Δθ − (δZ/σ_Z)·σ, whose Z is 0 and which grinds the same flank to first order (on the CAFXZY
+/// σ = (0, sin α, cos α, 0, −k): δY − δZ·tan α, εC + k·δZ/cos α).
+machine::Vector5d folded(const ChainAxes& axes, const CorrectionRow& r, double k) {
+  machine::Vector5d c = r.correction;
+  if (axes.is_setting()) {
+    c(4) = c_equivalent(r.correction, k);
+  } else {
+    const machine::Vector5d sigma = screw_in_axes(axes, r.machine_axes, k);
+    if (!(std::abs(sigma(2)) >= kMinScrewZ))
+      throw std::invalid_argument(fmt::format(
+          "cycle corrections: the {} chain's {} moves {:.3g} mm per mm along the gear axis at space {}, Z = {:.3f} mm "
+          "(needs ≥ {}): its Z correction cannot be folded into the cycle's axes", axes.chain->name(),
+          axes.axis_name(2), sigma(2), r.space, r.z_stroke_mm, kMinScrewZ));
+    c -= (r.correction(2) / sigma(2)) * sigma;
+  }
+  c(2) = 0.0;
+  return c;
+}
 
 /// Linear interpolation of ys(xs) at x, held beyond the ends; xs increasing.
 double interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
@@ -34,27 +71,38 @@ CycleCorrections make_cycle_corrections(const CorrectionTable& table, double k, 
   CycleCorrections out;
   out.z_step_mm = z_step_mm;
   out.twist_rad_per_mm = k;
+  if (!table.axes().is_setting()) out.chain = table.axes().chain->name();
+
+  // Every row's correction folded (δZ = 0), by row: what the cycle's X, C, Y and A are made of.
+  struct Folded {
+    const CorrectionRow* row;
+    machine::Vector5d c;
+  };
+  std::vector<Folded> all;
+  all.reserve(table.rows().size());
+  for (const auto& r : table.rows()) all.push_back({&r, folded(table.axes(), r, k)});
 
   double sum_y = 0.0, sum_a = 0.0;
-  for (const auto& r : table.rows()) sum_y += r.correction(1), sum_a += r.correction(3);
-  const double n = static_cast<double>(table.rows().size());
+  for (const auto& f : all) sum_y += f.c(1), sum_a += f.c(3);
+  const double n = static_cast<double>(all.size());
   out.setup_dY_mm = sum_y / n;
   out.setup_dA_rad = sum_a / n;
-  for (const auto& r : table.rows()) {
-    out.y_not_carried_mm = std::max(out.y_not_carried_mm, std::abs(r.correction(1) - out.setup_dY_mm));
-    out.a_not_carried_rad = std::max(out.a_not_carried_rad, std::abs(r.correction(3) - out.setup_dA_rad));
+  for (const auto& f : all) {
+    out.y_not_carried_mm = std::max(out.y_not_carried_mm, std::abs(f.c(1) - out.setup_dY_mm));
+    out.a_not_carried_rad = std::max(out.a_not_carried_rad, std::abs(f.c(3) - out.setup_dA_rad));
   }
 
   // Rows of each space in increasing machine Z (the table sorts by gear stroke position, which is machine Z − datum).
-  std::map<int, std::vector<const CorrectionRow*>> by_space;
-  for (const auto& r : table.rows()) by_space[r.space].push_back(&r);
+  std::map<int, std::vector<const Folded*>> by_space;
+  for (const auto& f : all) by_space[f.row->space].push_back(&f);
   for (auto& [space, rows] : by_space) {
-    std::sort(rows.begin(), rows.end(), [](auto* a, auto* b) { return a->machine_axes.z < b->machine_axes.z; });
+    std::sort(rows.begin(), rows.end(),
+              [](auto* a, auto* b) { return a->row->machine_axes.z < b->row->machine_axes.z; });
     std::vector<double> z, x, c;
-    for (const auto* r : rows) {
-      z.push_back(r->machine_axes.z);
-      x.push_back(r->correction(0));
-      c.push_back(c_equivalent(r->correction, k));
+    for (const auto* f : rows) {
+      z.push_back(f->row->machine_axes.z);
+      x.push_back(f->c(0));
+      c.push_back(f->c(4));
     }
     CycleSpace s;
     s.space = space;
@@ -92,6 +140,9 @@ void CycleCorrections::write_csv(std::ostream& out) const {
          "# equidistant grid of machine Z, to be added to the commanded axes (C: index + lead). A Z correction is folded\n"
          "# into C through the gear's twist (C_eq = eps_C + k*delta_Z). Y and A: one set-up correction for the gear.\n"
          "# Units: Z_mm mm (machine Z); lead_dX_um um; index_dC_urad, lead_dC_urad urad.\n";
+  if (!chain.empty())
+    out << "# On the " << chain << " chain the fold follows the screw along the gear axis in the chain's own axes:\n"
+        << "# dtheta - (dZ/sigma_Z)*sigma, sigma the axes' motion per mm of the screw (setting Z by 1, C by -k).\n";
   out << fmt::format("# setup_dY_um: {:.4f}\n# setup_dA_urad: {:.4f}\n", units::um_from_mm(setup_dY_mm),
                      units::urad_from_rad(setup_dA_rad));
   out << fmt::format("# not_carried_Y_um: {:.4f}\n# not_carried_A_urad: {:.4f}\n", units::um_from_mm(y_not_carried_mm),

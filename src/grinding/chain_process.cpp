@@ -1,6 +1,7 @@
 // geartopo — the grinding process of a chain described as data (chain_process.hpp). Units: mm, rad.
 #include "geartopo/grinding/chain_process.hpp"
 
+#include "geartopo/machine/chain_evaluator.hpp"
 #include "geartopo/machine/chain_kinematics.hpp"
 #include "geartopo/machine/transforms.hpp"
 
@@ -10,6 +11,18 @@
 #include <stdexcept>
 
 namespace geartopo::grinding {
+
+namespace {
+
+// One evaluator scratch per thread keeps the process shareable between threads (const model, mutable data). It holds
+// the joints that did not move since the thread's last point (along a stroke: all but the spindle and the stroke
+// axes); its results do not depend on what it held (machine/chain_evaluator.hpp), so neither on the thread count.
+machine::ChainData& thread_data() {
+  thread_local machine::ChainData data;
+  return data;
+}
+
+} // namespace
 
 machine::AxisValues ChainProcess::machine_axes(const PathPoint& pp) const {
   machine::AxisPose q = pp.q;
@@ -31,22 +44,14 @@ void ChainProcess::check_path(const WheelPath& path, double step_mm) const {
 }
 
 machine::Pose ChainProcess::actual_wMg(const PathPoint& pp) const {
-  const machine::AxisValues theta = machine_axes(pp);
-  machine::ErrorVector e;
-  machine::errors_at(model_, theta, e);
-  machine::Pose wMg = machine::actual_wMg(chain_, e, theta);
+  machine::Pose wMg = machine::actual_wMg(chain_, model_, thread_data(), machine_axes(pp));
   wMg.translation().z() -= z0_; // Tz(−z₀)·cMg
   return wMg;
 }
 
 machine::Vector6d ChainProcess::error_twist_w(const PathPoint& pp) const {
-  const machine::AxisValues theta = machine_axes(pp);
-  machine::ErrorVector e;
-  machine::errors_at(model_, theta, e);
-  machine::Matrix6E J_twistw_e, J_twistg_e;
-  machine::error_jacobians(chain_, theta, J_twistw_e, J_twistg_e);
   // The datum shift Tz(−z₀) is a pure translation along the gear axis: it moves the twist's point of reference.
-  machine::Vector6d twist = J_twistw_e * e;
+  machine::Vector6d twist = machine::twist_w_linear(chain_, model_, thread_data(), machine_axes(pp));
   twist.head<3>() += Eigen::Vector3d(0.0, 0.0, -z0_).cross(twist.tail<3>());
   return twist;
 }

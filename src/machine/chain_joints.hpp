@@ -17,13 +17,24 @@ namespace geartopo::machine::detail {
 
 inline Eigen::Vector3d v3(const ErrorVector& e, int first) { return {e(first), e(first + 1), e(first + 2)}; }
 
+/// Ad(aMb)·ξ without forming the 6×6 adjoint: (R v + p × R ω; R ω).  // 6×1
+inline Vector6d transport(const Pose& aMb, const Vector6d& xi) {
+  const Eigen::Vector3d w = aMb.linear() * xi.tail<3>();
+  Vector6d out;
+  out.head<3>() = aMb.linear() * xi.head<3>() + aMb.translation().cross(w);
+  out.tail<3>() = w;
+  return out;
+}
+
 /// Rotation about coordinate axis `dir` by t (rad).
 inline Eigen::Matrix3d coordinate_rotation(int dir, double t) {
   return dir == 0 ? rot_x(t) : dir == 1 ? rot_y(t) : rot_z(t);
 }
 inline Pose coordinate_turn(int dir, double t) {
-  Pose m = Pose::Identity();
+  Pose m;
   m.linear() = coordinate_rotation(dir, t);
+  m.translation().setZero();
+  m.makeAffine();
   return m;
 }
 

@@ -3,12 +3,15 @@
 // into C through the twist grinds the same flank.
 #include "geartopo/compensation/compensator.hpp"
 #include "geartopo/compensation/cycle_corrections.hpp"
+#include "geartopo/grinding/chain_process.hpp"
+#include "geartopo/machine/kinematic_chain.hpp"
 
 #include "../grinding/grinding_fixture.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <sstream>
 #include <string>
 
@@ -147,4 +150,77 @@ TEST(CycleCorrections, AZCorrectionFoldedIntoCGrindsTheSameFlank) {
     }
   EXPECT_GT(largest_before, 5.0);
   EXPECT_LT(diff, 0.01) << "µm: folding Z into C must not change the flank";
+}
+
+namespace {
+
+const machine::KinematicChain& cafxzy() { return *machine::chain_preset("CAFXZY"); }
+
+} // namespace
+
+// On the CAFXZY (w → C → A → F → X → Z → Y → g, the C table 150 mm above the A pivot) the axes for a setting are
+// X = x, Y = y + (z + 150)·sin α, Z = (z + 150)·cos α, A = −α, C = γ. The screw along the gear axis (setting z by 1,
+// γ by −k) moves them by σ = (0, sin α, cos α, 0, −k), so folding δZ away along it gives δX, δY − δZ·tan α, 0, εA,
+// εC + k·δZ/cos α: the expectation written here, at a cross angle of 20° (not the setting's fold, εC + k·δZ, δY).
+TEST(CycleCorrections, OnAnotherChainZIsFoldedAlongTheScrewInTheChainsAxes) {
+  const double alpha = 20.0 * std::numbers::pi / 180.0, z0 = 300.0;
+  std::vector<compensation::CorrectionRow> rows;
+  const machine::Vector5d dtheta = (machine::Vector5d() << 3e-3, 2e-3, 5e-3, 10e-6, 20e-6).finished();
+  for (int i = 0; i < 20; ++i) {
+    compensation::CorrectionRow r;
+    r.z_stroke_mm = -20.0 + 2.0 * i;
+    const double w = r.z_stroke_mm + z0 + 150.0;
+    r.machine_axes = {400.0, 10.0 + w * std::sin(alpha), w * std::cos(alpha), -alpha, 0.3 * i};
+    r.correction = dtheta;
+    rows.push_back(r);
+  }
+  const compensation::CorrectionTable table(std::move(rows), {&cafxzy(), z0});
+  const auto cycle = compensation::make_cycle_corrections(table, kTwist, 10.0);
+  machine::Vector5d expected;
+  expected << 3e-3, 2e-3 - 5e-3 * std::tan(alpha), 0.0, 10e-6, 20e-6 + kTwist * 5e-3 / std::cos(alpha);
+  for (const auto& r : table.rows()) {
+    const machine::Vector5d got = cycle.at(r.space, r.machine_axes.z);
+    EXPECT_LT((got.head<3>() - expected.head<3>()).cwiseAbs().maxCoeff(), 1e-12) << "mm at Z " << r.machine_axes.z;
+    EXPECT_LT((got.tail<2>() - expected.tail<2>()).cwiseAbs().maxCoeff(), 1e-14) << "rad at Z " << r.machine_axes.z;
+  }
+  EXPECT_EQ(cycle.chain, "CAFXZY");
+  EXPECT_LT(cycle.y_not_carried_mm, 1e-12);
+  // The setting's fold would have left δY and carried εC + k·δZ: 1.8 µm and 0.6 µrad off here.
+  EXPECT_GT(std::abs(expected(1) - 2e-3), 1e-3);
+}
+
+// The physics on the CAFXZY: a Z slide that positions 8 µm long, a C 15 µrad off and an X 6 µm long; the flank
+// method corrects in the chain's own axes (Z among them), the cycle table folds Z away along the chain's screw. Ground
+// with the cycle's corrections the flanks are those ground with the full table (a helicoid is unchanged by its screw),
+// to within the lead grid's interpolation.
+TEST(CycleCorrections, OnAnotherChainAZCorrectionFoldedAlongItsScrewGrindsTheSameFlank) {
+  const auto model = test::machine_with({ErrorSource::constant(ComponentId::delta_zz, 8.0, "um"),
+                                         ErrorSource::constant(ComponentId::epsilon_zc, 15.0, "urad"),
+                                         ErrorSource::constant(ComponentId::delta_xx, 6.0, "um")});
+  const grinding::ChainProcess process(cafxzy(), model, test::kDatumZ);
+  compensation::CompensationOptions o;
+  o.step_mm = 4.0;
+  const auto full =
+      compensation::compute_corrections(test::paper_setup(), process, {model, test::kDatumZ, &cafxzy()}, o);
+  double max_dz = 0.0;
+  for (const auto& r : full.rows()) max_dz = std::max(max_dz, std::abs(r.correction(2)));
+  ASSERT_GT(max_dz, 1e-3) << "the full table must use Z for this test to mean anything";
+
+  const double k = test::paper_setup().geometry().twist_rad_per_mm();
+  const auto cycle = compensation::make_cycle_corrections(full, k, 10.0);
+  std::vector<compensation::CorrectionRow> rows = full.rows();
+  for (auto& r : rows) r.correction = cycle.at(r.space, r.machine_axes.z);
+  const compensation::CorrectionTable as_cycle(std::move(rows), full.axes());
+  const compensation::CompensatedProcess with_full(process, full), with_cycle(process, as_cycle);
+  const auto a = test::simulate(with_full, grinding::Method::Exact, {1, 18});
+  const auto b = test::simulate(with_cycle, grinding::Method::Exact, {1, 18});
+  const auto before = test::simulate(process, grinding::Method::Exact, {1, 18});
+  double diff = 0.0, largest_before = 0.0;
+  for (size_t f = 0; f < a.size(); ++f)
+    for (size_t i = 0; i < a[f].grid.size(); ++i) {
+      diff = std::max(diff, std::abs(a[f].grid[i].deviation_um - b[f].grid[i].deviation_um));
+      largest_before = std::max(largest_before, std::abs(before[f].grid[i].deviation_um));
+    }
+  EXPECT_GT(largest_before, 5.0);
+  EXPECT_LT(diff, 0.01) << "µm: folding Z along the chain's screw must not change the flank";
 }

@@ -177,5 +177,41 @@ TEST(ChainProcess, SpindleZeroErrorTurnsTheGearOnAnyLayout) {
     for (const auto& p : ft.grid) EXPECT_NEAR(p.deviation_um, -side_sign(ft.flank) * expected, 0.01);
 }
 
+// ChainProcess keeps, per thread, the joints that did not move since that thread's last point (machine::ChainData):
+// its results must not depend on which points a thread saw before. Position-dependent errors on the axes that move
+// along the CAFXZY's strokes (Y, Z; C) and on X; exact and linear, 1 thread against 3: the same bits.
+TEST(ChainProcess, ResultsAreTheSameAtAnyThreadCount) {
+  using machine::ErrorSource;
+  const machine::MachineModel model = test::machine_with(
+      {ErrorSource::polynomial(ComponentId::delta_zz, {3.0, 0.01, 2e-5}, "um", "mm"),
+       ErrorSource::polynomial(ComponentId::epsilon_xy, {5.0, -0.03}, "urad", "mm"),
+       ErrorSource::polynomial(ComponentId::delta_yx, {-2.0, 0.004}, "um", "mm"),
+       ErrorSource::constant(ComponentId::epsilon_zc, 12.0, "urad"),
+       ErrorSource::constant(ComponentId::E_BOA, 9.0, "urad")});
+  const grinding::ChainProcess process(cafxzy(), model, test::kDatumZ);
+  for (const grinding::Method method : {grinding::Method::Exact, grinding::Method::Linear}) {
+    std::vector<std::vector<grinding::FlankTopology>> runs;
+    for (const int threads : {1, 3}) {
+      grinding::SimulationOptions o;
+      o.method = method;
+      o.teeth = {1, 7, 18};
+      o.profile_points = 12;
+      o.helix_points = 12;
+      o.threads = threads;
+      runs.push_back(grinding::simulate_topology(test::paper_setup(), process, o));
+    }
+    double largest = 0.0;
+    ASSERT_EQ(runs[0].size(), runs[1].size());
+    for (std::size_t f = 0; f < runs[0].size(); ++f) {
+      ASSERT_EQ(runs[0][f].grid.size(), runs[1][f].grid.size());
+      for (std::size_t i = 0; i < runs[0][f].grid.size(); ++i) {
+        EXPECT_EQ(runs[0][f].grid[i].deviation_um, runs[1][f].grid[i].deviation_um) << "flank " << f << ", point " << i;
+        largest = std::max(largest, std::abs(runs[0][f].grid[i].deviation_um));
+      }
+    }
+    EXPECT_GT(largest, 1.0) << "µm: the errors must show for the comparison to mean anything";
+  }
+}
+
 } // namespace
 } // namespace geartopo

@@ -2,6 +2,7 @@
 // replaced global operator new). Units: mm, rad.
 #include "test_helpers.hpp"
 
+#include "geartopo/machine/chain_evaluator.hpp"
 #include "geartopo/machine/error_table.hpp"
 #include "geartopo/machine/first_order.hpp"
 #include "geartopo/machine/jacobian.hpp"
@@ -49,6 +50,8 @@ TEST(NoAllocation, RepeatedEvaluationsUseOnlyTheWorkspace) {
     q.x = std::min(q.x, 900.0);
     poses.push_back(q);
   }
+  const KinematicChain& cfxzay_chain = cfxzay(), &cafxzy = *chain_preset("CAFXZY"); // made before counting
+  ChainData chain_data;
   double sink = 0.0;
   const long before = g_allocations.load();
   for (const AxisPose& q : poses) {
@@ -59,6 +62,12 @@ TEST(NoAllocation, RepeatedEvaluationsUseOnlyTheWorkspace) {
     sink += twist_w_linear(data.e, q)(2);
     actual_jacobians(model, data, q);
     sink += data.J_twistg_q(0, 4) + J_twistg_q(q)(1, 4) + J_twistw_q(q)(2, 3);
+    // The cached chain evaluator (ChainProcess), rebinding to another chain at each pose.
+    for (const KinematicChain* chain : {&cfxzay_chain, &cafxzy}) {
+      const AxisValues theta{q.vector()};
+      sink += actual_wMg(*chain, model, chain_data, theta).translation().y() +
+              twist_w_linear(*chain, model, chain_data, theta)(4);
+    }
   }
   const long during = g_allocations.load() - before;
   EXPECT_EQ(during, 0) << "heap allocations during evaluation";

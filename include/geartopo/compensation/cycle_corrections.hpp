@@ -5,6 +5,9 @@
 // Built from a CorrectionTable (one row per path sample, five corrections). On a helical gear a Z correction is a C
 // correction: moving the wheel along the gear's screw (Z by s, C by −k·s, k = 2 tan β / d the twist) leaves the flank
 // unchanged, so (δZ, εC) acts on the flank as (0, εC + k·δZ). The lead table therefore carries C_eq = εC + k·δZ and no Z.
+// On another chain (the table's ChainAxes) the same screw moves the chain's axes by σ per mm (J_twistw_θ·σ = the
+// screw's twist; on the CAFXZY σ = (0, sin α, cos α, 0, −k)): each row's Δθ becomes Δθ − (δZ/σ_Z)·σ, whose Z is 0,
+// and its X, C, Y and A are what the cycle carries (docs/compensation.md).
 // Units: mm and rad inside; the file writes µm and µrad, machine Z in mm.
 #pragma once
 
@@ -12,6 +15,7 @@
 
 #include <filesystem>
 #include <iosfwd>
+#include <string>
 #include <vector>
 
 namespace geartopo::compensation {
@@ -27,6 +31,7 @@ struct CycleSpace {
 struct CycleCorrections {
   double z_step_mm = 0.0;         ///< grid step (mm), the requested step shortened to divide each stroke evenly
   double twist_rad_per_mm = 0.0;  ///< k used to fold δZ into C (rad/mm)
+  std::string chain;              ///< the chain whose axes the fold follows; empty: the setting's axes (the CFXZAY)
   double setup_dY_mm = 0.0;       ///< mean δY over the whole path: one Y correction for the gear (mm)
   double setup_dA_rad = 0.0;      ///< mean εA over the whole path (rad)
   double y_not_carried_mm = 0.0;  ///< largest |δY − setup_dY| along the path: what the cycle cannot apply (mm)
@@ -45,7 +50,8 @@ struct CycleCorrections {
 };
 
 /// The cycle form of a correction table; z_step_mm > 0 is the largest grid step (each stroke gets at least 2 points).
-/// Throws std::invalid_argument for an empty table or a step that is not positive and finite.
+/// Throws std::invalid_argument for an empty table, a step that is not positive and finite, or a chain whose Z
+/// moves less than 0.1 mm per mm of the screw along the gear axis at a row (its δZ cannot be folded).
 CycleCorrections make_cycle_corrections(const CorrectionTable& table, double twist_rad_per_mm, double z_step_mm);
 
 } // namespace geartopo::compensation

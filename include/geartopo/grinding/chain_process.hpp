@@ -1,12 +1,16 @@
 // geartopo — the grinding process of a machine whose kinematic chain is described as data (machine/kinematic_chain.hpp):
 // at each path point the chain's inverse kinematics gives its own axis positions θ for the commanded wheel–gear
 // setting, the model's error components are evaluated at θ (its tables are functions of the chain's axes), and the
-// chain's exact joints give the wheel pose; the first-order twist comes from the chain's error Jacobian.
+// chain's exact joints give the wheel pose; the first-order twist is the chain's error Jacobian times e, summed joint
+// by joint in one backward pass. Both through machine::ChainData (chain_evaluator.hpp), one per thread, which keeps
+// the joints that did not move since the thread's last point (along a stroke all but the spindle and the stroke
+// axes): per point as fast as MachineProcess on the CFXZAY (docs/performance.md, ChainPoint), the same bits at any
+// thread count.
 //
 // As MachineProcess: the chain's workpiece frame has its origin where the chain puts the wheel at the setting's
 // z = 0; the gear's datum face sits at z = z₀, so the chain is asked for z + z₀ and poses come back through Tz(−z₀).
-// On the CFXZAY this is MachineProcess's model (tests/machine: the chain as data equals the compiled-in chain), but
-// MachineProcess keeps its faster stroke evaluator for it.
+// On the CFXZAY this is MachineProcess's model (tests/machine: the chain as data equals the compiled-in chain), which
+// the workbench keeps for it (its numbers frozen bit for bit).
 // Units: mm, rad.
 #pragma once
 
