@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <set>
 #include <sstream>
 #include <string>
@@ -201,6 +203,139 @@ TEST(CliChain, ReportOnTheCafxzySceneNamesItsChainAndAxes) {
   EXPECT_NE(html.find("kinematic chain CAFXZY (axes C, A carrying the gear; X, Z, Y the wheel)"), std::string::npos);
   EXPECT_NE(html.find("CAFXZY chain: geometric error components"), std::string::npos);
   for (const char* panel : {"machine_A_linear.png", "machine_C_angular.png", "machine_Y_linear.png"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "r" / "panels" / panel)) << panel;
+  std::filesystem::remove_all(dir);
+}
+
+// --- The CXFZAY (the radial axis on the workpiece side: the C table rides on the X slide) ------------------------
+
+namespace {
+
+const std::string kCxfzay = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/cxfzay-mn14-z35.yaml";
+
+std::string text_of(const std::string& file) {
+  std::ifstream in(file);
+  return {(std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()};
+}
+
+/// The shipped CXFZAY scene with its constants replaced by `constants` (a YAML flow map).
+std::string cxfzay_with_constants(const std::string& constants) {
+  const std::string text = text_of(kCxfzay);
+  const auto from = text.find("  constants:");
+  const auto to = text.find("\nwheel:");
+  if (from == std::string::npos || to == std::string::npos) return {};
+  return text.substr(0, from) + "  constants: " + constants + "\n" + text.substr(to);
+}
+
+} // namespace
+
+TEST(CliChain, ACxfzaySceneSimulatesAndEvaluates) {
+  const auto dir = fresh_dir("geartopo_cli_cxfzay");
+  const auto sim = geartopo::test::run_geartopo("simulate " + kCxfzay + " --out " + (dir / "sim").string() +
+                                                    " --teeth 1,18 --method exact --quiet", dir);
+  ASSERT_EQ(sim.code, 0) << sim.err;
+  std::ifstream topo(dir / "sim" / "topology.csv");
+  int lines = 0;
+  for (std::string l; std::getline(topo, l);) ++lines;
+  EXPECT_EQ(lines, 1 + 4 * 63);
+
+  const auto eval = geartopo::test::run_geartopo("evaluate " + kCxfzay + " --out " + (dir / "eval").string() +
+                                                     " --method linear --quiet", dir);
+  ASSERT_EQ(eval.code, 0) << eval.err;
+  std::ifstream in(dir / "eval" / "iso1328.json");
+  const auto j = nlohmann::json::parse(in)["before"];
+  EXPECT_EQ(j["flanks"].size(), 70u);
+  EXPECT_FALSE(j["classification"]["overall"].is_null());
+  std::filesystem::remove_all(dir);
+}
+
+// `geartopo compensate` on the CXFZAY with a constant zero error of the A swivel (100 µrad) and a constant
+// z-straightness of the radial X table (8 µm) alone. The swivel turns to A + E_AOA about its own axis line wherever it
+// is commanded: ΔA = −100 µrad. The X table carries the gear 8 µm up along the gear axis (z); the Z column, with no
+// rotary axis between it and the table's error, moves the wheel along that same z: ΔZ = +8 µm. X, Y, C untouched.
+TEST(CliChain, CompensateCorrectsConstantErrorsOfTheCxfzayInItsOwnAxes) {
+  const auto dir = fresh_dir("geartopo_cli_cxfzay_comp");
+  const std::string scene = cxfzay_with_constants("{E_AOA_urad: 100, delta_zx_um: 8}");
+  ASSERT_FALSE(scene.empty());
+  std::ofstream(dir / "s.yaml") << scene;
+  const auto r = geartopo::test::run_geartopo("compensate " + (dir / "s.yaml").string() + " --out " +
+                                                  (dir / "out").string() + " --step 10 --quiet", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+
+  std::ifstream csv(dir / "out" / "corrections.csv");
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  EXPECT_EQ(line, "space,z_stroke_mm,time_s,X_mm,Y_mm,Z_mm,A_deg,C_deg,dX_um,dY_um,dZ_um,dA_urad,dC_urad,within_strokes");
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    const auto f = fields_of(line);
+    ASSERT_EQ(f.size(), 14u) << line;
+    ++rows;
+    EXPECT_NEAR(std::stod(f[8]), 0.0, 0.01) << line;     // dX_um
+    EXPECT_NEAR(std::stod(f[9]), 0.0, 0.01) << line;     // dY_um
+    EXPECT_NEAR(std::stod(f[10]), 8.0, 0.01) << line;    // dZ_um
+    EXPECT_NEAR(std::stod(f[11]), -100.0, 0.01) << line; // dA_urad
+    EXPECT_NEAR(std::stod(f[12]), 0.0, 0.01) << line;    // dC_urad
+    EXPECT_EQ(f[13], "yes") << line;
+    // The chain's own axes: A = α, the cross angle (−β = −30° for this right-hand gear), on this tool-side swivel, and
+    // Y = y − 120·tan α with y = 0 (the wheel's axial position): the A axis line 120 mm above the wheel centre.
+    EXPECT_NEAR(std::stod(f[6]), -30.0, 1e-6) << line;
+    EXPECT_NEAR(std::stod(f[4]), 120.0 * std::tan(30.0 * std::numbers::pi / 180.0), 1e-5) << line;
+  }
+  EXPECT_GE(rows, 35 * 2);
+
+  std::ifstream in(dir / "out" / "iso1328.json");
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_GT(j["largest_abs_deviation_um"]["before"].get<double>(), 10.0);
+  EXPECT_LT(j["largest_abs_deviation_um"]["nominal_after"].get<double>(), 0.01);
+  EXPECT_EQ(j["compensation"]["rows_outside_strokes"].get<int>(), 0);
+  std::filesystem::remove_all(dir);
+}
+
+// A hidden constant roll of the radial X table (ε_xx, 60 µrad: the table, and the gear on it, turned about x) in a
+// truth scene: `synth` measures four teeth, `diagnose` on the shipped scene names it in its class with its size.
+TEST(CliChain, DiagnoseNamesAHiddenRollOfTheCxfzaysRadialTable) {
+  const auto dir = fresh_dir("geartopo_cli_cxfzay_diag");
+  std::string text = text_of(kCxfzay);
+  const std::string from = "  constants:                   # squareness and rotary-axis location (ISO 230-7), representative\n";
+  const auto at = text.find(from);
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at + from.size(), "    epsilon_xx_urad: 60\n");
+  std::ofstream(dir / "truth.yaml") << text;
+  const auto synth = geartopo::test::run_geartopo("synth " + (dir / "truth.yaml").string() + " --out " +
+                                                      (dir / "m.csv").string() + " --teeth 1,10,18,27 --noise-um 0.3 --seed 3",
+                                                  dir);
+  ASSERT_EQ(synth.code, 0) << synth.err;
+  const auto diag = geartopo::test::run_geartopo("diagnose " + kCxfzay + " --measured " + (dir / "m.csv").string() +
+                                                     " --out " + (dir / "d").string() + " --noise-um 0.3 --quiet",
+                                                 dir);
+  ASSERT_EQ(diag.code, 0) << diag.err;
+  std::ifstream dj(dir / "d" / "diagnosis.json");
+  const auto d = nlohmann::json::parse(dj);
+  ASSERT_FALSE(d["chosen"].is_null()) << d["verdict"];
+  const auto& chosen = d["chosen"];
+  ASSERT_TRUE(chosen.contains("machine_changes")) << chosen.dump(1);
+  const auto& change = chosen["machine_changes"][0];
+  const std::string component = change["component"];
+  const std::string listed = chosen.value("equivalent", nlohmann::json::array()).dump() +
+                             chosen.value("look_alikes", nlohmann::json::array()).dump();
+  EXPECT_TRUE(component == "epsilon_xx" || listed.find("epsilon_xx") != std::string::npos) << chosen.dump(1);
+  EXPECT_EQ(change["law"], "constant") << chosen.dump(1);
+  const double size = change["change_urad"].get<double>(), sd = change["uncertainty"].get<double>();
+  EXPECT_NEAR(std::abs(size), 60.0, 2.0 * sd + 1.0) << chosen.dump(1);
+  EXPECT_LT(chosen["rms_after_um"].get<double>(), 1.3 * 0.3) << chosen.dump(1);
+  std::filesystem::remove_all(dir);
+}
+
+// `report` on the CXFZAY scene names the chain, which axes carry the gear and which the wheel, and draws its axes.
+TEST(CliChain, ReportOnTheCxfzaySceneNamesItsChainAndAxes) {
+  const auto dir = fresh_dir("geartopo_cli_cxfzay_report");
+  const auto r = geartopo::test::run_geartopo("report " + kCxfzay + " --out " + (dir / "r").string() + " --quiet", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string html = text_of((dir / "r" / "index.html").string());
+  EXPECT_NE(html.find("kinematic chain CXFZAY (axes C, X carrying the gear; Z, A, Y the wheel)"), std::string::npos);
+  EXPECT_NE(html.find("CXFZAY chain: geometric error components"), std::string::npos);
+  for (const char* panel : {"machine_X_linear.png", "machine_C_angular.png", "machine_A_angular.png"})
     EXPECT_TRUE(std::filesystem::exists(dir / "r" / "panels" / panel)) << panel;
   std::filesystem::remove_all(dir);
 }
