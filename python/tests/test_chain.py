@@ -108,3 +108,33 @@ def test_a_hidden_roll_of_the_cxfzays_radial_table_is_diagnosed(tmp_path):
     listed = json.dumps(chosen.get("equivalent", [])) + json.dumps(chosen.get("look_alikes", []))
     assert change["component"] == "epsilon_xx" or "epsilon_xx" in listed, chosen
     assert abs(abs(change["change_urad"]) - 60.0) < 2.0 * change["uncertainty"] + 1.0, chosen
+
+
+CFUZBY = """  chain:
+    name: CFUZBY
+    workpiece:
+      - {name: C, kind: rotary, direction: [0, 0, 1]}
+    tool:
+      - {name: U, kind: linear, direction: [1, 0, 0], stroke_mm: [0, 900]}
+      - {name: Z, kind: linear, direction: [0, 0, 1], stroke_mm: [0, 800]}
+      - {name: B, kind: rotary, direction: [1, 0, 0], stroke_deg: [-45, 45]}
+      - {name: Y, kind: linear, direction: [0, 1, 0], stroke_mm: [-200, 200]}
+"""
+
+
+def test_corrections_are_named_by_a_chain_with_other_letters_as_the_cli_names_them(tmp_path):
+    # The CFXZAY's geometry with the radial slide called U and the swivel B: pose order Y, Z, U, B, C. A constant
+    # positioning error of U (8 µm) is undone by U alone; the columns carry the chain's letters, as corrections.csv.
+    text = with_constants(CXFZAY, "{delta_xu_um: 8}", tmp_path).read_text()
+    start = text.index("  chain: CXFZAY")
+    scene_file = tmp_path / "cfuzby.yaml"
+    scene_file.write_text(text[:start] + CFUZBY + text[text.index("\n", start) + 1:])
+    c = geartopo.compensate(geartopo.load_scene(scene_file), step_mm=10, samples=0)["corrections"]
+    run_cli("compensate", scene_file, "--out", tmp_path / "cli", "--step", "10", "--samples", "0")
+    header = (tmp_path / "cli" / "corrections.csv").read_text().splitlines()[0].split(",")
+    assert header == ["space", "z_stroke_mm", "time_s", "Y_mm", "Z_mm", "U_mm", "B_deg", "C_deg", "dY_um", "dZ_um",
+                      "dU_um", "dB_urad", "dC_urad", "within_strokes"]
+    assert list(c.keys()) == header
+    assert np.allclose(c["dU_um"], -8.0, atol=0.01)
+    for key in ("dY_um", "dZ_um", "dB_urad", "dC_urad"):
+        assert np.abs(c[key]).max() < 0.01, key

@@ -6,10 +6,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -337,5 +339,97 @@ TEST(CliChain, ReportOnTheCxfzaySceneNamesItsChainAndAxes) {
   EXPECT_NE(html.find("CXFZAY chain: geometric error components"), std::string::npos);
   for (const char* panel : {"machine_X_linear.png", "machine_C_angular.png", "machine_A_angular.png"})
     EXPECT_TRUE(std::filesystem::exists(dir / "r" / "panels" / panel)) << panel;
+  std::filesystem::remove_all(dir);
+}
+
+// --- A user's chain whose letters differ from the CFXZAY's: the CFXZAY's geometry with the radial slide called U and
+// the swivel called B (w → C → F → U → Z → B → Y → g) --------------------------------------------------------------
+
+namespace {
+
+/// The shipped CXFZAY scene's gear on that chain, with `constants` (a YAML flow map in the chain's names).
+std::string cfuzby_scene(const std::string& constants) {
+  std::string text = cxfzay_with_constants(constants);
+  const std::string from = "  chain: CXFZAY ";
+  const auto at = text.find(from);
+  if (at == std::string::npos) return {};
+  const auto end = text.find('\n', at);
+  return text.substr(0, at) + R"(  chain:
+    name: CFUZBY
+    workpiece:
+      - {name: C, kind: rotary, direction: [0, 0, 1]}
+    tool:
+      - {name: U, kind: linear, direction: [1, 0, 0], stroke_mm: [0, 900]}
+      - {name: Z, kind: linear, direction: [0, 0, 1], stroke_mm: [0, 800]}
+      - {name: B, kind: rotary, direction: [1, 0, 0], stroke_deg: [-45, 45]}
+      - {name: Y, kind: linear, direction: [0, 1, 0], stroke_mm: [-200, 200]})" + text.substr(end);
+}
+
+/// True when `name` is a component of the CFUZBY: its axes' motion errors, squareness among U, Z, Y, and the axis-line
+/// errors of C and B.
+bool is_cfuzby_component(const std::string& name) {
+  static const std::regex pattern("(delta|epsilon)_[xyz][cuzby]|S_(uz|uy|zy)|E_[XYZABC]O[CB]");
+  return std::regex_match(name, pattern);
+}
+
+} // namespace
+
+// A hidden constant roll of the radial slide U (ε_xu, 60 µrad) in a truth scene: diagnosis.json names the chain's
+// components — the chosen one, its meaning and every member of its class (the CFXZAY's names, epsilon_xx "roll of X",
+// are not this chain's) — and diagnose's scene_with_effect.yaml writes the change in the chain's names, so that the
+// same chain reads it back and grinds.
+TEST(CliChain, DiagnosisOnAChainWithOtherLettersNamesItsOwnComponents) {
+  const auto dir = fresh_dir("geartopo_cli_cfuzby");
+  const std::string map = cfuzby_scene("{S_uz_urad: 30, E_AOC_urad: 10}");
+  const std::string truth = cfuzby_scene("{S_uz_urad: 30, E_AOC_urad: 10, epsilon_xu_urad: 60}");
+  ASSERT_FALSE(map.empty());
+  std::ofstream(dir / "s.yaml") << map;
+  std::ofstream(dir / "truth.yaml") << truth;
+  const auto synth = geartopo::test::run_geartopo("synth " + (dir / "truth.yaml").string() + " --out " +
+                                                      (dir / "m.csv").string() + " --teeth 1,10,18,27 --noise-um 0.3 --seed 3",
+                                                  dir);
+  ASSERT_EQ(synth.code, 0) << synth.err;
+  const auto diag = geartopo::test::run_geartopo("diagnose " + (dir / "s.yaml").string() + " --measured " +
+                                                     (dir / "m.csv").string() + " --out " + (dir / "d").string() +
+                                                     " --noise-um 0.3 --quiet", dir);
+  ASSERT_EQ(diag.code, 0) << diag.err;
+  std::ifstream dj(dir / "d" / "diagnosis.json");
+  const auto d = nlohmann::json::parse(dj);
+  ASSERT_FALSE(d["chosen"].is_null()) << d["verdict"];
+  const auto& chosen = d["chosen"];
+  ASSERT_TRUE(chosen.contains("machine_changes")) << chosen.dump(1);
+  const auto& change = chosen["machine_changes"][0];
+  const std::string component = change["component"];
+  EXPECT_TRUE(is_cfuzby_component(component)) << component;
+  std::vector<std::string> members;
+  for (const char* key : {"equivalent", "look_alikes"})
+    for (const auto& m : chosen.value(key, nlohmann::json::array())) {
+      const std::string s = m.is_string() ? m.get<std::string>() : m.value("name", std::string());
+      members.push_back(s.substr(0, s.find(' ')));
+    }
+  // Library effects may look alike too; every member named like a component is one of this chain's.
+  static const std::regex any_component("(delta|epsilon)_[a-z]{2}|S_[a-z]{2}|E_[A-Z]O[A-Z]");
+  for (const auto& m : members) {
+    if (std::regex_match(m, any_component)) {
+      EXPECT_TRUE(is_cfuzby_component(m)) << m << " in " << chosen.dump(1);
+    }
+  }
+  EXPECT_TRUE(component == "epsilon_xu" || std::find(members.begin(), members.end(), "epsilon_xu") != members.end())
+      << chosen.dump(1);
+  const std::string meaning = change["meaning"];
+  if (component == "epsilon_xu") {
+    EXPECT_EQ(meaning, "roll of U (about x)");
+  }
+  EXPECT_EQ(meaning.find(" of A"), std::string::npos) << meaning;
+  EXPECT_EQ(meaning.find(" of X"), std::string::npos) << meaning;
+  EXPECT_NEAR(std::abs(change["change_urad"].get<double>()), 60.0, 2.0 * change["uncertainty"].get<double>() + 1.0)
+      << chosen.dump(1);
+
+  // The completed scene names the change as the chain does and is read back by the same chain.
+  const std::string completed = text_of((dir / "d" / "scene_with_effect.yaml").string());
+  EXPECT_NE(completed.find("{component: " + component + ", law: constant"), std::string::npos) << completed;
+  const auto again = geartopo::test::run_geartopo("simulate " + (dir / "d" / "scene_with_effect.yaml").string() +
+                                                      " --out " + (dir / "again").string() + " --teeth 1 --quiet", dir);
+  EXPECT_EQ(again.code, 0) << again.err;
   std::filesystem::remove_all(dir);
 }

@@ -40,6 +40,7 @@ TEST(KinematicChain, CfxzayNamesAreTodaysNames) {
     EXPECT_EQ(data.axis, now.axis) << k;
     EXPECT_EQ(data.quantity, now.quantity) << k;
     EXPECT_EQ(data.position_dependent, now.position_dependent) << k;
+    EXPECT_EQ(data.meaning, now.meaning) << k; // diagnosis.json and the families say the chain's meanings
     EXPECT_EQ(cfxzay().component_from_name(now.name), component_at(k));
   }
   EXPECT_EQ(cfxzay().layout(), "CFXZAY");

@@ -197,6 +197,8 @@ const KinematicChain& make_chain(ChainSpec spec);
 
 /// The seed paper's CFXZAY grinder (SKMC-1200W/10 strokes): w → C → F → X → Z → A → Y → g.
 const KinematicChain& cfxzay();
+/// A component's name, symbol and meaning as `chain` names it (null: the CFXZAY's, info(id)).
+inline const ComponentInfo& info(const KinematicChain* chain, ComponentId id) { return chain ? chain->info(id) : info(id); }
 /// A preset by name (chain_preset_names()); none if unknown.
 const KinematicChain* chain_preset(std::string_view name);
 /// "CFXZAY", "CAFXZY", "CXFZAY".
