@@ -1,6 +1,7 @@
 // The geartopo program on a scene whose machine is another kinematic chain (issue 42: scenes/cafxzy-mn14-z35.yaml,
 // the CAFXZY preset): simulate and evaluate run and write their files; a chain the path cannot reach exits 1 naming
 // the point and the axis.
+#include "../chain_scene_fixture.hpp"
 #include "../cli_run.hpp"
 
 #include <gtest/gtest.h>
@@ -18,9 +19,17 @@
 #include <vector>
 #include <unistd.h>
 
+using geartopo::chain_fixture::text_of;
+using geartopo::chain_fixture::Where;
+using geartopo::chain_fixture::with_constants;
+using geartopo::chain_fixture::with_line;
+
 namespace {
 
 const std::string kCafxzy = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/cafxzy-mn14-z35.yaml";
+/// The shipped chain scenes' constants line, under which a truth scene adds its hidden error.
+const std::string kConstantsLine =
+    "  constants:                   # squareness and rotary-axis location (ISO 230-7), representative\n";
 
 std::filesystem::path fresh_dir(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_" + name);
@@ -53,13 +62,9 @@ TEST(CliChain, ACafxzySceneSimulatesAndEvaluates) {
 
 TEST(CliChain, APathTheChainCannotReachExitsOneNamingThePointAndTheAxis) {
   const auto dir = fresh_dir("geartopo_cli_chain_bad");
-  std::ifstream in(kCafxzy);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string from = "  chain: CAFXZY ";
-  const auto at = text.find(from);
-  ASSERT_NE(at, std::string::npos);
   // Y = y + (z + 150)·sin α: 440…610 mm along the gear axis at α = 30° need Y = 220…305 mm.
-  text.insert(at, "  strokes: {y_mm: [-200, 200]}\n");
+  const std::string text = with_line(text_of(kCafxzy), "  chain: CAFXZY ", "  strokes: {y_mm: [-200, 200]}\n", Where::Before);
+  ASSERT_FALSE(text.empty());
   std::ofstream(dir / "s.yaml") << text;
   const auto r = geartopo::test::run_geartopo("simulate " + (dir / "s.yaml").string() + " --out " +
                                                   (dir / "out").string() + " --quiet", dir);
@@ -81,14 +86,7 @@ std::vector<std::string> fields_of(const std::string& line) {
 }
 
 /// The shipped CAFXZY scene with its constants replaced by `constants` (a YAML flow map).
-std::string cafxzy_with_constants(const std::string& constants) {
-  std::ifstream in(kCafxzy);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const auto from = text.find("  constants:");
-  const auto to = text.find("\nwheel:");
-  if (from == std::string::npos || to == std::string::npos) return {};
-  return text.substr(0, from) + "  constants: " + constants + "\n" + text.substr(to);
-}
+std::string cafxzy_with_constants(const std::string& constants) { return with_constants(text_of(kCafxzy), constants); }
 
 } // namespace
 
@@ -159,12 +157,8 @@ TEST(CliChain, CompensateRefusesTheIsgTableOnAnotherChain) {
 // against 0.3 µm of noise and was rejected; through the chain's it leaves the noise.
 TEST(CliChain, DiagnoseNamesAHiddenATableZeroErrorOfTheCafxzy) {
   const auto dir = fresh_dir("geartopo_cli_chain_diag");
-  std::ifstream in(kCafxzy);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string from = "  constants:                   # squareness and rotary-axis location (ISO 230-7), representative\n";
-  const auto at = text.find(from);
-  ASSERT_NE(at, std::string::npos);
-  text.insert(at + from.size(), "    E_AOA_urad: 60\n");
+  const std::string text = with_line(text_of(kCafxzy), kConstantsLine, "    E_AOA_urad: 60\n", Where::After);
+  ASSERT_FALSE(text.empty());
   std::ofstream(dir / "truth.yaml") << text;
   const auto synth = geartopo::test::run_geartopo("synth " + (dir / "truth.yaml").string() + " --out " +
                                                       (dir / "m.csv").string() + " --teeth 1,10,18,27 --noise-um 0.3 --seed 3",
@@ -200,8 +194,7 @@ TEST(CliChain, ReportOnTheCafxzySceneNamesItsChainAndAxes) {
   const auto dir = fresh_dir("geartopo_cli_chain_report");
   const auto r = geartopo::test::run_geartopo("report " + kCafxzy + " --out " + (dir / "r").string() + " --quiet", dir);
   ASSERT_EQ(r.code, 0) << r.err;
-  std::ifstream in(dir / "r" / "index.html");
-  const std::string html((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string html = text_of(dir / "r" / "index.html");
   EXPECT_NE(html.find("kinematic chain CAFXZY (axes C, A carrying the gear; X, Z, Y the wheel)"), std::string::npos);
   EXPECT_NE(html.find("CAFXZY chain: geometric error components"), std::string::npos);
   for (const char* panel : {"machine_A_linear.png", "machine_C_angular.png", "machine_Y_linear.png"})
@@ -215,19 +208,8 @@ namespace {
 
 const std::string kCxfzay = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/cxfzay-mn14-z35.yaml";
 
-std::string text_of(const std::string& file) {
-  std::ifstream in(file);
-  return {(std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()};
-}
-
 /// The shipped CXFZAY scene with its constants replaced by `constants` (a YAML flow map).
-std::string cxfzay_with_constants(const std::string& constants) {
-  const std::string text = text_of(kCxfzay);
-  const auto from = text.find("  constants:");
-  const auto to = text.find("\nwheel:");
-  if (from == std::string::npos || to == std::string::npos) return {};
-  return text.substr(0, from) + "  constants: " + constants + "\n" + text.substr(to);
-}
+std::string cxfzay_with_constants(const std::string& constants) { return with_constants(text_of(kCxfzay), constants); }
 
 } // namespace
 
@@ -298,11 +280,8 @@ TEST(CliChain, CompensateCorrectsConstantErrorsOfTheCxfzayInItsOwnAxes) {
 // truth scene: `synth` measures four teeth, `diagnose` on the shipped scene names it in its class with its size.
 TEST(CliChain, DiagnoseNamesAHiddenRollOfTheCxfzaysRadialTable) {
   const auto dir = fresh_dir("geartopo_cli_cxfzay_diag");
-  std::string text = text_of(kCxfzay);
-  const std::string from = "  constants:                   # squareness and rotary-axis location (ISO 230-7), representative\n";
-  const auto at = text.find(from);
-  ASSERT_NE(at, std::string::npos);
-  text.insert(at + from.size(), "    epsilon_xx_urad: 60\n");
+  const std::string text = with_line(text_of(kCxfzay), kConstantsLine, "    epsilon_xx_urad: 60\n", Where::After);
+  ASSERT_FALSE(text.empty());
   std::ofstream(dir / "truth.yaml") << text;
   const auto synth = geartopo::test::run_geartopo("synth " + (dir / "truth.yaml").string() + " --out " +
                                                       (dir / "m.csv").string() + " --teeth 1,10,18,27 --noise-um 0.3 --seed 3",
@@ -334,7 +313,7 @@ TEST(CliChain, ReportOnTheCxfzaySceneNamesItsChainAndAxes) {
   const auto dir = fresh_dir("geartopo_cli_cxfzay_report");
   const auto r = geartopo::test::run_geartopo("report " + kCxfzay + " --out " + (dir / "r").string() + " --quiet", dir);
   ASSERT_EQ(r.code, 0) << r.err;
-  const std::string html = text_of((dir / "r" / "index.html").string());
+  const std::string html = text_of(dir / "r" / "index.html");
   EXPECT_NE(html.find("kinematic chain CXFZAY (axes C, X carrying the gear; Z, A, Y the wheel)"), std::string::npos);
   EXPECT_NE(html.find("CXFZAY chain: geometric error components"), std::string::npos);
   for (const char* panel : {"machine_X_linear.png", "machine_C_angular.png", "machine_A_angular.png"})
@@ -426,7 +405,7 @@ TEST(CliChain, DiagnosisOnAChainWithOtherLettersNamesItsOwnComponents) {
       << chosen.dump(1);
 
   // The completed scene names the change as the chain does and is read back by the same chain.
-  const std::string completed = text_of((dir / "d" / "scene_with_effect.yaml").string());
+  const std::string completed = text_of(dir / "d" / "scene_with_effect.yaml");
   EXPECT_NE(completed.find("{component: " + component + ", law: constant"), std::string::npos) << completed;
   const auto again = geartopo::test::run_geartopo("simulate " + (dir / "d" / "scene_with_effect.yaml").string() +
                                                       " --out " + (dir / "again").string() + " --teeth 1 --quiet", dir);
