@@ -7,6 +7,7 @@
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/machine/chain_kinematics.hpp"
+#include "geartopo/machine/datum_shift.hpp"
 #include "geartopo/machine/jacobian.hpp"
 
 #include <algorithm>
@@ -127,8 +128,7 @@ Eigen::MatrixXd EffectContribution::component_sensitivity_um(int threads) const 
       q.z += datum_face_z_mm_;
       machine::Matrix6E J_twistw_e, J_twistg_e;
       machine::error_jacobians(*chain_, chain_->axes(q), J_twistw_e, J_twistg_e);
-      for (int k = 0; k < machine::kComponentCount; ++k)
-        J_twistw_e.col(k).head<3>() += Eigen::Vector3d(0.0, 0.0, -datum_face_z_mm_).cross(Eigen::Vector3d(J_twistw_e.col(k).tail<3>()));
+      machine::twists_at_datum(J_twistw_e, datum_face_z_mm_);
       out.row(static_cast<Eigen::Index>(i)) = units::um_from_mm(1.0) * (points_[i].w.transpose() * J_twistw_e);
       return;
     }
