@@ -38,9 +38,11 @@ machine::Pose ComponentChanges::table_in_gear(const grinding::PathPoint& pp) con
   machine::ErrorVector delta = machine::ErrorVector::Zero();
   for (const auto& c : changes_) delta(machine::index(c.component)) += c.at(pp.time_s, pp.q.c);
   if (delta.isZero(0.0)) return machine::Pose::Identity();
-  if (chain_ == nullptr) return pose_of_error_twist(machine::twist_w_linear(delta, pp.q));
+  // At the machine's axes, z + z₀, the twist moved back to the datum: what the same errors in the map grind.
   machine::AxisPose q = pp.q;
   q.z += datum_face_z_mm_;
+  if (chain_ == nullptr)
+    return pose_of_error_twist(machine::twist_at_datum(machine::twist_w_linear(delta, q), datum_face_z_mm_));
   machine::Matrix6E J_twistw_e, J_twistg_e;
   machine::error_jacobians(*chain_, chain_->axes(q), J_twistw_e, J_twistg_e);
   return pose_of_error_twist(machine::twist_at_datum(J_twistw_e * delta, datum_face_z_mm_));
