@@ -29,16 +29,17 @@ namespace py = pybind11;
 namespace geartopo::python {
 namespace {
 
-/// corrections.csv's columns (CorrectionTable::write_csv): axes in mm and deg, corrections in µm and µrad.
+/// corrections.csv's columns (CorrectionTable::write_csv), named as its header names them (the scene's chain's axis
+/// letters, e.g. U_mm and dU_um for a radial slide called U): axes in mm and deg, corrections in µm and µrad.
 py::dict correction_columns(const compensation::CorrectionTable& table) {
   const auto& rows = table.rows();
   const std::size_t n = rows.size();
   auto space = new_column<int>(n);
   auto within = new_column<bool>(n);
   std::vector<py::array_t<double>> v;
-  const char* names[] = {"z_stroke_mm", "time_s", "X_mm", "Y_mm", "Z_mm", "A_deg", "C_deg",
-                         "dX_um", "dY_um", "dZ_um", "dA_urad", "dC_urad"};
-  for (std::size_t c = 0; c < std::size(names); ++c) v.push_back(new_column<double>(n));
+  const std::vector<std::string> header = table.column_names(); // space, the 12 below, within_strokes
+  const std::vector<std::string> names(header.begin() + 1, header.end() - 1);
+  for (std::size_t c = 0; c < names.size(); ++c) v.push_back(new_column<double>(n));
   for (std::size_t k = 0; k < n; ++k) {
     const auto i = static_cast<py::ssize_t>(k);
     const auto& r = rows[k];
@@ -53,7 +54,7 @@ py::dict correction_columns(const compensation::CorrectionTable& table) {
   }
   py::dict out;
   out["space"] = space;
-  for (std::size_t col = 0; col < v.size(); ++col) out[names[col]] = v[col];
+  for (std::size_t col = 0; col < v.size(); ++col) out[py::str(names[col])] = v[col];
   out["within_strokes"] = within;
   return out;
 }

@@ -85,7 +85,7 @@ nlohmann::json write_data_files(const fs::path& dir, const std::string& scene_fi
                                         dir / "scene_with_effect.yaml", identified.uncertainties, identified.correlation,
                                         d.chosen->changes, d.chosen->change_sd,
                                         diagnosis::change_identification_comments(*d.chosen, r.measurement->file),
-                                        identified.draws);
+                                        identified.draws, d.chosen->chain);
   }
   return iso;
 }

@@ -65,7 +65,7 @@ DiagnoseResult diagnose(const SceneInput& scene, const MeasuredInput& measured, 
     r.scene_with_effect = diagnosis::scene_text_with_effects(
         scene.text, scene.dir, save_dir, identified.effects, diagnosis::identification_comments(*d.chosen, measured.name),
         identified.uncertainties, identified.correlation, d.chosen->changes, d.chosen->change_sd,
-        diagnosis::change_identification_comments(*d.chosen, measured.name), identified.draws);
+        diagnosis::change_identification_comments(*d.chosen, measured.name), identified.draws, d.chosen->chain);
   }
   return r;
 }

@@ -2,6 +2,7 @@
 #include "geartopo/compensation/chain_axes.hpp"
 
 #include "geartopo/machine/chain_kinematics.hpp"
+#include "geartopo/machine/datum_shift.hpp"
 #include "geartopo/machine/jacobian.hpp"
 
 #include <cmath>
@@ -38,11 +39,9 @@ machine::Matrix65 ChainAxes::J_twistg(const machine::AxisPose& q) const {
 
 machine::Matrix65 ChainAxes::J_twistw(const machine::AxisPose& q) const {
   if (is_setting()) return machine::J_twistw_q(q);
-  // The chain's w has its origin datum_face_z_mm below the gear's: a twist's point of reference moves by Tz(−z₀)
-  // (v' = v + p × ω, p = (0, 0, −z₀)), as in ChainProcess::error_twist_w.
+  // The chain's w has its origin datum_face_z_mm below the gear's, as in ChainProcess::error_twist_w.
   machine::Matrix65 J = machine::J_twistw_theta(*chain, machine::AxisValues{axes(q)});
-  const Eigen::Vector3d p(0.0, 0.0, -datum_face_z_mm);
-  for (int k = 0; k < machine::kAxisCount; ++k) J.col(k).head<3>() += p.cross(Eigen::Vector3d(J.col(k).tail<3>()));
+  machine::twists_at_datum(J, datum_face_z_mm);
   return J;
 }
 

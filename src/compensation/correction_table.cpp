@@ -22,7 +22,7 @@ namespace {
 constexpr int kColumns = 14;
 
 /// The 14 column names with the axes' own letters: space,z_stroke_mm,time_s,X_mm,…,C_deg,dX_um,…,dC_urad,within_strokes.
-std::vector<std::string> column_names(const ChainAxes& axes) {
+std::vector<std::string> header_names(const ChainAxes& axes) {
   std::vector<std::string> names = {"space", "z_stroke_mm", "time_s"};
   // (fmt rather than operator+: GCC 12 warns falsely, -Wstringop-overflow, on the concatenation at -O3)
   for (int a = 0; a < 5; ++a) names.push_back(fmt::format("{}_{}", axes.axis_name(a), a < 3 ? "mm" : "deg"));
@@ -32,6 +32,8 @@ std::vector<std::string> column_names(const ChainAxes& axes) {
 }
 
 } // namespace
+
+std::vector<std::string> CorrectionTable::column_names() const { return header_names(axes_); }
 
 CorrectionTable::CorrectionTable(std::vector<CorrectionRow> rows, ChainAxes axes) : rows_(std::move(rows)), axes_(axes) {
   std::stable_sort(rows_.begin(), rows_.end(), [](const CorrectionRow& a, const CorrectionRow& b) {
@@ -89,7 +91,7 @@ machine::Vector5d CorrectionTable::max_abs() const {
 }
 
 void CorrectionTable::write_csv(std::ostream& out) const {
-  out << fmt::format("{}", fmt::join(column_names(axes_), ",")) << "\n";
+  out << fmt::format("{}", fmt::join(header_names(axes_), ",")) << "\n";
   for (const auto& r : rows_) {
     const auto& q = r.machine_axes;
     const auto& c = r.correction;
@@ -107,7 +109,7 @@ CorrectionTable CorrectionTable::read_csv(std::istream& in, const std::string& s
   const auto fail = [&](int line, int column, const std::string& field, const std::string& message) {
     throw InputError(source, line, column, field, message);
   };
-  const std::vector<std::string> names = column_names(axes);
+  const std::vector<std::string> names = header_names(axes);
   const std::string header_text = fmt::format("{}", fmt::join(names, ","));
   std::vector<CorrectionRow> rows;
   std::set<std::pair<int, double>> seen;

@@ -18,7 +18,7 @@ std::string Candidate::name() const {
   std::string s = label;
   for (const auto& e : effects) s += (s.empty() ? "" : " + ") + e.type;
   for (const auto& c : changes)
-    s += fmt::format("{}{} {}", s.empty() ? "" : " + ", machine::info(c.component).name, c.law_name());
+    s += fmt::format("{}{} {}", s.empty() ? "" : " + ", machine::info(chain, c.component).name, c.law_name());
   return wheel_flank ? fmt::format("{} ({})", s, to_string(*wheel_flank)) : s;
 }
 

@@ -4,6 +4,7 @@
 #include "geartopo/diagnosis/hypothesis_family.hpp"
 #include "geartopo/effects/registry.hpp"
 #include "geartopo/machine/error_component.hpp"
+#include "geartopo/machine/kinematic_chain.hpp"
 
 #include <sstream>
 #include <vector>
@@ -80,8 +81,8 @@ nlohmann::json candidate_json(const Candidate& c) {
       const auto& ch = c.changes[k];
       const auto q = machine::info(ch.component).quantity;
       const double scale = machine::file_per_internal(ch.law, q);
-      nlohmann::json cj{{"component", machine::info(ch.component).name},
-                        {"meaning", machine::info(ch.component).meaning},
+      nlohmann::json cj{{"component", machine::info(c.chain, ch.component).name},
+                        {"meaning", machine::info(c.chain, ch.component).meaning},
                         {"law", ch.law_name()},
                         {machine::size_key(ch.law, q), ch.size * scale},
                         {"uncertainty", k < c.change_sd.size() ? c.change_sd[k] * scale : 0.0}};

@@ -7,6 +7,7 @@
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/machine/chain_kinematics.hpp"
+#include "geartopo/machine/datum_shift.hpp"
 #include "geartopo/machine/jacobian.hpp"
 
 #include <algorithm>
@@ -125,19 +126,21 @@ EffectContribution EffectContribution::rows(std::span<const std::size_t> indices
 Eigen::MatrixXd EffectContribution::component_sensitivity_um(int threads, const std::function<void()>& keep_going) const {
   Eigen::MatrixXd out(static_cast<Eigen::Index>(points_.size()), machine::kComponentCount); // n × 43
   for_chunks(points_.size(), threads, [&](std::size_t i) {
-    if (chain_ != nullptr) { // the chain's axes θ(q + z₀), the twist moved back by Tz(−z₀)
-      machine::AxisPose q = points_[i].pp.q;
-      q.z += datum_face_z_mm_;
-      machine::Matrix6E J_twistw_e, J_twistg_e;
+    // At the machine's axes, z + z₀ (the error map's positions, the C table and the X slide z₀ below the datum), the
+    // twist moved back to the datum by Tz(−z₀): what MachineProcess / ChainProcess::error_twist_w do with the map.
+    machine::AxisPose q = points_[i].pp.q;
+    q.z += datum_face_z_mm_;
+    machine::Matrix6E J_twistw_e;
+    if (chain_ != nullptr) {
+      machine::Matrix6E J_twistg_e;
       machine::error_jacobians(*chain_, chain_->axes(q), J_twistw_e, J_twistg_e);
-      for (int k = 0; k < machine::kComponentCount; ++k)
-        J_twistw_e.col(k).head<3>() += Eigen::Vector3d(0.0, 0.0, -datum_face_z_mm_).cross(Eigen::Vector3d(J_twistw_e.col(k).tail<3>()));
-      out.row(static_cast<Eigen::Index>(i)) = units::um_from_mm(1.0) * (points_[i].w.transpose() * J_twistw_e);
-      return;
+    } else {
+      machine::MachineData data;
+      machine::error_jacobians(q, data);
+      J_twistw_e = data.J_twistw_e;
     }
-    machine::MachineData data;
-    machine::error_jacobians(points_[i].pp.q, data);
-    out.row(static_cast<Eigen::Index>(i)) = units::um_from_mm(1.0) * (points_[i].w.transpose() * data.J_twistw_e);
+    machine::twists_at_datum(J_twistw_e, datum_face_z_mm_);
+    out.row(static_cast<Eigen::Index>(i)) = units::um_from_mm(1.0) * (points_[i].w.transpose() * J_twistw_e);
   }, keep_going);
   return out;
 }

@@ -2,6 +2,7 @@
 #include "geartopo/diagnosis/identified_effects.hpp"
 
 #include "geartopo/effects/registry.hpp"
+#include "geartopo/machine/kinematic_chain.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -85,7 +86,7 @@ std::vector<std::string> change_identification_comments(const Candidate& candida
   std::vector<std::string> comments;
   for (const auto& c : candidate.changes)
     comments.push_back(fmt::format("{} {}: identified by geartopo diagnose from {} (ΔBIC {:.1f}){}",
-                                   machine::info(c.component).name, c.law_name(), measured,
+                                   machine::info(candidate.chain, c.component).name, c.law_name(), measured,
                                    candidate.delta_bic,
                                    candidate.equivalent.empty()
                                        ? std::string()

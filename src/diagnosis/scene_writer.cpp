@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "geartopo/effects/registry.hpp"
+#include "geartopo/machine/kinematic_chain.hpp"
 #include "custom_entry_writer.hpp"
 
 #include <fmt/format.h>
@@ -170,14 +171,15 @@ std::string scene_with_effects(const std::string& text, const std::vector<scene:
 }
 
 std::string machine_changes_yaml_items(const std::vector<machine::ComponentChange>& changes,
-                                       const std::vector<double>& uncertainties, const std::vector<std::string>& comments) {
+                                       const std::vector<double>& uncertainties, const std::vector<std::string>& comments,
+                                       const machine::KinematicChain* chain) {
   std::string out;
   for (size_t i = 0; i < changes.size(); ++i) {
     const auto& c = changes[i];
     const auto q = machine::info(c.component).quantity;
     const double scale = machine::file_per_internal(c.law, q);
     if (i < comments.size() && !comments[i].empty()) out += "  # " + comments[i] + "\n";
-    out += fmt::format("  - {{component: {}, law: {}, {}: {:.6g}", machine::info(c.component).name,
+    out += fmt::format("  - {{component: {}, law: {}, {}: {:.6g}", machine::info(chain, c.component).name,
                        c.law_name(), machine::size_key(c.law, q), c.size * scale);
     if (c.law == machine::ChangeLaw::SteadyState) out += fmt::format(", time_constant_s: {:.6g}", c.time_constant_s);
     if (c.law == machine::ChangeLaw::PerRevolution) out += fmt::format(", phase_deg: {:.6g}", c.phase_rad * 180.0 / 3.141592653589793);
@@ -190,8 +192,9 @@ std::string machine_changes_yaml_items(const std::vector<machine::ComponentChang
 }
 
 std::string scene_with_machine_changes(const std::string& text, const std::vector<machine::ComponentChange>& changes,
-                                       const std::vector<double>& uncertainties, const std::vector<std::string>& comments) {
-  return with_list_items(text, "machine_changes", machine_changes_yaml_items(changes, uncertainties, comments));
+                                       const std::vector<double>& uncertainties, const std::vector<std::string>& comments,
+                                       const machine::KinematicChain* chain) {
+  return with_list_items(text, "machine_changes", machine_changes_yaml_items(changes, uncertainties, comments, chain));
 }
 
 } // namespace geartopo::diagnosis
@@ -256,12 +259,12 @@ void write_scene_with_effects(const std::filesystem::path& scene_file, const std
                               const std::vector<machine::ComponentChange>& changes,
                               const std::vector<double>& change_uncertainties,
                               const std::vector<std::string>& change_comments,
-                              const std::vector<Eigen::MatrixXd>& draws) {
+                              const std::vector<Eigen::MatrixXd>& draws, const machine::KinematicChain* chain) {
   output::write_text_atomically(out_file, scene_text_with_effects(input::read_input_file(scene_file, input::kMaxSceneBytes,
                                                                                          "scene file"),
                                                                   scene_file.parent_path(), out_file.parent_path(),
                                                                   effects, comments, uncertainties, correlation, changes,
-                                                                  change_uncertainties, change_comments, draws));
+                                                                  change_uncertainties, change_comments, draws, chain));
 }
 
 std::string scene_text_with_effects(const std::string& scene_text, const std::filesystem::path& from_dir,
@@ -272,10 +275,11 @@ std::string scene_text_with_effects(const std::string& scene_text, const std::fi
                                     const std::vector<machine::ComponentChange>& changes,
                                     const std::vector<double>& change_uncertainties,
                                     const std::vector<std::string>& change_comments,
-                                    const std::vector<Eigen::MatrixXd>& draws) {
+                                    const std::vector<Eigen::MatrixXd>& draws, const machine::KinematicChain* chain) {
   std::string completed = scene_text;
   if (!effects.empty()) completed = scene_with_effects(completed, effects, comments, uncertainties, correlation, draws);
-  if (!changes.empty()) completed = scene_with_machine_changes(completed, changes, change_uncertainties, change_comments);
+  if (!changes.empty())
+    completed = scene_with_machine_changes(completed, changes, change_uncertainties, change_comments, chain);
   return rebase_scene_paths(completed, from_dir, to_dir);
 }
 

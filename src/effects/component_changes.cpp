@@ -2,6 +2,7 @@
 #include "geartopo/effects/component_changes.hpp"
 
 #include "geartopo/machine/chain_kinematics.hpp"
+#include "geartopo/machine/datum_shift.hpp"
 #include "geartopo/machine/first_order.hpp"
 
 #include <Eigen/Geometry>
@@ -37,14 +38,14 @@ machine::Pose ComponentChanges::table_in_gear(const grinding::PathPoint& pp) con
   machine::ErrorVector delta = machine::ErrorVector::Zero();
   for (const auto& c : changes_) delta(machine::index(c.component)) += c.at(pp.time_s, pp.q.c);
   if (delta.isZero(0.0)) return machine::Pose::Identity();
-  if (chain_ == nullptr) return pose_of_error_twist(machine::twist_w_linear(delta, pp.q));
+  // At the machine's axes, z + z₀, the twist moved back to the datum: what the same errors in the map grind.
   machine::AxisPose q = pp.q;
   q.z += datum_face_z_mm_;
+  if (chain_ == nullptr)
+    return pose_of_error_twist(machine::twist_at_datum(machine::twist_w_linear(delta, q), datum_face_z_mm_));
   machine::Matrix6E J_twistw_e, J_twistg_e;
   machine::error_jacobians(*chain_, chain_->axes(q), J_twistw_e, J_twistg_e);
-  machine::Vector6d xi = J_twistw_e * delta;
-  xi.head<3>() += Eigen::Vector3d(0.0, 0.0, -datum_face_z_mm_).cross(Eigen::Vector3d(xi.tail<3>())); // Tz(−z₀)
-  return pose_of_error_twist(xi);
+  return pose_of_error_twist(machine::twist_at_datum(J_twistw_e * delta, datum_face_z_mm_));
 }
 
 } // namespace geartopo::effects

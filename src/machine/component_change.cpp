@@ -1,6 +1,8 @@
 // geartopo — error component changes and their laws (component_change.hpp). Units: mm, rad, s inside.
 #include "geartopo/machine/component_change.hpp"
 
+#include "geartopo/machine/kinematic_chain.hpp"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -68,8 +70,9 @@ double file_per_internal(ChangeLaw law, Quantity q) {
   return law == ChangeLaw::LinearInTime ? unit * 60.0 : unit;
 }
 
-std::string describe(const ComponentChange& c, const std::string& size_text, const std::string& phase_text) {
-  const auto& i = info(c.component);
+std::string describe(const ComponentChange& c, const std::string& size_text, const std::string& phase_text,
+                     const KinematicChain* chain) {
+  const auto& i = info(chain, c.component);
   const std::string unit = i.quantity == Quantity::Length ? "µm" : "µrad";
   switch (c.law) {
   case ChangeLaw::Constant: return fmt::format("{} ({}) changed by {} {}", i.name, i.meaning, size_text, unit);

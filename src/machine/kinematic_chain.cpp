@@ -128,6 +128,22 @@ ChainSpec cafxzy_spec() {
           {linear("X", x, {0.0, 900.0}), linear("Z", z, {-300.0, 700.0}), linear("Y", y, {-500.0, 500.0})}};
 }
 
+/// The radial axis on the workpiece side: the gear on a C table carried by an X slide that moves it radially towards
+/// the wheel, the wheel head on a Z column slide, an A swivel and a Y shift slide, w → C → X → F → Z → A → Y → g. ISG's
+/// volumetric compensation describes a machine by this axis sequence (`chain`, from the workpiece to the tool, with
+/// `workpiece_axes` 2: C and X move the workpiece); no grinder data sheet of this exact layout was found, so the
+/// geometry is illustrative (docs/machine-model.md §9, "Presets"). X moves the table along −x (ISO 841: a positive X′
+/// of a table moves the workpiece away from the tool's +X), so X is the centre distance; the C table's face sits
+/// 250 mm above the X slide and the A axis line 120 mm above the wheel centre (assumed).
+/// Closed form: X = x, Y = y − 120·tan α, Z = z + 250 + 120 / cos α, A = α, C = γ.
+ChainSpec cxfzay_spec() {
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(), z = Eigen::Vector3d::UnitZ();
+  return {"CXFZAY",
+          {rotary("C", z, std::nullopt, Eigen::Vector3d(0.0, 0.0, 250.0)), linear("X", -x, {0.0, 900.0})},
+          {linear("Z", z, {0.0, 1200.0}), rotary("A", x, Interval{-45.0, 45.0}),
+           linear("Y", y, {-200.0, 200.0}, Eigen::Vector3d(0.0, 0.0, -120.0))}};
+}
+
 /// Eq. 11 inverted on a pose of its form R = Rz(−γ)·Rx(α): (x, y, z, α, γ).
 AxisPose setting_of(const Pose& M) {
   const Eigen::Matrix3d& R = M.linear();
@@ -484,9 +500,13 @@ const KinematicChain* chain_preset(std::string_view name) {
     static const KinematicChain& chain = make_chain(cafxzy_spec());
     return &chain;
   }
+  if (name == "CXFZAY") {
+    static const KinematicChain& chain = make_chain(cxfzay_spec());
+    return &chain;
+  }
   return nullptr;
 }
 
-std::vector<std::string_view> chain_preset_names() { return {"CFXZAY", "CAFXZY"}; }
+std::vector<std::string_view> chain_preset_names() { return {"CFXZAY", "CAFXZY", "CXFZAY"}; }
 
 } // namespace geartopo::machine

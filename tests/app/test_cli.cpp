@@ -451,12 +451,19 @@ TEST(Cli, PlanNamesTheTeethThatSeparateAmbiguousExplanations) {
   ASSERT_TRUE(p["ambiguous"].get<bool>()) << p["verdict"];
   const auto& between = p["plan"]["between"];
   // The X growth on one side: thermal_drift itself, or the X axis drifting that thermal_drift leaves the same field of
-  // (the families are tried beside the library's ambiguity: docs/diagnosis.md, "Beyond the library").
+  // (the families are tried beside the library's ambiguity: docs/diagnosis.md, "Beyond the library") — named, or in
+  // the class of its representative: a drifting S_xz tilts Z's travel with the lever Z = z + z₀ ≈ 400 mm, which hardly
+  // changes over the 150 mm face, so it is an X drift by another name.
   const std::string x_drift_said = "the library's thermal_drift can leave the same field";
+  const std::string verdict = p["verdict"];
+  const auto class_at = verdict.find("one class): ");
+  const std::string x_class =
+      class_at == std::string::npos ? "" : verdict.substr(class_at, verdict.find('.', class_at) - class_at);
   EXPECT_TRUE(between[0] == "thermal_drift" || between[1] == "thermal_drift" ||
-              (between[0] == "delta_xx linear_in_time" &&
-               p["verdict"].get<std::string>().find(x_drift_said) != std::string::npos))
-      << between << p["verdict"];
+              ((between[0] == "delta_xx linear_in_time" ||
+                x_class.find("delta_xx linear_in_time") != std::string::npos) &&
+               verdict.find(x_drift_said) != std::string::npos))
+      << between << verdict;
   EXPECT_LT(p["plan"]["delta_bic_gap"].get<double>(), 10.0);
   ASSERT_FALSE(p["plan"]["recommended_teeth"].empty());
   for (int tooth : p["plan"]["recommended_teeth"].get<std::vector<int>>()) {

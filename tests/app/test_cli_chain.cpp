@@ -1,22 +1,35 @@
 // The geartopo program on a scene whose machine is another kinematic chain (issue 42: scenes/cafxzy-mn14-z35.yaml,
 // the CAFXZY preset): simulate and evaluate run and write their files; a chain the path cannot reach exits 1 naming
 // the point and the axis.
+#include "../chain_scene_fixture.hpp"
 #include "../cli_run.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 #include <unistd.h>
 
+using geartopo::chain_fixture::text_of;
+using geartopo::chain_fixture::Where;
+using geartopo::chain_fixture::with_constants;
+using geartopo::chain_fixture::with_line;
+
 namespace {
 
 const std::string kCafxzy = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/cafxzy-mn14-z35.yaml";
+/// The shipped chain scenes' constants line, under which a truth scene adds its hidden error.
+const std::string kConstantsLine =
+    "  constants:                   # squareness and rotary-axis location (ISO 230-7), representative\n";
 
 std::filesystem::path fresh_dir(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_" + name);
@@ -49,13 +62,9 @@ TEST(CliChain, ACafxzySceneSimulatesAndEvaluates) {
 
 TEST(CliChain, APathTheChainCannotReachExitsOneNamingThePointAndTheAxis) {
   const auto dir = fresh_dir("geartopo_cli_chain_bad");
-  std::ifstream in(kCafxzy);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string from = "  chain: CAFXZY ";
-  const auto at = text.find(from);
-  ASSERT_NE(at, std::string::npos);
   // Y = y + (z + 150)·sin α: 440…610 mm along the gear axis at α = 30° need Y = 220…305 mm.
-  text.insert(at, "  strokes: {y_mm: [-200, 200]}\n");
+  const std::string text = with_line(text_of(kCafxzy), "  chain: CAFXZY ", "  strokes: {y_mm: [-200, 200]}\n", Where::Before);
+  ASSERT_FALSE(text.empty());
   std::ofstream(dir / "s.yaml") << text;
   const auto r = geartopo::test::run_geartopo("simulate " + (dir / "s.yaml").string() + " --out " +
                                                   (dir / "out").string() + " --quiet", dir);
@@ -77,14 +86,7 @@ std::vector<std::string> fields_of(const std::string& line) {
 }
 
 /// The shipped CAFXZY scene with its constants replaced by `constants` (a YAML flow map).
-std::string cafxzy_with_constants(const std::string& constants) {
-  std::ifstream in(kCafxzy);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const auto from = text.find("  constants:");
-  const auto to = text.find("\nwheel:");
-  if (from == std::string::npos || to == std::string::npos) return {};
-  return text.substr(0, from) + "  constants: " + constants + "\n" + text.substr(to);
-}
+std::string cafxzy_with_constants(const std::string& constants) { return with_constants(text_of(kCafxzy), constants); }
 
 } // namespace
 
@@ -155,12 +157,8 @@ TEST(CliChain, CompensateRefusesTheIsgTableOnAnotherChain) {
 // against 0.3 µm of noise and was rejected; through the chain's it leaves the noise.
 TEST(CliChain, DiagnoseNamesAHiddenATableZeroErrorOfTheCafxzy) {
   const auto dir = fresh_dir("geartopo_cli_chain_diag");
-  std::ifstream in(kCafxzy);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string from = "  constants:                   # squareness and rotary-axis location (ISO 230-7), representative\n";
-  const auto at = text.find(from);
-  ASSERT_NE(at, std::string::npos);
-  text.insert(at + from.size(), "    E_AOA_urad: 60\n");
+  const std::string text = with_line(text_of(kCafxzy), kConstantsLine, "    E_AOA_urad: 60\n", Where::After);
+  ASSERT_FALSE(text.empty());
   std::ofstream(dir / "truth.yaml") << text;
   const auto synth = geartopo::test::run_geartopo("synth " + (dir / "truth.yaml").string() + " --out " +
                                                       (dir / "m.csv").string() + " --teeth 1,10,18,27 --noise-um 0.3 --seed 3",
@@ -197,12 +195,222 @@ TEST(CliChain, ReportOnTheCafxzySceneNamesItsChainAndAxes) {
   const auto dir = fresh_dir("geartopo_cli_chain_report");
   const auto r = geartopo::test::run_geartopo("report " + kCafxzy + " --out " + (dir / "r").string() + " --quiet", dir);
   ASSERT_EQ(r.code, 0) << r.err;
-  std::ifstream in(dir / "r" / "index.html");
-  const std::string html((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string html = text_of(dir / "r" / "index.html");
   EXPECT_NE(html.find("kinematic chain CAFXZY (axes C, A carrying the gear; X, Z, Y the wheel)"), std::string::npos);
   EXPECT_NE(html.find("CAFXZY chain: the scene's constant error components (no motion errors given)"), std::string::npos);
   for (const char* panel : {"machine_constants_linear.png", "machine_constants_angular.png"})
     EXPECT_TRUE(std::filesystem::exists(dir / "r" / "panels" / panel)) << panel;
   EXPECT_FALSE(std::filesystem::exists(dir / "r" / "panels" / "machine_A_linear.png"));
+  std::filesystem::remove_all(dir);
+}
+
+// --- The CXFZAY (the radial axis on the workpiece side: the C table rides on the X slide) ------------------------
+
+namespace {
+
+const std::string kCxfzay = std::string(GEARTOPO_SOURCE_DIR) + "/scenes/cxfzay-mn14-z35.yaml";
+
+/// The shipped CXFZAY scene with its constants replaced by `constants` (a YAML flow map).
+std::string cxfzay_with_constants(const std::string& constants) { return with_constants(text_of(kCxfzay), constants); }
+
+} // namespace
+
+TEST(CliChain, ACxfzaySceneSimulatesAndEvaluates) {
+  const auto dir = fresh_dir("geartopo_cli_cxfzay");
+  const auto sim = geartopo::test::run_geartopo("simulate " + kCxfzay + " --out " + (dir / "sim").string() +
+                                                    " --teeth 1,18 --method exact --quiet", dir);
+  ASSERT_EQ(sim.code, 0) << sim.err;
+  std::ifstream topo(dir / "sim" / "topology.csv");
+  int lines = 0;
+  for (std::string l; std::getline(topo, l);) ++lines;
+  EXPECT_EQ(lines, 1 + 4 * 63);
+
+  const auto eval = geartopo::test::run_geartopo("evaluate " + kCxfzay + " --out " + (dir / "eval").string() +
+                                                     " --method linear --quiet", dir);
+  ASSERT_EQ(eval.code, 0) << eval.err;
+  std::ifstream in(dir / "eval" / "iso1328.json");
+  const auto j = nlohmann::json::parse(in)["before"];
+  EXPECT_EQ(j["flanks"].size(), 70u);
+  EXPECT_FALSE(j["classification"]["overall"].is_null());
+  std::filesystem::remove_all(dir);
+}
+
+// `geartopo compensate` on the CXFZAY with a constant zero error of the A swivel (100 µrad) and a constant
+// z-straightness of the radial X table (8 µm) alone. The swivel turns to A + E_AOA about its own axis line wherever it
+// is commanded: ΔA = −100 µrad. The X table carries the gear 8 µm up along the gear axis (z); the Z column, with no
+// rotary axis between it and the table's error, moves the wheel along that same z: ΔZ = +8 µm. X, Y, C untouched.
+TEST(CliChain, CompensateCorrectsConstantErrorsOfTheCxfzayInItsOwnAxes) {
+  const auto dir = fresh_dir("geartopo_cli_cxfzay_comp");
+  const std::string scene = cxfzay_with_constants("{E_AOA_urad: 100, delta_zx_um: 8}");
+  ASSERT_FALSE(scene.empty());
+  std::ofstream(dir / "s.yaml") << scene;
+  const auto r = geartopo::test::run_geartopo("compensate " + (dir / "s.yaml").string() + " --out " +
+                                                  (dir / "out").string() + " --step 10 --quiet", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+
+  std::ifstream csv(dir / "out" / "corrections.csv");
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  EXPECT_EQ(line, "space,z_stroke_mm,time_s,X_mm,Y_mm,Z_mm,A_deg,C_deg,dX_um,dY_um,dZ_um,dA_urad,dC_urad,within_strokes");
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    const auto f = fields_of(line);
+    ASSERT_EQ(f.size(), 14u) << line;
+    ++rows;
+    EXPECT_NEAR(std::stod(f[8]), 0.0, 0.01) << line;     // dX_um
+    EXPECT_NEAR(std::stod(f[9]), 0.0, 0.01) << line;     // dY_um
+    EXPECT_NEAR(std::stod(f[10]), 8.0, 0.01) << line;    // dZ_um
+    EXPECT_NEAR(std::stod(f[11]), -100.0, 0.01) << line; // dA_urad
+    EXPECT_NEAR(std::stod(f[12]), 0.0, 0.01) << line;    // dC_urad
+    EXPECT_EQ(f[13], "yes") << line;
+    // The chain's own axes: A = α, the cross angle (−β = −30° for this right-hand gear), on this tool-side swivel, and
+    // Y = y − 120·tan α with y = 0 (the wheel's axial position): the A axis line 120 mm above the wheel centre.
+    EXPECT_NEAR(std::stod(f[6]), -30.0, 1e-6) << line;
+    EXPECT_NEAR(std::stod(f[4]), 120.0 * std::tan(30.0 * std::numbers::pi / 180.0), 1e-5) << line;
+  }
+  EXPECT_GE(rows, 35 * 2);
+
+  std::ifstream in(dir / "out" / "iso1328.json");
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_GT(j["largest_abs_deviation_um"]["before"].get<double>(), 10.0);
+  EXPECT_LT(j["largest_abs_deviation_um"]["nominal_after"].get<double>(), 0.01);
+  EXPECT_EQ(j["compensation"]["rows_outside_strokes"].get<int>(), 0);
+  std::filesystem::remove_all(dir);
+}
+
+// A hidden constant roll of the radial X table (ε_xx, 60 µrad: the table, and the gear on it, turned about x) in a
+// truth scene: `synth` measures four teeth, `diagnose` on the shipped scene names it in its class with its size.
+TEST(CliChain, DiagnoseNamesAHiddenRollOfTheCxfzaysRadialTable) {
+  const auto dir = fresh_dir("geartopo_cli_cxfzay_diag");
+  const std::string text = with_line(text_of(kCxfzay), kConstantsLine, "    epsilon_xx_urad: 60\n", Where::After);
+  ASSERT_FALSE(text.empty());
+  std::ofstream(dir / "truth.yaml") << text;
+  const auto synth = geartopo::test::run_geartopo("synth " + (dir / "truth.yaml").string() + " --out " +
+                                                      (dir / "m.csv").string() + " --teeth 1,10,18,27 --noise-um 0.3 --seed 3",
+                                                  dir);
+  ASSERT_EQ(synth.code, 0) << synth.err;
+  const auto diag = geartopo::test::run_geartopo("diagnose " + kCxfzay + " --measured " + (dir / "m.csv").string() +
+                                                     " --out " + (dir / "d").string() + " --noise-um 0.3 --quiet",
+                                                 dir);
+  ASSERT_EQ(diag.code, 0) << diag.err;
+  std::ifstream dj(dir / "d" / "diagnosis.json");
+  const auto d = nlohmann::json::parse(dj);
+  ASSERT_FALSE(d["chosen"].is_null()) << d["verdict"];
+  const auto& chosen = d["chosen"];
+  ASSERT_TRUE(chosen.contains("machine_changes")) << chosen.dump(1);
+  const auto& change = chosen["machine_changes"][0];
+  const std::string component = change["component"];
+  const std::string listed = chosen.value("equivalent", nlohmann::json::array()).dump() +
+                             chosen.value("look_alikes", nlohmann::json::array()).dump();
+  EXPECT_TRUE(component == "epsilon_xx" || listed.find("epsilon_xx") != std::string::npos) << chosen.dump(1);
+  EXPECT_EQ(change["law"], "constant") << chosen.dump(1);
+  const double size = change["change_urad"].get<double>(), sd = change["uncertainty"].get<double>();
+  EXPECT_NEAR(std::abs(size), 60.0, 2.0 * sd + 1.0) << chosen.dump(1);
+  EXPECT_LT(chosen["rms_after_um"].get<double>(), 1.3 * 0.3) << chosen.dump(1);
+  std::filesystem::remove_all(dir);
+}
+
+// `report` on the CXFZAY scene names the chain, which axes carry the gear and which the wheel, and draws its axes.
+TEST(CliChain, ReportOnTheCxfzaySceneNamesItsChainAndAxes) {
+  const auto dir = fresh_dir("geartopo_cli_cxfzay_report");
+  const auto r = geartopo::test::run_geartopo("report " + kCxfzay + " --out " + (dir / "r").string() + " --quiet", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string html = text_of(dir / "r" / "index.html");
+  EXPECT_NE(html.find("kinematic chain CXFZAY (axes C, X carrying the gear; Z, A, Y the wheel)"), std::string::npos);
+  EXPECT_NE(html.find("CXFZAY chain: geometric error components"), std::string::npos);
+  for (const char* panel : {"machine_X_linear.png", "machine_C_angular.png", "machine_A_angular.png"})
+    EXPECT_TRUE(std::filesystem::exists(dir / "r" / "panels" / panel)) << panel;
+  std::filesystem::remove_all(dir);
+}
+
+// --- A user's chain whose letters differ from the CFXZAY's: the CFXZAY's geometry with the radial slide called U and
+// the swivel called B (w → C → F → U → Z → B → Y → g) --------------------------------------------------------------
+
+namespace {
+
+/// The shipped CXFZAY scene's gear on that chain, with `constants` (a YAML flow map in the chain's names).
+std::string cfuzby_scene(const std::string& constants) {
+  std::string text = cxfzay_with_constants(constants);
+  const std::string from = "  chain: CXFZAY ";
+  const auto at = text.find(from);
+  if (at == std::string::npos) return {};
+  const auto end = text.find('\n', at);
+  return text.substr(0, at) + R"(  chain:
+    name: CFUZBY
+    workpiece:
+      - {name: C, kind: rotary, direction: [0, 0, 1]}
+    tool:
+      - {name: U, kind: linear, direction: [1, 0, 0], stroke_mm: [0, 900]}
+      - {name: Z, kind: linear, direction: [0, 0, 1], stroke_mm: [0, 800]}
+      - {name: B, kind: rotary, direction: [1, 0, 0], stroke_deg: [-45, 45]}
+      - {name: Y, kind: linear, direction: [0, 1, 0], stroke_mm: [-200, 200]})" + text.substr(end);
+}
+
+/// True when `name` is a component of the CFUZBY: its axes' motion errors, squareness among U, Z, Y, and the axis-line
+/// errors of C and B.
+bool is_cfuzby_component(const std::string& name) {
+  static const std::regex pattern("(delta|epsilon)_[xyz][cuzby]|S_(uz|uy|zy)|E_[XYZABC]O[CB]");
+  return std::regex_match(name, pattern);
+}
+
+} // namespace
+
+// A hidden constant roll of the radial slide U (ε_xu, 60 µrad) in a truth scene: diagnosis.json names the chain's
+// components — the chosen one, its meaning and every member of its class (the CFXZAY's names, epsilon_xx "roll of X",
+// are not this chain's) — and diagnose's scene_with_effect.yaml writes the change in the chain's names, so that the
+// same chain reads it back and grinds.
+TEST(CliChain, DiagnosisOnAChainWithOtherLettersNamesItsOwnComponents) {
+  const auto dir = fresh_dir("geartopo_cli_cfuzby");
+  const std::string map = cfuzby_scene("{S_uz_urad: 30, E_AOC_urad: 10}");
+  const std::string truth = cfuzby_scene("{S_uz_urad: 30, E_AOC_urad: 10, epsilon_xu_urad: 60}");
+  ASSERT_FALSE(map.empty());
+  std::ofstream(dir / "s.yaml") << map;
+  std::ofstream(dir / "truth.yaml") << truth;
+  const auto synth = geartopo::test::run_geartopo("synth " + (dir / "truth.yaml").string() + " --out " +
+                                                      (dir / "m.csv").string() + " --teeth 1,10,18,27 --noise-um 0.3 --seed 3",
+                                                  dir);
+  ASSERT_EQ(synth.code, 0) << synth.err;
+  const auto diag = geartopo::test::run_geartopo("diagnose " + (dir / "s.yaml").string() + " --measured " +
+                                                     (dir / "m.csv").string() + " --out " + (dir / "d").string() +
+                                                     " --noise-um 0.3 --quiet", dir);
+  ASSERT_EQ(diag.code, 0) << diag.err;
+  std::ifstream dj(dir / "d" / "diagnosis.json");
+  const auto d = nlohmann::json::parse(dj);
+  ASSERT_FALSE(d["chosen"].is_null()) << d["verdict"];
+  const auto& chosen = d["chosen"];
+  ASSERT_TRUE(chosen.contains("machine_changes")) << chosen.dump(1);
+  const auto& change = chosen["machine_changes"][0];
+  const std::string component = change["component"];
+  EXPECT_TRUE(is_cfuzby_component(component)) << component;
+  std::vector<std::string> members;
+  for (const char* key : {"equivalent", "look_alikes"})
+    for (const auto& m : chosen.value(key, nlohmann::json::array())) {
+      const std::string s = m.is_string() ? m.get<std::string>() : m.value("name", std::string());
+      members.push_back(s.substr(0, s.find(' ')));
+    }
+  // Library effects may look alike too; every member named like a component is one of this chain's.
+  static const std::regex any_component("(delta|epsilon)_[a-z]{2}|S_[a-z]{2}|E_[A-Z]O[A-Z]");
+  for (const auto& m : members) {
+    if (std::regex_match(m, any_component)) {
+      EXPECT_TRUE(is_cfuzby_component(m)) << m << " in " << chosen.dump(1);
+    }
+  }
+  EXPECT_TRUE(component == "epsilon_xu" || std::find(members.begin(), members.end(), "epsilon_xu") != members.end())
+      << chosen.dump(1);
+  const std::string meaning = change["meaning"];
+  if (component == "epsilon_xu") {
+    EXPECT_EQ(meaning, "roll of U (about x)");
+  }
+  EXPECT_EQ(meaning.find(" of A"), std::string::npos) << meaning;
+  EXPECT_EQ(meaning.find(" of X"), std::string::npos) << meaning;
+  EXPECT_NEAR(std::abs(change["change_urad"].get<double>()), 60.0, 2.0 * change["uncertainty"].get<double>() + 1.0)
+      << chosen.dump(1);
+
+  // The completed scene names the change as the chain does and is read back by the same chain.
+  const std::string completed = text_of(dir / "d" / "scene_with_effect.yaml");
+  EXPECT_NE(completed.find("{component: " + component + ", law: constant"), std::string::npos) << completed;
+  const auto again = geartopo::test::run_geartopo("simulate " + (dir / "d" / "scene_with_effect.yaml").string() +
+                                                      " --out " + (dir / "again").string() + " --teeth 1 --quiet", dir);
+  EXPECT_EQ(again.code, 0) << again.err;
   std::filesystem::remove_all(dir);
 }

@@ -8,6 +8,8 @@
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/effects/effects_process.hpp"
 #include "geartopo/effects/registry.hpp"
+#include "geartopo/grinding/machine_process.hpp"
+#include "geartopo/machine/machine_model.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
 #include <fmt/format.h>
@@ -231,6 +233,38 @@ TEST(EffectContribution, DiagnosisIsIdenticalOnOneAndTwoThreads) {
   EXPECT_EQ(one.verdict, two.verdict);
   ASSERT_TRUE(one.chosen.has_value());
   EXPECT_EQ(one.chosen->name(), "thermal_drift"); // the truth scene's hidden effect
+}
+
+// The machine-element hypotheses' columns on the CFXZAY against what the same constant in the error map grinds through
+// MachineProcess (first order): the map acts at the machine's axes, Z = z + z₀ (the gear's datum face z₀ =
+// machine.datum_face_z_mm above the C table's face), its twist referred back to the datum by Tz(−z₀). A column taken
+// at the path's own z (as it was) put the C table and the X slide z₀ too close to the wheel and S_xz's lever −Z·S_xz
+// short by z₀: per µrad of ε_xx, ε_yx, ε_xc, ε_yc, S_xz, E_AOC or E_BOC it differed from the map by 0.14 … 0.26 µm
+// where the map grinds 0.21 … 0.44 µm; the other 36 components agreed.
+TEST(EffectContribution, ComponentColumnsOnTheCfxzayAreWhatTheMapGrinds) {
+  const auto& wb = contribution_scene();
+  const double z0 = wb.scene.machine.datum_face_z_mm;
+  ASSERT_GT(z0, 100.0); // the test says nothing about the datum with the datum at the table
+  const auto pts = random_flank_points(wb.setup.geometry(), 40, 4711);
+  const diagnosis::EffectContribution at_points(wb.setup, pts, 1, wb.scene.machine.chain, z0);
+  const Eigen::MatrixXd S = at_points.component_sensitivity_um(1); // n × 43, µm per mm or per rad
+  for (int k = 0; k < machine::kComponentCount; ++k) {
+    const auto id = machine::component_at(k);
+    const bool angle = machine::info(id).quantity == machine::Quantity::Angle;
+    const machine::MachineModel model(machine::Strokes::skmc_1200w(),
+                                      {machine::ErrorSource::constant(id, 1.0, angle ? "urad" : "um")});
+    const grinding::MachineProcess process(model, z0);
+    const auto truth = diagnosis::predict(wb.setup, process, pts, grinding::Method::Linear, 1);
+    double worst = 0.0, largest = 0.0;
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const double column = S(static_cast<Eigen::Index>(i), k) * (angle ? 1e-6 : 1e-3);
+      const double map = truth[i] - at_points.offset_um();
+      worst = std::max(worst, std::abs(column - map));
+      largest = std::max(largest, std::abs(map));
+    }
+    // Per 1 µm or 1 µrad: both are first order, so only rounding may separate them.
+    EXPECT_LT(worst, 1e-9) << machine::info(id).name << ": the map grinds up to " << largest << " µm";
+  }
 }
 
 } // namespace

@@ -1,6 +1,7 @@
-// geartopo tests — the CAFXZY grinder (swivel on the workpiece side) grinding the seed paper's gear: a constant error
-// of each axis → flank deviations, against an independent computation written here (the layout's inverse kinematics in
-// closed form and its homogeneous transforms, 4×4 by hand), and against the physics of a spindle positioning error.
+// geartopo tests — the CAFXZY (swivel on the workpiece side) and CXFZAY (radial axis on the workpiece side) grinders
+// grinding the seed paper's gear: a constant error of each axis → flank deviations, against an independent computation
+// written here (each layout's inverse kinematics in closed form and its homogeneous transforms, 4×4 by hand), and
+// against the physics of a spindle positioning error.
 // Units: mm, rad; deviations in µm.
 #include "grinding_fixture.hpp"
 
@@ -23,6 +24,7 @@ using machine::ErrorVector;
 using Matrix4 = Eigen::Matrix4d;
 
 const machine::KinematicChain& cafxzy() { return *machine::chain_preset("CAFXZY"); }
+const machine::KinematicChain& cxfzay() { return *machine::chain_preset("CXFZAY"); }
 
 Matrix4 T4(double x, double y, double z) {
   Matrix4 m = Matrix4::Identity();
@@ -66,13 +68,46 @@ Matrix4 cafxzy_wMg(const ErrorVector& e, const machine::Vector5d& t) {
   return AMC.inverse() * FMA.inverse() * FMX * XMZ * ZMY;
 }
 
+/// The CXFZAY's axes for the setting q in closed form. Ideal chain (the C table's face 250 mm above the X slide, X
+/// moving the table along −x, the A axis line 120 mm above the wheel centre): wMg = Rz(−C)·Tz(−250)·T(X, 0, Z)·Rx(A)·
+/// T(0, Y, −120); Eq. 11: wMg = Rz(−γ)·T(x, 0, z)·Rx(α)·T(0, y, 0). So C = γ, A = α, X = x and
+/// Rx(α)·(0, Y − y, −120) = (0, 0, z + 250 − Z): Y = y − 120·tan α, Z = z + 250 + 120 / cos α.
+machine::Vector5d cxfzay_axes(const machine::AxisPose& q) {
+  return (machine::Vector5d() << q.x, q.y - 120.0 * std::tan(q.a), q.z + 250.0 + 120.0 / std::cos(q.a), q.a, q.c)
+      .finished();
+}
+
+/// The CXFZAY with errors, w → C → X → F → Z → A → Y → g, the workpiece side inverted (docs/machine-model.md §9). X
+/// runs along −x, so the axes after it lean from −x: Z by +Z·S_xz along x, Y by +Y·S_xy.
+Matrix4 cxfzay_wMg(const ErrorVector& e, const machine::Vector5d& t) {
+  const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY(), ez = Eigen::Vector3d::UnitZ();
+  const auto E = [&](ComponentId id) { return e(machine::index(id)); };
+  const Matrix4 S_C = T4(E(ComponentId::E_XOC), E(ComponentId::E_YOC), 0.0) * R4(ex, E(ComponentId::E_AOC)) *
+                      R4(ey, E(ComponentId::E_BOC));
+  const Matrix4 S_A = T4(0.0, E(ComponentId::E_YOA), E(ComponentId::E_ZOA)) * R4(ey, E(ComponentId::E_BOA)) *
+                      R4(ez, E(ComponentId::E_COA));
+  const double X = t(0), Y = t(1), Z = t(2), A = t(3), C = t(4);
+  const Matrix4 XMC = T4(0.0, 0.0, 250.0) * S_C * R4(ez, C + E(ComponentId::E_COC)) * E4(e, ComponentId::delta_xc);
+  const Matrix4 FMX = T4(-X, 0.0, 0.0) * E4(e, ComponentId::delta_xx);
+  const Matrix4 FMZ = T4(Z * E(ComponentId::S_xz), 0.0, Z) * E4(e, ComponentId::delta_xz);
+  const Matrix4 ZMA = S_A * R4(ex, A + E(ComponentId::E_AOA)) * E4(e, ComponentId::delta_xa) * S_A.inverse();
+  const Matrix4 AMY = T4(0.0, 0.0, -120.0) * T4(Y * E(ComponentId::S_xy), Y, -Y * E(ComponentId::S_zy)) *
+                      E4(e, ComponentId::delta_xy);
+  return XMC.inverse() * FMX.inverse() * FMZ * ZMA * AMY;
+}
+
+/// A hand-written chain: its wheel pose for the errors e at the setting q (q.z from the workpiece frame's origin).
+using HandChain = Matrix4 (*)(const ErrorVector& e, const machine::AxisPose& q);
+Matrix4 cafxzy_hand(const ErrorVector& e, const machine::AxisPose& q) { return cafxzy_wMg(e, cafxzy_axes(q)); }
+Matrix4 cxfzay_hand(const ErrorVector& e, const machine::AxisPose& q) { return cxfzay_wMg(e, cxfzay_axes(q)); }
+
 /// The same wheel pose as a process: the gear's datum face at chain z = kDatumZ, poses back through Tz(−kDatumZ).
-test::ModifiedProcess by_hand(const ErrorVector& e) {
-  return test::ModifiedProcess([e](const grinding::PathPoint& pp) {
+test::ModifiedProcess by_hand(const ErrorVector& e, HandChain chain = cafxzy_hand) {
+  return test::ModifiedProcess([e, chain](const grinding::PathPoint& pp) {
     machine::AxisPose q = pp.q;
     q.z += test::kDatumZ;
     machine::Pose wMg;
-    wMg.matrix() = T4(0.0, 0.0, -test::kDatumZ) * cafxzy_wMg(e, cafxzy_axes(q));
+    wMg.matrix() = T4(0.0, 0.0, -test::kDatumZ) * chain(e, q);
     return wMg;
   });
 }
@@ -137,32 +172,58 @@ TEST(ChainProcess, PathOutsideAStrokeIsRefusedNamingThePointAndTheAxis) {
 // All the components of one axis at once (constant, random ±10…50 µm / ±20…100 µrad), axis by axis: the library's
 // chain and the hand-written one give the same flank deviations on teeth 1 and 18 to 1e-4 µm (exact method), and
 // the first-order method (the chain's error Jacobian) differs from them by second-order terms only.
-TEST(ChainProcess, ConstantErrorOfEachAxisGivesTheHandWrittenFlankDeviations) {
-  std::mt19937 rng(4242);
+/// All the components of each axis of `chain` at once against the hand-written chain `hand`, axis by axis.
+void expect_hand_written_flanks(const machine::KinematicChain& chain, HandChain hand, unsigned seed) {
+  std::mt19937 rng(seed);
   std::uniform_real_distribution<double> magnitude(1.0, 5.0), sign(-1.0, 1.0);
   for (const Axis axis : machine::kAxes) {
     ErrorVector e = ErrorVector::Zero();
     for (int k = 0; k < machine::kComponentCount; ++k) {
-      if (cafxzy().info(machine::component_at(k)).axis != axis) continue;
+      if (chain.info(machine::component_at(k)).axis != axis) continue;
       const bool angle = machine::info(machine::component_at(k)).quantity == machine::Quantity::Angle;
       e(k) = (sign(rng) < 0 ? -1.0 : 1.0) * magnitude(rng) * (angle ? 20e-6 : 10e-3);
     }
     const machine::MachineModel model = machine_of(e);
-    const grinding::ChainProcess library(cafxzy(), model, test::kDatumZ);
-    const auto expected = test::simulate(by_hand(e), grinding::Method::Exact);
+    const grinding::ChainProcess library(chain, model, test::kDatumZ);
+    const auto expected = test::simulate(by_hand(e, hand), grinding::Method::Exact);
     double largest = 0.0;
     EXPECT_LT(largest_difference(test::simulate(library, grinding::Method::Exact), expected, largest), 1e-4)
-        << machine::axis_name(axis);
-    EXPECT_GT(largest, 1.0) << machine::axis_name(axis) << ": the errors must show on the flanks";
+        << chain.name() << " " << machine::axis_name(axis);
+    EXPECT_GT(largest, 1.0) << chain.name() << " " << machine::axis_name(axis) << ": the errors must show on the flanks";
     // First order: what it leaves out is second order in the errors (≤ 0.05 µm at 100 µrad; a tenth of the errors
     // leaves a hundredth of it).
     const double first_order = largest_difference(test::simulate(library, grinding::Method::Linear), expected, largest);
-    EXPECT_LT(first_order, 0.05) << machine::axis_name(axis);
+    EXPECT_LT(first_order, 0.05) << chain.name() << " " << machine::axis_name(axis);
     const machine::MachineModel tenth_model = machine_of(0.1 * e);
-    const grinding::ChainProcess tenth(cafxzy(), tenth_model, test::kDatumZ);
+    const grinding::ChainProcess tenth(chain, tenth_model, test::kDatumZ);
     const double tenth_first_order = largest_difference(test::simulate(tenth, grinding::Method::Linear),
-                                                        test::simulate(by_hand(0.1 * e), grinding::Method::Exact), largest);
-    EXPECT_LT(tenth_first_order, 0.02 * first_order + 1e-4) << machine::axis_name(axis);
+                                                        test::simulate(by_hand(0.1 * e, hand), grinding::Method::Exact),
+                                                        largest);
+    EXPECT_LT(tenth_first_order, 0.02 * first_order + 1e-4) << chain.name() << " " << machine::axis_name(axis);
+  }
+}
+
+TEST(ChainProcess, ConstantErrorOfEachAxisGivesTheHandWrittenFlankDeviations) {
+  expect_hand_written_flanks(cafxzy(), cafxzy_hand, 4242);
+}
+
+// The same on the CXFZAY (the radial axis on the workpiece side): the X table carries the C table, so its errors move
+// the gear, and the swivel's axis line passes 120 mm above the wheel centre.
+TEST(ChainProcess, CxfzayConstantErrorOfEachAxisGivesTheHandWrittenFlankDeviations) {
+  expect_hand_written_flanks(cxfzay(), cxfzay_hand, 4343);
+}
+
+// The paper's gear sits inside the CXFZAY's strokes on this path, and its inverse kinematics is the closed form.
+TEST(ChainProcess, CxfzayPathIsWithinItsStrokesAndItsInverseKinematicsIsTheClosedForm) {
+  const machine::MachineModel model = test::machine_with({});
+  const grinding::ChainProcess process(cxfzay(), model, test::kDatumZ);
+  EXPECT_NO_THROW(process.check_path(test::paper_setup().path()));
+  for (const auto& pp : test::paper_setup().path().sample(5.0)) {
+    const machine::AxisValues theta = process.machine_axes(pp);
+    EXPECT_FALSE(cxfzay().outside_stroke(theta)) << cxfzay().outside_stroke(theta)->message;
+    machine::AxisPose q = pp.q;
+    q.z += test::kDatumZ;
+    EXPECT_LT((theta.v - cxfzay_axes(q)).cwiseAbs().maxCoeff(), 1e-10);
   }
 }
 

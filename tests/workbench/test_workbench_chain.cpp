@@ -88,6 +88,31 @@ TEST(WorkbenchChain, AMachineChangeOfTheCafxzyGrindsWhatTheSameErrorInItsMapGrin
   EXPECT_LT(differ, 0.01);
 }
 
+// The same on the CFXZAY: a machine change acts at the machine's axes (Z = z + z₀) and its twist is referred back to
+// the datum, as the map's errors are (MachineProcess). Through the twist at the path's own z the C table and the X slide
+// sat z₀ (380 mm here) too close to the wheel: a 20 µrad tilt of either, or S_xz, ground the flanks up to ~2.6 µm
+// otherwise than the same constant in the map.
+TEST(WorkbenchChain, AMachineChangeOfTheCfxzayGrindsWhatTheSameErrorInItsMapGrinds) {
+  const workbench::Workbench plain(scene::parse_scene(kGearAndWheel, "mem"));
+  ASSERT_GT(plain.scene.machine.datum_face_z_mm, 100.0);
+  const auto zero = grid_deviations(plain);
+  for (const std::string component : {"E_BOC", "epsilon_yx", "S_xz"}) {
+    const workbench::Workbench changed(scene::parse_scene(
+        kGearAndWheel + "machine_changes:\n  - {component: " + component + ", law: constant, change_urad: 20}\n", "mem"));
+    const workbench::Workbench mapped(
+        scene::parse_scene(kGearAndWheel + "machine:\n  constants: {" + component + "_urad: 20}\n", "mem"));
+    const auto a = grid_deviations(changed), b = grid_deviations(mapped);
+    ASSERT_EQ(a.size(), b.size());
+    double largest = 0.0, differ = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      largest = std::max(largest, std::abs(b[i] - zero[i]));
+      differ = std::max(differ, std::abs(a[i] - b[i]));
+    }
+    EXPECT_GT(largest, 1.0) << component;
+    EXPECT_LT(differ, 0.01) << component;
+  }
+}
+
 // The shipped CAFXZY scene (scenes/cafxzy-mn14-z35.yaml): its first-order pose error twist (the chain's 6×43 error
 // Jacobian times the components) is the linearisation of its exact pose (the chain's error HTMs): at path points over
 // the whole grinding order they differ by second-order terms, below 1 % of the twist (components of tens of µrad and

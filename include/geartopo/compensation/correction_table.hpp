@@ -53,6 +53,8 @@ public:
   /// (the chain's own axis letters in its pose order, e.g. U_mm and dU_um for a radial slide called U).
   void write_csv(std::ostream& out) const;
   void write_csv(const std::filesystem::path& file) const;
+  /// The 14 names of that header, in order.
+  std::vector<std::string> column_names() const;
 
   /// Reads what write_csv wrote (the header above, '#' comment lines and blank lines skipped, a UTF-8 BOM and CRLF
   /// accepted). Throws InputError at file:line:column and field for a wrong header, a field that is not a finite

@@ -68,6 +68,8 @@ struct Candidate {
   /// and fitted size (internal units), and the size's 1σ, parallel. Empty for a library effect.
   std::vector<machine::ComponentChange> changes;
   std::vector<double> change_sd;
+  /// The chain whose components `changes` are, which names them (null: the CFXZAY).
+  const machine::KinematicChain* chain = nullptr;
   /// The family beyond the library that made this hypothesis (hypothesis_family.hpp); null for the library's effects
   /// and their pairs. Its field at any points is family->columns(…) · coefficients.
   std::shared_ptr<const HypothesisFamily> family;

@@ -41,14 +41,17 @@ std::string rebase_scene_paths(const std::string& scene_text, const std::filesys
 
 /// The YAML items of a `machine_changes` list ("  - {component: E_AOA, law: linear_in_time, rate_urad_per_min: 0.8}"),
 /// sizes in file units under the law's key (machine::size_key), each with its fit's 1σ as a comment (`uncertainties`
-/// parallel to `changes`, internal units; 0 or missing: none) and a comment line before it (`comments`).
+/// parallel to `changes`, internal units; 0 or missing: none) and a comment line before it (`comments`). The
+/// components are named as `chain` names them (the scene's; null: the CFXZAY).
 std::string machine_changes_yaml_items(const std::vector<machine::ComponentChange>& changes,
                                        const std::vector<double>& uncertainties = {},
-                                       const std::vector<std::string>& comments = {});
+                                       const std::vector<std::string>& comments = {},
+                                       const machine::KinematicChain* chain = nullptr);
 /// `scene_text` with those items added to its top-level `machine_changes:` list (created if absent).
 std::string scene_with_machine_changes(const std::string& scene_text, const std::vector<machine::ComponentChange>& changes,
                                        const std::vector<double>& uncertainties = {},
-                                       const std::vector<std::string>& comments = {});
+                                       const std::vector<std::string>& comments = {},
+                                       const machine::KinematicChain* chain = nullptr);
 
 /// `scene_text` (read from `from_dir`) with the effects added (scene_with_effects), the changed components added
 /// (scene_with_machine_changes) and its paths rebased to `to_dir` (rebase_scene_paths): the text of a scene file to be
@@ -61,7 +64,8 @@ std::string scene_text_with_effects(const std::string& scene_text, const std::fi
                                     const std::vector<machine::ComponentChange>& changes = {},
                                     const std::vector<double>& change_uncertainties = {},
                                     const std::vector<std::string>& change_comments = {},
-                                    const std::vector<Eigen::MatrixXd>& draws = {});
+                                    const std::vector<Eigen::MatrixXd>& draws = {},
+                                    const machine::KinematicChain* chain = nullptr);
 
 /// Reads `scene_file`, adds the effects and the changed components (scene_text_with_effects), rebases its paths to
 /// `out_file`'s folder and writes it there. Throws std::runtime_error naming the file that cannot be read or written.
@@ -72,6 +76,7 @@ void write_scene_with_effects(const std::filesystem::path& scene_file, const std
                               const std::vector<machine::ComponentChange>& changes = {},
                               const std::vector<double>& change_uncertainties = {},
                               const std::vector<std::string>& change_comments = {},
-                              const std::vector<Eigen::MatrixXd>& draws = {});
+                              const std::vector<Eigen::MatrixXd>& draws = {},
+                              const machine::KinematicChain* chain = nullptr);
 
 } // namespace geartopo::diagnosis

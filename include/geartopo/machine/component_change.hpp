@@ -18,6 +18,8 @@
 
 namespace geartopo::machine {
 
+class KinematicChain;
+
 enum class ChangeLaw { Constant, LinearInTime, SteadyState, PerRevolution };
 
 /// "constant", "linear_in_time", "steady_state", "per_revolution" (the law alone: law_name says its order too)
@@ -61,6 +63,8 @@ double file_per_internal(ChangeLaw law, Quantity q);
 /// "E_AOA (zero-position error of A) drifts by +0.80 µrad/min": a change in words, with its size in file units and an
 /// optional uncertainty text already formatted; for a change per revolution, `phase_text` (its φ in degrees, with its
 /// uncertainty) replaces the bare φ.
-std::string describe(const ComponentChange& change, const std::string& size_text, const std::string& phase_text = {});
+/// `chain` names the component (null: the CFXZAY).
+std::string describe(const ComponentChange& change, const std::string& size_text, const std::string& phase_text = {},
+                     const KinematicChain* chain = nullptr);
 
 } // namespace geartopo::machine

@@ -2,8 +2,8 @@
 // workpiece to the wheel, each moving axis with its name, kind, direction and nominal offset in its parent frame, and
 // which axes carry the workpiece and which the wheel; the 43 ISO 230-1 error components that chain has and their
 // names; its inverse kinematics (the axis values that make a wheel–gear setting) and its ideal forward kinematics.
-// The seed paper's CFXZAY is a preset, and so is the CAFXZY (swivel on the workpiece side; docs/machine-model.md
-// cites the sources).
+// The seed paper's CFXZAY is a preset, and so are the CAFXZY (swivel on the workpiece side) and the CXFZAY (radial
+// axis on the workpiece side); docs/machine-model.md cites the sources.
 //
 // Conventions (how a CNC control describes a machine: Beckhoff TF5240 "universal kinematics", Heidenhain's
 // kinematics table, ISG TF5280 `chain` and `workpiece_axes`):
@@ -197,9 +197,11 @@ const KinematicChain& make_chain(ChainSpec spec);
 
 /// The seed paper's CFXZAY grinder (SKMC-1200W/10 strokes): w → C → F → X → Z → A → Y → g.
 const KinematicChain& cfxzay();
+/// A component's name, symbol and meaning as `chain` names it (null: the CFXZAY's, info(id)).
+inline const ComponentInfo& info(const KinematicChain* chain, ComponentId id) { return chain ? chain->info(id) : info(id); }
 /// A preset by name (chain_preset_names()); none if unknown.
 const KinematicChain* chain_preset(std::string_view name);
-/// "CFXZAY", "CAFXZY".
+/// "CFXZAY", "CAFXZY", "CXFZAY".
 std::vector<std::string_view> chain_preset_names();
 
 } // namespace geartopo::machine

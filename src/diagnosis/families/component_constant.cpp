@@ -10,9 +10,9 @@ namespace {
 class ComponentConstant final : public HypothesisFamily {
 public:
   std::string_view name() const override { return "component_constant"; }
-  std::vector<Candidate> enumerate(const ContactStates& states, const DiagnoseOptions&) const override {
+  std::vector<Candidate> enumerate(const ContactStates& states, const DiagnoseOptions& o) const override {
     std::vector<Candidate> out;
-    for (int k : visible_components(states)) out.push_back(component_hypothesis(k, machine::ChangeLaw::Constant));
+    for (int k : visible_components(states)) out.push_back(component_hypothesis(o.chain, k, machine::ChangeLaw::Constant));
     return out;
   }
   Eigen::MatrixXd columns(const Candidate& h, const ContactStates& states) const override {

@@ -19,8 +19,10 @@ std::vector<int> visible_components(const ContactStates& states) {
   return out;
 }
 
-Candidate component_hypothesis(int component, ChangeLaw law, double time_constant_s, int order) {
+Candidate component_hypothesis(const machine::KinematicChain* chain, int component, ChangeLaw law, double time_constant_s,
+                              int order) {
   Candidate c;
+  c.chain = chain;
   machine::ComponentChange ch;
   ch.component = machine::component_at(component), ch.law = law, ch.time_constant_s = time_constant_s, ch.order = order;
   c.changes.push_back(ch);
@@ -47,7 +49,7 @@ Candidate one_coefficient_finding(Candidate c, const LinearFit& f, const Contact
   std::vector<FittedParameter> params{{machine::size_key(ch.law, q), ch.size * scale, sd * scale, true}};
   if (ch.law == ChangeLaw::SteadyState) params.push_back({"time_constant_s", ch.time_constant_s, 0.0, true});
   c.parameters.push_back(std::move(params));
-  std::string text = machine::describe(ch, text::with_uncertainty(ch.size * scale, sd * scale, true));
+  std::string text = machine::describe(ch, text::with_uncertainty(ch.size * scale, sd * scale, true), {}, c.chain);
   if (ch.law == ChangeLaw::LinearInTime)
     text += fmt::format(" ({:+.3g} {} over the {:.0f}-min job)", ch.size * job_s * (scale / 60.0), unit_of(q),
                         job_s / 60.0);
@@ -55,7 +57,7 @@ Candidate one_coefficient_finding(Candidate c, const LinearFit& f, const Contact
   const double limit = plausible_change(ch, o);
   if (reach - 2.0 * reach_sd > limit) {
     const double file = q == machine::Quantity::Length ? 1e3 : 1e6;
-    Decision d{Reason::implausible_change, std::string(machine::info(ch.component).name), {},
+    Decision d{Reason::implausible_change, std::string(machine::info(c.chain, ch.component).name), {},
                {{"reach", reach * file}, {"limit", limit * file}}};
     d.unit = unit_of(q);
     c.rejection = std::move(d);

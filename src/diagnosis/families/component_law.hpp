@@ -7,6 +7,7 @@
 
 #include "geartopo/diagnosis/hypothesis_family.hpp"
 #include "geartopo/machine/component_change.hpp"
+#include "geartopo/machine/kinematic_chain.hpp"
 
 #include <string>
 #include <vector>
@@ -17,7 +18,7 @@ namespace geartopo::diagnosis::families {
 std::vector<int> visible_components(const ContactStates& states);
 
 /// A hypothesis: component k changed under `law` (τ for a steady state, k for a periodic one).
-Candidate component_hypothesis(int component, machine::ChangeLaw law, double time_constant_s = 0.0, int order = 1);
+Candidate component_hypothesis(const machine::KinematicChain* chain, int component, machine::ChangeLaw law, double time_constant_s = 0.0, int order = 1);
 
 /// The largest plausible change over one job (mm or rad): DiagnoseOptions::plausible_change_um or _urad.
 double plausible_change(const machine::ComponentChange& change, const DiagnoseOptions& options);

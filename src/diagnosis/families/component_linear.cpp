@@ -10,10 +10,10 @@ namespace {
 class ComponentLinear final : public HypothesisFamily {
 public:
   std::string_view name() const override { return "component_linear_in_time"; }
-  std::vector<Candidate> enumerate(const ContactStates& states, const DiagnoseOptions&) const override {
+  std::vector<Candidate> enumerate(const ContactStates& states, const DiagnoseOptions& o) const override {
     std::vector<Candidate> out;
     if (!(states.job_s() > 0.0)) return out;
-    for (int k : visible_components(states)) out.push_back(component_hypothesis(k, machine::ChangeLaw::LinearInTime));
+    for (int k : visible_components(states)) out.push_back(component_hypothesis(o.chain, k, machine::ChangeLaw::LinearInTime));
     return out;
   }
   Eigen::MatrixXd columns(const Candidate& h, const ContactStates& states) const override {

@@ -63,7 +63,7 @@ public:
       const Eigen::MatrixXd G = J.transpose() * J;
       std::vector<size_t> standing; // indices in `out` of this component's tried orders
       for (int m = 1; m <= listed; ++m) {
-        Candidate h = component_hypothesis(k, ChangeLaw::PerRevolution, 0.0, m);
+        Candidate h = component_hypothesis(o.chain, k, ChangeLaw::PerRevolution, 0.0, m);
         Candidate* alias_of = nullptr;
         for (size_t i : standing) {
           const int r = out[i].changes.front().order;
@@ -110,12 +110,12 @@ public:
     // The enumeration's note on the orders the teeth resolve, said after what was found.
     const std::string resolved = c.description.empty() ? std::string() : " (" + c.description + ")";
     c.description = machine::describe(ch, text::with_uncertainty(a * scale, sd * scale, true),
-                                      text::with_uncertainty(phase_deg, phase_sd_deg)) +
+                                      text::with_uncertainty(phase_deg, phase_sd_deg), c.chain) +
                     resolved;
     const double limit = plausible_change(ch, o);
     if (a - 2.0 * sd > limit) {
       const double file = q == machine::Quantity::Length ? 1e3 : 1e6;
-      Decision d{Reason::implausible_change, std::string(machine::info(ch.component).name), {},
+      Decision d{Reason::implausible_change, std::string(machine::info(c.chain, ch.component).name), {},
                  {{"reach", a * file}, {"limit", limit * file}}};
       d.unit = unit_of(q);
       c.rejection = std::move(d);

@@ -22,11 +22,11 @@ class ComponentSteadyState final : public HypothesisFamily {
 public:
   std::string_view name() const override { return "component_steady_state"; }
   int grid_parameters() const override { return 1; } // τ
-  std::vector<Candidate> enumerate(const ContactStates& states, const DiagnoseOptions&) const override {
+  std::vector<Candidate> enumerate(const ContactStates& states, const DiagnoseOptions& o) const override {
     std::vector<Candidate> out;
     if (!(states.job_s() > 0.0)) return out;
     for (int k : visible_components(states))
-      for (double f : kJobFractions) out.push_back(component_hypothesis(k, ChangeLaw::SteadyState, f * states.job_s()));
+      for (double f : kJobFractions) out.push_back(component_hypothesis(o.chain, k, ChangeLaw::SteadyState, f * states.job_s()));
     return out;
   }
   Eigen::MatrixXd columns(const Candidate& h, const ContactStates& states) const override {
