@@ -239,8 +239,9 @@ TEST_F(ReportTest, MachineFigureShowsTheMotionErrorsAndTheConstants) {
                             "machine_constants_angular.png"})
     EXPECT_TRUE(fs::exists(*dir_ / "panels" / panel)) << panel;
   ASSERT_NE(manifest_, nullptr);
-  for (const auto& f : *manifest_)
-    if (f["file"] == "machine_errors.png")
-      EXPECT_NE(f["title"].get<std::string>().find("CFXZAY chain: the scene's error components against axis position"),
-                std::string::npos) << f.dump();
+  for (const auto& f : *manifest_) {
+    if (f["file"] != "machine_errors.png") continue;
+    EXPECT_NE(f["title"].get<std::string>().find("CFXZAY chain: the scene's error components against axis position"),
+              std::string::npos) << f.dump();
+  }
 }
