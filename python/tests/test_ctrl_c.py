@@ -106,8 +106,9 @@ def test_series_stops_within_a_second(tmp_path, big_export):
 
 @pytest.fixture(scope="module")
 def big_measurement():
-    """Every tooth on a 40 × 40 grid: 112 000 points, a diagnosis of ~8 s with fits of ~1 s between reports."""
-    truth = geartopo.scene_from_yaml(fine_text(TRUTH, 40, 40), source=str(TRUTH))
+    """Every tooth on a 60 × 60 grid: 252 000 points, a diagnosis of ~6 s on an idle 2-core machine (40 × 40 took
+    2.5–3.1 s: a signal at 3 s came after its end) with fits of ~1 s between reports."""
+    truth = geartopo.scene_from_yaml(fine_text(TRUTH, 60, 60), source=str(TRUTH))
     return geartopo.synth(truth, teeth="all", noise_um=0.5)
 
 

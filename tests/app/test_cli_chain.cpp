@@ -310,15 +310,16 @@ TEST(CliChain, DiagnoseNamesAHiddenRollOfTheCxfzaysRadialTable) {
   std::filesystem::remove_all(dir);
 }
 
-// `report` on the CXFZAY scene names the chain, which axes carry the gear and which the wheel, and draws its axes.
+// `report` on the CXFZAY scene names the chain, which axes carry the gear and which the wheel, and draws its constants
+// in its own symbols (the scene gives no motion error).
 TEST(CliChain, ReportOnTheCxfzaySceneNamesItsChainAndAxes) {
   const auto dir = fresh_dir("geartopo_cli_cxfzay_report");
   const auto r = geartopo::test::run_geartopo("report " + kCxfzay + " --out " + (dir / "r").string() + " --quiet", dir);
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string html = text_of(dir / "r" / "index.html");
   EXPECT_NE(html.find("kinematic chain CXFZAY (axes C, X carrying the gear; Z, A, Y the wheel)"), std::string::npos);
-  EXPECT_NE(html.find("CXFZAY chain: geometric error components"), std::string::npos);
-  for (const char* panel : {"machine_X_linear.png", "machine_C_angular.png", "machine_A_angular.png"})
+  EXPECT_NE(html.find("CXFZAY chain: the scene's constant error components (no motion errors given)"), std::string::npos);
+  for (const char* panel : {"machine_constants_linear.png", "machine_constants_angular.png"})
     EXPECT_TRUE(std::filesystem::exists(dir / "r" / "panels" / panel)) << panel;
   std::filesystem::remove_all(dir);
 }
