@@ -6,6 +6,8 @@
 #include "geartopo/diagnosis/diagnose.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
+#include "flank_points.hpp"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -27,20 +29,10 @@ const workbench::Workbench& interrupt_scene() {
 
 // n points anywhere on the active flanks of every tooth, deviation = white noise of 0.3 µm.
 std::vector<measurement::MeasuredPoint> noise_points(const gears::GearGeometry& g, int n) {
-  std::mt19937_64 rng(7);
-  std::uniform_int_distribution<int> tooth(1, g.teeth()), side(0, 1);
-  std::uniform_real_distribution<double> xi(g.roll_length_at(g.root_form_diameter_mm()), g.roll_length_at(g.tip_diameter_mm())),
-      z(0.0, g.spec().face_width_mm);
+  auto pts = geartopo::test::random_flank_points(g, n, 7);
+  std::mt19937_64 rng(8);
   std::normal_distribution<double> noise(0.0, 0.3);
-  std::vector<measurement::MeasuredPoint> pts(static_cast<size_t>(n));
-  for (auto& p : pts) {
-    p.tooth = tooth(rng);
-    p.flank = side(rng) ? Flank::Right : Flank::Left;
-    p.roll_length_mm = xi(rng);
-    p.diameter_mm = g.diameter_at_roll_length(p.roll_length_mm);
-    p.z_mm = z(rng);
-    p.deviation_um = noise(rng);
-  }
+  for (auto& p : pts) p.deviation_um = noise(rng);
   return pts;
 }
 

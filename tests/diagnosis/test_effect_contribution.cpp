@@ -12,6 +12,8 @@
 #include "geartopo/machine/machine_model.hpp"
 #include "geartopo/workbench/workbench.hpp"
 
+#include "flank_points.hpp"
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -27,22 +29,7 @@ const workbench::Workbench& contribution_scene() {
   return b;
 }
 
-// Points anywhere on the active flanks (d_Ff … d_a, 0 … b) of random teeth and flanks.
-std::vector<measurement::MeasuredPoint> random_flank_points(const gears::GearGeometry& g, int count, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_int_distribution<int> tooth(1, g.teeth()), side(0, 1);
-  std::uniform_real_distribution<double> xi(g.roll_length_at(g.root_form_diameter_mm()), g.roll_length_at(g.tip_diameter_mm())),
-      z(0.0, g.spec().face_width_mm);
-  std::vector<measurement::MeasuredPoint> pts(static_cast<size_t>(count));
-  for (auto& p : pts) {
-    p.tooth = tooth(rng);
-    p.flank = side(rng) ? Flank::Right : Flank::Left;
-    p.roll_length_mm = xi(rng);
-    p.diameter_mm = g.diameter_at_roll_length(p.roll_length_mm);
-    p.z_mm = z(rng);
-  }
-  return pts;
-}
+using geartopo::test::random_flank_points;
 
 // Each fitted parameter uniform over its allowed range [lo, hi] (counts rounded to whole numbers).
 void randomise(effects::Effect& e, std::mt19937_64& rng) {

@@ -36,6 +36,21 @@ Matrix4 R4(const Eigen::Vector3d& axis, double angle) {
   m.topLeftCorner<3, 3>() = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
   return m;
 }
+
+/// The C axis line's location errors (ISO 230-7: E_XOC, E_YOC offsets, E_AOC, E_BOC tilts) as a transform.
+Matrix4 c_axis_line(const ErrorVector& e) {
+  const auto E = [&](ComponentId id) { return e(machine::index(id)); };
+  return T4(E(ComponentId::E_XOC), E(ComponentId::E_YOC), 0.0) * R4(Eigen::Vector3d::UnitX(), E(ComponentId::E_AOC)) *
+         R4(Eigen::Vector3d::UnitY(), E(ComponentId::E_BOC));
+}
+
+/// The A axis line's location errors (E_YOA, E_ZOA offsets, E_BOA, E_COA tilts) as a transform.
+Matrix4 a_axis_line(const ErrorVector& e) {
+  const auto E = [&](ComponentId id) { return e(machine::index(id)); };
+  return T4(0.0, E(ComponentId::E_YOA), E(ComponentId::E_ZOA)) * R4(Eigen::Vector3d::UnitY(), E(ComponentId::E_BOA)) *
+         R4(Eigen::Vector3d::UnitZ(), E(ComponentId::E_COA));
+}
+
 /// T(δ)·Rx(εx)·Ry(εy)·Rz(εz) (Eq. 9's order).
 Matrix4 E4(const ErrorVector& e, ComponentId first) {
   const int i = machine::index(first);
@@ -53,12 +68,9 @@ machine::Vector5d cafxzy_axes(const machine::AxisPose& q) {
 
 /// The CAFXZY with errors, w → C → A → F → X → Z → Y → g, the workpiece side inverted (docs/machine-model.md).
 Matrix4 cafxzy_wMg(const ErrorVector& e, const machine::Vector5d& t) {
-  const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY(), ez = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ez = Eigen::Vector3d::UnitZ();
   const auto E = [&](ComponentId id) { return e(machine::index(id)); };
-  const Matrix4 S_C = T4(E(ComponentId::E_XOC), E(ComponentId::E_YOC), 0.0) * R4(ex, E(ComponentId::E_AOC)) *
-                      R4(ey, E(ComponentId::E_BOC));
-  const Matrix4 S_A = T4(0.0, E(ComponentId::E_YOA), E(ComponentId::E_ZOA)) * R4(ey, E(ComponentId::E_BOA)) *
-                      R4(ez, E(ComponentId::E_COA));
+  const Matrix4 S_C = c_axis_line(e), S_A = a_axis_line(e);
   const double X = t(0), Y = t(1), Z = t(2), A = t(3), C = t(4);
   const Matrix4 AMC = T4(0.0, 0.0, 150.0) * S_C * R4(ez, C + E(ComponentId::E_COC)) * E4(e, ComponentId::delta_xc);
   const Matrix4 FMA = S_A * R4(ex, A + E(ComponentId::E_AOA)) * E4(e, ComponentId::delta_xa) * S_A.inverse();
@@ -80,12 +92,9 @@ machine::Vector5d cxfzay_axes(const machine::AxisPose& q) {
 /// The CXFZAY with errors, w → C → X → F → Z → A → Y → g, the workpiece side inverted (docs/machine-model.md §9). X
 /// runs along −x, so the axes after it lean from −x: Z by +Z·S_xz along x, Y by +Y·S_xy.
 Matrix4 cxfzay_wMg(const ErrorVector& e, const machine::Vector5d& t) {
-  const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY(), ez = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ez = Eigen::Vector3d::UnitZ();
   const auto E = [&](ComponentId id) { return e(machine::index(id)); };
-  const Matrix4 S_C = T4(E(ComponentId::E_XOC), E(ComponentId::E_YOC), 0.0) * R4(ex, E(ComponentId::E_AOC)) *
-                      R4(ey, E(ComponentId::E_BOC));
-  const Matrix4 S_A = T4(0.0, E(ComponentId::E_YOA), E(ComponentId::E_ZOA)) * R4(ey, E(ComponentId::E_BOA)) *
-                      R4(ez, E(ComponentId::E_COA));
+  const Matrix4 S_C = c_axis_line(e), S_A = a_axis_line(e);
   const double X = t(0), Y = t(1), Z = t(2), A = t(3), C = t(4);
   const Matrix4 XMC = T4(0.0, 0.0, 250.0) * S_C * R4(ez, C + E(ComponentId::E_COC)) * E4(e, ComponentId::delta_xc);
   const Matrix4 FMX = T4(-X, 0.0, 0.0) * E4(e, ComponentId::delta_xx);
