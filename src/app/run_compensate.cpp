@@ -234,10 +234,6 @@ int run_compensate(const CompensateOptions& opt) {
   if (mc.samples == 0 || monte_carlo_driver().writes_outputs()) folder.emplace(out, files);
   const Workbench wb(opt.scene);
   refuse_paper_on_a_designed_helix(opt.method, wb);
-  // The ISG table's grid and error components are the CFXZAY's X, Y, Z (isg_table.hpp).
-  if (opt.isg_table && !wb.scene.machine.chain->is_setting_chain())
-    throw CLI::ValidationError("--isg-table", fmt::format("the ISG table is written for the CFXZAY's axes, not yet for "
-                                                         "the scene's {} chain (issue 42)", wb.scene.machine.chain->name()));
   const auto& g = wb.setup.geometry();
   grinding::SimulationOptions so;
   so.profile_points = wb.scene.grid.profile_points;
@@ -250,7 +246,7 @@ int run_compensate(const CompensateOptions& opt) {
   compensation::IsgOptions isg_options;
   isg_options.limits.max_records = opt.isg_max_records;
   if (opt.isg_table) {
-    isg = compensation::make_isg_table(wb.machine, isg_options);
+    isg = compensation::make_isg_table(wb.machine, *wb.scene.machine.chain, isg_options);
     compensation::check_isg_table(*isg, isg_options.limits);
   }
   const Compensation c = compensate(opt, wb, so);
