@@ -130,14 +130,22 @@ def test_corrections_are_named_by_a_chain_with_other_letters_as_the_cli_names_th
     scene_file = tmp_path / "cfuzby.yaml"
     scene_file.write_text(text[:start] + CFUZBY + text[text.index("\n", start) + 1:])
     c = geartopo.compensate(geartopo.load_scene(scene_file), step_mm=10, samples=0)["corrections"]
-    # corrections.csv's header for this chain (CorrectionTable::write_csv; tests/compensation check its letters). The
-    # CLI's compensate also writes the cycle table, whose fold needs the chain's pose slot Z to move along the gear
-    # axis: here that slot is U, so it refuses, with the whole command (docs/machine-model.md §9, "Not yet").
+    # corrections.csv's header for this chain (CorrectionTable::write_csv; tests/compensation check its letters).
     header = ["space", "z_stroke_mm", "time_s", "Y_mm", "Z_mm", "U_mm", "B_deg", "C_deg", "dY_um", "dZ_um",
               "dU_um", "dB_urad", "dC_urad", "within_strokes"]
-    refused = run_cli("compensate", scene_file, "--out", tmp_path / "cli", "--step", "10", "--samples", "0", expect=1)
-    assert "its Z correction cannot be folded into the cycle's axes" in refused.stderr
-    assert not (tmp_path / "cli").exists()
+    # The CLI writes the same rows, and its cycle table too: the fold's stroke axis is the one along the gear axis (Z,
+    # pose slot Y), not pose slot Z (U), so U is the lead axis, carrying its −8 µm per pose, and Y the set-up axis.
+    run_cli("compensate", scene_file, "--out", tmp_path / "cli", "--step", "10", "--samples", "0")
+    lines = (tmp_path / "cli" / "corrections.csv").read_text().splitlines()
+    assert lines[0] == ",".join(header)
+    assert len(lines) - 1 == len(c["space"])
+    cli_du = np.array([float(line.split(",")[10]) for line in lines[1:]])
+    assert np.allclose(cli_du, c["dU_um"], atol=5e-5)  # the CLI's 4 decimals
+    cycle = [line for line in (tmp_path / "cli" / "cycle_corrections.csv").read_text().splitlines()
+             if not line.startswith("#")]
+    assert cycle[0] == "space,index_dC_urad,Z_mm,lead_dU_um,lead_dC_urad"
+    lead_du = np.array([float(line.split(",")[3]) for line in cycle[1:]])
+    assert len(lead_du) >= 70 and np.allclose(lead_du, -8.0, atol=0.01)
     assert list(c.keys()) == header
     assert np.allclose(c["dU_um"], -8.0, atol=0.01)
     for key in ("dY_um", "dZ_um", "dB_urad", "dC_urad"):

@@ -48,13 +48,34 @@ output::RunFiles run_files(const CompensateOptions& opt, const pipeline::MonteCa
 }
 
 /// The gear before and after (the model corrected by itself), the corrections, and the cycle table with the gear
-/// ground again with exactly that (docs/compensation.md): index and lead corrections per space, Y and A fixed.
+/// ground again with exactly that (docs/compensation.md): index and lead corrections per space, Y and A fixed. On a
+/// chain none of whose linear axes can carry the stroke there is no cycle table, and no_cycle says why.
 struct Compensation {
   std::vector<grinding::FlankTopology> before, after;
   compensation::CorrectionTable table;
-  compensation::CycleCorrections cycle;
+  std::optional<compensation::CycleCorrections> cycle;
   double max_cycle = 0.0; ///< largest |deviation| with the cycle table, µm
+  std::string no_cycle;   ///< the warning when there is no cycle table
 };
+
+/// The cycle form of the corrections and the largest |deviation| of the gear ground with exactly it (the after-state
+/// of the cycle form is shown, not assumed); none, with the warning, when no axis can carry the stroke.
+std::tuple<std::optional<compensation::CycleCorrections>, double, std::string>
+cycle_form(const CompensateOptions& opt, const Workbench& wb, const grinding::SimulationOptions& so,
+           const compensation::CorrectionTable& table) {
+  std::optional<compensation::CycleCorrections> cycle;
+  try {
+    cycle = compensation::make_cycle_corrections(table, wb.setup.geometry().twist_rad_per_mm(), opt.lead_step);
+  } catch (const compensation::NoStrokeAxis& e) {
+    return {std::nullopt, 0.0, fmt::format("no cycle table (cycle_corrections.csv not written): {}", e.what())};
+  }
+  std::vector<compensation::CorrectionRow> cycle_rows = table.rows();
+  for (auto& r : cycle_rows) r.correction = cycle->at(r);
+  const compensation::CorrectionTable cycle_table(std::move(cycle_rows), table.axes());
+  const compensation::CompensatedProcess cycle_corrected(wb.process(), cycle_table);
+  const double max_cycle = grinding::largest_abs_deviation_um(grinding::simulate_topology(wb.setup, cycle_corrected, so));
+  return {std::move(cycle), max_cycle, std::string()};
+}
 
 Compensation compensate(const CompensateOptions& opt, const Workbench& wb, const grinding::SimulationOptions& so) {
   compensation::CompensationOptions co;
@@ -67,14 +88,8 @@ Compensation compensate(const CompensateOptions& opt, const Workbench& wb, const
       wb.setup, wb.process(), {wb.machine, wb.scene.machine.datum_face_z_mm, wb.scene.machine.chain}, co);
   const compensation::CompensatedProcess corrected(wb.process(), table);
   auto after = grinding::simulate_topology(wb.setup, corrected, so);
-  // The after-state of the cycle form is shown, not assumed.
-  auto cycle = compensation::make_cycle_corrections(table, wb.setup.geometry().twist_rad_per_mm(), opt.lead_step);
-  std::vector<compensation::CorrectionRow> cycle_rows = table.rows();
-  for (auto& r : cycle_rows) r.correction = cycle.at(r.space, r.machine_axes.z);
-  const compensation::CorrectionTable cycle_table(std::move(cycle_rows), table.axes());
-  const compensation::CompensatedProcess cycle_corrected(wb.process(), cycle_table);
-  const double max_cycle = grinding::largest_abs_deviation_um(grinding::simulate_topology(wb.setup, cycle_corrected, so));
-  return {std::move(before), std::move(after), std::move(table), std::move(cycle), max_cycle};
+  auto [cycle, max_cycle, no_cycle] = cycle_form(opt, wb, so, table);
+  return {std::move(before), std::move(after), std::move(table), std::move(cycle), max_cycle, std::move(no_cycle)};
 }
 
 /// The after-state as a distribution (docs/monte-carlo.md), computed by the driver: under MPI (geartopo-mpi) every
@@ -106,13 +121,24 @@ nlohmann::json compensation_json(const CompensateOptions& opt, const Compensatio
                        {"max_correction", {{"dX_um", units::um_from_mm(cmax(0))}, {"dY_um", units::um_from_mm(cmax(1))},
                                            {"dZ_um", units::um_from_mm(cmax(2))}, {"dA_urad", units::urad_from_rad(cmax(3))},
                                            {"dC_urad", units::urad_from_rad(cmax(4))}}}};
+  if (!c.cycle) {
+    j["cycle"] = {{"file", nullptr}, {"not_written", c.no_cycle}};
+    return j;
+  }
+  // The set-up axis' and the swivel's letters are the chain's (Y and A on the CFXZAY).
+  const std::string& y = c.cycle->axis_names[static_cast<size_t>(c.cycle->setup_slot)];
+  const std::string& a = c.cycle->axis_names[3];
   j["cycle"] = {{"file", "cycle_corrections.csv"},
                 {"lead_step_mm", opt.lead_step},
-                {"setup_dY_um", units::um_from_mm(c.cycle.setup_dY_mm)},
-                {"setup_dA_urad", units::urad_from_rad(c.cycle.setup_dA_rad)},
-                {"not_carried_Y_um", units::um_from_mm(c.cycle.y_not_carried_mm)},
-                {"not_carried_A_urad", units::urad_from_rad(c.cycle.a_not_carried_rad)},
+                {"setup_d" + y + "_um", units::um_from_mm(c.cycle->setup_dY_mm)},
+                {"setup_d" + a + "_urad", units::urad_from_rad(c.cycle->setup_dA_rad)},
+                {"not_carried_" + y + "_um", units::um_from_mm(c.cycle->y_not_carried_mm)},
+                {"not_carried_" + a + "_urad", units::urad_from_rad(c.cycle->a_not_carried_rad)},
                 {"nominal_largest_abs_deviation_after_um", c.max_cycle}};
+  if (!c.cycle->chain.empty())
+    j["cycle"]["axes"] = {{"stroke", c.cycle->axis_names[static_cast<size_t>(c.cycle->stroke_slot)]},
+                          {"lead", c.cycle->axis_names[static_cast<size_t>(c.cycle->lead_slot)]},
+                          {"setup", y}};
   return j;
 }
 
@@ -161,11 +187,17 @@ void print_compensation(const CompensateOptions& opt, const Compensation& c, con
                              "a shard, so no improvement figure)\n",
                              grinding::largest_abs_deviation_um(c.before), report::kNominalLabel,
                              grinding::largest_abs_deviation_um(c.after));
-  std::cout << fmt::format("  with the cycle table (index + lead per space, Y {:+.2f} µm and A {:+.2f} µrad per gear; "
-                           "not carried: Y {:.2f} µm, A {:.2f} µrad): largest |deviation| {:.2f} µm, {}\n",
-                           units::um_from_mm(c.cycle.setup_dY_mm), units::urad_from_rad(c.cycle.setup_dA_rad),
-                           units::um_from_mm(c.cycle.y_not_carried_mm), units::urad_from_rad(c.cycle.a_not_carried_rad),
-                           c.max_cycle, report::kNominalLabel);
+  if (c.cycle) {
+    const std::string& y = c.cycle->axis_names[static_cast<size_t>(c.cycle->setup_slot)];
+    const std::string& a = c.cycle->axis_names[3];
+    std::cout << fmt::format("  with the cycle table (index + lead per space, {} {:+.2f} µm and {} {:+.2f} µrad per gear; "
+                             "not carried: {} {:.2f} µm, {} {:.2f} µrad): largest |deviation| {:.2f} µm, {}\n",
+                             y, units::um_from_mm(c.cycle->setup_dY_mm), a, units::urad_from_rad(c.cycle->setup_dA_rad), y,
+                             units::um_from_mm(c.cycle->y_not_carried_mm), a,
+                             units::urad_from_rad(c.cycle->a_not_carried_rad), c.max_cycle, report::kNominalLabel);
+  } else {
+    std::cout << "  no cycle table: see the warning\n";
+  }
   if (prediction) {
     for (const auto& l : report::prediction_lines(*prediction)) std::cout << "  " << l << "\n";
     for (const auto& l : report::improvement_lines(*prediction)) std::cout << "  " << l << "\n";
@@ -202,10 +234,6 @@ int run_compensate(const CompensateOptions& opt) {
   if (mc.samples == 0 || monte_carlo_driver().writes_outputs()) folder.emplace(out, files);
   const Workbench wb(opt.scene);
   refuse_paper_on_a_designed_helix(opt.method, wb);
-  // The ISG table's grid and error components are the CFXZAY's X, Y, Z (isg_table.hpp).
-  if (opt.isg_table && !wb.scene.machine.chain->is_setting_chain())
-    throw CLI::ValidationError("--isg-table", fmt::format("the ISG table is written for the CFXZAY's axes, not yet for "
-                                                         "the scene's {} chain (issue 42)", wb.scene.machine.chain->name()));
   const auto& g = wb.setup.geometry();
   grinding::SimulationOptions so;
   so.profile_points = wb.scene.grid.profile_points;
@@ -218,7 +246,7 @@ int run_compensate(const CompensateOptions& opt) {
   compensation::IsgOptions isg_options;
   isg_options.limits.max_records = opt.isg_max_records;
   if (opt.isg_table) {
-    isg = compensation::make_isg_table(wb.machine, isg_options);
+    isg = compensation::make_isg_table(wb.machine, *wb.scene.machine.chain, isg_options);
     compensation::check_isg_table(*isg, isg_options.limits);
   }
   const Compensation c = compensate(opt, wb, so);
@@ -231,7 +259,7 @@ int run_compensate(const CompensateOptions& opt) {
   }
 
   c.table.write_csv(out / "corrections.csv");
-  c.cycle.write_csv(out / "cycle_corrections.csv");
+  if (c.cycle) c.cycle->write_csv(out / "cycle_corrections.csv");
   grinding::write_topology_csv(out / "topology_before.csv", c.before);
   grinding::write_topology_csv(out / "topology_after.csv", c.after);
   grinding::write_traces_csv(out / "traces_before.csv", c.before);
@@ -254,6 +282,7 @@ int run_compensate(const CompensateOptions& opt) {
   if (isg) std::tie(j["isg_table"], isg_summary) = write_isg(opt, wb, *isg, isg_options, so);
   j["warnings"] = nlohmann::json::array();
   add_warning(j, compensation_made_worse(max_b, max_a));
+  add_warning(j, c.no_cycle);
   // The nominal `after` is the model compensating itself (≈ 0 by construction); the prediction grinds with a machine
   // drawn within the scene's uncertainties.
   std::optional<pipeline::MonteCarloSummary> prediction;
@@ -278,7 +307,8 @@ int run_compensate(const CompensateOptions& opt) {
     std::cout << fmt::format("  ISG volumetric table (isg_compensation.csv, {} records; corrects the wheel position, "
                              "not its orientation): {}\n",
                              isg->records(), isg_summary);
-  std::cout << "wrote " << out.string() << "/corrections.csv, cycle_corrections.csv, topology_before.csv, "
+  std::cout << "wrote " << out.string() << "/corrections.csv, " << (c.cycle ? "cycle_corrections.csv, " : "")
+            << "topology_before.csv, "
             << "topology_after.csv, iso1328.json" << (isg ? ", isg_compensation.csv" : "")
             << (mc.samples > 0 ? ", prediction_samples.csv" : "") << (prediction ? ", prediction.json, prediction.txt" : "")
             << "\n";

@@ -5,6 +5,7 @@
 #include "geartopo/core/input_error.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/machine/chain.hpp"
+#include "geartopo/machine/kinematic_chain.hpp"
 #include "geartopo/machine/transforms.hpp"
 
 #include <fmt/format.h>
@@ -75,9 +76,26 @@ struct AxisGrid {
   std::string how;                // for the block's comment
 };
 
-/// The grid of one axis' block (see make_isg_table).
-AxisGrid axis_grid(const machine::MachineModel& model, Axis axis, const IsgOptions& options) {
+/// One axis as a block needs it: its pose slot, its letter, its range (internal units) and, for a rotary axis, the
+/// offsets k (0..5) of its motion components across it, which turn with it.
+struct BlockAxis {
+  Axis slot;
+  std::string name;
+  double lo, hi;
+  std::array<int, 4> across{};
+};
+
+/// The CFXZAY's axis: the machine model's strokes, A across y, z and C across x, y.
+BlockAxis setting_axis(const machine::MachineModel& model, Axis axis) {
   const auto [lo, hi] = axis_range(model.strokes(), axis);
+  return {axis, std::string(machine::axis_name(axis)), lo, hi,
+          axis == Axis::A ? std::array<int, 4>{1, 2, 4, 5} : std::array<int, 4>{0, 1, 3, 4}};
+}
+
+/// The grid of one axis' block (see make_isg_table).
+AxisGrid axis_grid(const machine::MachineModel& model, const BlockAxis& block_axis, const IsgOptions& options) {
+  const Axis axis = block_axis.slot;
+  const double lo = block_axis.lo, hi = block_axis.hi;
   const char* unit = machine::is_rotary(axis) ? "deg" : "mm";
   const double step = machine::is_rotary(axis) ? options.rotary_step_deg : options.linear_step_mm;
   std::vector<const machine::ErrorSource*> tables;
@@ -91,8 +109,7 @@ AxisGrid axis_grid(const machine::MachineModel& model, Axis axis, const IsgOptio
   // axes of the table they turn with the axis, so even constants must be sampled.
   bool turning = false;
   if (machine::is_rotary(axis))
-    for (const int k : axis == Axis::A ? std::array<int, 4>{1, 2, 4, 5} : std::array<int, 4>{0, 1, 3, 4})
-      turning = turning || !model.source(machine::motion_component(axis, k)).is_zero();
+    for (const int k : block_axis.across) turning = turning || !model.source(machine::motion_component(axis, k)).is_zero();
   if (tables.empty() && !polynomial && !turning)
     return {{lo, hi}, "all its components are constant: two records, the ends of the stroke"};
 
@@ -125,7 +142,7 @@ AxisGrid axis_grid(const machine::MachineModel& model, Axis axis, const IsgOptio
   if (records > options.limits.max_records)
     throw std::invalid_argument(fmt::format("ISG table: sampling {} every {:g} {} over {:g} {} needs {:.0f} records, more than "
                                             "max_records = {} (vol_comp[i].max_records): use a coarser step",
-                                            machine::axis_name(axis), step, unit, span, unit, records,
+                                            block_axis.name, step, unit, span, unit, records,
                                             options.limits.max_records));
   const int n = static_cast<int>(records);
   AxisGrid g;
@@ -198,7 +215,7 @@ IsgTable make_isg_table(const machine::MachineModel& model, const IsgOptions& op
       "'geartopo compensate --isg-table' (tool centre point: the wheel centre [M]).",
   };
   for (const Axis axis : machine::kAxes) {
-    const AxisGrid grid = axis_grid(model, axis, options);
+    const AxisGrid grid = axis_grid(model, setting_axis(model, axis), options);
     IsgBlock b;
     b.argument = std::string(machine::axis_name(axis));
     b.parameters = component_error_names(axis);
@@ -225,6 +242,126 @@ IsgTable make_isg_table(const machine::MachineModel& model, const IsgOptions& op
                       // Z leans to −x by S_xz: ẑ turned about +y by −S_xz.
                       -constant(ComponentId::S_xz)});
   table.blocks.push_back(std::move(c));
+  return table;
+}
+
+namespace {
+
+/// ISO 230-1's name of a rotary axis' location error: E_XOC → X0C (direction, 0, axis).
+std::string location_parameter(std::string_view name) { return fmt::format("{}0{}", name[2], name[4]); }
+
+/// Refuses a chain whose axes ISG cannot name: its model has X, Y, Z and A, B, C.
+void require_isg_letters(const machine::KinematicChain& chain) {
+  constexpr std::string_view isg_axes = "XYZABC";
+  for (const Axis slot : machine::kAxes) {
+    const std::string& name = chain.axis(slot).name;
+    if (name.size() != 1 || isg_axes.find(name[0]) == std::string_view::npos)
+      throw std::invalid_argument(fmt::format("ISG table: the {} chain's axis '{}' is not one of the ISG model's axes "
+                                              "X, Y, Z, A, B, C (P-VOLC-00007)", chain.name(), name));
+  }
+}
+
+/// One axis of a chain as a block: its stroke (the spindle one turn) and, if rotary, the components across it.
+BlockAxis chain_axis(const machine::KinematicChain& chain, const machine::Joint& j) {
+  const machine::AxisSpec& spec = chain.axis(j.slot);
+  BlockAxis a{j.slot, spec.name, 0.0, 2.0 * std::numbers::pi, {}};
+  if (spec.stroke) a.lo = spec.stroke->min, a.hi = spec.stroke->max;
+  if (j.kind == machine::AxisKind::Rotary)
+    a.across = {j.perpendicular[0], j.perpendicular[1], 3 + j.perpendicular[0], 3 + j.perpendicular[1]};
+  return a;
+}
+
+/// The component errors of joint j at its position (mm, rad) in the fixed axes of the body that carries it: a linear
+/// axis' own; a rotary axis' δ and ε (in its turning body, E(δ, ε) after R_d(θ)) turned by R_d(θ).  // 6×1
+Eigen::Matrix<double, 6, 1> chain_component_errors(const machine::MachineModel& model, const machine::Joint& j,
+                                                   double position) {
+  Eigen::Matrix<double, 6, 1> own;
+  for (int k = 0; k < 6; ++k) own(k) = model.source(machine::motion_component(j.slot, k)).value(position);
+  if (j.kind == machine::AxisKind::Linear) return own;
+  const double t = j.sign * position;
+  const Eigen::Matrix3d R = j.dir == 0 ? machine::rot_x(t) : j.dir == 1 ? machine::rot_y(t) : machine::rot_z(t);
+  Eigen::Matrix<double, 6, 1> fixed;
+  fixed << R * own.head<3>(), R * own.tail<3>();
+  return fixed;
+}
+
+/// The position errors of a chain: each rotary axis line's offsets, tilts and zero under its ISO 230-7 name, and the
+/// squareness of each linear axis k to an axis j before it as the orientation error of k's line: k travels along
+/// d − S·u (u: the direction it leans away from), which is d turned by ω = S·(u × d), a turn about one machine axis.
+IsgBlock chain_position_errors(const machine::MachineModel& model, const machine::KinematicChain& chain) {
+  const auto constant = [&](int index) { return model.source(machine::component_at(index)).value(0.0); };
+  IsgBlock c;
+  c.comments.push_back(fmt::format("position errors (constants): rotary axis line locations (ISO 230-7) and {}",
+                                   "squareness as the orientation errors of the linear axis lines"));
+  c.values.emplace_back();
+  for (const machine::Joint& j : chain.joints()) {
+    if (j.kind == machine::AxisKind::Rotary) {
+      for (int i = 0; i < 5; ++i) {
+        c.parameters.push_back(location_parameter(chain.info(machine::component_at(j.location + i)).name));
+        c.values.back().push_back(constant(j.location + i));
+      }
+      continue;
+    }
+    Eigen::Vector3d d = Eigen::Vector3d::Zero();
+    d(j.dir) = j.sign;
+    for (int k = 0; k < j.squareness_count; ++k) {
+      const Eigen::Vector3d axis = j.lean[static_cast<std::size_t>(k)].cross(d);
+      Eigen::Index about = 0;
+      axis.cwiseAbs().maxCoeff(&about);
+      c.parameters.push_back(fmt::format("{}0{}", "ABC"[about], chain.axis(j.slot).name));
+      c.values.back().push_back(axis(about) * constant(j.squareness[static_cast<std::size_t>(k)]));
+    }
+  }
+  return c;
+}
+
+} // namespace
+
+IsgTable make_isg_table(const machine::MachineModel& model, const machine::KinematicChain& chain,
+                        const IsgOptions& options) {
+  if (chain.is_setting_chain()) return make_isg_table(model, options);
+  require_positive(options.linear_step_mm, "linear_step_mm");
+  require_positive(options.rotary_step_deg, "rotary_step_deg");
+  if (options.limits.max_records < 2) throw std::invalid_argument("ISG table: max_records must be at least 2");
+  require_isg_letters(chain);
+  std::string order;
+  for (const auto& a : chain.spec().workpiece) order += a.name;
+  for (const auto& a : chain.spec().tool) order += a.name;
+
+  IsgTable table;
+  table.comments = {
+      fmt::format("geartopo: ISO 230-1 error parameters of the {} grinder for the ISG kernel / Beckhoff TF5280", chain.name()),
+      "volumetric compensation (list file: file_format ISG_CSV, interpolation GRID). docs/compensation.md.",
+      fmt::format("Kinematics: chain {} (the axes from the workpiece to the tool), workpiece_axes {} (P-VOLC-00007/8).",
+                  order, chain.spec().workpiece.size()),
+      "Values: machine ERRORS, actual minus nominal (the controller derives the corrections): mm for offsets, rad for",
+      "angles. Arguments: linear axes in mm, rotary axes in deg. '#' starts a new block with its own header.",
+      "Component errors E<direction><axis> of the axis' moving body relative to the body that carries it, in that",
+      "body's axes (parallel to the machine axes at home), right-handed; on the workpiece side too: the table's own",
+      "error, not the tool's relative to it [M]. A rotary axis' errors are turned into the fixed axes of its carrier.",
+      "Position errors: <d>0<R> of each rotary axis line (offsets, tilts, zero); squareness as orientation errors",
+      "<A|B|C>0<k> of the linear axis lines (the line turned right-handed about that machine axis).",
+      "A volumetric table corrects the tool position only: the orientation errors' flank deviation is reported by",
+      "'geartopo compensate --isg-table' (tool centre point: the wheel centre [M]).",
+  };
+  for (const machine::Joint& j : chain.joints()) {
+    const BlockAxis axis = chain_axis(chain, j);
+    const AxisGrid grid = axis_grid(model, axis, options);
+    IsgBlock b;
+    b.argument = axis.name;
+    for (const char d : {'X', 'Y', 'Z', 'A', 'B', 'C'}) b.parameters.push_back(fmt::format("E{}{}", d, axis.name));
+    b.comments.push_back(fmt::format("{} axis ({}, {} side) component errors against {} ({}): {}", axis.name,
+                                     j.kind == machine::AxisKind::Rotary ? "rotary" : "linear",
+                                     j.workpiece_side ? "workpiece" : "tool", axis.name,
+                                     machine::is_rotary(j.slot) ? "deg" : "mm", grid.how));
+    for (const double p : grid.positions) {
+      b.arguments.push_back(argument_from_position(j.slot, p));
+      const auto iso = chain_component_errors(model, j, p);
+      b.values.emplace_back(iso.data(), iso.data() + 6);
+    }
+    table.blocks.push_back(std::move(b));
+  }
+  table.blocks.push_back(chain_position_errors(model, chain));
   return table;
 }
 

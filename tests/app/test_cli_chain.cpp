@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -172,16 +173,42 @@ TEST(CliChain, CompensateCorrectsConstantErrorsOfTheCafxzyInItsOwnAxes) {
   std::filesystem::remove_all(dir);
 }
 
-// The ISG table is the CFXZAY's (its grid over X, Y, Z): asked for on another chain, compensate exits with a usage
-// error naming the option and the chain, before any work.
-TEST(CliChain, CompensateRefusesTheIsgTableOnAnotherChain) {
+// `compensate --isg-table` on the CAFXZY with a constant positioning error of its X slide (8 µm) alone: the table is
+// the chain's (ISG chain CAXZY with 2 workpiece axes, blocks C, A, X, Z, Y, EXX = 0.008 mm), and the flanks ground
+// with the position put back (PositionCompensatedProcess: a pure position error) are reported as on the CFXZAY —
+// within 0.01 µm of perfect, from more than 1 µm.
+TEST(CliChain, CompensateWritesTheIsgTableOfTheCafxzyInItsOwnAxes) {
   const auto dir = fresh_dir("geartopo_cli_chain_isg");
-  const auto r = geartopo::test::run_geartopo("compensate " + kCafxzy + " --out " + (dir / "out").string() +
-                                                  " --isg-table --quiet", dir);
-  EXPECT_NE(r.code, 0);
-  EXPECT_NE(r.err.find("--isg-table"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("CAFXZY"), std::string::npos) << r.err;
-  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "corrections.csv"));
+  std::ofstream(dir / "s.yaml") << with_constants(text_of(kCafxzy), "{delta_xx_um: 8}");
+  const auto r = geartopo::test::run_geartopo("compensate " + (dir / "s.yaml").string() + " --out " +
+                                                  (dir / "out").string() + " --isg-table --samples 0 --quiet", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string table = text_of(dir / "out" / "isg_compensation.csv");
+  EXPECT_NE(table.find("chain CAXZY (the axes from the workpiece to the tool), workpiece_axes 2"), std::string::npos)
+      << table.substr(0, 3000);
+  std::vector<std::string> headers;
+  std::istringstream lines(table);
+  bool after_break = true;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("//", 0) == 0) continue;
+    if (line == "#") {
+      after_break = true;
+      continue;
+    }
+    if (after_break) headers.push_back(line.substr(0, line.find(' ')));
+    after_break = false;
+    const bool record = line.rfind("-", 0) == 0 || std::isdigit(static_cast<unsigned char>(line[0]));
+    if (record && headers.back() == "X") {
+      EXPECT_NEAR(std::stod(line.substr(line.find(' '))), 0.008, 1e-12) << line; // EXX, mm
+    }
+  }
+  EXPECT_EQ(headers, (std::vector<std::string>{"C", "A", "X", "Z", "Y", "X0C"})) << table.substr(0, 3000);
+  std::ifstream in(dir / "out" / "iso1328.json");
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_GT(j["largest_abs_deviation_um"]["before"].get<double>(), 1.0);
+  const auto& left = j["isg_table"]["nominal_left_after_table"];
+  EXPECT_LT(left["largest_abs_deviation_um"].get<double>(), 0.01) << j["isg_table"].dump(1);
+  EXPECT_TRUE(left.contains("F_α")) << j["isg_table"].dump(1);
   std::filesystem::remove_all(dir);
 }
 
@@ -401,5 +428,78 @@ TEST(CliChain, DiagnosisOnAChainWithOtherLettersNamesItsOwnComponents) {
   const auto again = geartopo::test::run_geartopo("simulate " + (dir / "d" / "scene_with_effect.yaml").string() +
                                                       " --out " + (dir / "again").string() + " --teeth 1 --quiet", dir);
   EXPECT_EQ(again.code, 0) << again.err;
+  std::filesystem::remove_all(dir);
+}
+
+// `compensate` on the CFUZBY, whose pose slot Z is its radial U (pose order Y, Z, U, B, C): a Z slide positioning
+// 8 µm long and a U slide 6 µm long. corrections.csv corrects in the chain's own axes, ΔZ = −8 µm and ΔU = −6 µm at
+// every row, Y, B, C untouched. The cycle table's stroke axis is the one that moves along the gear axis — Z, not slot
+// Z — so it folds ΔZ into C through the gear's twist k: index ΔC = k·(−8 µm) in every space, lead ΔU = −6 µm, no lead
+// ΔC, set-up ΔY = 0 and ΔB = 0, in the chain's letters; ground with exactly that table the gear comes out as with the
+// full table (< 0.01 µm) from more than 2 µm.
+TEST(CliChain, CompensateOnAChainWhoseSlotZIsItsRadialSlideFoldsAlongItsZ) {
+  const auto dir = fresh_dir("geartopo_cli_cfuzby_comp");
+  const std::string scene = cfuzby_scene("{delta_zz_um: 8, delta_xu_um: 6}");
+  ASSERT_FALSE(scene.empty());
+  std::ofstream(dir / "s.yaml") << scene;
+  const auto r = geartopo::test::run_geartopo("compensate " + (dir / "s.yaml").string() + " --out " +
+                                                  (dir / "out").string() + " --step 10 --samples 0 --quiet", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+
+  std::ifstream csv(dir / "out" / "corrections.csv");
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  EXPECT_EQ(line, "space,z_stroke_mm,time_s,Y_mm,Z_mm,U_mm,B_deg,C_deg,dY_um,dZ_um,dU_um,dB_urad,dC_urad,within_strokes");
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    const auto f = fields_of(line);
+    ASSERT_EQ(f.size(), 14u) << line;
+    ++rows;
+    EXPECT_NEAR(std::stod(f[8]), 0.0, 0.01) << line;   // dY_um
+    EXPECT_NEAR(std::stod(f[9]), -8.0, 0.01) << line;  // dZ_um
+    EXPECT_NEAR(std::stod(f[10]), -6.0, 0.01) << line; // dU_um
+    EXPECT_NEAR(std::stod(f[11]), 0.0, 0.01) << line;  // dB_urad
+    EXPECT_NEAR(std::stod(f[12]), 0.0, 0.01) << line;  // dC_urad
+  }
+  EXPECT_GE(rows, 35 * 2);
+
+  std::ifstream cycle(dir / "out" / "cycle_corrections.csv");
+  ASSERT_TRUE(cycle) << "the cycle table must be written";
+  double k = NAN, setup_y = NAN, setup_b = NAN;
+  std::set<int> spaces;
+  int grid = 0;
+  while (std::getline(cycle, line)) {
+    if (line.rfind("# twist_rad_per_mm: ", 0) == 0) k = std::stod(line.substr(20));
+    if (line.rfind("# setup_dY_um: ", 0) == 0) setup_y = std::stod(line.substr(15));
+    if (line.rfind("# setup_dB_urad: ", 0) == 0) setup_b = std::stod(line.substr(17));
+    if (line.empty() || line[0] == '#') continue;
+    if (line.rfind("space,", 0) == 0) {
+      EXPECT_EQ(line, "space,index_dC_urad,Z_mm,lead_dU_um,lead_dC_urad");
+      continue;
+    }
+    const auto f = fields_of(line);
+    ASSERT_EQ(f.size(), 5u) << line;
+    ++grid;
+    spaces.insert(std::stoi(f[0]));
+    ASSERT_TRUE(std::isfinite(k)) << "twist_rad_per_mm comes before the rows";
+    EXPECT_GT(std::abs(k * -8e-3 * 1e6), 1.0) << "µrad: the fold must be visible";
+    EXPECT_NEAR(std::stod(f[1]), k * -8e-3 * 1e6, 0.01) << line; // index ΔC = k·ΔZ, µrad
+    EXPECT_GE(std::stod(f[2]), 0.0) << line;                      // the chain's Z, within its stroke 0 … 800 mm
+    EXPECT_LE(std::stod(f[2]), 800.0) << line;
+    EXPECT_NEAR(std::stod(f[3]), -6.0, 0.01) << line; // lead ΔU, µm
+    EXPECT_NEAR(std::stod(f[4]), 0.0, 0.01) << line;  // lead ΔC, µrad
+  }
+  EXPECT_EQ(spaces.size(), 35u);
+  EXPECT_GE(grid, 35 * 2);
+  EXPECT_NEAR(setup_y, 0.0, 0.01);
+  EXPECT_NEAR(setup_b, 0.0, 0.01);
+
+  std::ifstream in(dir / "out" / "iso1328.json");
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_GT(j["largest_abs_deviation_um"]["before"].get<double>(), 2.0); // else agreement would prove nothing
+  EXPECT_LT(j["cycle"]["nominal_largest_abs_deviation_after_um"].get<double>(), 0.01) << j["cycle"].dump(1);
+  EXPECT_EQ(j["cycle"]["axes"], (nlohmann::json{{"stroke", "Z"}, {"lead", "U"}, {"setup", "Y"}})) << j["cycle"].dump(1);
+  EXPECT_TRUE(j["cycle"].contains("setup_dB_urad")) << j["cycle"].dump(1);
+  EXPECT_TRUE(j["warnings"].empty()) << j["warnings"].dump(1);
   std::filesystem::remove_all(dir);
 }

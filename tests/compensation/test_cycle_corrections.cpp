@@ -24,16 +24,16 @@ namespace {
 constexpr double kTwist = 0.002; // rad/mm
 
 /// The gear's teeth 1 and 18 ground by `process` with the full table `full` and with its cycle form (10 mm lead grid):
-/// the largest difference between the two (µm), after checking that the full table uses Z (else the fold is not
-/// exercised) and that the uncorrected flanks are off by more than 5 µm (else agreement proves nothing).
+/// the largest difference between the two (µm), after checking that the full table uses the stroke axis (else the fold
+/// is not exercised) and that the uncorrected flanks are off by more than 5 µm (else agreement proves nothing).
 double cycle_against_full_um(const grinding::GrindingProcess& process, const compensation::CorrectionTable& full) {
-  double max_dz = 0.0;
-  for (const auto& r : full.rows()) max_dz = std::max(max_dz, std::abs(r.correction(2)));
-  EXPECT_GT(max_dz, 1e-3) << "the full table must use Z for this test to mean anything";
   const double k = test::paper_setup().geometry().twist_rad_per_mm();
   const auto cycle = compensation::make_cycle_corrections(full, k, 10.0);
+  double max_ds = 0.0;
+  for (const auto& r : full.rows()) max_ds = std::max(max_ds, std::abs(r.correction(cycle.stroke_slot)));
+  EXPECT_GT(max_ds, 1e-3) << "the full table must use the stroke axis for this test to mean anything";
   std::vector<compensation::CorrectionRow> rows = full.rows();
-  for (auto& r : rows) r.correction = cycle.at(r.space, r.machine_axes.z);
+  for (auto& r : rows) r.correction = cycle.at(r);
   const compensation::CorrectionTable as_cycle(std::move(rows), full.axes());
   const compensation::CompensatedProcess with_full(process, full), with_cycle(process, as_cycle);
   const auto a = test::simulate(with_full, grinding::Method::Exact, {1, 18});
@@ -184,7 +184,7 @@ TEST(CycleCorrections, OnAnotherChainZIsFoldedAlongTheScrewInTheChainsAxes) {
   machine::Vector5d expected;
   expected << 3e-3, 2e-3 - 5e-3 * std::tan(alpha), 0.0, 10e-6, 20e-6 + kTwist * 5e-3 / std::cos(alpha);
   for (const auto& r : table.rows()) {
-    const machine::Vector5d got = cycle.at(r.space, r.machine_axes.z);
+    const machine::Vector5d got = cycle.at(r);
     EXPECT_LT((got.head<3>() - expected.head<3>()).cwiseAbs().maxCoeff(), 1e-12) << "mm at Z " << r.machine_axes.z;
     EXPECT_LT((got.tail<2>() - expected.tail<2>()).cwiseAbs().maxCoeff(), 1e-14) << "rad at Z " << r.machine_axes.z;
   }
@@ -208,4 +208,110 @@ TEST(CycleCorrections, OnAnotherChainAZCorrectionFoldedAlongItsScrewGrindsTheSam
   const auto full =
       compensation::compute_corrections(test::paper_setup(), process, {model, test::kDatumZ, &cafxzy()}, o);
   EXPECT_LT(cycle_against_full_um(process, full), 0.01) << "µm: folding Z along the chain's screw must not change the flank";
+}
+
+namespace {
+
+/// A user's chain with the CFXZAY's geometry and other letters (python/tests/test_chain.py, tests/app): the radial
+/// slide U, the stroke Z, the swivel B, the shift Y — w → C → F → U → Z → B → Y → g. Pose order Y, Z, U, B, C: its
+/// slot Z is the radial U, the stroke is in slot Y.
+const machine::KinematicChain& cfuzby() {
+  using machine::AxisKind;
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(), z = Eigen::Vector3d::UnitZ();
+  constexpr double deg = std::numbers::pi / 180.0;
+  return machine::make_chain({"CFUZBY",
+                              {{"C", AxisKind::Rotary, z, Eigen::Vector3d::Zero(), std::nullopt}},
+                              {{"U", AxisKind::Linear, x, Eigen::Vector3d::Zero(), machine::Interval{0.0, 900.0}},
+                               {"Z", AxisKind::Linear, z, Eigen::Vector3d::Zero(), machine::Interval{0.0, 800.0}},
+                               {"B", AxisKind::Rotary, x, Eigen::Vector3d::Zero(), machine::Interval{-45 * deg, 45 * deg}},
+                               {"Y", AxisKind::Linear, y, Eigen::Vector3d::Zero(), machine::Interval{-200.0, 200.0}}}});
+}
+
+} // namespace
+
+// On the CFUZBY the screw along the gear axis moves Z (pose slot Y) by 1 mm per mm and C by −k, nothing else: σ =
+// (0, 1, 0, 0, −k) in pose order. So Z is the stroke axis (not slot Z, which is U), U the lead axis (it is the centre
+// distance), Y the set-up axis, and the fold is the CFXZAY's in these letters: δY, 0, δU, εB, εC + k·δZ — the
+// expectation written here. The file carries the chain's letters.
+TEST(CycleCorrections, OnAChainWhoseSlotZIsNotTheStrokeTheFoldFollowsTheGeometry) {
+  const double alpha = 20.0 * std::numbers::pi / 180.0, z0 = 300.0;
+  const machine::Vector5d dtheta = (machine::Vector5d() << 2e-3, 5e-3, 3e-3, 10e-6, 20e-6).finished(); // δY δZ δU εB εC
+  std::vector<compensation::CorrectionRow> rows;
+  for (int i = 0; i < 20; ++i) {
+    compensation::CorrectionRow r;
+    r.z_stroke_mm = -20.0 + 2.0 * i;
+    r.machine_axes = machine::AxisPose::from_vector(
+        cfuzby().axes({400.0, 10.0, r.z_stroke_mm + z0, alpha, 0.3 * i}).v);
+    r.correction = dtheta;
+    rows.push_back(r);
+  }
+  // The chain's axes for that setting: Y = y, Z = z, U = x, B = α (its geometry is the CFXZAY's).
+  EXPECT_NEAR(rows[3].machine_axes.x, 10.0, 1e-9);
+  EXPECT_NEAR(rows[3].machine_axes.y, rows[3].z_stroke_mm + z0, 1e-9);
+  EXPECT_NEAR(rows[3].machine_axes.z, 400.0, 1e-9);
+  const compensation::CorrectionTable table(std::move(rows), {&cfuzby(), z0});
+  const auto cycle = compensation::make_cycle_corrections(table, kTwist, 10.0);
+  EXPECT_EQ(cycle.stroke_slot, 1);
+  EXPECT_EQ(cycle.lead_slot, 2);
+  EXPECT_EQ(cycle.setup_slot, 0);
+  machine::Vector5d expected;
+  expected << 2e-3, 0.0, 3e-3, 10e-6, 20e-6 + kTwist * 5e-3;
+  for (const auto& r : table.rows()) {
+    const machine::Vector5d got = cycle.at(r);
+    EXPECT_LT((got.head<3>() - expected.head<3>()).cwiseAbs().maxCoeff(), 1e-12) << "mm at Z " << r.machine_axes.y;
+    EXPECT_LT((got.tail<2>() - expected.tail<2>()).cwiseAbs().maxCoeff(), 1e-14) << "rad at Z " << r.machine_axes.y;
+  }
+  ASSERT_EQ(cycle.spaces.size(), 1u);
+  EXPECT_NEAR(cycle.spaces[0].z_mm.front(), 280.0, 1e-9); // the grid runs along the chain's Z, 280 … 318 mm
+  EXPECT_NEAR(cycle.spaces[0].z_mm.back(), 318.0, 1e-9);
+  EXPECT_LT(cycle.y_not_carried_mm, 1e-12);
+  std::ostringstream out;
+  cycle.write_csv(out);
+  const std::string text = out.str();
+  EXPECT_NE(text.find("\nspace,index_dC_urad,Z_mm,lead_dU_um,lead_dC_urad\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("# setup_dY_um: 2.0000\n# setup_dB_urad: 10.0000\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("\n1,30.0000,280.0000,3.0000,0.0000\n"), std::string::npos) << text; // εC + k·δZ = 30 µrad
+}
+
+// The physics on the CFUZBY: its Z slide positions 8 µm long, its C is 15 µrad off and its U 6 µm long; the flank
+// method corrects in its own axes (Z among them), the cycle table folds Z away along the screw. Ground with the
+// cycle's corrections the flanks are those ground with the full table, as on the CAFXZY.
+TEST(CycleCorrections, OnAChainWhoseSlotZIsNotTheStrokeAFoldedCorrectionGrindsTheSameFlank) {
+  const auto& chain = cfuzby();
+  const auto id = [&](const char* name) { return *chain.component_from_name(name); };
+  const auto model = test::machine_with({ErrorSource::constant(id("delta_zz"), 8.0, "um"),
+                                         ErrorSource::constant(id("epsilon_zc"), 15.0, "urad"),
+                                         ErrorSource::constant(id("delta_xu"), 6.0, "um")});
+  const grinding::ChainProcess process(chain, model, test::kDatumZ);
+  compensation::CompensationOptions o;
+  o.step_mm = 4.0;
+  const auto full = compensation::compute_corrections(test::paper_setup(), process, {model, test::kDatumZ, &chain}, o);
+  EXPECT_EQ(compensation::make_cycle_corrections(full, 0.002, 10.0).stroke_slot, 1); // Z, pose slot Y
+  EXPECT_LT(cycle_against_full_um(process, full), 0.01) << "µm: folding Z along the chain's screw must not change the flank";
+}
+
+// Where no linear axis follows the gear axis by 0.1 mm per mm at every row there is nothing to carry the stroke: rows
+// of the CAFXZY at a cross angle of 5° (σ = (0, 0.087, 0.996, 0, −k)) and 85° (σ = (0, 0.996, 0.087, 0, −k)) leave
+// each linear axis below 0.1 at some row. Refused with NoStrokeAxis (compensate then writes no cycle table and warns).
+TEST(CycleCorrections, NoLinearAxisCarryingTheStrokeAtEveryRowIsNoStrokeAxis) {
+  std::vector<compensation::CorrectionRow> rows;
+  for (int i = 0; i < 20; ++i) {
+    compensation::CorrectionRow r;
+    r.z_stroke_mm = -20.0 + 2.0 * i;
+    const double alpha = (i % 2 == 0 ? 5.0 : 85.0) * std::numbers::pi / 180.0;
+    const double w = r.z_stroke_mm + 300.0 + 150.0;
+    r.machine_axes = {400.0, 10.0 + w * std::sin(alpha), w * std::cos(alpha), -alpha, 0.3 * i};
+    r.correction << 3e-3, 2e-3, 5e-3, 10e-6, 20e-6;
+    rows.push_back(r);
+  }
+  const compensation::CorrectionTable table(std::move(rows), {&cafxzy(), 300.0});
+  try {
+    compensation::make_cycle_corrections(table, kTwist, 10.0);
+    ADD_FAILURE() << "no axis carries the stroke at every row: expected NoStrokeAxis";
+  } catch (const compensation::NoStrokeAxis& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("CAFXZY"), std::string::npos) << what;
+    EXPECT_NE(what.find("cannot be folded"), std::string::npos) << what;
+    EXPECT_NE(what.find("0.0872"), std::string::npos) << what; // cos 85° = sin 5°
+  }
 }

@@ -6,11 +6,14 @@
 // wheel centre (an independent way to produce it), and bounded by rotation × lever arm.
 #include "geartopo/compensation/isg_table.hpp"
 #include "geartopo/core/input_error.hpp"
+#include "geartopo/machine/chain_kinematics.hpp"
 #include "geartopo/machine/error_table.hpp"
+#include "geartopo/machine/kinematic_chain.hpp"
 
 #include "../cli_run.hpp"
 #include "../grinding/grinding_fixture.hpp"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -347,4 +350,190 @@ TEST(IsgTable, CompensateWritesTheTableAndReportsWhatItLeaves) {
   EXPECT_NE(refused.err.find("max_records = 50"), std::string::npos) << refused.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "refused"));
   std::filesystem::remove_all(dir);
+}
+
+// --- another chain: the controller's view of the table, with 4×4 transforms written here ---------------------------
+
+namespace {
+
+using Htm = Eigen::Matrix4d;
+
+Htm shift(const Eigen::Vector3d& p) {
+  Htm m = Htm::Identity();
+  m.block<3, 1>(0, 3) = p;
+  return m;
+}
+Htm turn(int about, double t) {
+  Htm m = Htm::Identity();
+  m.block<3, 3>(0, 0) = Eigen::AngleAxisd(t, Eigen::Vector3d::Unit(about)).toRotationMatrix();
+  return m;
+}
+/// The error motion of an ISO 230-1 parameter set: T(EX, EY, EZ)·Rx(EA)·Ry(EB)·Rz(EC).
+Htm error_motion(const double e[6]) {
+  return shift({e[0], e[1], e[2]}) * turn(0, e[3]) * turn(1, e[4]) * turn(2, e[5]);
+}
+
+/// A parameter of the table read as the controller reads it: linear interpolation in the block's argument (the
+/// constants block: its one record); 0 when the table has no such parameter.
+double parameter(const std::vector<IsgReadBlock>& blocks, const std::string& name, double argument) {
+  for (const auto& b : blocks) {
+    const int col = b.column(name);
+    if (col < 0 || b.records.empty()) continue;
+    if (b.records.size() == 1) return b.records[0][static_cast<std::size_t>(col)]; // the constants block
+    const auto& r = b.records;
+    std::size_t i = 0;
+    while (i + 2 < r.size() && r[i + 1][0] <= argument) ++i;
+    const double t = (argument - r[i][0]) / (r[i + 1][0] - r[i][0]);
+    EXPECT_GE(t, -1e-9) << name << " at " << argument;
+    EXPECT_LE(t, 1.0 + 1e-9) << name << " at " << argument;
+    return (1.0 - t) * r[i][static_cast<std::size_t>(col)] + t * r[i + 1][static_cast<std::size_t>(col)];
+  }
+  return 0.0;
+}
+
+/// The wheel pose of `chain` at axis positions θ (pose order; mm, rad) as a controller builds it from the ISG table
+/// (ISO 230-1/-7; the conventions of the table's comments): per axis from the workpiece, in its carrier's axes,
+///   linear  M = T(o)·T(θ·d' + E_pos)·R(E_rot),  d' = d + ω × d, ω = (A0k, B0k, C0k) the line's orientation error
+///   rotary  M = T(o)·S·T(E_pos)·R(E_rot)·R_d(θ + R0R)·S⁻¹ (E in the carrier's fixed axes; S the axis line's
+///           offsets X0R… and tilts A0R…; the spindle that carries the gear without S⁻¹: the gear sits on its line)
+/// and wMg = Π M_workpiece⁻¹ · Π M_tool. Only what the description (spec) and the table say.
+Htm controller_wMg(const machine::KinematicChain& chain, const std::vector<IsgReadBlock>& blocks,
+                   const machine::AxisValues& theta) {
+  const auto& spec = chain.spec();
+  Htm workpiece = Htm::Identity(), tool = Htm::Identity();
+  const std::size_t n = spec.workpiece.size() + spec.tool.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool on_workpiece = i < spec.workpiece.size();
+    const machine::AxisSpec& a = on_workpiece ? spec.workpiece[i] : spec.tool[i - spec.workpiece.size()];
+    const machine::Axis slot = *chain.axis_named(a.name);
+    const std::string& L = a.name;
+    const bool rotary = a.kind == machine::AxisKind::Rotary;
+    const double position = theta[slot];
+    // Arguments in mm and deg; the spindle's block runs over [0, 360] deg, a swivel's over its stroke.
+    const double deg = position * 180.0 / std::numbers::pi;
+    const double arg = !rotary ? position : a.stroke ? deg : std::fmod(deg + 720.0, 360.0);
+    double e[6];
+    const char* dirs = "XYZABC";
+    for (int k = 0; k < 6; ++k) e[k] = parameter(blocks, std::string("E") + dirs[k] + L, arg);
+    Eigen::Index about = 0;
+    a.direction.cwiseAbs().maxCoeff(&about);
+    const double sign = a.direction(about) > 0 ? 1.0 : -1.0;
+    Htm M;
+    if (!rotary) {
+      Eigen::Vector3d d = Eigen::Vector3d::Zero();
+      d(about) = sign;
+      const Eigen::Vector3d omega(parameter(blocks, "A0" + L, 0), parameter(blocks, "B0" + L, 0),
+                                  parameter(blocks, "C0" + L, 0));
+      M = shift(a.offset_mm) * shift(position * (d + omega.cross(d))) * error_motion(e);
+    } else {
+      // The line's tilts about the two machine axes across it, in x, y, z order; the parameter about its own axis
+      // (A0A, C0C) is its zero.
+      double tilt[3] = {0.0, 0.0, 0.0};
+      for (int c = 0; c < 3; ++c)
+        if (c != about) tilt[c] = parameter(blocks, std::string(1, "ABC"[c]) + "0" + L, 0);
+      const double zero = parameter(blocks, std::string(1, "ABC"[about]) + "0" + L, 0);
+      const Htm S = shift({parameter(blocks, "X0" + L, 0), parameter(blocks, "Y0" + L, 0), parameter(blocks, "Z0" + L, 0)}) *
+                    turn(0, tilt[0]) * turn(1, tilt[1]) * turn(2, tilt[2]);
+      const bool carries_gear = on_workpiece && i == 0;
+      M = shift(a.offset_mm) * S * error_motion(e) * turn(static_cast<int>(about), sign * (position + zero)) *
+          (carries_gear ? Htm::Identity() : Htm(S.inverse()));
+    }
+    if (on_workpiece) workpiece = workpiece * M.inverse();
+    else tool = tool * M;
+  }
+  return workpiece * tool;
+}
+
+/// Every component of `chain` that belongs to the axis in `slot` set to a constant of 1 … 3 µm or µrad (signs and sizes
+/// varying), the rest zero: as a machine model and as the chain's error vector (mm, rad).
+std::pair<machine::MachineModel, machine::ErrorVector> constant_errors_of_axis(const machine::KinematicChain& chain,
+                                                                               machine::Axis slot) {
+  std::vector<ErrorSource> sources;
+  machine::ErrorVector e = machine::ErrorVector::Zero();
+  int n = 0;
+  for (int i = 0; i < machine::kComponentCount; ++i) {
+    const auto& info = chain.info(machine::component_at(i));
+    if (info.axis != slot) continue;
+    const double v = (n % 2 == 0 ? 1.0 : -1.0) * (1.0 + 0.4 * (n % 6)); // µm or µrad
+    ++n;
+    const bool angle = info.quantity == machine::Quantity::Angle;
+    sources.push_back(ErrorSource::constant(info.id, v, angle ? "urad" : "um"));
+    e(i) = v * 1e-3 * (angle ? 1e-3 : 1.0);
+  }
+  EXPECT_GE(n, 6);
+  return {test::machine_with(sources), e};
+}
+
+/// For every axis of `chain` alone with constant errors: the table written and read back; at a few settings (on the
+/// tables' grid of whole degrees) the TCP (wheel centre) position error of the controller's model from the table equals
+/// the chain's exact one to 1e-4 µm, and is more than 0.5 µm somewhere (else agreement proves nothing).
+void expect_table_gives_the_chains_tcp_error(const machine::KinematicChain& chain) {
+  constexpr double kDeg = std::numbers::pi / 180.0;
+  for (const machine::Axis slot : machine::kAxes) {
+    const auto [model, e] = constant_errors_of_axis(chain, slot);
+    const auto blocks = read_isg_csv(isg_text(compensation::make_isg_table(model, chain)));
+    double largest_um = 0.0;
+    for (const double gamma_deg : {17.0, 123.0, 250.0}) {
+      const machine::AxisPose q{350.0 + gamma_deg / 10.0, 0.0, 300.0 + gamma_deg, 30.0 * kDeg, gamma_deg * kDeg};
+      const machine::AxisValues theta = chain.axes(q);
+      const Htm ideal = controller_wMg(chain, {}, theta);
+      const Htm ctrl = controller_wMg(chain, blocks, theta);
+      const Eigen::Vector3d controller_error = ctrl.block<3, 1>(0, 3) - ideal.block<3, 1>(0, 3);
+      const Eigen::Vector3d chain_error =
+          machine::actual_wMg(chain, e, theta).translation() - chain.ideal_wMg(theta).translation();
+      EXPECT_LT((ideal.block<3, 1>(0, 3) - chain.ideal_wMg(theta).translation()).norm(), 1e-9) << "the ideal chains";
+      EXPECT_LT((controller_error - chain_error).norm(), 1e-7)
+          << chain.name() << " axis " << chain.axis(slot).name << " at γ " << gamma_deg << "°: controller "
+          << 1e3 * controller_error.transpose() << " µm, chain " << 1e3 * chain_error.transpose() << " µm";
+      largest_um = std::max(largest_um, 1e3 * chain_error.norm());
+    }
+    EXPECT_GT(largest_um, 0.5) << chain.name() << " axis " << chain.axis(slot).name;
+  }
+}
+
+} // namespace
+
+// A constant error of each axis of the CAFXZY (w → C → A → F → X → Z → Y → g: the C table on an A tilting table)
+// written to its ISG table — the blocks in the chain's letters, the C and A errors turned into their carriers' fixed
+// axes, the A line's location and the squareness named for its axes — and read back by the controller's model above
+// puts the wheel centre where the chain's exact errors put it, to 1e-4 µm.
+TEST(IsgTable, OnTheCafxzyTheTableGivesTheChainsTcpPositionError) {
+  const auto& chain = *machine::chain_preset("CAFXZY");
+  expect_table_gives_the_chains_tcp_error(chain);
+  const auto [model, e] = constant_errors_of_axis(chain, machine::Axis::A);
+  const auto text = isg_text(compensation::make_isg_table(model, chain));
+  EXPECT_NE(text.find("chain CAXZY"), std::string::npos) << text.substr(0, 2000);
+  EXPECT_NE(text.find("workpiece_axes 2"), std::string::npos);
+}
+
+// The same on the CXFZAY (w → C → X → F → Z → A → Y → g: the C table on a radial X slide moving along −x).
+TEST(IsgTable, OnTheCxfzayTheTableGivesTheChainsTcpPositionError) {
+  const auto& chain = *machine::chain_preset("CXFZAY");
+  expect_table_gives_the_chains_tcp_error(chain);
+  const auto [model, e] = constant_errors_of_axis(chain, machine::Axis::X);
+  const auto text = isg_text(compensation::make_isg_table(model, chain));
+  EXPECT_NE(text.find("chain CXZAY"), std::string::npos) << text.substr(0, 2000);
+}
+
+// ISG's model names its axes X, Y, Z, A, B, C (P-VOLC-00007): the CFXZAY's geometry with the radial slide called U
+// (pose order Y, Z, U, B, C) cannot be written, and the refusal names the chain and the letter.
+TEST(IsgTable, AChainLetterIsgHasNoNameForIsRefused) {
+  using machine::AxisKind;
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(), z = Eigen::Vector3d::UnitZ();
+  constexpr double deg = std::numbers::pi / 180.0;
+  const auto& chain = machine::make_chain(
+      {"CFUZBY",
+       {{"C", AxisKind::Rotary, z, Eigen::Vector3d::Zero(), std::nullopt}},
+       {{"U", AxisKind::Linear, x, Eigen::Vector3d::Zero(), machine::Interval{0.0, 900.0}},
+        {"Z", AxisKind::Linear, z, Eigen::Vector3d::Zero(), machine::Interval{0.0, 800.0}},
+        {"B", AxisKind::Rotary, x, Eigen::Vector3d::Zero(), machine::Interval{-45 * deg, 45 * deg}},
+        {"Y", AxisKind::Linear, y, Eigen::Vector3d::Zero(), machine::Interval{-200.0, 200.0}}}});
+  try {
+    compensation::make_isg_table(test::machine_with({}), chain);
+    ADD_FAILURE() << "a chain with a U axis must be refused";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("CFUZBY"), std::string::npos) << what;
+    EXPECT_NE(what.find("'U'"), std::string::npos) << what;
+  }
 }

@@ -21,6 +21,7 @@
 #include "geartopo/grinding/grinding_process.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
 #include "geartopo/grinding/topology.hpp"
+#include "geartopo/machine/kinematic_chain.hpp"
 #include "geartopo/machine/machine_model.hpp"
 
 #include <Eigen/Core>
@@ -69,6 +70,15 @@ struct IsgOptions {
 /// components are all constant get two records, the ends of the stroke. Throws InputError naming the source table
 /// (file, line, column) when its own grid already exceeds limits.max_records, std::invalid_argument for bad options.
 IsgTable make_isg_table(const machine::MachineModel& model, const IsgOptions& options = {});
+
+/// The ISG table of a machine model on `chain`: the CFXZAY's table above when it is the setting chain (the same bytes);
+/// otherwise one block per axis in chain order, named by the chain's letters — its component errors relative to the
+/// body that carries it, in that body's axes, a rotary axis' turned into the fixed axes — and the position errors of
+/// its rotary axis lines and its squareness named for its axes; the comments give ISG's `chain` (the letters from the
+/// workpiece to the tool) and `workpiece_axes` (docs/compensation.md). std::invalid_argument for a chain letter ISG
+/// has no name for (U, V, W) and as make_isg_table above.
+IsgTable make_isg_table(const machine::MachineModel& model, const machine::KinematicChain& chain,
+                        const IsgOptions& options = {});
 
 /// The ISO 230-1 component errors of one axis at its position (mm or rad, internal), in the block's column order
 /// (EXk EYk EZk EAk EBk ECk), mapped as in the header above.  // 6×1
