@@ -14,6 +14,7 @@
 
 #include "../chain_scene_fixture.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -214,4 +215,38 @@ TEST(WorkbenchChain, CorrectionsAreCheckedAgainstTheChainsOwnStrokes) {
   EXPECT_GE(expected, 1);
   EXPECT_EQ(outside, expected);
   EXPECT_EQ(table.rows_outside_strokes(), 0);
+}
+
+// The design motions of a helix crowning on the CAFXZY are its own axes, checked against its own strokes: radial
+// infeed moves the X slide alone (the centre distance, X = x) and a 6 µm crowning takes the wheel in towards the face
+// ends by µm (the ends relieved); an X stroke starting 1 to 2 µm inside the path's centre distance keeps the path
+// inside (the chain's path check passes) but not the motions, and the workbench refuses at gear.modifications naming the
+// first sample outside and the axis with its stroke, as it names a path point outside.
+TEST(WorkbenchChain, DesignMotionsOutsideTheChainsStrokesAreRefusedNamingThePointAndTheAxis) {
+  const std::string crowned = with_line(kGearAndWheel, "  face_width_mm: 40\n",
+                                        "  modifications:\n    both: {helix_crowning_um: 6}\n", Where::After);
+  ASSERT_FALSE(crowned.empty());
+  const std::string chain = crowned + "process:\n  lead_crowning: radial_infeed\nmachine:\n  chain: CAFXZY\n";
+  const workbench::Workbench wb(scene::parse_scene(chain, "mem"));
+  ASSERT_TRUE(wb.design_motion);
+  ASSERT_FALSE(wb.design_motion->axes().is_setting());
+  EXPECT_EQ(wb.design_motion->axes().chain->name(), "CAFXZY");
+  EXPECT_EQ(wb.design_motion->rows_outside_strokes(), 0);
+  double x_path = 0.0, dx_min = 0.0;
+  for (const auto& r : wb.design_motion->rows()) {
+    EXPECT_EQ(r.correction.tail<4>().norm(), 0.0) << "X alone";
+    x_path = r.machine_axes.x;
+    dx_min = std::min(dx_min, r.correction(0));
+  }
+  ASSERT_LT(dx_min, -3e-3) << "a 6 µm crowning needs µm of infeed";
+  const double x_min = std::floor((x_path - 1e-3) * 1e3) / 1e3; // 1 to 2 µm inside the path, printed exactly
+  const std::string tight = fmt::format("  strokes: {{x_mm: [{:.3f}, 900]}}\n", x_min);
+  const auto e = workbench_error_of(chain + tight);
+  EXPECT_NE(e.find("gear.modifications: the motions that grind the helix modifications leave the CAFXZY chain's "
+                   "strokes at "),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find(", first at space "), std::string::npos) << e;
+  EXPECT_NE(e.find(" mm: X = "), std::string::npos) << e;
+  EXPECT_NE(e.find(fmt::format("mm is outside its stroke [{:g}, 900] mm", x_min)), std::string::npos) << e;
 }
