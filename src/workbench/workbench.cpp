@@ -156,7 +156,9 @@ Workbench::Workbench(scene::Scene s, const std::function<void()>& keep_going)
   if (keep_going) keep_going();
   if (scene.machine.chain->is_setting_chain()) check_strokes(scene, setup);
   check_chain(scene, setup, machine_process);
-  if (!effects.empty()) effects_process = std::make_unique<effects::EffectsProcess>(machine_process, effects);
+  if (!effects.empty())
+    effects_process = std::make_unique<effects::EffectsProcess>(machine_process, effects, scene.machine.chain,
+                                                                scene.machine.datum_face_z_mm);
   if (setup.design().modifications().has_helix()) {
     design_motion = std::make_unique<compensation::CorrectionTable>(compensation::design_motions(
         setup, scene.process.lead_crowning, {machine, scene.machine.datum_face_z_mm, scene.machine.chain}));
@@ -177,7 +179,8 @@ void Workbench::build_diagnosis_model() {
   known_effects_ = make_effects(known, scene.machine_changes, setup, scene.machine.chain, scene.machine.datum_face_z_mm);
   const grinding::GrindingProcess* base = &machine_process;
   if (!known_effects_.empty()) {
-    known_effects_process_ = std::make_unique<effects::EffectsProcess>(machine_process, known_effects_);
+    known_effects_process_ = std::make_unique<effects::EffectsProcess>(machine_process, known_effects_,
+                                                                       scene.machine.chain, scene.machine.datum_face_z_mm);
     base = known_effects_process_.get();
   }
   diagnosis_model_ = base;

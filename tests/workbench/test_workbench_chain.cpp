@@ -6,8 +6,10 @@
 // setting alike), so both grind the same flanks.
 // Units: mm, µm.
 #include "geartopo/compensation/compensator.hpp"
+#include "geartopo/diagnosis/effect_contribution.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
 #include "geartopo/diagnosis/stroke_scatter.hpp"
+#include "geartopo/effects/effects_process.hpp"
 #include "geartopo/grinding/chain_process.hpp"
 #include "geartopo/machine/chain.hpp"
 #include "geartopo/machine/twist.hpp"
@@ -326,4 +328,129 @@ TEST(WorkbenchChain, StrokeScatterOfTheCafxzyOffsetsItsOwnAxes) {
       EXPECT_GT(setting_differ, 0.5) << key;
     }
   }
+}
+
+namespace {
+
+/// `text` with an effects block of one thermal drift (µm, s).
+std::string with_thermal_drift(const std::string& text, double x_um, double z_um, double tau_s) {
+  return text + fmt::format("effects:\n  - type: thermal_drift\n    x_growth_um: {}\n    z_growth_um: {}\n"
+                            "    time_constant_s: {}\n",
+                            x_um, z_um, tau_s);
+}
+
+/// Largest |a − b| and largest |b − base| over the grid deviations (µm).
+std::pair<double, double> differ_and_size(const std::vector<double>& a, const std::vector<double>& b,
+                                          const std::vector<double>& base) {
+  double differ = 0.0, size = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    differ = std::max(differ, std::abs(a[i] - b[i])), size = std::max(size, std::abs(b[i] - base[i]));
+  return {differ, size};
+}
+
+} // namespace
+
+// The thermal drift's growth belongs to the slides whose ball screws grow: X growth to the chain's slide along x (the
+// centre distance), Z growth to its slide along z (effects::chain_offsets). On the CXFZAY X is the radial table on the
+// workpiece side: a drift of 20 µm (τ = 60 s) grinds what the same offset of X, δX(t) = 20 µm·(1 − e^(−t/τ)) sampled
+// every 0.5 mm of every stroke into a correction table, grinds through the exact chain (CompensatedProcess: the
+// chain's forward kinematics at θ + δθ) — to 1e-3 µm (the table's linear interpolation of e^(−t/τ) over 25 ms: 1e-7 µm;
+// the exact search: 1e-6 µm).
+TEST(WorkbenchChain, ThermalXGrowthOfTheCxfzayGrindsTheSameOffsetOfItsRadialTable) {
+  const std::string chain = kGearAndWheel + "machine:\n  chain: CXFZAY\n";
+  const workbench::Workbench plain(scene::parse_scene(chain, "mem"));
+  const workbench::Workbench drifting(scene::parse_scene(with_thermal_drift(chain, 20.0, 0.0, 60.0), "mem"));
+  std::vector<compensation::CorrectionRow> rows;
+  for (const auto& pp : plain.setup.path().sample(0.5)) {
+    compensation::CorrectionRow r;
+    r.space = pp.space, r.z_stroke_mm = pp.z_stroke_mm, r.time_s = pp.time_s;
+    r.correction(0) = 20e-3 * (1.0 - std::exp(-pp.time_s / 60.0)); // X, mm
+    rows.push_back(r);
+  }
+  const compensation::CorrectionTable offsets(
+      std::move(rows), {plain.scene.machine.chain, plain.scene.machine.datum_face_z_mm});
+  ASSERT_FALSE(offsets.axes().is_setting());
+  ASSERT_EQ(offsets.axes().axis_name(0), "X");
+  const compensation::CompensatedProcess offset(plain.process(), offsets, compensation::CorrectedPose::Exact);
+  const auto a = grid_deviations(drifting), b = grid_deviations(plain);
+  std::vector<double> expected;
+  {
+    grinding::SimulationOptions so;
+    so.teeth = {1, 16};
+    so.rows = 5, so.cols = 5, so.profile_points = 2, so.helix_points = 2;
+    for (const auto& flank : grinding::simulate_topology(plain.setup, offset, so))
+      for (const auto& p : flank.grid) expected.push_back(p.deviation_um);
+  }
+  ASSERT_EQ(a.size(), expected.size());
+  const auto [differ, size] = differ_and_size(a, expected, b);
+  std::printf("CXFZAY thermal X growth: up to %.3f um, differs from the X offset by %.2e um\n", size, differ);
+  EXPECT_GT(size, 1.0);
+  EXPECT_LT(differ, 1e-3);
+}
+
+// On the CAFXZY the Z slide carries the wheel head along the bed's z while the A table tilts the gear by α: at fixed
+// A and Y the closed form Z = (z + 150)·cos α, Y = y + (z + 150)·sin α gives a Z offset δZ as the setting's
+// δz = δZ / cos α along the gear axis and δy = −δZ·tan α along the wheel spindle (not δz = δZ, as the setting's z
+// would have it). A Z growth of 20 µm (τ = 60 s) on the CAFXZY grinds what those setting offsets grind on the error-free
+// CFXZAY, to 1e-3 µm, and its first-order model is the diagnosis' a_q (EffectContribution: the chain's
+// J_twistw_theta) to 1e-9 µm. The bed's z lies in the wheel's mid-plane, tilted with the gear by the cross angle
+// along the lead, so the growth grinds a fraction of a µm, where the setting's δz along the gear axis grinds µm.
+TEST(WorkbenchChain, ThermalZGrowthOfTheCafxzyActsAlongItsZSlide) {
+  const std::string cafxzy = kGearAndWheel + "machine:\n  chain: CAFXZY\n";
+  const workbench::Workbench plain(scene::parse_scene(cafxzy, "mem"));
+  const workbench::Workbench drifting(scene::parse_scene(with_thermal_drift(cafxzy, 0.0, 20.0, 60.0), "mem"));
+  const workbench::Workbench seed(scene::parse_scene(kGearAndWheel, "mem"));
+  std::vector<compensation::CorrectionRow> rows, along_z;
+  for (const auto& pp : seed.setup.path().sample(0.5)) {
+    compensation::CorrectionRow r;
+    r.space = pp.space, r.z_stroke_mm = pp.z_stroke_mm, r.time_s = pp.time_s;
+    const double dZ = 20e-3 * (1.0 - std::exp(-pp.time_s / 60.0)); // mm
+    along_z.push_back(r);
+    along_z.back().correction(2) = dZ; // the setting's z: what the drift did before it acted on the chain's Z
+    r.correction(1) = -dZ * std::tan(pp.q.a);
+    r.correction(2) = dZ / std::cos(pp.q.a);
+    rows.push_back(r);
+  }
+  const compensation::CorrectionTable closed_form(std::move(rows)), setting_z(std::move(along_z));
+  const compensation::CompensatedProcess expected_process(seed.process(), closed_form, compensation::CorrectedPose::Exact);
+  const compensation::CompensatedProcess setting_process(seed.process(), setting_z, compensation::CorrectedPose::Exact);
+  grinding::SimulationOptions so;
+  so.teeth = {1, 16};
+  so.rows = 5, so.cols = 5, so.profile_points = 2, so.helix_points = 2;
+  const auto ground = [&](const grinding::GrindingProcess& p) {
+    std::vector<double> out;
+    for (const auto& flank : grinding::simulate_topology(seed.setup, p, so))
+      for (const auto& g : flank.grid) out.push_back(g.deviation_um);
+    return out;
+  };
+  const auto a = grid_deviations(drifting), base = grid_deviations(plain);
+  const auto expected = ground(expected_process), old = ground(setting_process);
+  ASSERT_EQ(a.size(), expected.size());
+  const auto [differ, size] = differ_and_size(a, expected, base);
+  const auto [differ_old, size_old] = differ_and_size(a, old, base);
+  std::printf("CAFXZY thermal Z growth: up to %.3f um, differs from the closed form by %.2e um, from the setting's z "
+              "offset by %.3f um\n",
+              size, differ, differ_old);
+  EXPECT_GT(size, 0.1);
+  EXPECT_LT(differ, 1e-3);
+  EXPECT_GT(size_old, 1.0);
+  EXPECT_GT(differ_old, 1.0);
+
+  // The diagnosis' first-order model of the same effect on the chain: EffectContribution's a_q·δθ is the linear
+  // method through EffectsProcess over the ideal machine on the chain.
+  const auto pts = chain_grid_points(drifting);
+  const diagnosis::EffectContribution at(drifting.setup, pts, 1, drifting.scene.machine.chain,
+                                         drifting.scene.machine.datum_face_z_mm);
+  const grinding::IdealProcess ideal;
+  const effects::EffectsProcess linear(ideal, drifting.effects, drifting.scene.machine.chain,
+                                       drifting.scene.machine.datum_face_z_mm);
+  const auto by_process = diagnosis::predict(drifting.setup, linear, pts, grinding::Method::Linear, 1);
+  const Eigen::VectorXd by_contribution = at.evaluate_um(drifting.effects, 1);
+  double worst = 0.0, largest = 0.0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    worst = std::max(worst, std::abs(by_contribution(static_cast<Eigen::Index>(i)) - by_process[i]));
+    largest = std::max(largest, std::abs(by_process[i] - at.offset_um()));
+  }
+  EXPECT_GT(largest, 0.1);
+  EXPECT_LT(worst, 1e-9);
 }
