@@ -5,6 +5,7 @@
 #include "geartopo/core/parallel.hpp"
 #include "geartopo/core/units.hpp"
 #include "geartopo/diagnosis/prediction.hpp"
+#include "geartopo/effects/effects_process.hpp"
 #include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/machine/chain_kinematics.hpp"
 #include "geartopo/machine/datum_shift.hpp"
@@ -31,6 +32,16 @@ void for_chunks(std::size_t n, int threads, Fn&& per_point, const std::function<
 
 } // namespace
 
+machine::Matrix65 EffectContribution::J_twistw_axes(const machine::AxisPose& q) const {
+  if (chain_ == nullptr) return machine::J_twistw_q(q);
+  // The chain's axes at z + z₀, their twist moved back to the datum (as effects::EffectsProcess does).
+  machine::AxisPose at = q;
+  at.z += datum_face_z_mm_;
+  machine::Matrix65 J = machine::J_twistw_theta(*chain_, chain_->axes(at));
+  machine::twists_at_datum(J, datum_face_z_mm_);
+  return J;
+}
+
 EffectContribution::EffectContribution(const grinding::GrindingSetup& setup, const std::vector<MeasuredPoint>& pts,
                                        int threads, const machine::KinematicChain* chain, double datum_face_z_mm,
                                        const std::function<void()>& keep_going)
@@ -44,14 +55,14 @@ EffectContribution::EffectContribution(const grinding::GrindingSetup& setup, con
     PointState& s = points_[i];
     s.pp = c.pp;
     s.w << c.n, c.p.cross(c.n);
-    s.a_q = machine::J_twistw_q(c.pp.q).transpose() * s.w; // 5×6 · 6
+    s.a_q = J_twistw_axes(c.pp.q).transpose() * s.w; // 5×6 · 6
     s.v = c.v;
     s.normal_per_radial = c.normal_per_radial;
   }, keep_going);
 }
 
 // effects::EffectsProcess over the ideal machine, first order (effects_process.cpp): the twist is
-// J_twistw_q(q)·(commanded − q) + Σ pose_error_twist(table_in_gear), the wheel's radius error Σ δR_e(v); and
+// J_twistw_q(q)·(commanded − q) (on another chain J_twistw_theta·δθ) + Σ pose_error_twist(table_in_gear), the wheel's radius error Σ δR_e(v); and
 // grinding::linear_deviation_mm makes n·(δp + δθ × P) − δR·normal_per_radial of them. With n·(δθ × P) = δθ·(P × n)
 // that is a_qᵀ δq + wᵀ ξ_table − δR·normal_per_radial (mm).
 Eigen::VectorXd EffectContribution::deviation_um(std::span<const effects::Effect* const> effects, int threads) const {
@@ -92,8 +103,11 @@ Eigen::VectorXd EffectContribution::deviation_um(std::span<const effects::Effect
       }
       radius_mm += batched[k].empty() ? e.wheel_radius_error_mm(s.v, s.pp) : batched[k][i];
     }
-    // The commanded axes minus the nominal ones, as EffectsProcess forms them (the same rounding).
-    const machine::Vector5d dq = (s.pp.q.vector() + offset) - s.pp.q.vector();
+    // The commanded axes minus the nominal ones, as EffectsProcess forms them (the same rounding); on another chain
+    // its own axes' offsets, each effect's by the role of the axis (effects::chain_offsets).
+    const machine::Vector5d dq =
+        chain_ == nullptr ? machine::Vector5d((s.pp.q.vector() + offset) - s.pp.q.vector())
+                          : effects::chain_offsets(*chain_, offset);
     const double deviation_mm = s.a_q.dot(dq) + s.w.dot(table) - radius_mm * s.normal_per_radial;
     out(static_cast<Eigen::Index>(i)) = units::um_from_mm(deviation_mm);
   });

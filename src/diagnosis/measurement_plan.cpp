@@ -51,7 +51,7 @@ std::vector<double> effects_at(const grinding::GrindingSetup& setup, const Candi
   if (c.effects.empty()) return std::vector<double>(pts.size(), 0.0);
   const auto effs = workbench::make_effects(c.effects, setup);
   const grinding::IdealProcess ideal;
-  const effects::EffectsProcess process(ideal, effs);
+  const effects::EffectsProcess process(ideal, effs, o.chain, o.datum_face_z_mm);
   return predict(setup, process, pts, grinding::Method::Linear, threads);
 }
 

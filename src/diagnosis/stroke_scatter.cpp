@@ -15,14 +15,16 @@ namespace geartopo::diagnosis {
 
 Eigen::MatrixXd stroke_sensitivity(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
                                    const std::vector<MeasuredPoint>& pts, const machine::Vector5d& repeatability_sd,
-                                   int threads, const std::function<void()>& keep_going) {
+                                   const compensation::ChainAxes& axes, int threads,
+                                   const std::function<void()>& keep_going) {
   const auto n = static_cast<Eigen::Index>(pts.size());
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, 5); // n × 5, µm per s_a
   const auto base = predict(setup, model, pts, grinding::Method::Linear, threads, keep_going);
   for (int a = 0; a < 5; ++a) {
     if (repeatability_sd(a) <= 0.0) continue;
-    // The same offset s_a on every stroke: each point feels its own space's, which is all g_i needs. The first-order
-    // model is linear in the offset, so the difference is the sensitivity itself, not a finite-difference estimate.
+    // The same offset s_a of the chain's axis a on every stroke: each point feels its own space's, which is all g_i
+    // needs. The first-order model is linear in the offset, so the difference is the sensitivity itself, not a
+    // finite-difference estimate.
     std::vector<compensation::CorrectionRow> rows;
     for (int s = 1; s <= setup.geometry().teeth(); ++s) {
       compensation::CorrectionRow row;
@@ -30,7 +32,7 @@ Eigen::MatrixXd stroke_sensitivity(const grinding::GrindingSetup& setup, const g
       row.correction(a) = repeatability_sd(a);
       rows.push_back(row);
     }
-    const compensation::CorrectionTable offsets(std::move(rows));
+    const compensation::CorrectionTable offsets(std::move(rows), axes);
     const compensation::CompensatedProcess off(model, offsets);
     const auto moved = predict(setup, off, pts, grinding::Method::Linear, threads, keep_going);
     for (Eigen::Index i = 0; i < n; ++i) G(i, a) = moved[static_cast<size_t>(i)] - base[static_cast<size_t>(i)];

@@ -80,7 +80,8 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
     if (m.diagnosis.chosen) {
       const auto effs = workbench::make_effects(m.diagnosis.chosen->effects, m.diagnosis.chosen->changes, wb.setup,
                                                 wb.scene.machine.chain, wb.scene.machine.datum_face_z_mm);
-      const effects::EffectsProcess with(wb.diagnosis_model(), effs);
+      const effects::EffectsProcess with(wb.diagnosis_model(), effs, wb.scene.machine.chain,
+                                         wb.scene.machine.datum_face_z_mm);
       m.after = diagnosis::compare(wb.setup, with, m.points, m.before.noise_um, read);
     }
     r.measurement = std::move(m);

@@ -214,7 +214,9 @@ SampleGears SampleModel::exact(const SampleDraw& d) const {
   const auto machine_process =
       workbench::make_machine_process(*wb_.scene.machine.chain, model, wb_.scene.machine.datum_face_z_mm);
   std::unique_ptr<effects::EffectsProcess> with_effects;
-  if (!sample_effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(*machine_process, sample_effects);
+  if (!sample_effects.empty())
+    with_effects = std::make_unique<effects::EffectsProcess>(*machine_process, sample_effects, wb_.scene.machine.chain,
+                                                             wb_.scene.machine.datum_face_z_mm);
   const workbench::WithDesignMotion true_machine(
       wb_, with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : *machine_process);
 

@@ -70,7 +70,9 @@ std::vector<machine::ErrorSource> drawn_map(const workbench::Workbench& wb, doub
 struct NominalProcess {
   NominalProcess(const workbench::Workbench& wb, const machine::MachineModel& model)
       : machine(workbench::make_machine_process(*wb.scene.machine.chain, model, wb.scene.machine.datum_face_z_mm)) {
-    if (!wb.effects.empty()) with_effects = std::make_unique<effects::EffectsProcess>(*machine, wb.effects);
+    if (!wb.effects.empty())
+      with_effects = std::make_unique<effects::EffectsProcess>(*machine, wb.effects, wb.scene.machine.chain,
+                                                               wb.scene.machine.datum_face_z_mm);
   }
   const grinding::GrindingProcess& process() const {
     return with_effects ? static_cast<const grinding::GrindingProcess&>(*with_effects) : *machine;

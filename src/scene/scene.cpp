@@ -248,15 +248,21 @@ void read_uncertainty(MapReader& u, MachineUncertainty& out, ReadContext& ctx,
   u.finish();
 }
 
-// repeatability / resolution: x_um, y_um, z_um (linear axes), a_mdeg, c_mdeg (rotary axes), each ≥ 0, times `scale`.
-void read_axis_values(MapReader& m, machine::Vector5d& out, double scale) {
+// repeatability / resolution per axis of the chain, by its letters in pose order: <letter>_um (linear axes),
+// <letter>_mdeg (rotary axes) — x_um, y_um, z_um, a_mdeg, c_mdeg on the CFXZAY — each ≥ 0, times `scale`.
+void read_axis_values(MapReader& m, const machine::KinematicChain& chain, machine::Vector5d& out, double scale) {
   constexpr Range kLinearUm{0.0, 1000.0};
   constexpr Range kRotaryMdeg{0.0, 1000.0};
-  const char* linear[] = {"x_um", "y_um", "z_um"};
-  for (int i = 0; i < 3; ++i)
-    if (auto v = m.optional_number(linear[i], kLinearUm)) out(i) = scale * units::mm_from_um(*v);
-  if (auto v = m.optional_number("a_mdeg", kRotaryMdeg)) out(3) = scale * units::rad_from_deg(*v * 1e-3);
-  if (auto v = m.optional_number("c_mdeg", kRotaryMdeg)) out(4) = scale * units::rad_from_deg(*v * 1e-3);
+  for (int i = 0; i < machine::kAxisCount; ++i) {
+    const auto slot = static_cast<machine::Axis>(i);
+    std::string key(chain.axis_name(slot));
+    for (char& ch : key) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (!chain.is_rotary(slot)) {
+      if (auto v = m.optional_number(key + "_um", kLinearUm)) out(i) = scale * units::mm_from_um(*v);
+    } else if (auto v = m.optional_number(key + "_mdeg", kRotaryMdeg)) {
+      out(i) = scale * units::rad_from_deg(*v * 1e-3);
+    }
+  }
   m.finish();
 }
 
@@ -358,8 +364,8 @@ MachineSection read_machine(MapReader& m, const std::filesystem::path& base, dou
   }
   if (auto u = m.optional_map("uncertainty")) read_uncertainty(*u, s.uncertainty, ctx, s.sources, *s.chain);
   // The file gives ISO 230-2's unidirectional repeatability R↑ = 4 s (data sheets quote it); inside: s.
-  if (auto r = m.optional_map("repeatability")) read_axis_values(*r, s.uncertainty.repeatability, 0.25);
-  if (auto r = m.optional_map("resolution")) read_axis_values(*r, s.uncertainty.resolution, 1.0);
+  if (auto r = m.optional_map("repeatability")) read_axis_values(*r, *s.chain, s.uncertainty.repeatability, 0.25);
+  if (auto r = m.optional_map("resolution")) read_axis_values(*r, *s.chain, s.uncertainty.resolution, 1.0);
   m.finish();
   try {
     (void)s.model(); // strokes, duplicates and table coverage

@@ -116,6 +116,29 @@ void check_chain(const scene::Scene& s, const grinding::GrindingSetup& setup, co
   }
 }
 
+/// The design motions within the strokes: on the CFXZAY the count of samples outside; on any other chain the first
+/// sample outside named with the axis and its stroke, as check_chain names a path point.
+void check_design_motion(const scene::Scene& s, const compensation::CorrectionTable& motion) {
+  const int count = motion.rows_outside_strokes();
+  if (count == 0) return;
+  std::string first;
+  if (!motion.axes().is_setting()) {
+    const auto& chain = *motion.axes().chain;
+    for (const auto& r : motion.rows()) {
+      const auto v = chain.outside_stroke(machine::AxisValues{r.machine_axes.vector() + r.correction});
+      if (!v) continue;
+      first = fmt::format(", first at space {}, Z = {:.3f} mm: {}", r.space, r.z_stroke_mm, v->message);
+      break;
+    }
+  }
+  s.fail_at("gear.modifications",
+            fmt::format("the motions that grind the helix modifications leave the {} strokes at {} of {} path "
+                        "samples{}",
+                        motion.axes().is_setting() ? std::string("machine's")
+                                                   : fmt::format("{} chain's", motion.axes().chain->name()),
+                        count, motion.rows().size(), first));
+}
+
 } // namespace
 
 std::unique_ptr<const grinding::GrindingProcess> make_machine_process(const machine::KinematicChain& chain,
@@ -133,15 +156,13 @@ Workbench::Workbench(scene::Scene s, const std::function<void()>& keep_going)
   if (keep_going) keep_going();
   if (scene.machine.chain->is_setting_chain()) check_strokes(scene, setup);
   check_chain(scene, setup, machine_process);
-  if (!effects.empty()) effects_process = std::make_unique<effects::EffectsProcess>(machine_process, effects);
+  if (!effects.empty())
+    effects_process = std::make_unique<effects::EffectsProcess>(machine_process, effects, scene.machine.chain,
+                                                                scene.machine.datum_face_z_mm);
   if (setup.design().modifications().has_helix()) {
     design_motion = std::make_unique<compensation::CorrectionTable>(compensation::design_motions(
-        setup, scene.process.lead_crowning, {machine, scene.machine.datum_face_z_mm}));
-    if (const int outside = design_motion->rows_outside_strokes(); outside > 0)
-      scene.fail_at("gear.modifications",
-                    fmt::format("the motions that grind the helix modifications leave the machine's strokes at {} of {} "
-                                "path samples",
-                                outside, design_motion->rows().size()));
+        setup, scene.process.lead_crowning, {machine, scene.machine.datum_face_z_mm, scene.machine.chain}));
+    check_design_motion(scene, *design_motion);
     design_process = std::make_unique<compensation::CompensatedProcess>(machine_and_effects(), *design_motion);
   }
   if (!scene.custom_effects.empty()) {
@@ -158,7 +179,8 @@ void Workbench::build_diagnosis_model() {
   known_effects_ = make_effects(known, scene.machine_changes, setup, scene.machine.chain, scene.machine.datum_face_z_mm);
   const grinding::GrindingProcess* base = &machine_process;
   if (!known_effects_.empty()) {
-    known_effects_process_ = std::make_unique<effects::EffectsProcess>(machine_process, known_effects_);
+    known_effects_process_ = std::make_unique<effects::EffectsProcess>(machine_process, known_effects_,
+                                                                       scene.machine.chain, scene.machine.datum_face_z_mm);
     base = known_effects_process_.get();
   }
   diagnosis_model_ = base;

@@ -3,12 +3,16 @@
 //  - radial infeed: the ground flank (exact envelope) equals the first-order field of the X offset ΔX(Z_gen) at each
 //    point's generating stroke position, written here from the documented chain (machine::ideal_wMg of the command with
 //    and without ΔX, applied to the point, along its normal) — and so carries the twist that field has;
-//  - twist free: the ground flank is the design to within 20 % of the radial infeed's twist (issue 26).
+//  - twist free: the ground flank is the design to within 20 % of the radial infeed's twist (issue 26);
+//  - on the CAFXZY (issue 42) the motions are its own axes: its X slide is the centre distance (X = x, the closed form
+//    of docs/machine-model.md §9), so radial infeed moves X alone by the CFXZAY's Δx; ground through the CAFXZY's
+//    chain (ChainProcess, its own forward kinematics) both modes give the flanks they give on the CFXZAY.
 #include "../gears/gear_fixtures.hpp"
 #include "geartopo/compensation/design_motion.hpp"
 #include "geartopo/evaluation/crowning.hpp"
 #include "geartopo/grinding/topology.hpp"
 #include "geartopo/workbench/iso_evaluation.hpp"
+#include "geartopo/grinding/chain_process.hpp"
 #include "geartopo/grinding/flank_deviation.hpp"
 #include "geartopo/machine/chain.hpp"
 #include "geartopo/machine/machine_model.hpp"
@@ -16,6 +20,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <cstdio>
 
 using namespace geartopo;
@@ -218,4 +223,69 @@ TEST(DesignMotion, ATabulatedDesignGrindsLikeItsTerms) {
   std::printf("tabulated vs terms: largest difference of the ground flanks %.4f um (interpolation bound %.4f um)\n", worst,
               interpolation_um);
   EXPECT_LT(worst, 2.0 * interpolation_um);
+}
+
+namespace {
+
+/// The CAFXZY preset with the gear's datum face 300 mm along its axis from the C table's face (the shipped scene's).
+constexpr double kCafxzyDatumMm = 300.0;
+
+/// The flank as ground (deviation from the design, µm) at tooth 3's 7×9 grid, both flanks, exact method.
+std::vector<double> ground_from_design_um(const grinding::GrindingProcess& process) {
+  const auto& s = setup();
+  const grinding::FlankDeviation dev(s.flanks(), s.wheel(), s.path(), process);
+  const Grid g = grid();
+  std::vector<double> out;
+  for (auto flank : {Flank::Left, Flank::Right})
+    for (double xi : g.xi)
+      for (double z : g.z) out.push_back(1e3 * dev.at(3, flank, xi, z, grinding::Method::Exact).deviation_mm);
+  return out;
+}
+
+} // namespace
+
+// Issue 42: the design motions in the CAFXZY's own axes, checked against its strokes. Radial infeed: its X slide
+// (along the bed's x, which neither the A table's tilt about x nor the C table's turn of gear and setting alike
+// changes) is the centre distance, X = x; so the one-axis least squares gives the CFXZAY's Δx at every row (to the
+// solver's 1e-9 mm), every other axis exactly 0, and the commands are the closed form X = x, Y = y + (z + 150)·sin α,
+// Z = (z + 150)·cos α, A = −α, C = γ (z the chain's: the gear's plus its datum face). Twist free: the five-axis least
+// squares of the same flank objective, whose null directions (the screw) the two chains resolve differently (min norm
+// in other axes) without changing the surface. Ground through the CAFXZY's own chain (ChainProcess on an error-free
+// map: its forward kinematics, not the setting's) both give the flanks they give on the CFXZAY (IdealProcess) to
+// 0.01 µm — second order in motions of tens of µm and hundreds of µrad — hence the design to the same accuracy.
+TEST(DesignMotion, OnTheCafxzyTheMotionsAreItsOwnAxesAndGrindTheDesignAsOnTheCfxzay) {
+  const machine::MachineModel model(machine::Strokes::skmc_1200w(), {});
+  const auto& chain = *machine::chain_preset("CAFXZY");
+  const grinding::IdealProcess ideal;
+  const machine::MachineModel error_free(machine::Strokes::skmc_1200w(), {});
+  const grinding::ChainProcess on_chain(chain, error_free, kCafxzyDatumMm);
+  std::map<std::pair<int, double>, machine::AxisPose> setting; // the commands the rows stand for
+  for (const auto& pp : setup().path().sample(2.0)) setting[{pp.space, pp.z_stroke_mm}] = pp.q;
+  for (const auto mode : {grinding::LeadCrowning::RadialInfeed, grinding::LeadCrowning::TwistFree}) {
+    const auto seed = compensation::design_motions(setup(), mode, {model, 300.0});
+    const auto own = compensation::design_motions(setup(), mode, {model, kCafxzyDatumMm, &chain});
+    ASSERT_FALSE(own.axes().is_setting());
+    ASSERT_EQ(own.rows().size(), seed.rows().size());
+    EXPECT_EQ(own.rows_outside_strokes(), 0);
+    for (std::size_t i = 0; i < own.rows().size(); ++i) {
+      const auto& r = own.rows()[i];
+      const machine::AxisPose& q = setting.at({r.space, r.z_stroke_mm});
+      const double zc = q.z + kCafxzyDatumMm + 150.0; // from the A pivot along the gear axis
+      ASSERT_NEAR(r.machine_axes.x, q.x, 1e-9);
+      ASSERT_NEAR(r.machine_axes.y, q.y + zc * std::sin(q.a), 1e-9);
+      ASSERT_NEAR(r.machine_axes.z, zc * std::cos(q.a), 1e-9);
+      ASSERT_NEAR(r.machine_axes.a, -q.a, 1e-12);
+      if (mode != grinding::LeadCrowning::RadialInfeed) continue;
+      ASSERT_EQ(r.correction.tail<4>().norm(), 0.0) << "X alone moves";
+      ASSERT_NEAR(r.correction(0), seed.rows()[i].correction(0), 1e-9) << "ΔX = Δx, mm";
+    }
+    const compensation::CompensatedProcess seed_ground(ideal, seed), own_ground(on_chain, own);
+    const auto a = ground_from_design_um(seed_ground), b = ground_from_design_um(own_ground);
+    double differ = 0.0, largest = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      differ = std::max(differ, std::abs(a[i] - b[i])), largest = std::max(largest, std::abs(a[i]));
+    std::printf("%s: largest |deviation from the design| CFXZAY %.4f um, CAFXZY differs by %.5f um\n",
+                mode == grinding::LeadCrowning::RadialInfeed ? "radial infeed" : "twist free", largest, differ);
+    EXPECT_LT(differ, 0.01);
+  }
 }

@@ -145,3 +145,25 @@ TEST(SceneChain, AChainFileIsReadBesideTheSceneAndItsErrorsLocatedInIt) {
   EXPECT_NE(both.find("machine.chain_file: give the chain once"), std::string::npos) << both;
   std::filesystem::remove_all(dir);
 }
+
+// Repeatability and resolution are per axis of the chain, by its letters (the stroke scatter and the rounding act on
+// its axes): on the CAFXZY described with its radial slide called U and its swivel B (pose order Y, Z, U, B, C) the
+// keys are u_um and b_mdeg, read into U's and B's slots (R↑ = 4 s), and x_um is no key of that chain.
+TEST(SceneChain, RepeatabilityAndResolutionTakeTheChainsLetters) {
+  const std::string renamed = with_replaced(with_replaced(kCafxzyInline, "{name: X,", "{name: U,"), "{name: A,", "{name: B,");
+  const auto sc = scene::parse_scene(chain_fixture::kGear + renamed +
+                                         "  repeatability: {u_um: 4, b_mdeg: 8, y_um: 0, z_um: 0, c_mdeg: 0}\n"
+                                         "  resolution: {u_um: 0.5, b_mdeg: 0.25}\n",
+                                     "mem");
+  const auto& chain = *sc.machine.chain;
+  ASSERT_EQ(chain.axis_name(machine::Axis::Z), "U"); // pose slot 2: the third linear letter in ISO 841 order
+  ASSERT_EQ(chain.axis_name(machine::Axis::A), "B");
+  const auto& u = sc.machine.uncertainty;
+  EXPECT_NEAR(u.repeatability(2), 1e-3, 1e-15);                                // mm: 4 µm / 4
+  EXPECT_NEAR(u.repeatability(3), 2e-3 * std::numbers::pi / 180.0, 1e-15);    // rad: 8 mdeg / 4
+  EXPECT_EQ(u.repeatability(0), 0.0);
+  EXPECT_NEAR(u.resolution(2), 0.5e-3, 1e-15);
+  EXPECT_NEAR(u.resolution(3), 0.25e-3 * std::numbers::pi / 180.0, 1e-15);
+  const auto e = chain_error_of(chain_fixture::kGear + renamed + "  repeatability: {x_um: 4}\n");
+  EXPECT_NE(e.find("machine.repeatability.x_um"), std::string::npos) << e;
+}

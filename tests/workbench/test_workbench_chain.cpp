@@ -6,6 +6,10 @@
 // setting alike), so both grind the same flanks.
 // Units: mm, µm.
 #include "geartopo/compensation/compensator.hpp"
+#include "geartopo/diagnosis/effect_contribution.hpp"
+#include "geartopo/diagnosis/prediction.hpp"
+#include "geartopo/diagnosis/stroke_scatter.hpp"
+#include "geartopo/effects/effects_process.hpp"
 #include "geartopo/grinding/chain_process.hpp"
 #include "geartopo/machine/chain.hpp"
 #include "geartopo/machine/twist.hpp"
@@ -14,6 +18,7 @@
 
 #include "../chain_scene_fixture.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -22,7 +27,9 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
+#include <cstdio>
 
 using namespace geartopo;
 using namespace geartopo::chain_fixture;
@@ -214,4 +221,236 @@ TEST(WorkbenchChain, CorrectionsAreCheckedAgainstTheChainsOwnStrokes) {
   EXPECT_GE(expected, 1);
   EXPECT_EQ(outside, expected);
   EXPECT_EQ(table.rows_outside_strokes(), 0);
+}
+
+// The design motions of a helix crowning on the CAFXZY are its own axes, checked against its own strokes: radial
+// infeed moves the X slide alone (the centre distance, X = x) and a 6 µm crowning takes the wheel in towards the face
+// ends by µm (the ends relieved); an X stroke starting 1 to 2 µm inside the path's centre distance keeps the path
+// inside (the chain's path check passes) but not the motions, and the workbench refuses at gear.modifications naming the
+// first sample outside and the axis with its stroke, as it names a path point outside.
+TEST(WorkbenchChain, DesignMotionsOutsideTheChainsStrokesAreRefusedNamingThePointAndTheAxis) {
+  const std::string crowned = with_line(kGearAndWheel, "  face_width_mm: 40\n",
+                                        "  modifications:\n    both: {helix_crowning_um: 6}\n", Where::After);
+  ASSERT_FALSE(crowned.empty());
+  const std::string chain = crowned + "process:\n  lead_crowning: radial_infeed\nmachine:\n  chain: CAFXZY\n";
+  const workbench::Workbench wb(scene::parse_scene(chain, "mem"));
+  ASSERT_TRUE(wb.design_motion);
+  ASSERT_FALSE(wb.design_motion->axes().is_setting());
+  EXPECT_EQ(wb.design_motion->axes().chain->name(), "CAFXZY");
+  EXPECT_EQ(wb.design_motion->rows_outside_strokes(), 0);
+  double x_path = 0.0, dx_min = 0.0;
+  for (const auto& r : wb.design_motion->rows()) {
+    EXPECT_EQ(r.correction.tail<4>().norm(), 0.0) << "X alone";
+    x_path = r.machine_axes.x;
+    dx_min = std::min(dx_min, r.correction(0));
+  }
+  ASSERT_LT(dx_min, -3e-3) << "a 6 µm crowning needs µm of infeed";
+  const double x_min = std::floor((x_path - 1e-3) * 1e3) / 1e3; // 1 to 2 µm inside the path, printed exactly
+  const std::string tight = fmt::format("  strokes: {{x_mm: [{:.3f}, 900]}}\n", x_min);
+  const auto e = workbench_error_of(chain + tight);
+  EXPECT_NE(e.find("gear.modifications: the motions that grind the helix modifications leave the CAFXZY chain's "
+                   "strokes at "),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find(", first at space "), std::string::npos) << e;
+  EXPECT_NE(e.find(" mm: X = "), std::string::npos) << e;
+  EXPECT_NE(e.find(fmt::format("mm is outside its stroke [{:g}, 900] mm", x_min)), std::string::npos) << e;
+}
+
+namespace {
+
+/// Teeth 1 and 16, both flanks, a 5×5 grid over the evaluation ranges (the deviations left at 0).
+std::vector<measurement::MeasuredPoint> chain_grid_points(const workbench::Workbench& wb) {
+  const auto& g = wb.setup.geometry();
+  const auto& r = wb.setup.ranges();
+  std::vector<measurement::MeasuredPoint> pts;
+  for (int tooth : {1, 16})
+    for (Flank flank : {Flank::Left, Flank::Right})
+      for (int i = 0; i < 5; ++i)
+        for (int j = 0; j < 5; ++j) {
+          measurement::MeasuredPoint p;
+          p.tooth = tooth, p.flank = flank;
+          p.roll_length_mm = r.xi_eval_start_mm + (r.xi_eval_end_mm - r.xi_eval_start_mm) * i / 4.0;
+          p.diameter_mm = g.diameter_at_roll_length(p.roll_length_mm);
+          p.z_mm = r.z_eval_start_mm + (r.z_eval_end_mm - r.z_eval_start_mm) * j / 4.0;
+          pts.push_back(p);
+        }
+  return pts;
+}
+
+} // namespace
+
+// The diagnosis' stroke scatter on the CAFXZY offsets its own axes: a repeatability of the A table alone (R↑ 4 mdeg,
+// s = 1 mdeg = 17.45 µrad) gives G a column equal to what the same constant offset of A grinds through the exact chain
+// — written here as its zero error E_AOA = s in the map (the table turns to A + E_AOA wherever commanded, as a
+// command A + s turns it), ground by the exact search through the chain's error HTMs — and likewise a repeatability
+// of Y alone (R↑ 4 µm, s = 1 µm) and the Z slide's straightness δ_yz = s along y (the Y slide rides on it with no
+// rotary axis between: translations commute). They differ by second-order terms (s² × lever arms: ~1e-4 µm) and the
+// linear contact's first order against the exact search's: 0.01 µm stated. The setting's α offset by s (today's
+// behaviour on the CFXZAY, where A is the setting's α) would have tilted the wheel instead of the table: a column
+// that differs by more than 0.5 µm.
+TEST(WorkbenchChain, StrokeScatterOfTheCafxzyOffsetsItsOwnAxes) {
+  const std::string chain = kGearAndWheel + "machine:\n  chain: CAFXZY\n";
+  for (const auto& [key, component, slot] : {std::tuple{"a_mdeg", "E_AOA_urad: 17.453292519943", 3},
+                                             std::tuple{"y_um", "delta_yz_um: 1", 1}}) {
+    std::string repeatability; // R↑ = 4 (µm or mdeg) on one axis, 0 on the others
+    for (const std::string k : {"x_um", "y_um", "z_um", "a_mdeg", "c_mdeg"})
+      repeatability += (repeatability.empty() ? "" : ", ") + k + (k == key ? ": 4" : ": 0");
+    const workbench::Workbench wb(scene::parse_scene(chain + "  repeatability: {" + repeatability + "}\n", "mem"));
+    const auto& sd = wb.scene.machine.uncertainty.repeatability;
+    ASSERT_EQ((sd.array() > 0.0).count(), 1) << key;
+    ASSERT_GT(sd(slot), 0.0) << key;
+    const auto pts = chain_grid_points(wb);
+    const compensation::ChainAxes axes{wb.scene.machine.chain, wb.scene.machine.datum_face_z_mm};
+    const Eigen::MatrixXd G = diagnosis::stroke_sensitivity(wb.setup, wb.process(), pts, sd, axes); // n × 5
+    const Eigen::MatrixXd G_setting = diagnosis::stroke_sensitivity(wb.setup, wb.process(), pts, sd);
+    const workbench::Workbench offset(
+        scene::parse_scene(chain + "  constants: {" + std::string(component) + "}\n", "mem"));
+    const auto base = diagnosis::predict(wb.setup, wb.process(), pts, grinding::Method::Exact);
+    const auto moved = diagnosis::predict(offset.setup, offset.process(), pts, grinding::Method::Exact);
+    double differ = 0.0, largest = 0.0, setting_differ = 0.0;
+    for (Eigen::Index i = 0; i < G.rows(); ++i) {
+      const double exact = moved[static_cast<size_t>(i)] - base[static_cast<size_t>(i)];
+      for (int a = 0; a < 5; ++a) {
+        if (a != slot) {
+          ASSERT_EQ(G(i, a), 0.0);
+        }
+      }
+      differ = std::max(differ, std::abs(G(i, slot) - exact));
+      largest = std::max(largest, std::abs(exact));
+      setting_differ = std::max(setting_differ, std::abs(G_setting(i, slot) - exact));
+    }
+    std::printf("%s 4: largest |offset ground| %.4f um, G's column differs by %.5f um (the setting's by %.3f um)\n", key,
+                largest, differ, setting_differ);
+    EXPECT_GT(largest, 0.5) << key;
+    EXPECT_LT(differ, 0.01) << key;
+    if (slot == 3) {
+      EXPECT_GT(setting_differ, 0.5) << key;
+    }
+  }
+}
+
+namespace {
+
+/// `text` with an effects block of one thermal drift (µm, s).
+std::string with_thermal_drift(const std::string& text, double x_um, double z_um, double tau_s) {
+  return text + fmt::format("effects:\n  - type: thermal_drift\n    x_growth_um: {}\n    z_growth_um: {}\n"
+                            "    time_constant_s: {}\n",
+                            x_um, z_um, tau_s);
+}
+
+/// Largest |a − b| and largest |b − base| over the grid deviations (µm).
+std::pair<double, double> differ_and_size(const std::vector<double>& a, const std::vector<double>& b,
+                                          const std::vector<double>& base) {
+  double differ = 0.0, size = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    differ = std::max(differ, std::abs(a[i] - b[i])), size = std::max(size, std::abs(b[i] - base[i]));
+  return {differ, size};
+}
+
+} // namespace
+
+// The thermal drift's growth belongs to the slides whose ball screws grow: X growth to the chain's slide along x (the
+// centre distance), Z growth to its slide along z (effects::chain_offsets). On the CXFZAY X is the radial table on the
+// workpiece side: a drift of 20 µm (τ = 60 s) grinds what the same offset of X, δX(t) = 20 µm·(1 − e^(−t/τ)) sampled
+// every 0.5 mm of every stroke into a correction table, grinds through the exact chain (CompensatedProcess: the
+// chain's forward kinematics at θ + δθ) — to 1e-3 µm (the table's linear interpolation of e^(−t/τ) over 25 ms: 1e-7 µm;
+// the exact search: 1e-6 µm).
+TEST(WorkbenchChain, ThermalXGrowthOfTheCxfzayGrindsTheSameOffsetOfItsRadialTable) {
+  const std::string chain = kGearAndWheel + "machine:\n  chain: CXFZAY\n";
+  const workbench::Workbench plain(scene::parse_scene(chain, "mem"));
+  const workbench::Workbench drifting(scene::parse_scene(with_thermal_drift(chain, 20.0, 0.0, 60.0), "mem"));
+  std::vector<compensation::CorrectionRow> rows;
+  for (const auto& pp : plain.setup.path().sample(0.5)) {
+    compensation::CorrectionRow r;
+    r.space = pp.space, r.z_stroke_mm = pp.z_stroke_mm, r.time_s = pp.time_s;
+    r.correction(0) = 20e-3 * (1.0 - std::exp(-pp.time_s / 60.0)); // X, mm
+    rows.push_back(r);
+  }
+  const compensation::CorrectionTable offsets(
+      std::move(rows), {plain.scene.machine.chain, plain.scene.machine.datum_face_z_mm});
+  ASSERT_FALSE(offsets.axes().is_setting());
+  ASSERT_EQ(offsets.axes().axis_name(0), "X");
+  const compensation::CompensatedProcess offset(plain.process(), offsets, compensation::CorrectedPose::Exact);
+  const auto a = grid_deviations(drifting), b = grid_deviations(plain);
+  std::vector<double> expected;
+  {
+    grinding::SimulationOptions so;
+    so.teeth = {1, 16};
+    so.rows = 5, so.cols = 5, so.profile_points = 2, so.helix_points = 2;
+    for (const auto& flank : grinding::simulate_topology(plain.setup, offset, so))
+      for (const auto& p : flank.grid) expected.push_back(p.deviation_um);
+  }
+  ASSERT_EQ(a.size(), expected.size());
+  const auto [differ, size] = differ_and_size(a, expected, b);
+  std::printf("CXFZAY thermal X growth: up to %.3f um, differs from the X offset by %.2e um\n", size, differ);
+  EXPECT_GT(size, 1.0);
+  EXPECT_LT(differ, 1e-3);
+}
+
+// On the CAFXZY the Z slide carries the wheel head along the bed's z while the A table tilts the gear by α: at fixed
+// A and Y the closed form Z = (z + 150)·cos α, Y = y + (z + 150)·sin α gives a Z offset δZ as the setting's
+// δz = δZ / cos α along the gear axis and δy = −δZ·tan α along the wheel spindle (not δz = δZ, as the setting's z
+// would have it). A Z growth of 20 µm (τ = 60 s) on the CAFXZY grinds what those setting offsets grind on the error-free
+// CFXZAY, to 1e-3 µm, and its first-order model is the diagnosis' a_q (EffectContribution: the chain's
+// J_twistw_theta) to 1e-9 µm. The bed's z lies in the wheel's mid-plane, tilted with the gear by the cross angle
+// along the lead, so the growth grinds a fraction of a µm, where the setting's δz along the gear axis grinds µm.
+TEST(WorkbenchChain, ThermalZGrowthOfTheCafxzyActsAlongItsZSlide) {
+  const std::string cafxzy = kGearAndWheel + "machine:\n  chain: CAFXZY\n";
+  const workbench::Workbench plain(scene::parse_scene(cafxzy, "mem"));
+  const workbench::Workbench drifting(scene::parse_scene(with_thermal_drift(cafxzy, 0.0, 20.0, 60.0), "mem"));
+  const workbench::Workbench seed(scene::parse_scene(kGearAndWheel, "mem"));
+  std::vector<compensation::CorrectionRow> rows, along_z;
+  for (const auto& pp : seed.setup.path().sample(0.5)) {
+    compensation::CorrectionRow r;
+    r.space = pp.space, r.z_stroke_mm = pp.z_stroke_mm, r.time_s = pp.time_s;
+    const double dZ = 20e-3 * (1.0 - std::exp(-pp.time_s / 60.0)); // mm
+    along_z.push_back(r);
+    along_z.back().correction(2) = dZ; // the setting's z: what the drift did before it acted on the chain's Z
+    r.correction(1) = -dZ * std::tan(pp.q.a);
+    r.correction(2) = dZ / std::cos(pp.q.a);
+    rows.push_back(r);
+  }
+  const compensation::CorrectionTable closed_form(std::move(rows)), setting_z(std::move(along_z));
+  const compensation::CompensatedProcess expected_process(seed.process(), closed_form, compensation::CorrectedPose::Exact);
+  const compensation::CompensatedProcess setting_process(seed.process(), setting_z, compensation::CorrectedPose::Exact);
+  grinding::SimulationOptions so;
+  so.teeth = {1, 16};
+  so.rows = 5, so.cols = 5, so.profile_points = 2, so.helix_points = 2;
+  const auto ground = [&](const grinding::GrindingProcess& p) {
+    std::vector<double> out;
+    for (const auto& flank : grinding::simulate_topology(seed.setup, p, so))
+      for (const auto& g : flank.grid) out.push_back(g.deviation_um);
+    return out;
+  };
+  const auto a = grid_deviations(drifting), base = grid_deviations(plain);
+  const auto expected = ground(expected_process), old = ground(setting_process);
+  ASSERT_EQ(a.size(), expected.size());
+  const auto [differ, size] = differ_and_size(a, expected, base);
+  const auto [differ_old, size_old] = differ_and_size(a, old, base);
+  std::printf("CAFXZY thermal Z growth: up to %.3f um, differs from the closed form by %.2e um, from the setting's z "
+              "offset by %.3f um\n",
+              size, differ, differ_old);
+  EXPECT_GT(size, 0.1);
+  EXPECT_LT(differ, 1e-3);
+  EXPECT_GT(size_old, 1.0);
+  EXPECT_GT(differ_old, 1.0);
+
+  // The diagnosis' first-order model of the same effect on the chain: EffectContribution's a_q·δθ is the linear
+  // method through EffectsProcess over the ideal machine on the chain.
+  const auto pts = chain_grid_points(drifting);
+  const diagnosis::EffectContribution at(drifting.setup, pts, 1, drifting.scene.machine.chain,
+                                         drifting.scene.machine.datum_face_z_mm);
+  const grinding::IdealProcess ideal;
+  const effects::EffectsProcess linear(ideal, drifting.effects, drifting.scene.machine.chain,
+                                       drifting.scene.machine.datum_face_z_mm);
+  const auto by_process = diagnosis::predict(drifting.setup, linear, pts, grinding::Method::Linear, 1);
+  const Eigen::VectorXd by_contribution = at.evaluate_um(drifting.effects, 1);
+  double worst = 0.0, largest = 0.0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    worst = std::max(worst, std::abs(by_contribution(static_cast<Eigen::Index>(i)) - by_process[i]));
+    largest = std::max(largest, std::abs(by_process[i] - at.offset_um()));
+  }
+  EXPECT_GT(largest, 0.1);
+  EXPECT_LT(worst, 1e-9);
 }

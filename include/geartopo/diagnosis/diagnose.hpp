@@ -182,9 +182,10 @@ struct MeasurementPlan {
 /// What diagnose does and when; the defaults are the documented behaviour (docs/diagnosis.md).
 struct DiagnoseOptions {
   double noise_um = 0.0;            ///< probe noise σ (µm) in [kMinNoiseUm, kMaxNoiseUm]; 0: estimated (estimate_noise_um)
-  /// Stroke-to-stroke scatter of the axis commands, one standard deviation per axis X, Y, Z (mm), A, C (rad): the
-  /// scene's `machine.repeatability` (ISO 230-2 R/4). Non-zero: the residual's covariance is σ² I plus each stroke's
-  /// scatter (stroke_scatter.hpp) and every fit is generalised least squares. Zero (default): white noise only.
+  /// Stroke-to-stroke scatter of the axis commands, one standard deviation per axis of `chain` in its pose order
+  /// (linear mm, rotary rad; the CFXZAY's X, Y, Z, A, C): the scene's `machine.repeatability` (ISO 230-2 R/4).
+  /// Non-zero: the residual's covariance is σ² I plus each stroke's scatter (stroke_scatter.hpp) and every fit is
+  /// generalised least squares. Zero (default): white noise only.
   machine::Vector5d stroke_repeatability_sd = machine::Vector5d::Zero();
   /// The model's own uncertainty at the measured points (n × m, µm): column k the first-order deviation when uncertain
   /// model quantity k is off by its standard uncertainty (map_sensitivity: the error map's 43 components within
@@ -203,7 +204,8 @@ struct DiagnoseOptions {
   bool project_linear = true;
   int threads = 0;                  ///< threads of the predictions; 0: all hardware threads
   /// The scene's kinematic chain (null: the CFXZAY) and where the gear's datum face sits along its z (mm): the
-  /// machine-element hypotheses follow its error components (EffectContribution::component_sensitivity_um).
+  /// machine-element hypotheses follow its error components (EffectContribution::component_sensitivity_um), and the
+  /// stroke scatter offsets its axes (stroke_sensitivity).
   const machine::KinematicChain* chain = nullptr;
   double datum_face_z_mm = 0.0;
   /// Called after each candidate explanation is fitted (single effects, then pairs) with (candidates fitted, candidates

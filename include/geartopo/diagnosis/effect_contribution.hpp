@@ -11,6 +11,7 @@
 #include "geartopo/grinding/grinding_setup.hpp"
 #include "geartopo/grinding/wheel_path.hpp"
 #include "geartopo/machine/kinematic_chain.hpp"
+#include "geartopo/machine/machine_data.hpp" // Matrix65
 
 #include <Eigen/Core>
 
@@ -35,7 +36,8 @@ public:
 
   /// The effects' first-order deviation at every point (n, µm) over the ideal machine, referred to the nominal flank
   /// at the mean allowance: the same quantity as
-  ///   predict(setup, effects::EffectsProcess(grinding::IdealProcess{}, effects), points, grinding::Method::Linear)
+  ///   predict(setup, effects::EffectsProcess(grinding::IdealProcess{}, effects, chain, datum_face_z_mm), points,
+  ///           grinding::Method::Linear)
   /// and equal to it to rounding (the sums are associated differently: tests/diagnosis/test_effect_contribution.cpp).
   /// The effects must be bound to the same set-up. Results do not depend on `threads`.
   Eigen::VectorXd evaluate_um(const std::vector<std::unique_ptr<effects::Effect>>& effects, int threads = 0) const;
@@ -66,7 +68,8 @@ private:
   EffectContribution() = default;
   /// Per point (≈ 170 bytes): the deviation is d = a_qᵀ δq + wᵀ ξ − δR(v)·normal_per_radial with
   ///   w = (n; P × n)          so that n·(δp + δθ × P) = wᵀ (δp; δθ) for a pose-error twist ξ = (δp; δθ) in w,
-  ///   a_q = J_twistw_q(q)ᵀ w  the deviation per unit command offset of each axis (X, Y, Z mm; A, C rad).
+  ///   a_q = J_twistw_q(q)ᵀ w  the deviation per unit command offset of each axis (X, Y, Z mm; A, C rad); on another
+  ///                           chain its own axes' (J_twistw_theta at θ(q), moved to the datum: J_twistw_axes).
   struct PointState {
     grinding::PathPoint pp;         ///< generating pose: the effects' hooks are evaluated here
     machine::Vector5d a_q;          ///< 5: mm per axis unit
@@ -74,6 +77,8 @@ private:
     double v = 0.0;                 ///< wheel axial coordinate of the contact (mm)
     double normal_per_radial = 0.0; ///< normal displacement of the wheel surface per radial change at v
   };
+  /// The spatial twist per unit of each of the machine's axes at q (6×5): J_twistw_q, or the chain's J_twistw_theta.
+  machine::Matrix65 J_twistw_axes(const machine::AxisPose& q) const;
   /// wheel_radius_errors_mm of an effect that evaluates in batches, at every point (mm), in chunks of fixed points.
   std::vector<double> batched_radius_mm(const effects::Effect& e, int threads) const;
 

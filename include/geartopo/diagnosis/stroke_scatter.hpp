@@ -2,7 +2,8 @@
 // error map is known only to its stated uncertainty (docs/diagnosis.md, "Stroke-to-stroke scatter and the map's
 // uncertainty"). Units: µm (residuals, sensitivities per one standard deviation), mm and rad (axis repeatability).
 //
-// A stroke grinds one tooth space; its five axis commands X, Y, Z, A, C are each off by a random δq_a ~ N(0, s_a²),
+// A stroke grinds one tooth space; its five axis commands (the chain's own: X, Y, Z, A, C on the CFXZAY) are each off by
+// a random δq_a ~ N(0, s_a²),
 // constant over the stroke (ISO 230-2 repeatability R = 4 s, scene `machine.repeatability`). To first order the measured
 // deviation at point i of space s then carries g_iᵀ ξ_s, ξ_s ~ N(0, I₅), with g_i (5) the deviation at i per one s_a
 // of each axis (µm). The error map's components are each off by a constant of N(0, u_c²) (scene `machine.uncertainty`;
@@ -17,6 +18,7 @@
 // (σ̂² (JᵀJ)⁻¹, χ², BIC) holds for it.
 #pragma once
 
+#include "geartopo/compensation/chain_axes.hpp"
 #include "geartopo/measurement/measured_points.hpp"
 #include "geartopo/grinding/grinding_process.hpp"
 #include "geartopo/grinding/grinding_setup.hpp"
@@ -33,12 +35,15 @@ namespace geartopo::diagnosis {
 using measurement::MeasuredPoint; ///< what diagnosis works on: measured points, read by the measurement library
 
 /// g_i for every point (n × 5, µm): the first-order deviation at each point when its space's stroke is commanded off by
-/// one standard deviation s_a of axis a (X, Y, Z in mm, A, C in rad; ISO 230-2 R/4). The model's process carries the
-/// offsets (a correction constant over every stroke); the space of a point is the one that grinds its flank.
+/// one standard deviation s_a of axis a (ISO 230-2 R/4) — the axes `axes` (the scene's chain's own in its pose order,
+/// linear in mm, rotary in rad; default: the setting's, the CFXZAY's X, Y, Z, A, C). The model's process carries the
+/// offsets (a correction constant over every stroke, in those axes, as the Monte Carlo's stroke offsets are); the
+/// space of a point is the one that grinds its flank.
 /// `keep_going` (may be empty): predict's Ctrl-C check, every 4096 points of each of the 6 predictions.
 Eigen::MatrixXd stroke_sensitivity(const grinding::GrindingSetup& setup, const grinding::GrindingProcess& model,
                                    const std::vector<MeasuredPoint>& points, const machine::Vector5d& repeatability_sd,
-                                   int threads = 0, const std::function<void()>& keep_going = {});
+                                   const compensation::ChainAxes& axes = {}, int threads = 0,
+                                   const std::function<void()>& keep_going = {});
 
 /// m_i for every point (n × 43, µm): the first-order deviation at each point when one component of the scene's error
 /// map is off by its standard uncertainty u_c (a constant along its axis, as the Monte Carlo draws it; u_c(p) from the

@@ -53,7 +53,8 @@ public:
   /// Called once before use, with the grinding set-up (gear, wheel, path). The set-up must outlive the effect.
   virtual void bind(const grinding::GrindingSetup& setup) { setup_ = &setup; }
 
-  /// Added to the machine's axis commands at pp: δX, δY, δZ (mm), δA, δC (rad).
+  /// Added to the machine's axis commands at pp: δX, δY, δZ (mm), δA, δC (rad) — the slides along x, y, z, the swivel
+  /// and the spindle, which EffectsProcess gives to the chain's axes of those roles (effects::chain_offsets).
   virtual machine::Vector5d command_offset(const grinding::PathPoint& /*pp*/) const { return machine::Vector5d::Zero(); }
   /// Pose of the machine's table frame in the gear frame (identity for a perfectly mounted gear).  wMc
   virtual machine::Pose table_in_gear(const grinding::PathPoint& /*pp*/) const { return machine::Pose::Identity(); }

@@ -58,7 +58,8 @@ SetupTermModel setup_term_model(const grinding::GrindingSetup& setup, const grin
   std::vector<int> space(pts.size());
   for (size_t i = 0; i < pts.size(); ++i)
     space[i] = grinding::space_of(pts[i].tooth, pts[i].flank, setup.geometry().teeth());
-  const Eigen::MatrixXd G = stroke_sensitivity(setup, model, pts, o.stroke_repeatability_sd, o.threads, o.keep_going); // n × 5
+  const Eigen::MatrixXd G = stroke_sensitivity(setup, model, pts, o.stroke_repeatability_sd,
+                                               {o.chain, o.datum_face_z_mm}, o.threads, o.keep_going); // n × 5
   return SetupTermModel(setup.geometry(), pts, StrokeScatter(space, G, noise_um, o.model_uncertainty_um));
 }
 

@@ -74,7 +74,7 @@ Remainder remainder_with(const Context& ctx, const Candidate* c) {
   if (c) {
     const auto effs =
         workbench::make_effects(c->effects, c->changes, ctx.setup, ctx.options.chain, ctx.options.datum_face_z_mm);
-    const effects::EffectsProcess with(ctx.model, effs);
+    const effects::EffectsProcess with(ctx.model, effs, ctx.options.chain, ctx.options.datum_face_z_mm);
     const auto after = predict(ctx.setup, with, ctx.points, grinding::Method::Exact, o.threads);
     for (size_t i = 0; i < ctx.points.size(); ++i)
       rem.raw(static_cast<Eigen::Index>(i)) = ctx.points[i].deviation_um - after[i];
