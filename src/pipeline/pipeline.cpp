@@ -24,6 +24,16 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
     limits::require(limits::samples_refusal(o.prediction->samples, 1), "run_pipeline: prediction samples");
     limits::require(limits::synthetic_noise_um_refusal(o.prediction->probe_noise_um), "run_pipeline: probe_noise_um");
   }
+  // The measurement is read before any simulation: a bad file is refused in a second, its error the first line a user
+  // sees, not after minutes of work (and not after the progress lines of a slow build).
+  std::optional<MeasurementResult> measured;
+  measurement::ReadCounts read;
+  if (!o.measured_file.empty()) {
+    measured.emplace();
+    measured->file = o.measured_file;
+    measured->points = measurement::read_any_measurement(o.measured_file, wb.setup, &measured->warnings,
+                                                         o.measurement_format, &read, o.measured_against);
+  }
   PipelineResult r;
   grinding::SimulationOptions so;
   so.method = o.method;
@@ -61,12 +71,8 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
     r.prediction = summarise(run_monte_carlo(wb, *r.corrections, mc));
   }
 
-  if (!o.measured_file.empty()) {
-    MeasurementResult m;
-    m.file = o.measured_file;
-    measurement::ReadCounts read;
-    m.points = measurement::read_any_measurement(o.measured_file, wb.setup, &m.warnings, o.measurement_format, &read,
-                                                  o.measured_against);
+  if (measured) {
+    MeasurementResult& m = *measured;
     stage("compare", 0);
     m.before = diagnosis::compare(wb.setup, wb.process(), m.points, o.noise_um, read);
     stage(kDiagnoseStage, 0);
@@ -84,7 +90,7 @@ PipelineResult run_pipeline(const workbench::Workbench& wb, const PipelineOption
                                          wb.scene.machine.datum_face_z_mm);
       m.after = diagnosis::compare(wb.setup, with, m.points, m.before.noise_um, read);
     }
-    r.measurement = std::move(m);
+    r.measurement = std::move(measured);
   }
   return r;
 }
