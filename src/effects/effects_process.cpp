@@ -13,10 +13,17 @@ namespace geartopo::effects {
 machine::Vector5d chain_offsets(const machine::KinematicChain& chain, const machine::Vector5d& by_role) {
   machine::Vector5d out = machine::Vector5d::Zero();
   // Every body frame is parallel at home and every linear axis runs along ±x, ±y or ±z, one per direction
-  // (kinematic_chain.hpp): the role of a slide is its direction.
+  // (kinematic_chain.hpp): the role of a slide is its direction. The offset is a motion of that role's setting
+  // coordinate (x, y, z, α, γ), so an axis that counts the other way takes it negated: θ = f·q as the inverse
+  // kinematics orients it (KinematicChain::solve), f = ±1 by the axis' direction, and for a slide or the swivel by its
+  // side (a workpiece-side axis moves the gear, the wheel relative to it the other way); the spindle's θ_C = ±γ.
+  // A lag −T·dθ/dt is then −T·f·dγ/dt = f·(−T·dγ/dt) on a spindle about −z as about +z. f = +1 on every axis of the
+  // three presets except the CAFXZY's A table (A = −α), which no library effect offsets.
   for (const machine::Joint& j : chain.joints()) {
     const int slot = static_cast<int>(j.slot);
-    out(slot) = j.kind == machine::AxisKind::Linear ? by_role(j.dir) : by_role(slot);
+    const bool spindle = j.kind == machine::AxisKind::Rotary && j.slot == machine::Axis::C;
+    const double f = spindle ? j.sign : (j.workpiece_side ? -1.0 : 1.0) * j.sign;
+    out(slot) = f * (j.kind == machine::AxisKind::Linear ? by_role(j.dir) : by_role(slot));
   }
   return out;
 }

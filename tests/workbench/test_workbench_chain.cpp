@@ -454,3 +454,37 @@ TEST(WorkbenchChain, ThermalZGrowthOfTheCafxzyActsAlongItsZSlide) {
   EXPECT_GT(largest, 0.1);
   EXPECT_LT(worst, 1e-9);
 }
+
+// A chain is a description: the CFXZAY written with its spindle turning about −z (C = −γ) and its X slide along −x
+// (X = −x, stroke [−900, 0]) is the same machine, and a physical effect must grind the same flanks on it. The servo
+// lag C(t) = C_cmd(t − T) of the flipped spindle is −T·dC/dt = +T·dγ/dt in C, the same lag of the gear; a thermal
+// growth of the slide along x moves the wheel along +x (effects::chain_offsets: the offsets are motions of the
+// setting's coordinates). Expected: the compiled-in CFXZAY (MachineProcess, no chain) with the same effects, to 1e-4 µm
+// (the exact search converges to 1e-6 µm), where a lag taken in C unturned would have ground the spaces' pitch
+// errors with the opposite sign.
+TEST(WorkbenchChain, EffectsGrindTheSameFlanksWhenTheChainCountsItsAxesTheOtherWay) {
+  const std::string effects = "effects:\n  - type: servo_lag\n    c_lag_ms: 2\n"
+                              "  - type: thermal_drift\n    x_growth_um: 20\n    time_constant_s: 60\n";
+  const std::string flipped = kGearAndWheel + R"(machine:
+  chain:
+    name: CFXZAY counted the other way
+    workpiece:
+      - {name: C, kind: rotary, direction: [0, 0, -1]}
+    tool:
+      - {name: X, kind: linear, direction: [-1, 0, 0], stroke_mm: [-900, 0]}
+      - {name: Z, kind: linear, direction: [0, 0, 1], stroke_mm: [0, 800]}
+      - {name: A, kind: rotary, direction: [1, 0, 0], stroke_deg: [-45, 45]}
+      - {name: Y, kind: linear, direction: [0, 1, 0], stroke_mm: [-200, 200]}
+)";
+  const workbench::Workbench user(scene::parse_scene(flipped + effects, "mem"));
+  ASSERT_NE(dynamic_cast<const grinding::ChainProcess*>(&user.machine_process), nullptr);
+  EXPECT_DOUBLE_EQ(user.scene.machine.chain->axes(machine::AxisPose{150.0, 0.0, 10.0, 0.2, 0.3}).v(4), -0.3); // C = −γ
+  const auto a = grid_deviations(user);
+  const auto expected = grid_deviations(workbench::Workbench(scene::parse_scene(kGearAndWheel + effects, "mem")));
+  const auto plain = grid_deviations(workbench::Workbench(scene::parse_scene(kGearAndWheel, "mem")));
+  ASSERT_EQ(a.size(), expected.size());
+  const auto [differ, size] = differ_and_size(a, expected, plain);
+  std::printf("flipped CFXZAY: servo lag + X growth up to %.3f um, differs from the CFXZAY by %.2e um\n", size, differ);
+  EXPECT_GT(size, 1.0);
+  EXPECT_LT(differ, 1e-4);
+}

@@ -18,9 +18,11 @@
 
 namespace geartopo::effects {
 
-/// An offset given in the CFXZAY's order of roles (the slides along x, y and z, the swivel, the spindle) in `chain`'s
-/// pose order: the slide along x to the chain's linear axis along x, and so on. The identity on the CFXZAY, the CAFXZY
-/// and the CXFZAY (their X, Y, Z are the slides along x, y, z); on a chain with a radial slide U, U's slot.
+/// An offset given in the CFXZAY's order of roles (the slides along x, y and z, the swivel, the spindle: motions of
+/// the setting's x, y, z, α, γ) in `chain`'s pose order: the slide along x to the chain's linear axis along x, and so
+/// on, negated for an axis that counts against its role's coordinate (a spindle about −z: θ_C = −γ; a tool-side slide
+/// along −x). The identity on the CFXZAY and the CXFZAY, and on the CAFXZY but for its A table (A = −α); on a chain
+/// with a radial slide U, U's slot.
 machine::Vector5d chain_offsets(const machine::KinematicChain& chain, const machine::Vector5d& by_role);
 
 class EffectsProcess final : public grinding::GrindingProcess {
