@@ -71,7 +71,7 @@ function(geartopo_add_library name)
   # UNITY: the library's files compiled as one translation unit (many small files sharing heavy templates).
   if(unity)
     set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 0)
-    target_compile_options(${target} PRIVATE -Wno-subobject-linkage)
+    target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-Wno-subobject-linkage>)
   endif()
   install(TARGETS ${target} EXPORT geartopoTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
   set_property(GLOBAL APPEND PROPERTY GEARTOPO_LIBRARIES ${target})
