@@ -66,6 +66,10 @@ write(S, "syntax_nul_then_comma_hang.yaml", "\0\0\0,gear:\n  teeth: 35\n", ("Inp
 # The third: a tag (or an anchor) in front of the ',' hung it as well (the fuzzer's input: " ! ," then 0xFF bytes).
 write(S, "syntax_tag_then_comma_hang.yaml", b" ! ," + b"\xff" * 70 + b"` ! \n\n  \n", ("InputError", 1, "cannot start with ','"))
 write(S, "syntax_anchor_then_comma_hang.yaml", "&a ,gear:\n  teeth: 35\n", ("InputError", 1, "cannot start with ','"))
+# The fourth: the properties alone on a line and the ',' on a later one made LoadAll allocate without bound (18 bytes,
+# 2 GB within a second: the fuzzer's input, a document end "..." first).
+write(S, "syntax_tag_line_then_comma_oom.yaml", b"...  \n\n!\n\n,\x8eeix\xff\x9ci", ("InputError", 5, "cannot start with ','"))
+write(S, "syntax_anchor_line_then_comma_oom.yaml", "&a # the anchor\n\n,gear:\n  teeth: 35\n", ("InputError", 3, "cannot start with ','"))
 write(S, "syntax_unclosed_quote.yaml", 'name: "unterminated\n' + GEAR, ("InputError", -1, "gear"))
 write(S, "wrong_type_teeth_text.yaml", gear(teeth="many"), ("InputError", 3, "gear.teeth"))
 write(S, "wrong_type_teeth_fraction.yaml", gear(teeth="35.5"), ("InputError", 3, "not a whole number"))
