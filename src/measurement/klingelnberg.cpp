@@ -307,7 +307,9 @@ KlingelnbergFile ExportParser::parse(std::string_view raw) {
     pos = nl == std::string_view::npos ? raw.size() : nl + 1;
     if (++ln_ % 4096 == 0 && keep_going_) keep_going_(); // a Ctrl-C check: 4096 lines take ~1 ms
     trimmed_ = trim(full_);
-    if (trimmed_.empty()) continue;
+    // A line of separators only (";") is a blank line in every block: the pitch table's head and rows read their
+    // first token unchecked (fuzz_klingelnberg, 2026-11-28: a ";" after the last pitch row).
+    if (trimmed_.find_first_not_of(" \t;") == std::string_view::npos) continue;
     line_ = trimmed_;
     if (std::string_view unused; !header_code(line_, unused)) line_ = german_words(line_, english_, english_from_);
 
@@ -562,8 +564,7 @@ void ExportParser::read_free_line() {
     return;
   }
   // Preamble ("HEADER KS.MK.FILE", "TYPE STI ! comment", …): settings of the export, not data.
-  const auto t = tokens(line_);
-  if (t.empty()) return; // separators only (";"): a blank line
+  const auto t = tokens(line_); // never empty: a line of separators only is skipped as blank (parse)
   const bool preamble = t[0].size() >= 2 && std::all_of(t[0].begin(), t[0].end(), [](char c) {
     return (c >= 'A' && c <= 'Z') || c == '_' || c == '.';
   });

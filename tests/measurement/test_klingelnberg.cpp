@@ -190,6 +190,30 @@ TEST(Klingelnberg, ALineOfSeparatorsOnlyIsABlankLine) {
   EXPECT_EQ(res.warnings, ref.warnings);
 }
 
+// The fifth fuzzing run: a ";" line in the pitch table (after its last row, or before its column line) read the first
+// token of none (UBSan). It is a blank line there too: the same points, warnings and pitch rows.
+TEST(Klingelnberg, ALineOfSeparatorsOnlyIsABlankLineInThePitchTable) {
+  const auto ref_file = measurement::parse_klingelnberg(example_text(), "x.mka");
+  std::string text = example_text();
+  text.insert(text.find("Zahn-Nr.   fp"), ";\r\n");                                   // before the left table's head
+  text.insert(text.find("\n", text.find("  2      -.400")) + 1, " ; ;\r\n");           // after its last row
+  text += ";";                                                                     // the file's last line
+  const auto file = measurement::parse_klingelnberg(text, "x.mka");
+  ASSERT_EQ(file.pitch.size(), ref_file.pitch.size());
+  for (size_t i = 0; i < file.pitch.size(); ++i) {
+    EXPECT_EQ(file.pitch[i].tooth, ref_file.pitch[i].tooth);
+    EXPECT_EQ(file.pitch[i].flank, ref_file.pitch[i].flank);
+    EXPECT_EQ(file.pitch[i].fp_um, ref_file.pitch[i].fp_um);
+    EXPECT_EQ(file.pitch[i].Fp_um, ref_file.pitch[i].Fp_um);
+    EXPECT_EQ(file.pitch[i].Fr_um, ref_file.pitch[i].Fr_um);
+  }
+  const auto ref = measurement::klingelnberg_points(ref_file, example_gear());
+  const auto res = measurement::klingelnberg_points(file, example_gear());
+  ASSERT_EQ(res.points.size(), ref.points.size());
+  for (size_t i = 0; i < ref.points.size(); ++i) EXPECT_EQ(res.points[i].deviation_um, ref.points[i].deviation_um);
+  EXPECT_EQ(res.warnings, ref.warnings);
+}
+
 TEST(Klingelnberg, CountsMustMatchTheHead) {
   const auto few = replaced(example_text(), "  .000  1.000  2.000  3.000  4.000", "  .000  1.000  2.000  3.000");
   EXPECT_EQ(points_error(few, example_gear()), "x.mka:22: Werte: the head announces 5 values, 4 follow");
