@@ -33,8 +33,11 @@ for reader in scene error_table topology point_cloud klingelnberg; do
   rm -f "$work"/expected.tsv
   for f in ${shipped[$reader]}; do cp "$f" "$work"/; done
   echo "fuzz_$reader: $seconds s"
-  if ! "$build_dir/bin/fuzz_$reader" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
-       -artifact_prefix="$findings/" "$work" >"$build_dir/fuzz_$reader.log" 2>&1; then
+  # Killed after SECONDS + 120 s: on an out-of-memory input libFuzzer's report (its heap profile, taken under
+  # StopTheWorld) hung here for good (2026-11-28) and wrote no input; `gdb -p PID -batch -ex "thread 1" -ex "frame
+  # function LLVMFuzzerTestOneInput" -ex "p text"` printed it while the fuzzer still ran.
+  if ! timeout --signal=KILL $((seconds + 120)) "$build_dir/bin/fuzz_$reader" -max_total_time="$seconds" -timeout=10 \
+       -rss_limit_mb=2048 -artifact_prefix="$findings/" "$work" >"$build_dir/fuzz_$reader.log" 2>&1; then
     status=1
     echo "fuzz_$reader: FOUND something — $findings, log $build_dir/fuzz_$reader.log"
   fi
