@@ -20,7 +20,8 @@
 #include "geartopo/effects/registry.hpp"
 
 #include <fmt/format.h>
-#include <yaml-cpp/depthguard.h> // YAML::DeepRecursion, not included by yaml.h in 0.7
+#include <yaml-cpp/depthguard.h>   // YAML::DeepRecursion, not included by yaml.h in 0.7
+#include <yaml-cpp/eventhandler.h> // nor YAML::EventHandler
 
 #include <Eigen/Eigenvalues>
 
@@ -840,16 +841,53 @@ void refuse_what_hangs_yaml_cpp(const std::string& text, const ReadContext& ctx)
   }
 }
 
+namespace {
+
+/// Remembers where a document starts; every other event is ignored (nothing is built).
+struct DocumentStart final : YAML::EventHandler {
+  std::optional<YAML::Mark> mark;
+  void OnDocumentStart(const YAML::Mark& m) override { mark = m; }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+
+/// Where the text's second YAML document starts, if it has one. Two documents at most are read: yaml-cpp 0.7's
+/// LoadAll loops for ever — a null document per turn, all of the memory — when a token no node starts with follows
+/// the root ("- a\n,", "&a x\n,", "\"q\" ,": the fifth fuzzing run; yaml-cpp#1040, fixed upstream by #1319), so it is
+/// not called: the first document is then read alone (YAML::Load).
+std::optional<YAML::Mark> second_document(const std::string& text) {
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  DocumentStart first, second;
+  if (!parser.HandleNextDocument(first) || !parser.HandleNextDocument(second)) return std::nullopt;
+  return second.mark;
+}
+
+} // namespace
+
 YAML::Node load_one_document(const std::string& text, const ReadContext& ctx, std::string_view what) {
   YAML::Node root;
   try {
     refuse_what_hangs_yaml_cpp(text, ctx);
-    // LoadAll, not Load: Load reads the first document and silently drops the rest of a file holding two ("---").
-    const std::vector<YAML::Node> docs = YAML::LoadAll(text);
-    if (docs.size() > 1)
-      ctx.fail(docs[1].Mark(), "", fmt::format("a second YAML document ('---'): a {} is one document (merge them or "
-                                               "split the file)", what));
-    if (!docs.empty()) root = docs[0];
+    // A second document is refused: YAML::Load would read the first and silently drop the rest ("---").
+    if (const auto second = second_document(text)) {
+      const auto at = static_cast<size_t>(std::max(second->pos, 0));
+      if (text.compare(at, 3, "---") == 0)
+        ctx.fail(*second, "", fmt::format("a second YAML document ('---'): a {} is one document (merge them or "
+                                          "split the file)", what));
+      size_t n = 1; // the whole UTF-8 character
+      while (at + n < text.size() && (static_cast<unsigned char>(text[at + n]) & 0xC0) == 0x80) ++n;
+      const std::string token = text.substr(at, n);
+      ctx.fail(*second, "", fmt::format("YAML syntax error: '{}' after the document's root node{}", text::excerpt(token),
+                                        token == "," ? " (a ',' belongs in a [ ] or { } list)" : ""));
+    }
+    root = YAML::Load(text);
   } catch (const YAML::DeepRecursion& e) {
     // yaml-cpp stops at a fixed depth and reports it only as "bad file".
     ctx.fail(e.mark, "", fmt::format("YAML nested deeper than {} levels, the parser's limit", e.depth()));
