@@ -877,7 +877,7 @@ YAML::Node load_one_document(const std::string& text, const ReadContext& ctx, st
     refuse_what_hangs_yaml_cpp(text, ctx);
     // A second document is refused: YAML::Load would read the first and silently drop the rest ("---").
     if (const auto second = second_document(text)) {
-      const auto at = static_cast<size_t>(std::max(second->pos, 0));
+      const auto at = std::min(static_cast<size_t>(std::max(second->pos, 0)), text.size());
       if (text.compare(at, 3, "---") == 0)
         ctx.fail(*second, "", fmt::format("a second YAML document ('---'): a {} is one document (merge them or "
                                           "split the file)", what));
