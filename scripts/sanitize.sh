@@ -8,7 +8,7 @@
 #   bash scripts/sanitize.sh --python   # instead: the Python module built in the same tree, python/tests under ASan
 #   bash scripts/sanitize.sh --python python/tests/test_strict.py   # only those tests
 #
-# Duration on the 2-core reference machine: about 22 minutes, 4 of them the tests (docs/performance.md, "Sanitizers").
+# Duration on an idle 2-core machine: about 50 minutes, 26 of them the tests (docs/performance.md, "Sanitizers").
 # Needs the packages of scripts/install-deps.sh (run it first on a fresh machine).
 set -euo pipefail
 cd "$(dirname "$0")/.."
