@@ -813,19 +813,11 @@ void refuse_what_hangs_yaml_cpp(const std::string& text, const ReadContext& ctx)
     if (at_start) {
       while (col < l.size() && (l[col] == ' ' || l[col] == '\t')) ++col;
       // Node properties — a tag '!…' or an anchor '&…' — in front of the ',' hang it as well (" ! ," in the third
-      // fuzzing run): looked through, also to the next lines ("!\n," made LoadAll allocate without bound in the
-      // fourth: 18 bytes took 2 GB): a line of properties alone (or with a comment) leaves the document at its start.
+      // fuzzing run): looked through.
       size_t first = col;
-      bool properties = false;
       while (first < l.size() && (l[first] == '!' || l[first] == '&')) {
-        properties = true;
         while (first < l.size() && l[first] != ' ' && l[first] != '\t' && l[first] != ',') ++first;
         while (first < l.size() && (l[first] == ' ' || l[first] == '\t')) ++first;
-      }
-      if (properties && (first == l.size() || l[first] == '#')) {
-        ++line;
-        begin = end + 1;
-        continue;
       }
       if (first < l.size() && l[first] == ',') {
         YAML::Mark mark;
